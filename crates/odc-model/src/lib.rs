@@ -1,0 +1,30 @@
+//! The odc intermediate model: one object dictionary for CANopen (EDS/DCF) and EtherCAT (ESI)
+//! devices, the spans that tie it to its source file, and the diagnostic type every stage uses.
+//!
+//! The model is plain owned data: front-ends (`odc-eds`, `odc-esi`) build it, the checker
+//! (`odc-check`) reads it, back-ends (`odc-codegen`, the EDS writer) render it. Collections are
+//! ordered (`BTreeMap` by index), so dumps and generated code are deterministic.
+//!
+//! Policies fixed here:
+//! - a VAR is an object with one sub-object at sub-index 0 (one shape for every kind);
+//! - `$NODEID` stays symbolic ([`Value::NodeIdPlus`]);
+//! - `rwr` and `rww` stay distinct ([`Access`]); PDO direction follows from them ([`PdoMapping::allows`]);
+//! - spans compare equal ([`Span`]), so round trips compare content with `==`.
+
+mod device;
+pub mod diag;
+pub mod ethercat;
+pub mod pdo;
+mod span;
+mod types;
+mod value;
+
+pub use device::{
+    Commissioning, Device, DeviceInfo, FileInfo, Format, Module, Modules, Object, ObjectList,
+    ObjectLists, Origin, RawEntry, RawSection, SubExtend, SubObject,
+};
+pub use diag::{Diagnostic, Label, RuleInfo, Severity, Sources};
+pub use pdo::{Pdo, PdoEntry};
+pub use span::{FileId, Span, Spanned};
+pub use types::{Access, DataType, Direction, ObjectKind, PdoMapping, ValueClass};
+pub use value::Value;
