@@ -1,0 +1,493 @@
+//! CiA 402 drive profile: controlword (0x6040), statusword (0x6041), the state machine, modes of
+//! operation (0x6060/0x6061) and supported modes (0x6502).
+
+use crate::PdoValue;
+use core::fmt;
+
+/// Controlword (0x6040). Commands are associated consts; mode-specific bits are set builder-style:
+/// `Controlword::ENABLE_OPERATION.with_new_setpoint(true)`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Controlword(pub u16);
+
+impl Controlword {
+    /// Disable voltage (transitions 7, 9, 10, 12).
+    pub const DISABLE_VOLTAGE: Self = Self(0x0000);
+    /// Quick stop (transitions 7, 10, 11).
+    pub const QUICK_STOP: Self = Self(0x0002);
+    /// Shutdown (transitions 2, 6, 8).
+    pub const SHUTDOWN: Self = Self(0x0006);
+    /// Switch on (transition 3).
+    pub const SWITCH_ON: Self = Self(0x0007);
+    /// Disable operation (transition 5); the same bits as switch on.
+    pub const DISABLE_OPERATION: Self = Self(0x0007);
+    /// Enable operation (transitions 4, 16).
+    pub const ENABLE_OPERATION: Self = Self(0x000F);
+    /// Fault reset (transition 15). Acts on the rising edge of bit 7: send a controlword with
+    /// bit 7 clear first, then this one.
+    pub const FAULT_RESET: Self = Self(0x0080);
+
+    const NEW_SETPOINT: u16 = 1 << 4;
+    const CHANGE_SET_IMMEDIATELY: u16 = 1 << 5;
+    const RELATIVE: u16 = 1 << 6;
+    const FAULT_RESET_BIT: u16 = 1 << 7;
+    const HALT: u16 = 1 << 8;
+    const CHANGE_ON_SETPOINT: u16 = 1 << 9;
+
+    /// The raw value.
+    pub const fn bits(self) -> u16 {
+        self.0
+    }
+
+    const fn with(self, bit: u16, on: bool) -> Self {
+        if on { Self(self.0 | bit) } else { Self(self.0 & !bit) }
+    }
+
+    /// Bit 4, profile position: new set-point.
+    pub const fn with_new_setpoint(self, on: bool) -> Self {
+        self.with(Self::NEW_SETPOINT, on)
+    }
+
+    /// Bit 4, homing: start homing.
+    pub const fn with_homing_start(self, on: bool) -> Self {
+        self.with(Self::NEW_SETPOINT, on)
+    }
+
+    /// Bit 5, profile position: change set immediately.
+    pub const fn with_change_set_immediately(self, on: bool) -> Self {
+        self.with(Self::CHANGE_SET_IMMEDIATELY, on)
+    }
+
+    /// Bit 6, profile position: target is relative (clear: absolute).
+    pub const fn with_relative(self, on: bool) -> Self {
+        self.with(Self::RELATIVE, on)
+    }
+
+    /// Bit 7: fault reset.
+    pub const fn with_fault_reset(self, on: bool) -> Self {
+        self.with(Self::FAULT_RESET_BIT, on)
+    }
+
+    /// Bit 8: halt.
+    pub const fn with_halt(self, on: bool) -> Self {
+        self.with(Self::HALT, on)
+    }
+
+    /// Bit 9, profile position: change on set-point.
+    pub const fn with_change_on_setpoint(self, on: bool) -> Self {
+        self.with(Self::CHANGE_ON_SETPOINT, on)
+    }
+
+    /// Whether bit `n` is set.
+    pub const fn bit(self, n: u32) -> bool {
+        n < 16 && self.0 & (1 << n) != 0
+    }
+}
+
+/// Statusword (0x6041).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Statusword(pub u16);
+
+/// Power state of a CiA 402 drive.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum State {
+    /// Initialising; the drive leaves it on its own.
+    NotReadyToSwitchOn,
+    /// Power stage off, drive reachable.
+    SwitchOnDisabled,
+    /// After shutdown.
+    ReadyToSwitchOn,
+    /// Power stage on, no torque.
+    SwitchedOn,
+    /// Following commands.
+    OperationEnabled,
+    /// Quick stop in progress or done.
+    QuickStopActive,
+    /// Reacting to a fault; the drive leaves it on its own.
+    FaultReactionActive,
+    /// Fault; needs a fault reset.
+    Fault,
+}
+
+impl Statusword {
+    /// The raw value.
+    pub const fn bits(self) -> u16 {
+        self.0
+    }
+
+    /// Decode the state (CiA 402 masks 0x4F and 0x6F); `None` for patterns the profile
+    /// does not define.
+    pub const fn state(self) -> Option<State> {
+        let s = self.0;
+        if s & 0x4F == 0x00 {
+            return Some(State::NotReadyToSwitchOn);
+        }
+        if s & 0x4F == 0x40 {
+            return Some(State::SwitchOnDisabled);
+        }
+        if s & 0x4F == 0x0F {
+            return Some(State::FaultReactionActive);
+        }
+        if s & 0x4F == 0x08 {
+            return Some(State::Fault);
+        }
+        match s & 0x6F {
+            0x21 => Some(State::ReadyToSwitchOn),
+            0x23 => Some(State::SwitchedOn),
+            0x27 => Some(State::OperationEnabled),
+            0x07 => Some(State::QuickStopActive),
+            _ => None,
+        }
+    }
+
+    const fn bit(self, n: u32) -> bool {
+        self.0 & (1 << n) != 0
+    }
+
+    /// Bit 3: fault.
+    pub const fn fault(self) -> bool {
+        self.bit(3)
+    }
+    /// Bit 4: voltage enabled.
+    pub const fn voltage_enabled(self) -> bool {
+        self.bit(4)
+    }
+    /// Bit 5: quick stop; active low (clear while a quick stop is running).
+    pub const fn quick_stop(self) -> bool {
+        self.bit(5)
+    }
+    /// Bit 7: warning.
+    pub const fn warning(self) -> bool {
+        self.bit(7)
+    }
+    /// Bit 9: remote (controlword is processed).
+    pub const fn remote(self) -> bool {
+        self.bit(9)
+    }
+    /// Bit 10: target reached.
+    pub const fn target_reached(self) -> bool {
+        self.bit(10)
+    }
+    /// Bit 11: internal limit active.
+    pub const fn internal_limit(self) -> bool {
+        self.bit(11)
+    }
+    /// Bit 12 in profile position: set-point acknowledge.
+    pub const fn setpoint_ack(self) -> bool {
+        self.bit(12)
+    }
+    /// Bit 12 in homing: homing attained.
+    pub const fn homing_attained(self) -> bool {
+        self.bit(12)
+    }
+    /// Bit 13 in profile/cyclic position: following error.
+    pub const fn following_error(self) -> bool {
+        self.bit(13)
+    }
+    /// Bit 13 in homing: homing error.
+    pub const fn homing_error(self) -> bool {
+        self.bit(13)
+    }
+}
+
+impl State {
+    /// The controlword that moves this state one step toward `OperationEnabled`, or holds it
+    /// there. `None` while the drive changes state on its own (not ready, fault reaction).
+    ///
+    /// From `Fault` this is [`Controlword::FAULT_RESET`], which only acts on a rising edge.
+    pub const fn next_command_towards_enabled(self) -> Option<Controlword> {
+        match self {
+            Self::NotReadyToSwitchOn | Self::FaultReactionActive => None,
+            Self::SwitchOnDisabled => Some(Controlword::SHUTDOWN),
+            Self::ReadyToSwitchOn => Some(Controlword::SWITCH_ON),
+            Self::SwitchedOn | Self::OperationEnabled => Some(Controlword::ENABLE_OPERATION),
+            Self::QuickStopActive => Some(Controlword::DISABLE_VOLTAGE),
+            Self::Fault => Some(Controlword::FAULT_RESET),
+        }
+    }
+}
+
+impl fmt::Display for State {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::NotReadyToSwitchOn => "not ready to switch on",
+            Self::SwitchOnDisabled => "switch on disabled",
+            Self::ReadyToSwitchOn => "ready to switch on",
+            Self::SwitchedOn => "switched on",
+            Self::OperationEnabled => "operation enabled",
+            Self::QuickStopActive => "quick stop active",
+            Self::FaultReactionActive => "fault reaction active",
+            Self::Fault => "fault",
+        })
+    }
+}
+
+/// Mode of operation (0x6060 / display 0x6061), an `i8` on the wire.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum ModeOfOperation {
+    /// 0: no mode assigned.
+    NoMode,
+    /// 1: profile position (pp).
+    ProfilePosition,
+    /// 2: velocity (vl).
+    Velocity,
+    /// 3: profile velocity (pv).
+    ProfileVelocity,
+    /// 4: profile torque (tq).
+    ProfileTorque,
+    /// 6: homing (hm).
+    Homing,
+    /// 7: interpolated position (ip).
+    InterpolatedPosition,
+    /// 8: cyclic synchronous position (csp).
+    CyclicSyncPosition,
+    /// 9: cyclic synchronous velocity (csv).
+    CyclicSyncVelocity,
+    /// 10: cyclic synchronous torque (cst).
+    CyclicSyncTorque,
+    /// Anything else: negative values are manufacturer modes, others reserved.
+    Other(i8),
+}
+
+impl ModeOfOperation {
+    /// The mode for a wire value.
+    pub const fn from_i8(v: i8) -> Self {
+        match v {
+            0 => Self::NoMode,
+            1 => Self::ProfilePosition,
+            2 => Self::Velocity,
+            3 => Self::ProfileVelocity,
+            4 => Self::ProfileTorque,
+            6 => Self::Homing,
+            7 => Self::InterpolatedPosition,
+            8 => Self::CyclicSyncPosition,
+            9 => Self::CyclicSyncVelocity,
+            10 => Self::CyclicSyncTorque,
+            other => Self::Other(other),
+        }
+    }
+
+    /// The wire value.
+    pub const fn to_i8(self) -> i8 {
+        match self {
+            Self::NoMode => 0,
+            Self::ProfilePosition => 1,
+            Self::Velocity => 2,
+            Self::ProfileVelocity => 3,
+            Self::ProfileTorque => 4,
+            Self::Homing => 6,
+            Self::InterpolatedPosition => 7,
+            Self::CyclicSyncPosition => 8,
+            Self::CyclicSyncVelocity => 9,
+            Self::CyclicSyncTorque => 10,
+            Self::Other(v) => v,
+        }
+    }
+
+    /// Whether the value is in the manufacturer range (negative).
+    pub const fn is_manufacturer_specific(self) -> bool {
+        self.to_i8() < 0
+    }
+
+    /// The bit of 0x6502 that announces this mode, if the profile defines one.
+    pub const fn supported_bit(self) -> Option<u32> {
+        match self {
+            Self::ProfilePosition => Some(0),
+            Self::Velocity => Some(1),
+            Self::ProfileVelocity => Some(2),
+            Self::ProfileTorque => Some(3),
+            Self::Homing => Some(5),
+            Self::InterpolatedPosition => Some(6),
+            Self::CyclicSyncPosition => Some(7),
+            Self::CyclicSyncVelocity => Some(8),
+            Self::CyclicSyncTorque => Some(9),
+            Self::NoMode | Self::Other(_) => None,
+        }
+    }
+}
+
+impl From<i8> for ModeOfOperation {
+    fn from(v: i8) -> Self {
+        Self::from_i8(v)
+    }
+}
+
+impl From<ModeOfOperation> for i8 {
+    fn from(m: ModeOfOperation) -> i8 {
+        m.to_i8()
+    }
+}
+
+/// Supported drive modes (0x6502), a bit set.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct SupportedModes(pub u32);
+
+impl SupportedModes {
+    /// Whether the drive announces `mode`; manufacturer modes and `NoMode` are never announced
+    /// through a profile bit.
+    pub const fn supports(self, mode: ModeOfOperation) -> bool {
+        match mode.supported_bit() {
+            Some(b) => self.0 & (1 << b) != 0,
+            None => false,
+        }
+    }
+
+    /// Bits 16–31: manufacturer-specific modes.
+    pub const fn manufacturer_bits(self) -> u16 {
+        (self.0 >> 16) as u16
+    }
+
+    /// The announced profile modes, in bit order.
+    pub fn iter(self) -> impl Iterator<Item = ModeOfOperation> {
+        [1i8, 2, 3, 4, 6, 7, 8, 9, 10]
+            .into_iter()
+            .map(ModeOfOperation::from_i8)
+            .filter(move |m| self.supports(*m))
+    }
+}
+
+macro_rules! word_pdo {
+    ($($t:ty),*) => {$(
+        impl PdoValue for $t {
+            const BITS: u32 = 16;
+            const SIGNED: bool = false;
+            #[inline(always)]
+            fn to_raw(&self) -> u64 {
+                u64::from(self.0)
+            }
+            #[inline(always)]
+            fn from_raw(raw: u64, _bits: u32) -> Option<Self> {
+                u16::try_from(raw).ok().map(Self)
+            }
+        }
+    )*};
+}
+word_pdo!(Controlword, Statusword);
+
+impl PdoValue for ModeOfOperation {
+    const BITS: u32 = 8;
+    const SIGNED: bool = true;
+    #[inline(always)]
+    fn to_raw(&self) -> u64 {
+        self.to_i8() as i64 as u64
+    }
+    #[inline(always)]
+    fn from_raw(raw: u64, bits: u32) -> Option<Self> {
+        i8::from_raw(raw, bits).map(Self::from_i8)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn commands_and_bits() {
+        assert_eq!(Controlword::ENABLE_OPERATION.with_new_setpoint(true).bits(), 0x001F);
+        assert_eq!(
+            Controlword::ENABLE_OPERATION
+                .with_change_set_immediately(true)
+                .with_relative(true)
+                .bits(),
+            0x006F
+        );
+        assert_eq!(
+            Controlword::ENABLE_OPERATION.with_halt(true).with_halt(false),
+            Controlword::ENABLE_OPERATION
+        );
+        assert_eq!(Controlword::SHUTDOWN.with_change_on_setpoint(true).bits(), 0x0206);
+        assert_eq!(Controlword::DISABLE_VOLTAGE.with_fault_reset(true), Controlword::FAULT_RESET);
+        assert!(Controlword::ENABLE_OPERATION.with_homing_start(true).bit(4));
+        assert!(!Controlword::SHUTDOWN.bit(16));
+    }
+
+    #[test]
+    fn state_decode() {
+        let cases = [
+            (0x0000, State::NotReadyToSwitchOn),
+            (0x0250, State::SwitchOnDisabled),
+            (0x0231, State::ReadyToSwitchOn),
+            (0x0233, State::SwitchedOn),
+            (0x0237, State::OperationEnabled),
+            (0x1637, State::OperationEnabled),
+            (0x0217, State::QuickStopActive),
+            (0x021F, State::FaultReactionActive),
+            (0x0218, State::Fault),
+        ];
+        for (w, s) in cases {
+            assert_eq!(Statusword(w).state(), Some(s), "{w:#06x}");
+        }
+        assert_eq!(Statusword(0x0001).state(), None);
+        let sw = Statusword(0x3637 | 0x0880);
+        assert!(sw.target_reached() && sw.setpoint_ack() && sw.following_error());
+        assert!(
+            sw.voltage_enabled()
+                && sw.quick_stop()
+                && sw.remote()
+                && sw.warning()
+                && sw.internal_limit()
+        );
+        assert!(!sw.fault());
+    }
+
+    #[test]
+    fn walk_to_enabled() {
+        // A toy drive that follows the CiA 402 transitions.
+        fn step(s: State, c: Controlword) -> State {
+            match (s, c.bits() & 0x8F) {
+                (State::SwitchOnDisabled, 0x06) => State::ReadyToSwitchOn,
+                (State::ReadyToSwitchOn, 0x07) => State::SwitchedOn,
+                (State::SwitchedOn, 0x0F) => State::OperationEnabled,
+                (State::Fault, 0x80) => State::SwitchOnDisabled,
+                (State::QuickStopActive, 0x00) => State::SwitchOnDisabled,
+                (s, _) => s,
+            }
+        }
+        for start in [State::Fault, State::SwitchOnDisabled, State::QuickStopActive] {
+            let mut s = start;
+            for _ in 0..5 {
+                s = step(s, s.next_command_towards_enabled().unwrap());
+            }
+            assert_eq!(s, State::OperationEnabled);
+        }
+        assert_eq!(State::FaultReactionActive.next_command_towards_enabled(), None);
+    }
+
+    #[test]
+    fn modes() {
+        for v in i8::MIN..=i8::MAX {
+            assert_eq!(ModeOfOperation::from_i8(v).to_i8(), v);
+        }
+        assert_eq!(ModeOfOperation::from_i8(8), ModeOfOperation::CyclicSyncPosition);
+        assert!(ModeOfOperation::from_i8(-3).is_manufacturer_specific());
+        assert_eq!(ModeOfOperation::from_i8(5), ModeOfOperation::Other(5));
+        let s = SupportedModes(0x0001_03A1);
+        let listed: [Option<ModeOfOperation>; 5] = {
+            let mut it = s.iter();
+            [it.next(), it.next(), it.next(), it.next(), it.next()]
+        };
+        assert_eq!(
+            listed,
+            [
+                Some(ModeOfOperation::ProfilePosition),
+                Some(ModeOfOperation::Homing),
+                Some(ModeOfOperation::CyclicSyncPosition),
+                Some(ModeOfOperation::CyclicSyncVelocity),
+                Some(ModeOfOperation::CyclicSyncTorque),
+            ]
+        );
+        assert!(!s.supports(ModeOfOperation::Other(-1)));
+        assert_eq!(s.manufacturer_bits(), 1);
+        assert_eq!(ModeOfOperation::from_raw(0xF8, 8), Some(ModeOfOperation::Other(-8)));
+        assert_eq!(ModeOfOperation::Other(-8).to_raw() & 0xFF, 0xF8);
+    }
+}

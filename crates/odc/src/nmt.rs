@@ -1,0 +1,107 @@
+//! NMT module control commands and the states reported by heartbeat.
+
+/// NMT command specifier (first byte of the NMT frame).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[repr(u8)]
+pub enum NmtCommand {
+    /// Start remote node.
+    Start = 0x01,
+    /// Stop remote node.
+    Stop = 0x02,
+    /// Enter pre-operational.
+    EnterPreOperational = 0x80,
+    /// Reset node.
+    ResetNode = 0x81,
+    /// Reset communication.
+    ResetCommunication = 0x82,
+}
+
+impl NmtCommand {
+    /// The command for a command specifier.
+    pub const fn from_u8(v: u8) -> Option<Self> {
+        match v {
+            0x01 => Some(Self::Start),
+            0x02 => Some(Self::Stop),
+            0x80 => Some(Self::EnterPreOperational),
+            0x81 => Some(Self::ResetNode),
+            0x82 => Some(Self::ResetCommunication),
+            _ => None,
+        }
+    }
+
+    /// The 2-byte NMT frame payload; node 0 addresses every node.
+    pub const fn frame(self, node: u8) -> [u8; 2] {
+        [self as u8, node]
+    }
+}
+
+/// NMT state as carried in a heartbeat (bit 7, the toggle of node guarding, is ignored).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[repr(u8)]
+pub enum NmtState {
+    /// Boot-up message.
+    BootUp = 0x00,
+    /// Stopped.
+    Stopped = 0x04,
+    /// Operational.
+    Operational = 0x05,
+    /// Pre-operational.
+    PreOperational = 0x7F,
+}
+
+impl NmtState {
+    /// The state for a heartbeat byte.
+    pub const fn from_u8(v: u8) -> Option<Self> {
+        match v & 0x7F {
+            0x00 => Some(Self::BootUp),
+            0x04 => Some(Self::Stopped),
+            0x05 => Some(Self::Operational),
+            0x7F => Some(Self::PreOperational),
+            _ => None,
+        }
+    }
+
+    /// The heartbeat byte.
+    pub const fn to_u8(self) -> u8 {
+        self as u8
+    }
+
+    /// Whether SDO communication works in this state.
+    pub const fn sdo_allowed(self) -> bool {
+        matches!(self, Self::Operational | Self::PreOperational)
+    }
+
+    /// Whether PDOs are exchanged in this state.
+    pub const fn pdo_allowed(self) -> bool {
+        matches!(self, Self::Operational)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn commands_and_states() {
+        for c in [
+            NmtCommand::Start,
+            NmtCommand::Stop,
+            NmtCommand::EnterPreOperational,
+            NmtCommand::ResetNode,
+            NmtCommand::ResetCommunication,
+        ] {
+            assert_eq!(NmtCommand::from_u8(c as u8), Some(c));
+        }
+        assert_eq!(NmtCommand::Start.frame(0), [1, 0]);
+        assert_eq!(NmtCommand::from_u8(3), None);
+        assert_eq!(NmtState::from_u8(0x85), Some(NmtState::Operational));
+        assert_eq!(NmtState::from_u8(0x7F).map(NmtState::to_u8), Some(0x7F));
+        assert_eq!(NmtState::from_u8(1), None);
+        assert!(NmtState::PreOperational.sdo_allowed() && !NmtState::PreOperational.pdo_allowed());
+        assert!(!NmtState::Stopped.sdo_allowed());
+    }
+}

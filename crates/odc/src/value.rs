@@ -1,0 +1,409 @@
+//! Typed object values and their little-endian SDO encoding.
+
+use crate::DataType;
+use crate::SdoAbort;
+use core::fmt;
+
+/// Why a value could not be encoded or decoded; each maps onto the SDO abort a server sends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+#[non_exhaustive]
+pub enum ValueError {
+    /// Fewer bytes than the type needs (or the output buffer is too small).
+    TooShort,
+    /// More bytes than the type holds.
+    TooLong,
+    /// The bytes are not a valid value of the type.
+    Invalid,
+}
+
+impl From<ValueError> for SdoAbort {
+    fn from(e: ValueError) -> Self {
+        match e {
+            ValueError::TooShort => SdoAbort::TooShort,
+            ValueError::TooLong => SdoAbort::TooLong,
+            ValueError::Invalid => SdoAbort::InvalidValue,
+        }
+    }
+}
+
+impl fmt::Display for ValueError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::TooShort => "too few bytes for the value type",
+            Self::TooLong => "too many bytes for the value type",
+            Self::Invalid => "invalid value for the type",
+        })
+    }
+}
+
+impl core::error::Error for ValueError {}
+
+/// A value that can live in an object-dictionary entry.
+///
+/// The type parameter of [`crate::Entry`]: it is what makes `sdo.write(od::X, v)` type-checked.
+pub trait ObjValue: Copy {
+    /// The CiA 301 type this Rust type stands for.
+    const DATA_TYPE: DataType;
+    /// Largest encoded size in bytes.
+    const MAX_LEN: usize;
+
+    /// Write the little-endian encoding into `buf`, returning the number of bytes used.
+    fn encode(&self, buf: &mut [u8]) -> Result<usize, ValueError>;
+
+    /// Read a value from exactly the bytes of one transfer.
+    fn decode(buf: &[u8]) -> Result<Self, ValueError>;
+
+    /// Build the value from an integer, for `$NODEID`-relative defaults; `None` if the type has
+    /// no such meaning or the number does not fit.
+    fn from_u64(v: u64) -> Option<Self> {
+        let _ = v;
+        None
+    }
+}
+
+/// Copy `N` bytes out of `buf`, which must have exactly `N`.
+#[inline]
+fn exact<const N: usize>(buf: &[u8]) -> Result<[u8; N], ValueError> {
+    match buf.len() {
+        n if n < N => Err(ValueError::TooShort),
+        n if n > N => Err(ValueError::TooLong),
+        _ => <[u8; N]>::try_from(buf).map_err(|_| ValueError::Invalid),
+    }
+}
+
+#[inline]
+fn put(buf: &mut [u8], bytes: &[u8]) -> Result<usize, ValueError> {
+    buf.get_mut(..bytes.len()).ok_or(ValueError::TooShort)?.copy_from_slice(bytes);
+    Ok(bytes.len())
+}
+
+macro_rules! int_values {
+    ($($t:ty => $dt:ident;)*) => {$(
+        impl ObjValue for $t {
+            const DATA_TYPE: DataType = DataType::$dt;
+            const MAX_LEN: usize = core::mem::size_of::<$t>();
+            #[inline]
+            fn encode(&self, buf: &mut [u8]) -> Result<usize, ValueError> {
+                put(buf, &self.to_le_bytes())
+            }
+            #[inline]
+            fn decode(buf: &[u8]) -> Result<Self, ValueError> {
+                exact(buf).map(<$t>::from_le_bytes)
+            }
+            fn from_u64(v: u64) -> Option<Self> {
+                <$t>::try_from(v).ok()
+            }
+        }
+    )*};
+}
+
+int_values! {
+    u8 => Unsigned8; u16 => Unsigned16; u32 => Unsigned32; u64 => Unsigned64;
+    i8 => Integer8; i16 => Integer16; i32 => Integer32; i64 => Integer64;
+}
+
+macro_rules! float_values {
+    ($($t:ty => $dt:ident;)*) => {$(
+        impl ObjValue for $t {
+            const DATA_TYPE: DataType = DataType::$dt;
+            const MAX_LEN: usize = core::mem::size_of::<$t>();
+            #[inline]
+            fn encode(&self, buf: &mut [u8]) -> Result<usize, ValueError> {
+                put(buf, &self.to_le_bytes())
+            }
+            #[inline]
+            fn decode(buf: &[u8]) -> Result<Self, ValueError> {
+                exact(buf).map(<$t>::from_le_bytes)
+            }
+        }
+    )*};
+}
+
+float_values! { f32 => Real32; f64 => Real64; }
+
+impl ObjValue for bool {
+    const DATA_TYPE: DataType = DataType::Boolean;
+    const MAX_LEN: usize = 1;
+    fn encode(&self, buf: &mut [u8]) -> Result<usize, ValueError> {
+        put(buf, &[u8::from(*self)])
+    }
+    /// Only 0 and 1 are accepted: anything else is a garbled transfer, not a truthy value.
+    fn decode(buf: &[u8]) -> Result<Self, ValueError> {
+        match exact::<1>(buf)? {
+            [0] => Ok(false),
+            [1] => Ok(true),
+            _ => Err(ValueError::Invalid),
+        }
+    }
+}
+
+macro_rules! odd_ints {
+    ($($(#[$m:meta])* $name:ident($inner:ty, $bytes:literal, $signed:literal) => $dt:ident;)*) => {$(
+        $(#[$m])*
+        ///
+        /// Stored in the next wider Rust integer; the constructor refuses values out of range.
+        #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+        pub struct $name($inner);
+
+        impl $name {
+            /// Width in bits.
+            pub const BITS: u32 = $bytes * 8;
+            /// Smallest value.
+            pub const MIN: $inner = if $signed { !0 << (Self::BITS - 1) } else { 0 };
+            /// Largest value.
+            pub const MAX: $inner = if $signed { !(!0 << (Self::BITS - 1)) } else { !(!0 << Self::BITS) };
+
+            /// The value, or `None` if it does not fit in the width.
+            pub const fn new(v: $inner) -> Option<Self> {
+                if v >= Self::MIN && v <= Self::MAX { Some(Self(v)) } else { None }
+            }
+
+            /// The value as the wider Rust integer.
+            pub const fn get(self) -> $inner {
+                self.0
+            }
+        }
+
+        impl From<$name> for $inner {
+            fn from(v: $name) -> $inner {
+                v.0
+            }
+        }
+
+        impl ObjValue for $name {
+            const DATA_TYPE: DataType = DataType::$dt;
+            const MAX_LEN: usize = $bytes;
+            fn encode(&self, buf: &mut [u8]) -> Result<usize, ValueError> {
+                let b = self.0.to_le_bytes();
+                put(buf, b.get(..$bytes).ok_or(ValueError::Invalid)?)
+            }
+            fn decode(buf: &[u8]) -> Result<Self, ValueError> {
+                let b: [u8; $bytes] = exact(buf)?;
+                let mut w = [0u8; 8];
+                w[..$bytes].copy_from_slice(&b);
+                let raw = u64::from_le_bytes(w);
+                let v = if $signed { crate::bits::sign_extend(raw, $bytes * 8) as $inner } else { raw as $inner };
+                Ok(Self(v))
+            }
+            fn from_u64(v: u64) -> Option<Self> {
+                <$inner>::try_from(v).ok().and_then(Self::new)
+            }
+        }
+
+        impl crate::PdoValue for $name {
+            const BITS: u32 = $bytes * 8;
+            const SIGNED: bool = $signed;
+            #[inline(always)]
+            fn to_raw(&self) -> u64 {
+                self.0 as u64
+            }
+            #[inline(always)]
+            fn from_raw(raw: u64, bits: u32) -> Option<Self> {
+                let v = if $signed { crate::bits::sign_extend(raw, bits) as $inner } else { raw as $inner };
+                Self::new(v)
+            }
+        }
+    )*};
+}
+
+odd_ints! {
+    /// CiA 301 INTEGER24.
+    I24(i32, 3, true) => Integer24;
+    /// CiA 301 INTEGER40.
+    I40(i64, 5, true) => Integer40;
+    /// CiA 301 INTEGER48.
+    I48(i64, 6, true) => Integer48;
+    /// CiA 301 INTEGER56.
+    I56(i64, 7, true) => Integer56;
+    /// CiA 301 UNSIGNED24.
+    U24(u32, 3, false) => Unsigned24;
+    /// CiA 301 UNSIGNED40.
+    U40(u64, 5, false) => Unsigned40;
+    /// CiA 301 UNSIGNED48.
+    U48(u64, 6, false) => Unsigned48;
+    /// CiA 301 UNSIGNED56.
+    U56(u64, 7, false) => Unsigned56;
+}
+
+/// OCTET_STRING of a fixed length `N` (the length the device file declares).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct OctetString<const N: usize>(pub [u8; N]);
+
+impl<const N: usize> ObjValue for OctetString<N> {
+    const DATA_TYPE: DataType = DataType::OctetString;
+    const MAX_LEN: usize = N;
+    fn encode(&self, buf: &mut [u8]) -> Result<usize, ValueError> {
+        put(buf, &self.0)
+    }
+    fn decode(buf: &[u8]) -> Result<Self, ValueError> {
+        exact(buf).map(Self)
+    }
+}
+
+/// VISIBLE_STRING of at most `N` bytes, stored inline (no heap).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct VisibleString<const N: usize> {
+    bytes: [u8; N],
+    len: usize,
+}
+
+impl<const N: usize> VisibleString<N> {
+    /// The string, or `None` if it is longer than `N` bytes or not visible ASCII (0x20–0x7E).
+    pub const fn new(s: &str) -> Option<Self> {
+        let src = s.as_bytes();
+        if src.len() > N {
+            return None;
+        }
+        let mut bytes = [0u8; N];
+        let mut i = 0;
+        while i < src.len() {
+            if src[i] < 0x20 || src[i] > 0x7E {
+                return None;
+            }
+            bytes[i] = src[i];
+            i += 1;
+        }
+        Some(Self { bytes, len: src.len() })
+    }
+
+    /// The text.
+    pub fn as_str(&self) -> &str {
+        // Only visible ASCII gets in, which is always UTF-8.
+        self.bytes.get(..self.len).and_then(|b| core::str::from_utf8(b).ok()).unwrap_or("")
+    }
+
+    /// Length in bytes.
+    pub const fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether the string is empty.
+    pub const fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+}
+
+impl<const N: usize> ObjValue for VisibleString<N> {
+    const DATA_TYPE: DataType = DataType::VisibleString;
+    const MAX_LEN: usize = N;
+    fn encode(&self, buf: &mut [u8]) -> Result<usize, ValueError> {
+        put(buf, self.bytes.get(..self.len).ok_or(ValueError::Invalid)?)
+    }
+    /// Trailing NULs are dropped: many devices pad strings to a fixed width.
+    fn decode(buf: &[u8]) -> Result<Self, ValueError> {
+        let end = buf.iter().rposition(|&b| b != 0).map_or(0, |p| p + 1);
+        let s =
+            buf.get(..end).and_then(|b| core::str::from_utf8(b).ok()).ok_or(ValueError::Invalid)?;
+        if s.len() > N {
+            return Err(ValueError::TooLong);
+        }
+        Self::new(s).ok_or(ValueError::Invalid)
+    }
+}
+
+macro_rules! time_type {
+    ($(#[$m:meta])* $name:ident => $dt:ident) => {
+        $(#[$m])*
+        #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+        #[cfg_attr(feature = "defmt", derive(defmt::Format))]
+        pub struct $name {
+            /// Milliseconds (28 bits used).
+            pub ms: u32,
+            /// Days.
+            pub days: u16,
+        }
+
+        impl ObjValue for $name {
+            const DATA_TYPE: DataType = DataType::$dt;
+            const MAX_LEN: usize = 6;
+            fn encode(&self, buf: &mut [u8]) -> Result<usize, ValueError> {
+                if self.ms >> 28 != 0 {
+                    return Err(ValueError::Invalid);
+                }
+                let m = self.ms.to_le_bytes();
+                let d = self.days.to_le_bytes();
+                put(buf, &[m[0], m[1], m[2], m[3], d[0], d[1]])
+            }
+            /// The 4 reserved bits above the milliseconds are ignored, as CiA 301 asks.
+            fn decode(buf: &[u8]) -> Result<Self, ValueError> {
+                let b: [u8; 6] = exact(buf)?;
+                Ok(Self {
+                    ms: u32::from_le_bytes([b[0], b[1], b[2], b[3]]) & 0x0FFF_FFFF,
+                    days: u16::from_le_bytes([b[4], b[5]]),
+                })
+            }
+        }
+    };
+}
+
+time_type!(
+    /// TIME_OF_DAY: milliseconds after midnight and days since 1984-01-01.
+    TimeOfDay => TimeOfDay
+);
+time_type!(
+    /// TIME_DIFFERENCE: a duration in days and milliseconds.
+    TimeDifference => TimeDifference
+);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ints_round_trip_exact_length() {
+        let mut b = [0u8; 8];
+        assert_eq!(0x1234u16.encode(&mut b), Ok(2));
+        assert_eq!(&b[..2], &[0x34, 0x12]);
+        assert_eq!(u16::decode(&b[..2]), Ok(0x1234));
+        assert_eq!(u16::decode(&b[..1]), Err(ValueError::TooShort));
+        assert_eq!(u16::decode(&b[..3]), Err(ValueError::TooLong));
+        assert_eq!((-2i32).encode(&mut b[..3]), Err(ValueError::TooShort));
+        assert_eq!(i32::decode(&[0xFE, 0xFF, 0xFF, 0xFF]), Ok(-2));
+        assert_eq!(f32::decode(&1.5f32.to_le_bytes()), Ok(1.5));
+        assert_eq!(u8::from_u64(300), None);
+        assert_eq!(u8::from_u64(0x85), Some(0x85));
+        assert_eq!(bool::decode(&[2]), Err(ValueError::Invalid));
+        assert_eq!(bool::decode(&[1]), Ok(true));
+        assert_eq!(SdoAbort::from(ValueError::TooLong), SdoAbort::TooLong);
+    }
+
+    #[test]
+    fn odd_widths() {
+        assert_eq!(I24::MIN, -0x80_0000);
+        assert_eq!(I24::MAX, 0x7F_FFFF);
+        assert_eq!(U24::MAX, 0xFF_FFFF);
+        assert_eq!(U56::MAX, 0x00FF_FFFF_FFFF_FFFF);
+        assert!(I24::new(0x80_0000).is_none());
+        let v = I24::new(-3).unwrap();
+        let mut b = [0u8; 3];
+        assert_eq!(v.encode(&mut b), Ok(3));
+        assert_eq!(b, [0xFD, 0xFF, 0xFF]);
+        assert_eq!(I24::decode(&b), Ok(v));
+        assert_eq!(U40::decode(&[1, 0, 0, 0, 0x80]).map(U40::get), Ok(0x80_0000_0001));
+        assert_eq!(I48::DATA_TYPE, DataType::Integer48);
+    }
+
+    #[test]
+    fn strings_and_time() {
+        let s = VisibleString::<8>::new("abc").unwrap();
+        assert_eq!(s.as_str(), "abc");
+        assert!(VisibleString::<2>::new("abc").is_none());
+        assert!(VisibleString::<8>::new("a\nb").is_none());
+        assert_eq!(VisibleString::<8>::decode(b"ab\0\0").map(|s| s.len()), Ok(2));
+        assert_eq!(VisibleString::<2>::decode(b"abc"), Err(ValueError::TooLong));
+        let o = OctetString([1u8, 2, 3]);
+        assert_eq!(OctetString::<3>::decode(&[1, 2, 3]), Ok(o));
+        let t = TimeOfDay { ms: 1000, days: 2 };
+        let mut b = [0u8; 6];
+        assert_eq!(t.encode(&mut b), Ok(6));
+        assert_eq!(TimeOfDay::decode(&b), Ok(t));
+        assert_eq!(TimeOfDay { ms: 1 << 28, days: 0 }.encode(&mut b), Err(ValueError::Invalid));
+    }
+}
