@@ -60,6 +60,10 @@ pub struct Diagnostic {
     pub labels: Vec<Label>,
     /// Further explanation or help, one item per note.
     pub notes: Vec<String>,
+    /// The object the problem is about: index and, when it is about one sub-object, its
+    /// sub-index. Used for per-object allowances (`odc.toml` `[allow-object]`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub object: Option<(u16, Option<u8>)>,
 }
 
 impl Diagnostic {
@@ -71,6 +75,7 @@ impl Diagnostic {
             message: message.into(),
             labels: Vec::new(),
             notes: Vec::new(),
+            object: None,
         }
     }
 
@@ -99,6 +104,12 @@ impl Diagnostic {
     /// Adds a note.
     pub fn with_note(mut self, note: impl Into<String>) -> Self {
         self.notes.push(note.into());
+        self
+    }
+
+    /// Says which object (and sub-object) the problem is about.
+    pub fn with_object(mut self, index: u16, sub: Option<u8>) -> Self {
+        self.object = Some((index, sub));
         self
     }
 

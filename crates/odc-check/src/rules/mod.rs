@@ -1,0 +1,57 @@
+//! The rules, one module per area; each rule is a `const Rule` next to its check function.
+
+mod cia402;
+mod cob;
+mod ethercat;
+mod lists;
+mod pdo;
+mod structure;
+mod values;
+
+use crate::Rule;
+
+/// Declares a rule: `rule!(NAME, "C101", "kebab-name", group, Severity, Level, check_fn,
+/// "summary", "explanation")`.
+macro_rules! rule {
+    ($id:ident, $code:literal, $name:literal, $group:literal, $sev:ident, $level:ident,
+     $check:path, $summary:literal, $expl:expr $(,)?) => {
+        pub(crate) const $id: $crate::Rule = $crate::Rule {
+            info: odc_model::RuleInfo {
+                code: $code,
+                name: $name,
+                group: $group,
+                default: odc_model::Severity::$sev,
+                summary: $summary,
+                explanation: $expl,
+            },
+            level: $crate::Level::$level,
+            check: $check,
+        };
+    };
+}
+pub(crate) use rule;
+
+/// Every rule of this crate, in code order.
+pub(crate) const ALL: &[Rule] = &[
+    lists::C101,
+    lists::C102,
+    lists::C103,
+    lists::C104,
+    lists::C105,
+    structure::C110,
+    structure::C111,
+    structure::C112,
+    structure::C113,
+    structure::C114,
+    structure::C115,
+    structure::C116,
+    structure::C117,
+    values::C201,
+    values::C202,
+    values::C203,
+    values::C204,
+    values::C205,
+    values::C206,
+    values::C207,
+    values::C208,
+];

@@ -1,0 +1,140 @@
+//! Small helpers shared by the rules.
+#![allow(dead_code)] // some helpers serve rules still to come
+
+use std::borrow::Cow;
+
+use odc_model::{
+    DataType, Device, Format, Object, Pdo, Span, Spanned, SubObject, Value, ValueClass,
+    pdo::resolve_canopen_pdos,
+};
+
+/// The node-IDs a `$NODEID` value must be right for.
+pub(crate) const NODE_IDS: std::ops::RangeInclusive<u8> = 1..=127;
+
+/// Whether the device is a CANopen one (EDS, DCF, or built without a format).
+pub(crate) fn is_canopen(dev: &Device) -> bool {
+    !matches!(dev.format, Some(Format::Esi))
+}
+
+/// Whether the device was read from an ESI.
+pub(crate) fn is_esi(dev: &Device) -> bool {
+    matches!(dev.format, Some(Format::Esi))
+}
+
+/// The device's PDOs: as the front-end filled them, else (CANopen) resolved from 0x1400–0x1BFF.
+pub(crate) fn pdos(dev: &Device) -> Cow<'_, [Pdo]> {
+    if dev.pdos.is_empty() && is_canopen(dev) {
+        Cow::Owned(resolve_canopen_pdos(dev))
+    } else {
+        Cow::Borrowed(&dev.pdos)
+    }
+}
+
+/// The first span that is not the dummy one.
+pub(crate) fn first_span(spans: impl IntoIterator<Item = Span>) -> Span {
+    spans.into_iter().find(|s| !s.is_dummy()).unwrap_or(Span::DUMMY)
+}
+
+/// The span of a value if it has one, else of its sub-object, else of its object.
+pub(crate) fn value_span(o: &Object, s: &SubObject, v: Option<&Spanned<Value>>) -> Span {
+    first_span([v.map_or(Span::DUMMY, |v| v.span), s.span, o.span])
+}
+
+/// `0x1A00`.
+pub(crate) fn idx(index: u16) -> String {
+    format!("0x{index:04X}")
+}
+
+/// `0x1A00:01` for a sub-object of a structured object, `0x1A00` for a VAR.
+pub(crate) fn addr(o: &Object, sub: u8) -> String {
+    if o.kind.has_subs() { format!("0x{:04X}:{sub:02X}", o.index) } else { idx(o.index) }
+}
+
+/// The sub-index to record in a diagnostic: none for a VAR.
+pub(crate) fn sub_of(o: &Object, sub: u8) -> Option<u8> {
+    o.kind.has_subs().then_some(sub)
+}
+
+/// A value as an unsigned integer, if it is one.
+pub(crate) fn as_u64(v: &Value) -> Option<u64> {
+    match *v {
+        Value::Unsigned(u) => Some(u),
+        Value::Signed(i) => u64::try_from(i).ok(),
+        Value::Bool(b) => Some(u64::from(b)),
+        _ => None,
+    }
+}
+
+/// The initial (ParameterValue over DefaultValue) value of `index`:`sub` as an integer,
+/// `$NODEID` excluded.
+pub(crate) fn initial_u64(dev: &Device, index: u16, sub: u8) -> Option<u64> {
+    as_u64(&dev.sub(index, sub)?.initial_value()?.value)
+}
+
+/// The integer range of a type, for integer and boolean types.
+pub(crate) fn int_range(dt: DataType) -> Option<(i128, i128)> {
+    match dt.class() {
+        ValueClass::Bool => Some((0, 1)),
+        ValueClass::Unsigned(n) => Some((0, (1i128 << n) - 1)),
+        ValueClass::Signed(n) => Some((-(1i128 << (n - 1)), (1i128 << (n - 1)) - 1)),
+        _ => None,
+    }
+}
+
+/// The value as a number to compare with limits, with `$NODEID` taken as `node`.
+pub(crate) fn number(dt: DataType, v: &Value, node: u8) -> Option<f64> {
+    match dt.class() {
+        ValueClass::Real32 | ValueClass::Real64 => v.as_f64(),
+        ValueClass::Bool | ValueClass::Unsigned(_) | ValueClass::Signed(_) => {
+            v.as_i128(node).map(|i| i as f64)
+        }
+        _ => None,
+    }
+}
+
+/// Iterates over every sub-object of every object.
+pub(crate) fn all_subs(dev: &Device) -> impl Iterator<Item = (&Object, &SubObject)> {
+    dev.objects.values().flat_map(|o| o.subs.values().map(move |s| (o, s)))
+}
+
+/// Formats a set of node-IDs compactly: `every node-ID`, `node-ID 5`, `node-IDs 3..=127`.
+pub(crate) fn nodes_text(nodes: &[u8]) -> String {
+    match (nodes.first(), nodes.last()) {
+        (Some(&1), Some(&127)) if nodes.len() == 127 => "every node-ID".to_string(),
+        (Some(a), Some(b)) if a == b => format!("node-ID {a}"),
+        (Some(a), Some(b)) if usize::from(b - a) + 1 == nodes.len() => {
+            format!("node-IDs {a}..={b}")
+        }
+        (Some(a), _) => format!("{} node-IDs (e.g. {a})", nodes.len()),
+        _ => "no node-ID".to_string(),
+    }
+}
+
+/// The CiA 306 name of an object kind: `VAR`, `ARRAY`, `RECORD`, ...
+pub(crate) fn kind_name(k: odc_model::ObjectKind) -> &'static str {
+    use odc_model::ObjectKind::*;
+    match k {
+        Null => "NULL",
+        Domain => "DOMAIN",
+        DefType => "DEFTYPE",
+        DefStruct => "DEFSTRUCT",
+        Var => "VAR",
+        Array => "ARRAY",
+        Record => "RECORD",
+    }
+}
+
+/// A value for messages: integers in decimal, `$NODEID+n`, others debug-printed.
+pub(crate) fn show(v: &Value) -> String {
+    match v {
+        Value::Unsigned(u) => u.to_string(),
+        Value::Signed(i) => i.to_string(),
+        Value::Bool(b) => b.to_string(),
+        Value::NodeIdPlus(n) if *n < 0 => format!("$NODEID-{}", n.unsigned_abs()),
+        Value::NodeIdPlus(n) => format!("$NODEID+0x{n:X}"),
+        Value::Real32(b) => f32::from_bits(*b).to_string(),
+        Value::Real64(b) => f64::from_bits(*b).to_string(),
+        Value::Text(t) => format!("{t:?}"),
+        other => format!("{other:?}"),
+    }
+}

@@ -1,0 +1,265 @@
+//! Builders for test devices: `dev().var(0x6040, "Controlword", Unsigned16, Rww).mappable()`.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+#![allow(dead_code, missing_docs)]
+
+use std::collections::BTreeMap;
+
+use odc_check::{Config, check};
+use odc_model::{
+    Access, DataType, Device, Format, Object, ObjectKind, ObjectList, ObjectLists, Origin,
+    PdoMapping, Sources, Spanned, SubObject, Value, diag,
+};
+
+pub use odc_model::Access::*;
+pub use odc_model::DataType::*;
+
+pub struct Dev {
+    pub device: Device,
+    last: Option<(u16, u8)>,
+}
+
+/// An empty CANopen (EDS) device.
+pub fn dev() -> Dev {
+    let device = Device { format: Some(Format::Eds), ..Device::default() };
+    Dev { device, last: None }
+}
+
+/// A CANopen device with the mandatory objects and heartbeat, that passes every rule.
+pub fn base() -> Dev {
+    dev()
+        .var(0x1000, "Device type", Unsigned32, Ro)
+        .default(u(0x0001_0191))
+        .var(0x1001, "Error register", Unsigned8, Ro)
+        .mappable()
+        .var(0x1017, "Producer heartbeat time", Unsigned16, Rw)
+        .default(u(0))
+        .record(
+            0x1018,
+            "Identity",
+            &[
+                (1, "Vendor-ID", Unsigned32, Ro, Some(u(0x1234))),
+                (2, "Product code", Unsigned32, Ro, Some(u(0x42))),
+                (3, "Revision number", Unsigned32, Ro, Some(u(0x0001_0000))),
+            ],
+        )
+}
+
+pub fn u(v: u64) -> Value {
+    Value::Unsigned(v)
+}
+pub fn i(v: i64) -> Value {
+    Value::Signed(v)
+}
+pub fn node(v: i64) -> Value {
+    Value::NodeIdPlus(v)
+}
+
+type SubSpec = (u8, &'static str, DataType, Access, Option<Value>);
+
+impl Dev {
+    fn object(&mut self, index: u16, name: &str, kind: ObjectKind) {
+        self.device.objects.insert(
+            index,
+            Object {
+                index,
+                name: name.into(),
+                kind,
+                subs: BTreeMap::new(),
+                sub_number: None,
+                compact_sub_obj: None,
+                obj_flags: None,
+                denotation: None,
+                links: Vec::new(),
+                origin: Origin::File,
+                extra: Vec::new(),
+                span: odc_model::Span::DUMMY,
+            },
+        );
+    }
+
+    /// A VAR object.
+    pub fn var(mut self, index: u16, name: &str, dt: DataType, access: Access) -> Dev {
+        self.object(index, name, ObjectKind::Var);
+        self.sub_of(index, 0, name, dt, access)
+    }
+
+    /// A RECORD with sub 0 (UNSIGNED8, default = highest sub) and the given subs; SubNumber set.
+    pub fn record(self, index: u16, name: &str, subs: &[SubSpec]) -> Dev {
+        self.structured(index, name, ObjectKind::Record, subs)
+    }
+
+    /// An ARRAY, like [`Dev::record`].
+    pub fn array(self, index: u16, name: &str, subs: &[SubSpec]) -> Dev {
+        self.structured(index, name, ObjectKind::Array, subs)
+    }
+
+    fn structured(mut self, index: u16, name: &str, kind: ObjectKind, subs: &[SubSpec]) -> Dev {
+        self.object(index, name, kind);
+        let highest = subs.iter().map(|s| s.0).max().unwrap_or(0);
+        self = self
+            .sub_of(index, 0, "Highest sub-index supported", Unsigned8, Ro)
+            .default(u(u64::from(highest)));
+        for (sub, name, dt, access, default) in subs.iter().cloned() {
+            self = self.sub_of(index, sub, name, dt, access);
+            if let Some(d) = default {
+                self = self.default(d);
+            }
+        }
+        if let Some(o) = self.device.objects.get_mut(&index) {
+            o.sub_number = Some(Spanned::synthetic(o.subs.len() as u16));
+        }
+        self
+    }
+
+    /// Adds a sub-object to object `index` (which must exist).
+    pub fn sub_of(mut self, index: u16, sub: u8, name: &str, dt: DataType, access: Access) -> Dev {
+        if let Some(o) = self.device.objects.get_mut(&index) {
+            o.subs.insert(sub, SubObject::new(sub, name, dt, access));
+        }
+        self.last = Some((index, sub));
+        self
+    }
+
+    /// Adds a sub-object to the last object.
+    pub fn sub(self, sub: u8, name: &str, dt: DataType, access: Access) -> Dev {
+        let index = self.last.map_or(0, |l| l.0);
+        self.sub_of(index, sub, name, dt, access)
+    }
+
+    fn last_sub(&mut self) -> &mut SubObject {
+        let (i, s) = self.last.unwrap_or_default();
+        self.device.objects.get_mut(&i).and_then(|o| o.subs.get_mut(&s)).unwrap()
+    }
+
+    pub fn last_object(&mut self) -> &mut Object {
+        let (i, _) = self.last.unwrap_or_default();
+        self.device.objects.get_mut(&i).unwrap()
+    }
+
+    /// Selects a sub-object for the value setters.
+    pub fn at(mut self, index: u16, sub: u8) -> Dev {
+        self.last = Some((index, sub));
+        self
+    }
+
+    pub fn mappable(mut self) -> Dev {
+        self.last_sub().pdo_mapping = PdoMapping::Yes;
+        self
+    }
+    pub fn mapping(mut self, m: PdoMapping) -> Dev {
+        self.last_sub().pdo_mapping = m;
+        self
+    }
+    pub fn default(mut self, v: Value) -> Dev {
+        self.last_sub().default = Some(Spanned::synthetic(v));
+        self
+    }
+    pub fn low(mut self, v: Value) -> Dev {
+        self.last_sub().low_limit = Some(Spanned::synthetic(v));
+        self
+    }
+    pub fn high(mut self, v: Value) -> Dev {
+        self.last_sub().high_limit = Some(Spanned::synthetic(v));
+        self
+    }
+    pub fn param(mut self, v: Value) -> Dev {
+        self.last_sub().parameter_value = Some(Spanned::synthetic(v));
+        self
+    }
+    pub fn data_type(mut self, dt: DataType) -> Dev {
+        self.last_sub().data_type = dt;
+        self
+    }
+    pub fn sub_number(mut self, n: u16) -> Dev {
+        self.last_object().sub_number = Some(Spanned::synthetic(n));
+        self
+    }
+    pub fn no_sub_number(mut self) -> Dev {
+        self.last_object().sub_number = None;
+        self
+    }
+    pub fn compact(mut self, n: u8) -> Dev {
+        self.last_object().compact_sub_obj = Some(Spanned::synthetic(n));
+        self
+    }
+    pub fn remove(mut self, index: u16) -> Dev {
+        self.device.objects.remove(&index);
+        self
+    }
+    pub fn remove_sub(mut self, index: u16, sub: u8) -> Dev {
+        if let Some(o) = self.device.objects.get_mut(&index) {
+            o.subs.remove(&sub);
+        }
+        self
+    }
+    pub fn with(mut self, f: impl FnOnce(&mut Device)) -> Dev {
+        f(&mut self.device);
+        self
+    }
+
+    /// A default PDO: communication object (COB-ID, transmission type) and mapping object with
+    /// the given entries (`0xIIIISSLL`). `n` counts from 1; `tx` chooses TPDO.
+    pub fn pdo(self, tx: bool, n: u16, cob_id: Value, entries: &[u32]) -> Dev {
+        let (comm, map) = if tx { (0x1800, 0x1A00) } else { (0x1400, 0x1600) };
+        let comm = comm + n - 1;
+        let map = map + n - 1;
+        let dev = self.record(
+            comm,
+            if tx { "TPDO communication" } else { "RPDO communication" },
+            &[
+                (1, "COB-ID", Unsigned32, Rw, Some(cob_id)),
+                (2, "Transmission type", Unsigned8, Rw, Some(u(0xFE))),
+            ],
+        );
+        let subs: Vec<SubSpec> = (1..=8u8)
+            .map(|k| {
+                let v = entries.get(usize::from(k) - 1).map_or(0, |&e| u64::from(e));
+                (k, "Mapped object", Unsigned32, Rw, Some(u(v)))
+            })
+            .collect();
+        let mut dev = dev.record(map, if tx { "TPDO mapping" } else { "RPDO mapping" }, &subs);
+        dev = dev.at(map, 0).default(u(entries.len() as u64));
+        dev
+    }
+
+    /// Fills the three object lists from the objects, correctly.
+    pub fn lists(mut self) -> Dev {
+        let mut m = ObjectList::default();
+        let mut o = ObjectList::default();
+        let mut f = ObjectList::default();
+        for &i in self.device.objects.keys() {
+            let list = match i {
+                0x1000 | 0x1001 | 0x1018 => &mut m,
+                0x2000..=0x5FFF => &mut f,
+                _ => &mut o,
+            };
+            list.entries.push(Spanned::synthetic(i));
+        }
+        for l in [&mut m, &mut o, &mut f] {
+            l.supported_objects = Some(Spanned::synthetic(l.entries.len() as u16));
+        }
+        self.device.object_lists =
+            ObjectLists { mandatory: Some(m), optional: Some(o), manufacturer: Some(f) };
+        self
+    }
+
+    pub fn esi(mut self) -> Dev {
+        self.device.format = Some(Format::Esi);
+        self
+    }
+
+    pub fn build(self) -> Device {
+        self.device
+    }
+}
+
+/// Checks with the default configuration and renders the short form.
+pub fn run(dev: Dev) -> String {
+    run_with(dev, &Config::default())
+}
+
+pub fn run_with(dev: Dev, config: &Config) -> String {
+    let device = dev.build();
+    let diags = check(&device, config);
+    diag::render_short(&Sources::new(), &diags)
+}
