@@ -83,7 +83,7 @@ fn structured_objects_with_gaps_pass() {
     );
     assert_eq!(run(arr), "");
     // 0x1003 sub 0 counts errors: 0 with subs 1..2 is fine.
-    let errs = base()
+    let errs = io()
         .array(0x1003, "Pre-defined error field", &[(1, "e1", Unsigned32, Ro, None)])
         .at(0x1003, 0)
         .default(u(0));
@@ -172,3 +172,130 @@ trips!(
     })
 );
 trips!(c208_limits_on_non_numeric, "C208", base().var(0x2000, "Name", VisibleString, Ro).low(u(0)));
+
+// C301–C309: PDO mapping.
+
+fn io() -> Dev {
+    base()
+        .var(0x6000, "Inputs", Unsigned8, Ro)
+        .mappable()
+        .var(0x6200, "Outputs", Unsigned16, Rww)
+        .mappable()
+        .var(0x2100, "Name", VisibleString, Rw)
+        .mappable()
+        .var(0x2101, "Config", Unsigned32, Rw)
+        .var(0x1014, "COB-ID EMCY", Unsigned32, Ro)
+        .default(node(0x80))
+        .record(
+            0x1200,
+            "SDO server",
+            &[
+                (1, "COB-ID client->server", Unsigned32, Ro, Some(node(0x600))),
+                (2, "COB-ID server->client", Unsigned32, Ro, Some(node(0x580))),
+            ],
+        )
+        .with(|d| {
+            d.dummy_usage.insert(0x0005, Spanned::synthetic(true));
+            d.device_info.nr_of_rx_pdo = Some(Spanned::synthetic(1));
+            d.device_info.nr_of_tx_pdo = Some(Spanned::synthetic(1));
+        })
+        .pdo(true, 1, node(0x180), &[0x6000_0008, 0x0005_0008, 0x1001_0008])
+        .pdo(false, 1, node(0x200), &[0x6200_0010])
+}
+
+#[test]
+fn io_device_passes_every_rule() {
+    assert_eq!(run(io()), "");
+}
+
+trips!(c301_pdo_mapped_object_missing, "C301", io().pdo(true, 1, node(0x180), &[0x6001_0008]));
+trips!(
+    c302_pdo_mapping_direction,
+    "C302",
+    io().pdo(true, 1, node(0x180), &[0x6200_0010, 0x2101_0020])
+);
+trips!(c303_pdo_entry_length, "C303", io().pdo(false, 1, node(0x200), &[0x6200_0008, 0x0005_0010]));
+trips!(
+    c304_pdo_too_long,
+    "C304",
+    io().var(0x6400, "Big", Unsigned64, Ro).mappable().pdo(
+        true,
+        1,
+        node(0x180),
+        &[0x6400_0040, 0x6000_0008]
+    )
+);
+trips!(c305_pdo_too_many_entries, "C305", io().at(0x1A00, 0).default(u(65)));
+trips!(
+    c306_pdo_dummy_not_enabled,
+    "C306",
+    io().pdo(false, 1, node(0x200), &[0x6200_0010, 0x0006_0010])
+);
+trips!(c307_pdo_variable_length, "C307", io().pdo(true, 1, node(0x180), &[0x2100_0008]));
+trips!(
+    c308_pdo_count_mismatch,
+    "C308",
+    io().with(|d| d.device_info.nr_of_tx_pdo = Some(Spanned::synthetic(4)))
+);
+trips!(c309_pdo_mapping_entry_missing, "C309", io().remove_sub(0x1A00, 2));
+
+// C401–C408: COB-IDs and communication objects.
+
+trips!(
+    c401_restricted_cob_id,
+    "C401",
+    io().at(0x1800, 1).default(node(0x700)).at(0x1400, 1).default(u(0x7E5))
+);
+trips!(
+    c402_cob_id_reserved_bits,
+    "C402",
+    io().at(0x1800, 1).default(u(0x40181)).at(0x1014, 0).default(node(0x4000_0080))
+);
+trips!(
+    c403_cob_id_not_predefined,
+    "C403",
+    io().at(0x1800, 1).default(u(0x1A1)).pdo(true, 5, node(0x190), &[0x6000_0008]).with(|d| {
+        d.device_info.nr_of_tx_pdo = Some(Spanned::synthetic(2));
+    })
+);
+trips!(c404_duplicate_cob_id, "C404", io().at(0x1400, 1).default(node(0x180)));
+trips!(
+    c405_sync_objects,
+    "C405",
+    io().at(0x1800, 2).default(u(1)).var(0x1006, "Cycle period", Unsigned32, Rw)
+);
+trips!(
+    c406_emcy_object,
+    "C406",
+    io().remove(0x1014).var(0x1015, "Inhibit time EMCY", Unsigned16, Rw)
+);
+trips!(
+    c407_no_error_control,
+    "C407",
+    io().remove(0x1017).var(0x100C, "Guard time", Unsigned16, Rw)
+);
+trips!(
+    c408_sdo_server_cob_id,
+    "C408",
+    io().at(0x1200, 1).default(node(0x601)).at(0x1200, 2).default(u(0x581))
+);
+
+#[test]
+fn sync_producer_with_period_passes() {
+    let d = io()
+        .at(0x1800, 2)
+        .default(u(1))
+        .var(0x1005, "COB-ID SYNC", Unsigned32, Rw)
+        .default(u(0x4000_0080))
+        .var(0x1006, "Cycle period", Unsigned32, Rw)
+        .default(u(1000));
+    assert_eq!(run(d), "");
+    // Node guarding with both objects is error control too.
+    let d = io().remove(0x1017).var(0x100C, "Guard time", Unsigned16, Rw).var(
+        0x100D,
+        "Life time factor",
+        Unsigned8,
+        Rw,
+    );
+    assert_eq!(run(d), "");
+}
