@@ -23,8 +23,10 @@ pub mod cob;
 pub mod emcy;
 mod entry;
 pub mod nmt;
+pub mod plan;
 mod pdo;
 mod sdo;
+pub mod slave;
 mod types;
 mod value;
 

@@ -1,0 +1,41 @@
+//! Configuration plans: SDO writes as plain data, for any SDO client to execute in order.
+//!
+//! Generated `master` modules build them (the CiA 301 PDO mapping procedure, the EtherCAT
+//! 0x1C12/0x1C13 assignment).
+
+/// One expedited SDO download: `size` bytes (1, 2 or 4) of `value`, little-endian.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct SdoWrite {
+    /// Object index.
+    pub index: u16,
+    /// Sub-index.
+    pub sub: u8,
+    /// The value, zero-extended.
+    pub value: u32,
+    /// Size in bytes: 1, 2 or 4.
+    pub size: u8,
+}
+
+impl SdoWrite {
+    /// An UNSIGNED8 write.
+    pub const fn u8(index: u16, sub: u8, value: u8) -> Self {
+        Self { index, sub, value: value as u32, size: 1 }
+    }
+
+    /// An UNSIGNED16 write.
+    pub const fn u16(index: u16, sub: u8, value: u16) -> Self {
+        Self { index, sub, value: value as u32, size: 2 }
+    }
+
+    /// An UNSIGNED32 write.
+    pub const fn u32(index: u16, sub: u8, value: u32) -> Self {
+        Self { index, sub, value, size: 4 }
+    }
+
+    /// The little-endian bytes of the value and how many of them to send.
+    pub const fn to_le_bytes(self) -> ([u8; 4], usize) {
+        (self.value.to_le_bytes(), self.size as usize)
+    }
+}
