@@ -299,3 +299,53 @@ fn sync_producer_with_period_passes() {
     );
     assert_eq!(run(d), "");
 }
+
+// D501–D507: CiA 402.
+
+/// A two-axis csp/pp drive that passes every rule.
+fn drive() -> Dev {
+    let mut d = base().at(0x1000, 0).default(u(0x0002_0192));
+    for base in [0u16, 0x800] {
+        d = d
+            .var(0x6040 + base, "Controlword", Unsigned16, Rww)
+            .mappable()
+            .var(0x6041 + base, "Statusword", Unsigned16, Ro)
+            .mappable()
+            .var(0x6060 + base, "Modes of operation", Integer8, Rww)
+            .mappable()
+            .var(0x6061 + base, "Modes of operation display", Integer8, Ro)
+            .mappable()
+            .var(0x6064 + base, "Position actual value", Integer32, Ro)
+            .mappable()
+            .var(0x607A + base, "Target position", Integer32, Rww)
+            .mappable()
+            .var(0x6081 + base, "Profile velocity", Unsigned32, Rw)
+            .var(0x6083 + base, "Profile acceleration", Unsigned32, Rw)
+            .var(0x6502 + base, "Supported drive modes", Unsigned32, Ro)
+            .default(u(0x81));
+    }
+    d
+}
+
+#[test]
+fn drive_passes_every_rule() {
+    assert_eq!(run(drive()), "");
+    // Without profile 402 in 0x1000 none of the D rules apply.
+    assert_eq!(run(drive().at(0x1000, 0).default(u(0x191)).remove(0x6040)), "");
+}
+
+trips!(d501_cia402_controlword_statusword, "D501", drive().remove(0x6041).remove(0x6840));
+trips!(d502_cia402_object_type, "D502", drive().at(0x6060, 0).data_type(Unsigned8));
+trips!(
+    d503_cia402_pdo_mappable,
+    "D503",
+    drive().remove(0x6040).var(0x6040, "Controlword", Unsigned16, Ro).mappable()
+);
+trips!(d504_cia402_mode_objects, "D504", drive().at(0x6502, 0).default(u(0x3A5)));
+trips!(
+    d505_cia402_cyclic_mappable,
+    "D505",
+    drive().remove(0x6064).var(0x6064, "Position actual value", Integer32, Ro)
+);
+trips!(d506_cia402_modes_of_operation, "D506", drive().remove(0x6060).remove(0x6861));
+trips!(d507_cia402_axis_offset, "D507", drive().at(0x6881, 0).data_type(Integer32));

@@ -71,4 +71,11 @@ pub(crate) const ALL: &[Rule] = &[
     cob::C406,
     cob::C407,
     cob::C408,
+    cia402::D501,
+    cia402::D502,
+    cia402::D503,
+    cia402::D504,
+    cia402::D505,
+    cia402::D506,
+    cia402::D507,
 ];
