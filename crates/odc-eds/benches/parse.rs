@@ -1,0 +1,51 @@
+//! Parse throughput over every EDS/DCF file of the corpus (decode + scan + lower).
+
+use std::hint::black_box;
+use std::path::PathBuf;
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+
+fn corpus() -> Vec<(String, Vec<u8>)> {
+    let dir = std::env::var_os("ODC_CORPUS").map(PathBuf::from).unwrap_or_else(|| {
+        PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/corpus"))
+    });
+    let Ok(manifest) = std::fs::read_to_string(dir.join("MANIFEST.tsv")) else {
+        return Vec::new();
+    };
+    manifest
+        .lines()
+        .skip(1)
+        .filter_map(|l| {
+            let mut cols = l.split('\t');
+            let (file, kind) = (cols.next()?, cols.next()?);
+            if !matches!(kind, "eds" | "dcf") {
+                return None;
+            }
+            Some((file.to_owned(), std::fs::read(dir.join(file)).ok()?))
+        })
+        .collect()
+}
+
+fn bench(c: &mut Criterion) {
+    let files = corpus();
+    if files.is_empty() {
+        eprintln!("corpus not found; nothing to measure");
+        return;
+    }
+    let bytes: u64 = files.iter().map(|(_, b)| b.len() as u64).sum();
+    let mut g = c.benchmark_group("eds");
+    g.throughput(Throughput::Bytes(bytes));
+    g.sample_size(20);
+    g.bench_function("parse_corpus", |b| {
+        b.iter(|| {
+            for (name, data) in &files {
+                let mut sources = odc_model::Sources::new();
+                black_box(odc_eds::parse(&mut sources, name, data));
+            }
+        })
+    });
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

@@ -1,0 +1,1574 @@
+//! Lowering: raw sections and entries → [`odc_model::Device`], with diagnostics.
+
+use std::collections::BTreeMap;
+
+use odc_model::{
+    Access, Commissioning, DataType, Device, Diagnostic, FileId, Format, Module, Object,
+    ObjectKind, ObjectList, Origin, PdoMapping, RawEntry, RawSection, Severity, Span, Spanned,
+    SubExtend, SubObject, Value, ValueClass,
+};
+
+use crate::num;
+use crate::raw::{Entry, RawFile, Section};
+use crate::rules::codes;
+
+/// The name CiA 306 tools give the implied sub-index 0 of a compact object.
+pub(crate) const COMPACT_SUB0_NAME: &str = "NrOfObjects";
+
+/// The name of an implied sub-object `n` of a compact object named `object`.
+pub(crate) fn compact_sub_name(object: &str, n: u8) -> String {
+    format!("{object}{n}")
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    FileInfo,
+    DeviceInfo,
+    DummyUsage,
+    Comments,
+    ObjList(u8),
+    Commissioning,
+    SupportedModules,
+    ConnectedModules,
+    Object(u16),
+    Sub(u16, u8),
+    Name(u16),
+    Value(u16),
+    Denotation(u16),
+    Links(u16),
+    ModInfo(u16),
+    ModFixedObjects(u16),
+    ModFixed(u16, u16),
+    ModFixedSub(u16, u16, u8),
+    ModSubExtends(u16),
+    ModSubExt(u16, u16),
+    ModComments(u16),
+    Malformed,
+    Unknown,
+}
+
+fn hex4(b: &[u8]) -> Option<u16> {
+    if b.len() != 4 {
+        return None;
+    }
+    let mut v = 0u16;
+    for &c in b {
+        let d = match c {
+            b'0'..=b'9' => c - b'0',
+            b'a'..=b'f' => c - b'a' + 10,
+            b'A'..=b'F' => c - b'A' + 10,
+            _ => return None,
+        };
+        v = (v << 4) | u16::from(d);
+    }
+    Some(v)
+}
+
+fn hex_u8(b: &[u8]) -> Option<u8> {
+    if b.is_empty() || b.len() > 4 {
+        return None;
+    }
+    let mut v = 0u32;
+    for &c in b {
+        let d = match c {
+            b'0'..=b'9' => c - b'0',
+            b'a'..=b'f' => c - b'a' + 10,
+            b'A'..=b'F' => c - b'A' + 10,
+            _ => return None,
+        };
+        v = (v << 4) | u32::from(d);
+    }
+    u8::try_from(v).ok()
+}
+
+fn dec_u16(b: &[u8]) -> Option<u16> {
+    if b.is_empty() || b.len() > 5 || !b.iter().all(u8::is_ascii_digit) {
+        return None;
+    }
+    b.iter()
+        .try_fold(0u32, |v, &c| Some(v * 10 + u32::from(c - b'0')))
+        .and_then(|v| u16::try_from(v).ok())
+}
+
+fn strip_prefix_ci<'b>(b: &'b [u8], p: &str) -> Option<&'b [u8]> {
+    if b.len() >= p.len() && b[..p.len()].eq_ignore_ascii_case(p.as_bytes()) {
+        Some(&b[p.len()..])
+    } else {
+        None
+    }
+}
+
+/// Classifies the part after a 4-hex-digit index: ``, `subN`, `Name`, `Value`, ...
+fn classify_object_tail(index: u16, tail: &[u8]) -> Kind {
+    if tail.is_empty() {
+        return Kind::Object(index);
+    }
+    if let Some(s) = strip_prefix_ci(tail, "sub") {
+        return hex_u8(s).map_or(Kind::Malformed, |s| Kind::Sub(index, s));
+    }
+    if tail.eq_ignore_ascii_case(b"Name") {
+        Kind::Name(index)
+    } else if tail.eq_ignore_ascii_case(b"Value") {
+        Kind::Value(index)
+    } else if tail.eq_ignore_ascii_case(b"Denotation") {
+        Kind::Denotation(index)
+    } else if tail.eq_ignore_ascii_case(b"ObjectLinks") {
+        Kind::Links(index)
+    } else {
+        Kind::Malformed
+    }
+}
+
+fn classify(name: &str) -> Kind {
+    let b = name.as_bytes();
+    if b.len() >= 4
+        && let Some(index) = hex4(&b[..4])
+    {
+        let k = classify_object_tail(index, &b[4..]);
+        // Names such as `[DEADBEEF]` that are not ours: only report when it looks like ours.
+        return k;
+    }
+    const NAMED: &[(&str, Kind)] = &[
+        ("FileInfo", Kind::FileInfo),
+        ("DeviceInfo", Kind::DeviceInfo),
+        ("DummyUsage", Kind::DummyUsage),
+        ("Comments", Kind::Comments),
+        ("MandatoryObjects", Kind::ObjList(0)),
+        ("OptionalObjects", Kind::ObjList(1)),
+        ("ManufacturerObjects", Kind::ObjList(2)),
+        ("DeviceComissioning", Kind::Commissioning),
+        ("DeviceCommissioning", Kind::Commissioning),
+        ("SupportedModules", Kind::SupportedModules),
+        ("ConnectedModules", Kind::ConnectedModules),
+    ];
+    for &(n, k) in NAMED {
+        if name.eq_ignore_ascii_case(n) {
+            return k;
+        }
+    }
+    // Modules: M<decimal><rest>.
+    if b.len() > 2 && (b[0] == b'M' || b[0] == b'm') && b[1].is_ascii_digit() {
+        let digits = b[1..].iter().take_while(|c| c.is_ascii_digit()).count();
+        let Some(x) = dec_u16(&b[1..1 + digits]) else { return Kind::Unknown };
+        let rest = &b[1 + digits..];
+        if rest.eq_ignore_ascii_case(b"ModuleInfo") {
+            return Kind::ModInfo(x);
+        }
+        if rest.eq_ignore_ascii_case(b"FixedObjects") {
+            return Kind::ModFixedObjects(x);
+        }
+        if rest.eq_ignore_ascii_case(b"SubExtends") {
+            return Kind::ModSubExtends(x);
+        }
+        if rest.eq_ignore_ascii_case(b"Comments") {
+            return Kind::ModComments(x);
+        }
+        if let Some(t) = strip_prefix_ci(rest, "SubExt")
+            && let Some(i) = hex4(t)
+        {
+            return Kind::ModSubExt(x, i);
+        }
+        if let Some(t) = strip_prefix_ci(rest, "Fixed")
+            && t.len() >= 4
+            && let Some(i) = hex4(&t[..4])
+        {
+            return match classify_object_tail(i, &t[4..]) {
+                Kind::Object(i) => Kind::ModFixed(x, i),
+                Kind::Sub(i, s) => Kind::ModFixedSub(x, i, s),
+                _ => Kind::Malformed,
+            };
+        }
+    }
+    Kind::Unknown
+}
+
+/// The sections that make one object.
+#[derive(Default)]
+struct ObjB {
+    main: Option<u32>,
+    subs: BTreeMap<u8, u32>,
+    name: Option<u32>,
+    value: Option<u32>,
+    denotation: Option<u32>,
+    links: Option<u32>,
+}
+
+#[derive(Default)]
+struct ModB {
+    info: Option<u32>,
+    fixed_list: Option<u32>,
+    fixed: BTreeMap<u16, ObjB>,
+    sub_ext_list: Option<u32>,
+    sub_ext: BTreeMap<u16, u32>,
+    comments: Option<u32>,
+}
+
+/// Keys of object and sub-object sections.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum K {
+    ParameterName,
+    ObjectType,
+    DataType,
+    AccessType,
+    PdoMapping,
+    DefaultValue,
+    LowLimit,
+    HighLimit,
+    ParameterValue,
+    Denotation,
+    ObjFlags,
+    UploadFile,
+    DownloadFile,
+    SubNumber,
+    CompactSubObj,
+    Count,
+    ObjExtend,
+}
+
+const N_KEYS: usize = 17;
+
+fn obj_key(key: &str) -> Option<K> {
+    const KEYS: &[(&str, K)] = &[
+        ("ParameterName", K::ParameterName),
+        ("ObjectType", K::ObjectType),
+        ("DataType", K::DataType),
+        ("AccessType", K::AccessType),
+        ("PDOMapping", K::PdoMapping),
+        ("DefaultValue", K::DefaultValue),
+        ("LowLimit", K::LowLimit),
+        ("HighLimit", K::HighLimit),
+        ("ParameterValue", K::ParameterValue),
+        ("Denotation", K::Denotation),
+        ("ObjFlags", K::ObjFlags),
+        ("UploadFile", K::UploadFile),
+        ("DownloadFile", K::DownloadFile),
+        ("SubNumber", K::SubNumber),
+        ("CompactSubObj", K::CompactSubObj),
+        ("Count", K::Count),
+        ("ObjExtend", K::ObjExtend),
+    ];
+    KEYS.iter().find(|(n, _)| n.len() == key.len() && n.eq_ignore_ascii_case(key)).map(|&(_, k)| k)
+}
+
+/// The known keys of one (possibly repeated) section, last occurrence winning, and the rest.
+struct Keys<'e, 'a> {
+    k: [Option<&'e Entry<'a>>; N_KEYS],
+    extra: Vec<&'e Entry<'a>>,
+}
+
+impl<'e, 'a> Keys<'e, 'a> {
+    fn get(&self, k: K) -> Option<&'e Entry<'a>> {
+        self.k[k as usize]
+    }
+    fn take(&mut self, k: K) -> Option<&'e Entry<'a>> {
+        self.k[k as usize].take()
+    }
+    /// Moves the known key `k` (if present) into `extra`.
+    fn move_to_extra(&mut self, k: K) {
+        if let Some(e) = self.take(k) {
+            self.extra.push(e);
+        }
+    }
+}
+
+pub(crate) struct Lower<'r, 'a> {
+    raw: &'r RawFile<'a>,
+    file: FileId,
+    pub(crate) diags: Vec<Diagnostic>,
+    dcf_hint: bool,
+    /// Report unreadable header numbers as warnings ([FileInfo]: metadata only).
+    soft: bool,
+}
+
+fn raw_entry(e: &Entry<'_>, file: FileId) -> RawEntry {
+    RawEntry { key: e.key.to_owned(), value: e.value.to_owned(), span: e.line_pos.span(file) }
+}
+
+impl<'r, 'a> Lower<'r, 'a> {
+    pub(crate) fn new(raw: &'r RawFile<'a>, diags: Vec<Diagnostic>) -> Self {
+        Lower { raw, file: raw.file, diags, dcf_hint: false, soft: false }
+    }
+
+    fn sec(&self, i: u32) -> &'r Section<'a> {
+        // Indexes come from enumerating `raw.sections`.
+        &self.raw.sections[i as usize]
+    }
+
+    /// Entries of a section and of its repeats, in file order.
+    fn entries(&self, first: u32) -> impl Iterator<Item = &'r Entry<'a>> + 'r {
+        self.raw.chain(first).flat_map(|s| s.entries.iter())
+    }
+
+    fn keys(&self, first: u32) -> Keys<'r, 'a> {
+        let mut keys = Keys { k: [None; N_KEYS], extra: Vec::new() };
+        for e in self.entries(first) {
+            match obj_key(e.key) {
+                Some(k) => keys.k[k as usize] = Some(e),
+                None => keys.extra.push(e),
+            }
+        }
+        keys
+    }
+
+    fn span(&self, p: crate::raw::Pos) -> Span {
+        p.span(self.file)
+    }
+
+    fn raw_section(&self, first: u32) -> RawSection {
+        let s = self.sec(first);
+        RawSection {
+            name: s.name.to_owned(),
+            entries: self.entries(first).map(|e| raw_entry(e, self.file)).collect(),
+            span: self.span(s.header_pos),
+        }
+    }
+
+    // ----- value readers -------------------------------------------------------------------
+
+    fn warn(&mut self, code: &'static str, msg: impl Into<String>, span: Span, label: &str) {
+        self.diags.push(Diagnostic::warning(code, msg).with_label(span, label));
+    }
+
+    fn int_flags(&mut self, flags: u8, e: &Entry<'_>) {
+        let span = self.span(e.value_pos);
+        if flags & num::OCTAL != 0 {
+            self.warn(
+                codes::OCTAL_NUMBER,
+                format!("`{}` has a leading zero and is read as octal", e.value),
+                span,
+                "read as octal",
+            );
+        }
+        if flags & num::SUFFIX != 0 {
+            self.warn(
+                codes::INTEGER_SUFFIX,
+                format!("C integer suffix in `{}` ignored", e.value),
+                span,
+                "suffix ignored",
+            );
+        }
+        if flags & num::NODEID_ORDER != 0 {
+            self.warn(
+                codes::NODEID_ORDER,
+                format!("`{}`: write `$NODEID` first", e.value),
+                span,
+                "read as $NODEID+offset",
+            );
+        }
+    }
+
+    /// Runs `read` on the value; when it fails and the value has a trailing comment, runs it on
+    /// the value without the comment (with a warning).
+    fn with_comment_fallback<T>(
+        &mut self,
+        e: &Entry<'_>,
+        mut read: impl FnMut(&str) -> Option<T>,
+    ) -> Option<T> {
+        if let Some(v) = read(e.value) {
+            return Some(v);
+        }
+        let stripped = num::strip_inline_comment(e.value)?;
+        let v = read(stripped)?;
+        self.warn(
+            codes::INLINE_COMMENT,
+            format!("comment after the value of `{}`", e.key),
+            self.span(e.value_pos),
+            "comment ignored",
+        );
+        Some(v)
+    }
+
+    /// Reads an unsigned header number of at most `max`. `Ok(None)`: empty (warned);
+    /// `Err(())`: unreadable (reported; the caller keeps the raw entry).
+    fn uint(&mut self, e: &Entry<'_>, max: u64) -> Result<Option<Spanned<u64>>, ()> {
+        if e.value.is_empty() {
+            self.empty(e);
+            return Ok(None);
+        }
+        let span = self.span(e.value_pos);
+        let Some((v, flags)) = self.with_comment_fallback(e, num::parse_plain) else {
+            let sev = if self.soft { Severity::Warning } else { Severity::Error };
+            self.diags.push(
+                Diagnostic::new(
+                    sev,
+                    codes::INVALID_VALUE,
+                    format!("`{}` is not a number", e.value),
+                )
+                .with_label(span, format!("expected a number for `{}`", e.key))
+                .with_note("numbers are decimal, 0x-hex or 0-octal"),
+            );
+            return Err(());
+        };
+        if v < 0 || v > i128::from(max) {
+            self.diags.push(
+                Diagnostic::new(
+                    if self.soft { Severity::Warning } else { Severity::Error },
+                    codes::OUT_OF_RANGE,
+                    format!("`{}` does not fit `{}` (0..={max})", e.value, e.key),
+                )
+                .with_label(span, "out of range"),
+            );
+            return Err(());
+        }
+        self.int_flags(flags, e);
+        Ok(Some(Spanned::new(v as u64, span)))
+    }
+
+    fn boolean(&mut self, e: &Entry<'_>) -> Result<Option<Spanned<bool>>, ()> {
+        if e.value.is_empty() {
+            self.empty(e);
+            return Ok(None);
+        }
+        let span = self.span(e.value_pos);
+        match self.with_comment_fallback(e, num::parse_bool) {
+            Some(b) => Ok(Some(Spanned::new(b, span))),
+            None => {
+                self.diags.push(
+                    Diagnostic::error(
+                        codes::INVALID_VALUE,
+                        format!("`{}` is not a boolean", e.value),
+                    )
+                    .with_label(span, format!("expected 0 or 1 for `{}`", e.key)),
+                );
+                Err(())
+            }
+        }
+    }
+
+    fn empty(&mut self, e: &Entry<'_>) {
+        self.warn(
+            codes::EMPTY_VALUE,
+            format!("`{}=` has no value; treated as absent", e.key),
+            self.span(e.line_pos),
+            "empty value",
+        );
+    }
+
+    fn text(&self, e: &Entry<'_>) -> Spanned<String> {
+        Spanned::new(e.value.to_owned(), self.span(e.value_pos))
+    }
+
+    /// Reads a value typed by `dt`.
+    fn value(&mut self, e: &Entry<'_>, dt: DataType) -> Option<Spanned<Value>> {
+        let span = self.span(e.value_pos);
+        let class = dt.class();
+        if e.value.is_empty() {
+            return match class {
+                ValueClass::Text => Some(Spanned::new(Value::Text(String::new()), span)),
+                ValueClass::Bytes => Some(Spanned::new(Value::Bytes(Vec::new()), span)),
+                ValueClass::Unicode => Some(Spanned::new(Value::Unicode(Vec::new()), span)),
+                _ => {
+                    self.empty(e);
+                    None
+                }
+            };
+        }
+        let mut problem = Problem::Invalid;
+        let read = |s: &str, problem: &mut Problem| read_value(s, dt, problem);
+        let got = match read(e.value, &mut problem) {
+            Some(v) => Some(v),
+            None if problem == Problem::Invalid => {
+                let mut p2 = Problem::Invalid;
+                let r = num::strip_inline_comment(e.value).and_then(|s| read(s, &mut p2));
+                if r.is_some() {
+                    self.warn(
+                        codes::INLINE_COMMENT,
+                        format!("comment after the value of `{}`", e.key),
+                        span,
+                        "comment ignored",
+                    );
+                }
+                r
+            }
+            None => None,
+        };
+        match got {
+            Some((v, flags)) => {
+                self.int_flags(flags, e);
+                Some(Spanned::new(v, span))
+            }
+            None => {
+                let d = match problem {
+                    Problem::Range => Diagnostic::error(
+                        codes::OUT_OF_RANGE,
+                        format!("`{}` does not fit {}", e.value, dt.name()),
+                    )
+                    .with_label(span, format!("out of range for {}", dt.name())),
+                    Problem::Invalid => Diagnostic::new(
+                        if class == ValueClass::Bytes {
+                            Severity::Warning
+                        } else {
+                            Severity::Error
+                        },
+                        codes::INVALID_VALUE,
+                        format!("`{}` is not a valid {} value", e.value, dt.name()),
+                    )
+                    .with_label(span, format!("expected {}", expected(class))),
+                };
+                self.diags.push(d.with_note("the text is kept as written"));
+                Some(Spanned::new(Value::Invalid(e.value.to_owned()), span))
+            }
+        }
+    }
+
+    fn data_type(&mut self, e: &Entry<'_>) -> Result<Option<DataType>, ()> {
+        Ok(self.uint(e, 0xFFFF)?.map(|v| DataType::from_code(v.value as u16)))
+    }
+
+    fn access(&mut self, e: &Entry<'_>) -> Option<Access> {
+        let span = self.span(e.value_pos);
+        if e.value.is_empty() {
+            self.empty(e);
+            return None;
+        }
+        let read = |s: &str| -> Option<(Access, bool)> {
+            if let Some(a) = Access::parse(s) {
+                Some((a, false))
+            } else if s.trim().eq_ignore_ascii_case("r") {
+                Some((Access::Ro, true))
+            } else {
+                None
+            }
+        };
+        match self.with_comment_fallback(e, read) {
+            Some((a, nonstandard)) => {
+                if nonstandard {
+                    self.warn(
+                        codes::NONSTANDARD_ACCESS,
+                        format!("AccessType `{}` is not CiA 306; read as `ro`", e.value),
+                        span,
+                        "read as ro",
+                    );
+                }
+                Some(a)
+            }
+            None => {
+                self.diags.push(
+                    Diagnostic::error(
+                        codes::UNKNOWN_ACCESS,
+                        format!("unknown AccessType `{}`", e.value),
+                    )
+                    .with_label(span, "expected ro, wo, rw, rwr, rww or const")
+                    .with_note("assumed ro"),
+                );
+                None
+            }
+        }
+    }
+
+    // ----- sections --------------------------------------------------------------------------
+
+    pub(crate) fn run(mut self, name: &str) -> (Device, Vec<Diagnostic>) {
+        let lname = name.as_bytes();
+        self.dcf_hint = lname.len() >= 4 && lname[lname.len() - 4..].eq_ignore_ascii_case(b".dcf");
+        let mut dev = Device::default();
+        let mut objects: BTreeMap<u16, ObjB> = BTreeMap::new();
+        let mut modules: BTreeMap<u16, ModB> = BTreeMap::new();
+        let mut extra: Vec<(u32, RawSection)> = Vec::new();
+        let mut has_value_sections = false;
+
+        for (i, s) in self.raw.sections.iter().enumerate() {
+            if s.is_duplicate {
+                continue;
+            }
+            let i = i as u32;
+            let kind = classify(s.name);
+            match kind {
+                Kind::FileInfo => self.file_info(i, &mut dev),
+                Kind::DeviceInfo => self.device_info(i, &mut dev),
+                Kind::DummyUsage => self.dummy_usage(i, &mut dev, &mut extra),
+                Kind::Comments => {
+                    dev.comments = self.comments(i, &mut extra);
+                }
+                Kind::ObjList(n) => {
+                    let list = self.object_list(i, "SupportedObjects", &mut extra);
+                    let slot = match n {
+                        0 => &mut dev.object_lists.mandatory,
+                        1 => &mut dev.object_lists.optional,
+                        _ => &mut dev.object_lists.manufacturer,
+                    };
+                    *slot = Some(list);
+                }
+                Kind::Commissioning => self.commissioning(i, &mut dev),
+                Kind::SupportedModules => {
+                    // NrOfEntries is implied by the [MxModuleInfo] sections.
+                    self.list_section(i, "NrOfEntries", &mut extra);
+                }
+                Kind::ConnectedModules => {
+                    let l = self.list_section(i, "NrOfEntries", &mut extra);
+                    dev.modules.connected = l
+                        .into_iter()
+                        .filter_map(|(e, _)| self.uint(e, 0xFFFF).ok().flatten())
+                        .map(|v| Spanned::new(v.value as u16, v.span))
+                        .collect();
+                }
+                Kind::Object(x) => objects.entry(x).or_default().main = Some(i),
+                Kind::Sub(x, s) => {
+                    objects.entry(x).or_default().subs.insert(s, i);
+                }
+                Kind::Name(x) => objects.entry(x).or_default().name = Some(i),
+                Kind::Value(x) => {
+                    has_value_sections = true;
+                    objects.entry(x).or_default().value = Some(i);
+                }
+                Kind::Denotation(x) => objects.entry(x).or_default().denotation = Some(i),
+                Kind::Links(x) => objects.entry(x).or_default().links = Some(i),
+                Kind::ModInfo(m) => modules.entry(m).or_default().info = Some(i),
+                Kind::ModFixedObjects(m) => modules.entry(m).or_default().fixed_list = Some(i),
+                Kind::ModFixed(m, x) => {
+                    modules.entry(m).or_default().fixed.entry(x).or_default().main = Some(i);
+                }
+                Kind::ModFixedSub(m, x, s) => {
+                    modules.entry(m).or_default().fixed.entry(x).or_default().subs.insert(s, i);
+                }
+                Kind::ModSubExtends(m) => modules.entry(m).or_default().sub_ext_list = Some(i),
+                Kind::ModSubExt(m, x) => {
+                    modules.entry(m).or_default().sub_ext.insert(x, i);
+                }
+                Kind::ModComments(m) => modules.entry(m).or_default().comments = Some(i),
+                Kind::Malformed => {
+                    self.warn(
+                        codes::MALFORMED_OBJECT_SECTION,
+                        format!(
+                            "section name [{}] looks like an object but does not parse",
+                            s.name
+                        ),
+                        self.span(s.name_pos),
+                        "kept as an unknown section",
+                    );
+                    extra.push((i, self.raw_section(i)));
+                }
+                Kind::Unknown => extra.push((i, self.raw_section(i))),
+            }
+        }
+
+        for (index, b) in &objects {
+            match self.object(*index, b, &mut extra) {
+                Some(o) => {
+                    dev.objects.insert(*index, o);
+                }
+                None => {
+                    // Orphan companions: kept as unknown sections.
+                    let orphans = b
+                        .subs
+                        .values()
+                        .chain(b.name.iter())
+                        .chain(b.value.iter())
+                        .chain(b.denotation.iter())
+                        .chain(b.links.iter());
+                    for &i in orphans {
+                        let s = self.sec(i);
+                        self.warn(
+                            codes::ORPHAN_SECTION,
+                            format!("[{}] has no object section [{:04X}]", s.name, index),
+                            self.span(s.name_pos),
+                            "kept as an unknown section",
+                        );
+                        extra.push((i, self.raw_section(i)));
+                    }
+                }
+            }
+        }
+
+        for (number, b) in &modules {
+            let m = self.module(*number, b, &mut extra);
+            dev.modules.supported.push(m);
+        }
+
+        extra.sort_by_key(|(i, _)| *i);
+        dev.extra_sections = extra.into_iter().map(|(_, s)| s).collect();
+
+        let has_pv =
+            dev.objects.values().any(|o| o.subs.values().any(|s| s.parameter_value.is_some()));
+        dev.format =
+            Some(if dev.commissioning.is_some() || has_pv || has_value_sections || self.dcf_hint {
+                Format::Dcf
+            } else {
+                Format::Eds
+            });
+        dev.device_info.baud_rates.sort_unstable();
+        dev.device_info.baud_rates.dedup();
+        crate::compact_pdo::synthesise(&mut dev);
+        dev.pdos = odc_model::pdo::resolve_canopen_pdos(&dev);
+        (dev, self.diags)
+    }
+
+    fn file_info(&mut self, first: u32, dev: &mut Device) {
+        self.soft = true;
+        self.file_info_inner(first, dev);
+        self.soft = false;
+    }
+
+    fn file_info_inner(&mut self, first: u32, dev: &mut Device) {
+        let fi = &mut dev.file_info;
+        for e in self.entries(first) {
+            let k = e.key;
+            let is = |n: &str| k.eq_ignore_ascii_case(n);
+            if is("FileName") {
+                fi.file_name = Some(self.text(e));
+            } else if is("FileVersion") || is("FileRevision") {
+                match self.uint(e, 0xFF) {
+                    Ok(v) => {
+                        let v = v.map(|v| Spanned::new(v.value as u8, v.span));
+                        if is("FileVersion") {
+                            fi.file_version = v;
+                        } else {
+                            fi.file_revision = v;
+                        }
+                    }
+                    Err(()) => fi.extra.push(raw_entry(e, self.file)),
+                }
+            } else if is("EDSVersion") {
+                fi.eds_version = Some(self.text(e));
+            } else if is("Description") {
+                fi.description = Some(self.text(e));
+            } else if is("CreationTime") {
+                fi.creation_time = Some(self.text(e));
+            } else if is("CreationDate") {
+                fi.creation_date = Some(self.text(e));
+            } else if is("CreatedBy") {
+                fi.created_by = Some(self.text(e));
+            } else if is("ModificationTime") {
+                fi.modification_time = Some(self.text(e));
+            } else if is("ModificationDate") {
+                fi.modification_date = Some(self.text(e));
+            } else if is("ModifiedBy") {
+                fi.modified_by = Some(self.text(e));
+            } else {
+                fi.extra.push(raw_entry(e, self.file));
+            }
+        }
+    }
+
+    fn device_info(&mut self, first: u32, dev: &mut Device) {
+        let file = self.file;
+        for e in self.entries(first) {
+            let k = e.key;
+            let is = |n: &str| k.eq_ignore_ascii_case(n);
+            let di = &mut dev.device_info;
+            macro_rules! num_field {
+                ($field:ident, $t:ty) => {
+                    match self.uint(e, <$t>::MAX as u64) {
+                        Ok(v) => {
+                            dev.device_info.$field = v.map(|v| Spanned::new(v.value as $t, v.span))
+                        }
+                        Err(()) => dev.device_info.extra.push(raw_entry(e, file)),
+                    }
+                };
+            }
+            macro_rules! bool_field {
+                ($field:ident) => {
+                    match self.boolean(e) {
+                        Ok(v) => dev.device_info.$field = v,
+                        Err(()) => dev.device_info.extra.push(raw_entry(e, file)),
+                    }
+                };
+            }
+            if is("VendorName") {
+                di.vendor_name = Some(self.text(e));
+            } else if is("ProductName") {
+                di.product_name = Some(self.text(e));
+            } else if is("OrderCode") {
+                di.order_code = Some(self.text(e));
+            } else if is("VendorNumber") {
+                num_field!(vendor_number, u32);
+            } else if is("ProductNumber") {
+                num_field!(product_number, u32);
+            } else if is("RevisionNumber") {
+                num_field!(revision_number, u32);
+            } else if is("Granularity") {
+                num_field!(granularity, u8);
+            } else if is("DynamicChannelsSupported") {
+                num_field!(dynamic_channels_supported, u8);
+            } else if is("NrOfRXPDO") {
+                num_field!(nr_of_rx_pdo, u16);
+            } else if is("NrOfTXPDO") {
+                num_field!(nr_of_tx_pdo, u16);
+            } else if is("CompactPDO") {
+                num_field!(compact_pdo, u8);
+            } else if is("SimpleBootUpMaster") {
+                bool_field!(simple_boot_up_master);
+            } else if is("SimpleBootUpSlave") {
+                bool_field!(simple_boot_up_slave);
+            } else if is("GroupMessaging") {
+                bool_field!(group_messaging);
+            } else if is("LSS_Supported") {
+                bool_field!(lss_supported);
+            } else if let Some(rate) = strip_prefix_ci(k.as_bytes(), "BaudRate_").and_then(dec_u16)
+            {
+                match self.boolean(e) {
+                    Ok(Some(b)) => {
+                        if b.value {
+                            dev.device_info.baud_rates.push(u32::from(rate));
+                        }
+                    }
+                    Ok(None) => {}
+                    Err(()) => dev.device_info.extra.push(raw_entry(e, file)),
+                }
+            } else {
+                di.extra.push(raw_entry(e, file));
+            }
+        }
+    }
+
+    fn unexpected(&mut self, e: &Entry<'_>, section: &str) {
+        self.warn(
+            codes::UNEXPECTED_KEY,
+            format!("key `{}` does not belong in [{}]", e.key, section),
+            self.span(e.key_pos),
+            "kept, not interpreted",
+        );
+    }
+
+    /// Keeps entries a section without an `extra` slot cannot hold, as an unknown section of
+    /// the same name.
+    fn keep_unexpected(
+        &self,
+        first: u32,
+        kept: Vec<&Entry<'_>>,
+        extra: &mut Vec<(u32, RawSection)>,
+    ) {
+        if kept.is_empty() {
+            return;
+        }
+        let s = self.sec(first);
+        extra.push((
+            first,
+            RawSection {
+                name: s.name.to_owned(),
+                entries: kept.into_iter().map(|e| raw_entry(e, self.file)).collect(),
+                span: self.span(s.header_pos),
+            },
+        ));
+    }
+
+    fn dummy_usage(&mut self, first: u32, dev: &mut Device, extra: &mut Vec<(u32, RawSection)>) {
+        let mut kept = Vec::new();
+        let name = self.sec(first).name;
+        for e in self.entries(first) {
+            let idx = strip_prefix_ci(e.key.as_bytes(), "Dummy").and_then(hex4);
+            match idx {
+                Some(idx) => match self.boolean(e) {
+                    Ok(Some(b)) => {
+                        dev.dummy_usage.insert(idx, b);
+                    }
+                    Ok(None) => {}
+                    Err(()) => kept.push(e),
+                },
+                None => {
+                    self.unexpected(e, name);
+                    kept.push(e);
+                }
+            }
+        }
+        self.keep_unexpected(first, kept, extra);
+    }
+
+    fn comments(&mut self, first: u32, extra: &mut Vec<(u32, RawSection)>) -> Vec<String> {
+        let mut lines: BTreeMap<u16, String> = BTreeMap::new();
+        let mut kept = Vec::new();
+        let name = self.sec(first).name;
+        for e in self.entries(first) {
+            if e.key.eq_ignore_ascii_case("Lines") {
+                continue; // implied by the LineN keys
+            }
+            match strip_prefix_ci(e.key.as_bytes(), "Line").and_then(dec_u16) {
+                Some(n) => {
+                    lines.insert(n, e.value.to_owned());
+                }
+                None => {
+                    self.unexpected(e, name);
+                    kept.push(e);
+                }
+            }
+        }
+        self.keep_unexpected(first, kept, extra);
+        lines.into_values().collect()
+    }
+
+    /// A list section: the count key (ignored, implied) and `n=value` entries in order of n.
+    fn list_section(
+        &mut self,
+        first: u32,
+        count_key: &str,
+        extra: &mut Vec<(u32, RawSection)>,
+    ) -> Vec<(&'r Entry<'a>, u16)> {
+        let mut items: BTreeMap<u16, &'r Entry<'a>> = BTreeMap::new();
+        let mut kept = Vec::new();
+        let name = self.sec(first).name;
+        for e in self.entries(first) {
+            if e.key.eq_ignore_ascii_case(count_key) {
+                continue;
+            }
+            match dec_u16(e.key.as_bytes()) {
+                Some(n) => {
+                    items.insert(n, e);
+                }
+                None => {
+                    self.unexpected(e, name);
+                    kept.push(e);
+                }
+            }
+        }
+        self.keep_unexpected(first, kept, extra);
+        items.into_iter().map(|(n, e)| (e, n)).collect()
+    }
+
+    fn object_list(
+        &mut self,
+        first: u32,
+        count_key: &str,
+        extra: &mut Vec<(u32, RawSection)>,
+    ) -> ObjectList {
+        let mut list =
+            ObjectList { span: self.span(self.sec(first).header_pos), ..Default::default() };
+        if let Some(e) =
+            self.entries(first).filter(|e| e.key.eq_ignore_ascii_case(count_key)).last()
+        {
+            match self.uint(e, 0xFFFF) {
+                Ok(v) => list.supported_objects = v.map(|v| Spanned::new(v.value as u16, v.span)),
+                Err(()) => self.keep_unexpected(first, vec![e], extra),
+            }
+        }
+        for (e, _) in self.list_section(first, count_key, extra) {
+            match self.uint(e, 0xFFFF) {
+                Ok(Some(v)) => list.entries.push(Spanned::new(v.value as u16, v.span)),
+                Ok(None) => {}
+                Err(()) => self.keep_unexpected(first, vec![e], extra),
+            }
+        }
+        list
+    }
+
+    fn commissioning(&mut self, first: u32, dev: &mut Device) {
+        let file = self.file;
+        let mut c =
+            Commissioning { span: self.span(self.sec(first).header_pos), ..Default::default() };
+        for e in self.entries(first) {
+            let is = |n: &str| e.key.eq_ignore_ascii_case(n);
+            macro_rules! num_field {
+                ($field:ident, $t:ty) => {
+                    match self.uint(e, <$t>::MAX as u64) {
+                        Ok(v) => c.$field = v.map(|v| Spanned::new(v.value as $t, v.span)),
+                        Err(()) => c.extra.push(raw_entry(e, file)),
+                    }
+                };
+            }
+            if is("NodeID") {
+                num_field!(node_id, u8);
+            } else if is("NodeName") {
+                c.node_name = Some(self.text(e));
+            } else if is("Baudrate") {
+                num_field!(baudrate, u32);
+            } else if is("NetNumber") {
+                num_field!(net_number, u32);
+            } else if is("NetworkName") {
+                c.network_name = Some(self.text(e));
+            } else if is("CANopenManager") {
+                match self.boolean(e) {
+                    Ok(v) => c.canopen_manager = v,
+                    Err(()) => c.extra.push(raw_entry(e, file)),
+                }
+            } else if is("LSS_SerialNumber") {
+                num_field!(lss_serial_number, u32);
+            } else if is("NodeRefd") {
+                c.node_refd = Some(self.text(e));
+            } else if is("NetRefd") {
+                c.net_refd = Some(self.text(e));
+            } else {
+                c.extra.push(raw_entry(e, file));
+            }
+        }
+        if dev.commissioning.is_none() {
+            dev.commissioning = Some(c);
+        } else if let Some(old) = dev.commissioning.as_mut() {
+            // Both spellings present: merge, later keys win.
+            macro_rules! merge {
+                ($($f:ident),*) => { $( if c.$f.is_some() { old.$f = c.$f; } )* };
+            }
+            merge!(
+                node_id,
+                node_name,
+                baudrate,
+                net_number,
+                network_name,
+                canopen_manager,
+                lss_serial_number,
+                node_refd,
+                net_refd
+            );
+            old.extra.extend(c.extra);
+        }
+    }
+
+    // ----- objects ---------------------------------------------------------------------------
+
+    /// Fills a sub-object from known keys; leftovers go to `extra`.
+    fn sub_from_keys(
+        &mut self,
+        keys: &mut Keys<'r, 'a>,
+        sub_index: u8,
+        header: Span,
+        default_dt: Option<DataType>,
+        what: &str,
+    ) -> SubObject {
+        let file = self.file;
+        let name = match keys.take(K::ParameterName) {
+            Some(e) => e.value.to_owned(),
+            None => {
+                self.warn(
+                    codes::MISSING_NAME,
+                    format!("{what} has no ParameterName"),
+                    header,
+                    "here",
+                );
+                String::new()
+            }
+        };
+        let mut extra_entries: Vec<&Entry<'_>> = Vec::new();
+        let data_type = match keys.take(K::DataType) {
+            Some(e) => match self.data_type(e) {
+                Ok(Some(dt)) => Some(dt),
+                Ok(None) => None,
+                Err(()) => {
+                    extra_entries.push(e);
+                    None
+                }
+            },
+            None => None,
+        };
+        let data_type = match data_type.or(default_dt) {
+            Some(dt) => dt,
+            None => {
+                self.diags.push(
+                    Diagnostic::error(codes::MISSING_DATA_TYPE, format!("{what} has no DataType"))
+                        .with_label(header, "DataType missing")
+                        .with_note("assumed DOMAIN"),
+                );
+                DataType::Domain
+            }
+        };
+        let access = match keys.take(K::AccessType) {
+            Some(e) => self.access(e).unwrap_or_else(|| {
+                if !e.value.is_empty() {
+                    extra_entries.push(e);
+                }
+                Access::Ro
+            }),
+            None => {
+                self.warn(
+                    codes::MISSING_ACCESS_TYPE,
+                    format!("{what} has no AccessType; assumed ro"),
+                    header,
+                    "AccessType missing",
+                );
+                Access::Ro
+            }
+        };
+        let pdo_mapping = match keys.take(K::PdoMapping) {
+            Some(e) => match self.boolean(e) {
+                Ok(Some(b)) => {
+                    if b.value {
+                        PdoMapping::Yes
+                    } else {
+                        PdoMapping::No
+                    }
+                }
+                Ok(None) => PdoMapping::No,
+                Err(()) => {
+                    extra_entries.push(e);
+                    PdoMapping::No
+                }
+            },
+            None => PdoMapping::No,
+        };
+        let mut sub = SubObject::new(sub_index, name, data_type, access);
+        sub.pdo_mapping = pdo_mapping;
+        sub.span = header;
+        if let Some(e) = keys.take(K::ObjectType) {
+            match self.object_kind(e) {
+                Some(k) => sub.kind = Some(k),
+                None => extra_entries.push(e),
+            }
+        }
+        sub.default = keys.take(K::DefaultValue).and_then(|e| self.value(e, data_type));
+        sub.low_limit = keys.take(K::LowLimit).and_then(|e| self.value(e, data_type));
+        sub.high_limit = keys.take(K::HighLimit).and_then(|e| self.value(e, data_type));
+        sub.parameter_value = keys.take(K::ParameterValue).and_then(|e| self.value(e, data_type));
+        sub.denotation = keys.take(K::Denotation).map(|e| self.text(e));
+        if let Some(e) = keys.take(K::ObjFlags) {
+            match self.uint(e, u64::from(u32::MAX)) {
+                Ok(v) => sub.obj_flags = v.map(|v| Spanned::new(v.value as u32, v.span)),
+                Err(()) => extra_entries.push(e),
+            }
+        }
+        sub.upload_file = keys.take(K::UploadFile).map(|e| self.text(e));
+        sub.download_file = keys.take(K::DownloadFile).map(|e| self.text(e));
+        for k in [K::SubNumber, K::CompactSubObj, K::Count, K::ObjExtend] {
+            keys.move_to_extra(k);
+        }
+        sub.extra = extra_entries
+            .into_iter()
+            .chain(keys.extra.drain(..))
+            .map(|e| raw_entry(e, file))
+            .collect();
+        sub
+    }
+
+    fn object_kind(&mut self, e: &Entry<'_>) -> Option<ObjectKind> {
+        let span = self.span(e.value_pos);
+        let v = self.uint(e, 0xFF).ok().flatten()?;
+        match ObjectKind::from_code(v.value as u8) {
+            Some(k) => Some(k),
+            None => {
+                self.diags.push(
+                    Diagnostic::error(
+                        codes::INVALID_OBJECT_TYPE,
+                        format!("ObjectType `{}` is not a CiA 301 object code", e.value),
+                    )
+                    .with_label(span, "expected 0x0, 0x2, 0x5, 0x6, 0x7, 0x8 or 0x9"),
+                );
+                None
+            }
+        }
+    }
+
+    fn object(
+        &mut self,
+        index: u16,
+        b: &ObjB,
+        extra: &mut Vec<(u32, RawSection)>,
+    ) -> Option<Object> {
+        let main = b.main?;
+        let file = self.file;
+        let header = self.span(self.sec(main).header_pos);
+        let mut keys = self.keys(main);
+        let mut obj_extra: Vec<&Entry<'_>> = Vec::new();
+        let kind = match keys.take(K::ObjectType) {
+            Some(e) => self.object_kind(e).unwrap_or_else(|| {
+                obj_extra.push(e);
+                if b.subs.is_empty() { ObjectKind::Var } else { ObjectKind::Record }
+            }),
+            None => ObjectKind::Var,
+        };
+        let name = match keys.get(K::ParameterName) {
+            Some(e) => e.value.to_owned(),
+            None => {
+                self.warn(
+                    codes::MISSING_NAME,
+                    format!("object {index:04X} has no ParameterName"),
+                    header,
+                    "here",
+                );
+                String::new()
+            }
+        };
+        let mut obj = Object {
+            index,
+            name,
+            kind,
+            subs: BTreeMap::new(),
+            sub_number: None,
+            compact_sub_obj: None,
+            obj_flags: None,
+            denotation: None,
+            links: Vec::new(),
+            origin: Origin::File,
+            extra: Vec::new(),
+            span: header,
+        };
+        if let Some(e) = keys.take(K::SubNumber) {
+            match self.uint(e, 0xFFFF) {
+                Ok(v) => obj.sub_number = v.map(|v| Spanned::new(v.value as u16, v.span)),
+                Err(()) => obj_extra.push(e),
+            }
+        }
+        if let Some(e) = keys.take(K::ObjFlags) {
+            match self.uint(e, u64::from(u32::MAX)) {
+                Ok(v) => obj.obj_flags = v.map(|v| Spanned::new(v.value as u32, v.span)),
+                Err(()) => obj_extra.push(e),
+            }
+        }
+        if kind.has_subs() {
+            obj.denotation = keys.take(K::Denotation).map(|e| self.text(e));
+            let compact = match keys.take(K::CompactSubObj) {
+                Some(e) => match self.uint(e, 0xFF) {
+                    Ok(v) => v.map(|v| Spanned::new(v.value as u8, v.span)),
+                    Err(()) => {
+                        obj_extra.push(e);
+                        None
+                    }
+                },
+                None => None,
+            };
+            obj.compact_sub_obj = compact.clone();
+            if let Some(n) = compact.filter(|n| n.value > 0) {
+                self.compact_subs(&mut obj, &mut keys, n, b);
+            }
+            keys.take(K::ParameterName);
+            // Keys that only a VAR or a compact object uses are kept as written.
+            for k in [
+                K::DataType,
+                K::AccessType,
+                K::PdoMapping,
+                K::DefaultValue,
+                K::LowLimit,
+                K::HighLimit,
+                K::ParameterValue,
+                K::UploadFile,
+                K::DownloadFile,
+                K::Count,
+                K::ObjExtend,
+            ] {
+                keys.move_to_extra(k);
+            }
+            for (&s, &si) in &b.subs {
+                let sheader = self.span(self.sec(si).header_pos);
+                let mut skeys = self.keys(si);
+                let what = format!("sub-object {index:04X}sub{s:X}");
+                let sub = self.sub_from_keys(&mut skeys, s, sheader, None, &what);
+                if obj.subs.insert(s, sub).is_some() {
+                    self.warn(
+                        codes::COMPACT_CONFLICT,
+                        format!(
+                            "[{}] overrides a sub-object implied by CompactSubObj",
+                            self.sec(si).name
+                        ),
+                        self.span(self.sec(si).name_pos),
+                        "explicit section wins",
+                    );
+                }
+            }
+        } else {
+            keys.move_to_extra(K::CompactSubObj);
+            let default_dt = match kind {
+                ObjectKind::Domain => Some(DataType::Domain),
+                ObjectKind::Null => Some(DataType::Domain),
+                ObjectKind::DefType => Some(DataType::Unsigned32),
+                _ => None,
+            };
+            let what = format!("object {index:04X}");
+            let mut sub = self.sub_from_keys(&mut keys, 0, header, default_dt, &what);
+            sub.kind = None;
+            // Unknown keys of a VAR section belong to the object.
+            obj.extra.append(&mut sub.extra);
+            obj.subs.insert(0, sub);
+            for (&s, &si) in &b.subs {
+                let sec = self.sec(si);
+                self.warn(
+                    codes::SUBS_ON_VAR,
+                    format!("[{}] belongs to a {:?} object", sec.name, kind),
+                    self.span(sec.name_pos),
+                    "kept as a sub-object",
+                );
+                if s == 0 {
+                    extra.push((si, self.raw_section(si)));
+                    continue;
+                }
+                let sheader = self.span(sec.header_pos);
+                let mut skeys = self.keys(si);
+                let what = format!("sub-object {index:04X}sub{s:X}");
+                let sub = self.sub_from_keys(&mut skeys, s, sheader, None, &what);
+                obj.subs.insert(s, sub);
+            }
+        }
+        if let Some(li) = b.links {
+            for (e, _) in self.list_section(li, "ObjectLinks", extra) {
+                match self.uint(e, 0xFFFF) {
+                    Ok(Some(v)) => obj.links.push(Spanned::new(v.value as u16, v.span)),
+                    Ok(None) => {}
+                    Err(()) => {}
+                }
+            }
+        }
+        self.companions(&mut obj, b);
+        let mut all_extra: Vec<RawEntry> =
+            obj_extra.into_iter().chain(keys.extra.drain(..)).map(|e| raw_entry(e, file)).collect();
+        all_extra.append(&mut obj.extra);
+        obj.extra = all_extra;
+        Some(obj)
+    }
+
+    fn compact_subs(
+        &mut self,
+        obj: &mut Object,
+        keys: &mut Keys<'r, 'a>,
+        n: Spanned<u8>,
+        _b: &ObjB,
+    ) {
+        let what = format!("compact object {:04X}", obj.index);
+        // The template: DataType, AccessType, PDOMapping and values of the object section.
+        let mut tkeys = Keys { k: [None; N_KEYS], extra: Vec::new() };
+        for k in [
+            K::DataType,
+            K::AccessType,
+            K::PdoMapping,
+            K::DefaultValue,
+            K::LowLimit,
+            K::HighLimit,
+            K::ParameterValue,
+            K::ObjFlags,
+            K::UploadFile,
+            K::DownloadFile,
+        ] {
+            tkeys.k[k as usize] = keys.take(k);
+        }
+        tkeys.k[K::ParameterName as usize] = keys.get(K::ParameterName);
+        let template = self.sub_from_keys(&mut tkeys, 1, obj.span, None, &what);
+        let mut sub0 = SubObject::new(0, COMPACT_SUB0_NAME, DataType::Unsigned8, Access::Ro);
+        sub0.default = Some(Spanned::new(Value::Unsigned(u64::from(n.value)), n.span));
+        sub0.span = n.span;
+        obj.subs.insert(0, sub0);
+        for i in 1..=n.value {
+            let mut s = template.clone();
+            s.sub_index = i;
+            s.name = compact_sub_name(&obj.name, i);
+            s.span = n.span;
+            obj.subs.insert(i, s);
+        }
+    }
+
+    /// `[IIIIName]`, `[IIIIValue]`, `[IIIIDenotation]`.
+    fn companions(&mut self, obj: &mut Object, b: &ObjB) {
+        for (sec, which) in [(b.name, 0u8), (b.value, 1), (b.denotation, 2)] {
+            let Some(first) = sec else { continue };
+            for e in self.entries(first) {
+                if e.key.eq_ignore_ascii_case("NrOfEntries") {
+                    continue;
+                }
+                let sub = dec_u16(e.key.as_bytes())
+                    .and_then(|n| u8::try_from(n).ok())
+                    .filter(|n| obj.subs.contains_key(n));
+                let Some(sub) = sub else {
+                    self.warn(
+                        codes::BAD_COMPACT_ENTRY,
+                        format!(
+                            "`{}` in [{}] is not a sub-index of object {:04X}",
+                            e.key,
+                            self.sec(first).name,
+                            obj.index
+                        ),
+                        self.span(e.key_pos),
+                        "ignored",
+                    );
+                    continue;
+                };
+                let dt = obj.subs.get(&sub).map_or(DataType::Domain, |s| s.data_type);
+                let value = if which == 1 { self.value(e, dt) } else { None };
+                let text = self.text(e);
+                if let Some(s) = obj.subs.get_mut(&sub) {
+                    match which {
+                        0 => s.name = text.value,
+                        1 => s.parameter_value = value,
+                        _ => s.denotation = Some(text),
+                    }
+                }
+            }
+        }
+    }
+
+    fn module(&mut self, number: u16, b: &ModB, extra: &mut Vec<(u32, RawSection)>) -> Module {
+        let file = self.file;
+        let mut m = Module { number, ..Default::default() };
+        if let Some(i) = b.info {
+            m.span = self.span(self.sec(i).header_pos);
+            for e in self.entries(i) {
+                let is = |n: &str| e.key.eq_ignore_ascii_case(n);
+                if is("ProductName") {
+                    m.product_name = Some(self.text(e));
+                } else if is("OrderCode") {
+                    m.order_code = Some(self.text(e));
+                } else if is("ProductVersion") || is("ProductRevision") {
+                    match self.uint(e, 0xFFFF) {
+                        Ok(v) => {
+                            let v = v.map(|v| Spanned::new(v.value as u16, v.span));
+                            if is("ProductVersion") {
+                                m.product_version = v;
+                            } else {
+                                m.product_revision = v;
+                            }
+                        }
+                        Err(()) => m.extra.push(raw_entry(e, file)),
+                    }
+                } else {
+                    m.extra.push(raw_entry(e, file));
+                }
+            }
+        }
+        if let Some(i) = b.fixed_list {
+            // The list is implied by the [MxFixedIIII] sections; read it for diagnostics only.
+            let _ = self.list_section(i, "NrOfEntries", extra);
+        }
+        for (&index, ob) in &b.fixed {
+            match self.object(index, ob, extra) {
+                Some(o) => {
+                    m.fixed_objects.insert(index, o);
+                }
+                None => {
+                    for &i in ob.subs.values() {
+                        let s = self.sec(i);
+                        self.warn(
+                            codes::ORPHAN_SECTION,
+                            format!("[{}] has no object section", s.name),
+                            self.span(s.name_pos),
+                            "kept as an unknown section",
+                        );
+                        extra.push((i, self.raw_section(i)));
+                    }
+                }
+            }
+        }
+        if let Some(i) = b.sub_ext_list {
+            let _ = self.list_section(i, "NrOfEntries", extra);
+        }
+        for (&index, &i) in &b.sub_ext {
+            let header = self.span(self.sec(i).header_pos);
+            let mut keys = self.keys(i);
+            let count = keys.take(K::Count).map(|e| self.text(e));
+            let obj_extend = keys.take(K::ObjExtend).and_then(|e| match self.uint(e, 0xFFFF) {
+                Ok(v) => v.map(|v| Spanned::new(v.value as u16, v.span)),
+                Err(()) => None,
+            });
+            let what = format!("module {number} sub-extension {index:04X}");
+            let template = self.sub_from_keys(&mut keys, 0, header, None, &what);
+            m.sub_extends.insert(index, SubExtend { template, count, obj_extend });
+        }
+        if let Some(i) = b.comments {
+            m.comments = self.comments(i, extra);
+        }
+        m
+    }
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Problem {
+    Invalid,
+    Range,
+}
+
+fn expected(class: ValueClass) -> &'static str {
+    match class {
+        ValueClass::Bool => "0 or 1",
+        ValueClass::Unsigned(_) | ValueClass::Signed(_) => {
+            "a decimal, 0x-hex or 0-octal number, optionally $NODEID+"
+        }
+        ValueClass::Real32 | ValueClass::Real64 => "a decimal float or a 0x bit pattern",
+        ValueClass::Bytes => "hex bytes",
+        ValueClass::Time => "milliseconds and days",
+        _ => "a value",
+    }
+}
+
+/// Reads `s` as a value of `dt`. `flags` are [`num`] warning flags.
+fn read_value(s: &str, dt: DataType, problem: &mut Problem) -> Option<(Value, u8)> {
+    let s = s.trim();
+    match dt.class() {
+        ValueClass::Bool => num::parse_bool(s).map(|b| (Value::Bool(b), 0)),
+        ValueClass::Unsigned(bits) => {
+            let n = num::parse_int(s)?;
+            if n.node_id {
+                let v = i64::try_from(n.value).ok()?;
+                return Some((Value::NodeIdPlus(v), n.flags));
+            }
+            let max = if bits >= 64 { u128::from(u64::MAX) } else { (1u128 << bits) - 1 };
+            if n.value < 0 || n.value as u128 > max {
+                *problem = Problem::Range;
+                return None;
+            }
+            Some((Value::Unsigned(n.value as u64), n.flags & !num::HEX))
+        }
+        ValueClass::Signed(bits) => {
+            let n = num::parse_int(s)?;
+            if n.node_id {
+                let v = i64::try_from(n.value).ok()?;
+                return Some((Value::NodeIdPlus(v), n.flags));
+            }
+            let bits = bits.min(64);
+            let smax = (1i128 << (bits - 1)) - 1;
+            let smin = -(1i128 << (bits - 1));
+            let umax = (1i128 << bits) - 1;
+            let mut v = n.value;
+            if n.flags & num::HEX != 0 && v > smax && v <= umax {
+                v -= 1i128 << bits; // two's complement bit pattern
+            }
+            if v < smin || v > smax {
+                *problem = Problem::Range;
+                return None;
+            }
+            Some((Value::Signed(v as i64), n.flags & !num::HEX))
+        }
+        ValueClass::Real32 => {
+            if is_hex(s) {
+                let (v, flags) = num::parse_plain(s)?;
+                if !(0..=i128::from(u32::MAX)).contains(&v) {
+                    *problem = Problem::Range;
+                    return None;
+                }
+                Some((Value::Real32(v as u32), flags & !num::HEX))
+            } else {
+                let (s, flags) = strip_float_suffix(s);
+                num::parse_f32(s).map(|f| (Value::Real32(f.to_bits()), flags))
+            }
+        }
+        ValueClass::Real64 => {
+            if is_hex(s) {
+                let (v, flags) = num::parse_plain(s)?;
+                if !(0..=i128::from(u64::MAX)).contains(&v) {
+                    *problem = Problem::Range;
+                    return None;
+                }
+                Some((Value::Real64(v as u64), flags & !num::HEX))
+            } else {
+                let (s, flags) = strip_float_suffix(s);
+                num::parse_f64(s).map(|f| (Value::Real64(f.to_bits()), flags))
+            }
+        }
+        ValueClass::Text => Some((Value::Text(s.to_owned()), 0)),
+        ValueClass::Bytes => num::parse_hex_bytes(s).map(|b| (Value::Bytes(b), 0)),
+        ValueClass::Unicode => Some((Value::Unicode(s.encode_utf16().collect()), 0)),
+        ValueClass::Time => {
+            let mut it = s.split_ascii_whitespace();
+            let a = it.next()?;
+            match (it.next(), it.next()) {
+                (None, _) => {
+                    let (v, flags) = num::parse_plain(a)?;
+                    if !(0..=0xFFFF_FFFF_FFFF).contains(&v) {
+                        *problem = Problem::Range;
+                        return None;
+                    }
+                    let v = v as u64;
+                    Some((Value::Time { ms: v as u32, days: (v >> 32) as u16 }, flags & !num::HEX))
+                }
+                (Some(b), None) => {
+                    let (days, f1) = num::parse_plain(a)?;
+                    let (ms, f2) = num::parse_plain(b)?;
+                    let ms = u32::try_from(ms).ok()?;
+                    let days = u16::try_from(days).ok()?;
+                    Some((Value::Time { ms, days }, (f1 | f2) & !num::HEX))
+                }
+                _ => None,
+            }
+        }
+        ValueClass::Structured => match num::parse_int(s) {
+            Some(n) if n.node_id => {
+                Some((Value::NodeIdPlus(i64::try_from(n.value).ok()?), n.flags))
+            }
+            Some(n) if n.value >= 0 => Some((Value::Unsigned(n.value as u64), n.flags & !num::HEX)),
+            Some(n) => Some((Value::Signed(i64::try_from(n.value).ok()?), n.flags & !num::HEX)),
+            None => Some((Value::Text(s.to_owned()), 0)),
+        },
+    }
+}
+
+/// Cuts a C float suffix (`1.0f`, `2.5F`, `1.0L`).
+fn strip_float_suffix(s: &str) -> (&str, u8) {
+    match s.strip_suffix(['f', 'F', 'l', 'L']) {
+        Some(t) if t.ends_with(|c: char| c.is_ascii_digit() || c == '.') => (t, num::SUFFIX),
+        _ => (s, 0),
+    }
+}
+
+fn is_hex(s: &str) -> bool {
+    let b = s.as_bytes();
+    b.len() > 2 && b[0] == b'0' && (b[1] == b'x' || b[1] == b'X')
+}

@@ -1,0 +1,513 @@
+//! The lossless layer: a CiA 306 INI file as sections, entries, comments and byte spans.
+//!
+//! A hand-written line scanner rather than `rust-ini` or `configparser`: those crates give
+//! neither byte spans (needed for diagnostics that underline the exact key or value) nor the
+//! original spelling of keys (they fold case), they drop comments, and they reject or silently
+//! merge duplicate sections and keys. Real EDS files have all of these (see the corpus notes), so
+//! the scanner keeps everything and leaves the judgement to the lowering.
+//!
+//! Design, for speed: the scanner walks the text with `memchr` for newlines, borrows every key,
+//! value and name as a `&str` slice of the text (no allocation per line), and records positions
+//! as `u32` byte offsets. Section lookup goes through a hash map keyed by the name compared
+//! ASCII-case-insensitively (no lower-cased copies).
+//!
+//! Rules of the scanner:
+//! - line endings LF, CRLF or a mix; a missing final newline is fine;
+//! - a line whose first non-blank character is `;` or `#` is a comment line (`#` is not CiA 306
+//!   but kacanopen and Synapticon files use it); comments are kept as [`Trivia`];
+//! - a `;` or `#` *after* a value is **not** stripped here: `ParameterName=Motor #1` is a valid
+//!   name. The lowering strips a trailing ` # ...` / ` ; ...` only from values that must be a
+//!   number or a keyword and do not read as one otherwise (with a warning);
+//! - `[name]` starts a section; text after the `]` is reported and ignored;
+//! - `key=value` (first `=`), key and value trimmed of blanks; lines without `=` are reported
+//!   (as are git merge-conflict markers) and kept as trivia;
+//! - keys before the first section go into [`RawFile::preamble`] and are reported;
+//! - duplicate sections and duplicate keys are kept and reported; lookups answer the **last**
+//!   occurrence (python `configparser(strict=False)` behaves the same, and a later line is the
+//!   one an editor appended): [`Section::get`], [`RawFile::get`].
+
+use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hash, Hasher};
+
+use odc_model::{Diagnostic, FileId, Span};
+
+use crate::rules::codes;
+
+/// A byte range in the text, `start..end`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Pos {
+    /// First byte.
+    pub start: u32,
+    /// One past the last byte.
+    pub end: u32,
+}
+
+impl Pos {
+    /// The span of this range in `file`.
+    pub fn span(self, file: FileId) -> Span {
+        Span::new(file, self.start, self.end)
+    }
+}
+
+/// One `key=value` line.
+#[derive(Clone, Debug)]
+pub struct Entry<'a> {
+    /// The key as written (trimmed).
+    pub key: &'a str,
+    /// The value as written (trimmed; may be empty).
+    pub value: &'a str,
+    /// Where the key is.
+    pub key_pos: Pos,
+    /// Where the value is (empty range just after `=` when the value is empty).
+    pub value_pos: Pos,
+    /// The whole line without its line ending.
+    pub line_pos: Pos,
+}
+
+/// What a non-entry line is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TriviaKind {
+    /// `; ...` or `# ...`.
+    Comment,
+    /// Only blanks.
+    Blank,
+    /// Neither a comment, a header nor `key=value` (reported).
+    Stray,
+}
+
+/// A line that is not an entry, with its place among the entries of its section.
+#[derive(Clone, Debug)]
+pub struct Trivia<'a> {
+    /// What it is.
+    pub kind: TriviaKind,
+    /// The line text without its line ending.
+    pub text: &'a str,
+    /// The line.
+    pub pos: Pos,
+    /// How many entries of the section precede it.
+    pub before: u32,
+}
+
+/// A section: header and the lines up to the next header.
+#[derive(Clone, Debug)]
+pub struct Section<'a> {
+    /// The name as written, without brackets, trimmed. Empty for the preamble.
+    pub name: &'a str,
+    /// Where the name is.
+    pub name_pos: Pos,
+    /// The header line.
+    pub header_pos: Pos,
+    /// Text after the closing `]` (reported, ignored).
+    pub after_header: Option<Pos>,
+    /// Entries in file order, duplicates included.
+    pub entries: Vec<Entry<'a>>,
+    /// Comments, blank and stray lines.
+    pub trivia: Vec<Trivia<'a>>,
+    /// The next section with the same name (case-insensitive), if the name repeats.
+    pub next_same: Option<u32>,
+    /// Whether an earlier section has the same name.
+    pub is_duplicate: bool,
+}
+
+impl<'a> Section<'a> {
+    fn new(name: &'a str, name_pos: Pos, header_pos: Pos) -> Self {
+        Section {
+            name,
+            name_pos,
+            header_pos,
+            after_header: None,
+            entries: Vec::new(),
+            trivia: Vec::new(),
+            next_same: None,
+            is_duplicate: false,
+        }
+    }
+
+    /// The last entry whose key equals `key` ASCII-case-insensitively.
+    pub fn get(&self, key: &str) -> Option<&Entry<'a>> {
+        self.entries.iter().rev().find(|e| e.key.eq_ignore_ascii_case(key))
+    }
+
+    /// Every entry whose key equals `key` ASCII-case-insensitively, in file order.
+    pub fn get_all<'s>(&'s self, key: &'s str) -> impl Iterator<Item = &'s Entry<'a>> + 's {
+        self.entries.iter().filter(move |e| e.key.eq_ignore_ascii_case(key))
+    }
+}
+
+/// A name compared and hashed ASCII-case-insensitively.
+#[derive(Clone, Copy, Debug)]
+struct Caseless<'a>(&'a str);
+
+impl PartialEq for Caseless<'_> {
+    fn eq(&self, other: &Self) -> bool {
+        self.0.eq_ignore_ascii_case(other.0)
+    }
+}
+impl Eq for Caseless<'_> {}
+impl Hash for Caseless<'_> {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+        for b in self.0.bytes() {
+            h = (h ^ u64::from(b.to_ascii_lowercase())).wrapping_mul(0x0100_0000_01b3);
+        }
+        state.write_u64(h);
+    }
+}
+
+/// Passes an already mixed `u64` through (the hash is computed by [`Caseless`]).
+#[derive(Default)]
+struct PassHasher(u64);
+impl Hasher for PassHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+    fn write_u64(&mut self, v: u64) {
+        self.0 = v;
+    }
+}
+
+/// A scanned file.
+#[derive(Clone, Debug)]
+pub struct RawFile<'a> {
+    /// The text scanned.
+    pub text: &'a str,
+    /// The file id spans refer to.
+    pub file: FileId,
+    /// Lines before the first section header (entries there are reported).
+    pub preamble: Section<'a>,
+    /// Sections in file order, duplicates included.
+    pub sections: Vec<Section<'a>>,
+    index: HashMap<Caseless<'a>, (u32, u32), BuildHasherDefault<PassHasher>>,
+}
+
+impl<'a> RawFile<'a> {
+    /// The first section named `name` (case-insensitive); follow [`Section::next_same`] or use
+    /// [`RawFile::sections_named`] for repeats.
+    pub fn section(&self, name: &str) -> Option<&Section<'a>> {
+        let &(first, _) = self.index.get(&Caseless(name))?;
+        self.sections.get(first as usize)
+    }
+
+    /// Every section named `name` (case-insensitive), in file order.
+    pub fn sections_named(&self, name: &str) -> SameName<'_, 'a> {
+        SameName { file: self, next: self.index.get(&Caseless(name)).map(|&(first, _)| first) }
+    }
+
+    /// The sections with the same name as `sections[first]`, starting there.
+    pub fn chain(&self, first: u32) -> SameName<'_, 'a> {
+        SameName { file: self, next: Some(first) }
+    }
+
+    /// The value of `key` in section `section`: the last occurrence over all sections of that
+    /// name (duplicates: last wins).
+    pub fn get(&self, section: &str, key: &str) -> Option<&Entry<'a>> {
+        self.sections_named(section).filter_map(|s| s.get(key)).last()
+    }
+}
+
+/// Iterator over the sections that share one name.
+pub struct SameName<'f, 'a> {
+    file: &'f RawFile<'a>,
+    next: Option<u32>,
+}
+
+impl<'f, 'a> Iterator for SameName<'f, 'a> {
+    type Item = &'f Section<'a>;
+    fn next(&mut self) -> Option<Self::Item> {
+        let s = self.file.sections.get(self.next? as usize)?;
+        self.next = s.next_same;
+        Some(s)
+    }
+}
+
+fn trim_pos(text: &str, start: usize, end: usize) -> (usize, usize) {
+    let b = text.as_bytes();
+    let (mut s, mut e) = (start, end);
+    while s < e && matches!(b[s], b' ' | b'\t' | b'\r' | 0x0B | 0x0C) {
+        s += 1;
+    }
+    while e > s && matches!(b[e - 1], b' ' | b'\t' | b'\r' | 0x0B | 0x0C) {
+        e -= 1;
+    }
+    (s, e)
+}
+
+fn pos(s: usize, e: usize) -> Pos {
+    Pos { start: s as u32, end: e as u32 }
+}
+
+/// Scans `text` (at most 4 GiB; longer text is cut there) into sections and entries, pushing
+/// problems to `diags`. Never fails.
+pub fn scan<'a>(text: &'a str, file: FileId, diags: &mut Vec<Diagnostic>) -> RawFile<'a> {
+    let text = if text.len() > u32::MAX as usize {
+        let mut cut = u32::MAX as usize;
+        while !text.is_char_boundary(cut) {
+            cut -= 1;
+        }
+        &text[..cut]
+    } else {
+        text
+    };
+    let bytes = text.as_bytes();
+    let mut preamble = Section::new("", Pos::default(), Pos::default());
+    let mut sections: Vec<Section<'a>> = Vec::with_capacity(text.len() / 200 + 4);
+    let mut line_start = 0usize;
+    while line_start < bytes.len() {
+        let nl =
+            memchr::memchr(b'\n', &bytes[line_start..]).map_or(bytes.len(), |i| line_start + i);
+        let mut line_end = nl;
+        if line_end > line_start && bytes[line_end - 1] == b'\r' {
+            line_end -= 1;
+        }
+        let (s, e) = trim_pos(text, line_start, line_end);
+        let cur = match sections.last_mut() {
+            Some(c) => c,
+            None => &mut preamble,
+        };
+        let before = cur.entries.len() as u32;
+        let line_pos = pos(line_start, line_end);
+        if s == e {
+            cur.trivia.push(Trivia {
+                kind: TriviaKind::Blank,
+                text: &text[line_start..line_end],
+                pos: line_pos,
+                before,
+            });
+        } else {
+            match bytes[s] {
+                b';' | b'#' => cur.trivia.push(Trivia {
+                    kind: TriviaKind::Comment,
+                    text: &text[line_start..line_end],
+                    pos: line_pos,
+                    before,
+                }),
+                b'[' => {
+                    let close = memchr::memchr(b']', &bytes[s..e]).map(|i| s + i);
+                    let name_end = close.unwrap_or(e);
+                    let (ns, ne) = trim_pos(text, s + 1, name_end);
+                    let mut sec = Section::new(&text[ns..ne], pos(ns, ne), pos(s, e));
+                    match close {
+                        None => diags.push(
+                            Diagnostic::warning(
+                                codes::MALFORMED_HEADER,
+                                "section header without closing `]`",
+                            )
+                            .with_label(pos(s, e).span(file), "expected `]` at the end")
+                            .with_note("the whole rest of the line is taken as the name"),
+                        ),
+                        Some(c) => {
+                            let (ts, te) = trim_pos(text, c + 1, e);
+                            if ts < te {
+                                sec.after_header = Some(pos(ts, te));
+                                diags.push(
+                                    Diagnostic::warning(
+                                        codes::TEXT_AFTER_HEADER,
+                                        format!("text after section header [{}]", sec.name),
+                                    )
+                                    .with_label(pos(ts, te).span(file), "ignored"),
+                                );
+                            }
+                        }
+                    }
+                    if ns == ne {
+                        diags.push(
+                            Diagnostic::warning(codes::MALFORMED_HEADER, "empty section name")
+                                .with_label(pos(s, e).span(file), "no name between brackets"),
+                        );
+                    }
+                    sections.push(sec);
+                    continue_line(&mut line_start, nl);
+                    continue;
+                }
+                _ => match memchr::memchr(b'=', &bytes[s..e]) {
+                    Some(i) => {
+                        let eq = s + i;
+                        let (ks, ke) = trim_pos(text, s, eq);
+                        let (vs, ve) = trim_pos(text, eq + 1, e);
+                        let value_pos = if vs == ve { pos(eq + 1, eq + 1) } else { pos(vs, ve) };
+                        cur.entries.push(Entry {
+                            key: &text[ks..ke],
+                            value: &text[vs..ve],
+                            key_pos: pos(ks, ke),
+                            value_pos,
+                            line_pos,
+                        });
+                    }
+                    None => {
+                        let l = &text[s..e];
+                        let mut d = Diagnostic::warning(
+                            codes::STRAY_LINE,
+                            "line is neither `key=value`, a `[section]` nor a comment",
+                        )
+                        .with_label(pos(s, e).span(file), "ignored");
+                        if l.starts_with("<<<<<<<")
+                            || l.starts_with("=======")
+                            || l.starts_with(">>>>>>>")
+                        {
+                            d = d.with_note(
+                                "this is a git merge-conflict marker: the file was committed \
+                                 with an unresolved conflict; later duplicate keys win",
+                            );
+                        }
+                        diags.push(d);
+                        cur.trivia.push(Trivia {
+                            kind: TriviaKind::Stray,
+                            text: &text[line_start..line_end],
+                            pos: line_pos,
+                            before,
+                        });
+                    }
+                },
+            }
+        }
+        continue_line(&mut line_start, nl);
+    }
+
+    for e in &preamble.entries {
+        diags.push(
+            Diagnostic::warning(codes::KEY_OUTSIDE_SECTION, "key before the first section")
+                .with_label(e.line_pos.span(file), "not in any section")
+                .with_note("the entry is kept but not interpreted"),
+        );
+    }
+
+    // Index the sections and link duplicates.
+    let mut index: HashMap<Caseless<'a>, (u32, u32), BuildHasherDefault<PassHasher>> =
+        HashMap::with_capacity_and_hasher(sections.len(), BuildHasherDefault::default());
+    for i in 0..sections.len() {
+        let name = sections[i].name;
+        match index.get_mut(&Caseless(name)) {
+            None => {
+                index.insert(Caseless(name), (i as u32, i as u32));
+            }
+            Some(slot) => {
+                let (first, last) = *slot;
+                slot.1 = i as u32;
+                sections[last as usize].next_same = Some(i as u32);
+                sections[i].is_duplicate = true;
+                let first_pos = sections[first as usize].header_pos;
+                diags.push(
+                    Diagnostic::warning(
+                        codes::DUPLICATE_SECTION,
+                        format!("section [{name}] appears more than once"),
+                    )
+                    .with_label(sections[i].header_pos.span(file), "repeated here")
+                    .with_secondary(first_pos.span(file), "first here")
+                    .with_note("the sections are merged; for a key given in both, the later wins"),
+                );
+            }
+        }
+        check_duplicate_keys(&sections[i], file, diags);
+    }
+
+    RawFile { text, file, preamble, sections, index }
+}
+
+#[inline]
+fn continue_line(line_start: &mut usize, nl: usize) {
+    *line_start = nl + 1;
+}
+
+fn check_duplicate_keys(sec: &Section<'_>, file: FileId, diags: &mut Vec<Diagnostic>) {
+    let n = sec.entries.len();
+    let report = |first: &Entry<'_>, later: &Entry<'_>, diags: &mut Vec<Diagnostic>| {
+        diags.push(
+            Diagnostic::warning(
+                codes::DUPLICATE_KEY,
+                format!("key `{}` repeated in section [{}]", later.key, sec.name),
+            )
+            .with_label(later.key_pos.span(file), "repeated here; this one wins")
+            .with_secondary(first.key_pos.span(file), "first here"),
+        );
+    };
+    if n <= 24 {
+        for j in 1..n {
+            let k = &sec.entries[j];
+            if let Some(first) = sec.entries[..j]
+                .iter()
+                .find(|e| e.key.len() == k.key.len() && e.key.eq_ignore_ascii_case(k.key))
+            {
+                report(first, k, diags);
+            }
+        }
+    } else {
+        let mut seen: HashMap<Caseless<'_>, usize, BuildHasherDefault<PassHasher>> =
+            HashMap::with_capacity_and_hasher(n, BuildHasherDefault::default());
+        for (j, e) in sec.entries.iter().enumerate() {
+            if let Some(&first) = seen.get(&Caseless(e.key)) {
+                report(&sec.entries[first], e, diags);
+            } else {
+                seen.insert(Caseless(e.key), j);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scan_str(text: &str) -> (RawFile<'_>, Vec<Diagnostic>) {
+        let mut d = Vec::new();
+        let r = scan(text, FileId(0), &mut d);
+        (r, d)
+    }
+
+    #[test]
+    fn sections_entries_and_spans() {
+        let text = "[FileInfo]\nFileName = a.eds \r\n\n; c\n[1000]\nDataType=0x0007";
+        let (r, d) = scan_str(text);
+        assert!(d.is_empty(), "{d:?}");
+        assert_eq!(r.sections.len(), 2);
+        let e = &r.sections[0].entries[0];
+        assert_eq!(e.key, "FileName");
+        assert_eq!(e.value, "a.eds");
+        assert_eq!(&text[e.value_pos.start as usize..e.value_pos.end as usize], "a.eds");
+        assert_eq!(r.sections[0].trivia.len(), 2);
+        assert_eq!(r.sections[0].trivia[1].kind, TriviaKind::Comment);
+        assert_eq!(r.get("FILEINFO", "filename").map(|e| e.value), Some("a.eds"));
+        assert_eq!(r.get("1000", "datatype").map(|e| e.value), Some("0x0007"));
+    }
+
+    #[test]
+    fn crlf_lf_mixed_and_no_final_newline() {
+        let (r, _) = scan_str("[A]\r\nx=1\ny=2\r\nz=3");
+        let v: Vec<_> = r.sections[0].entries.iter().map(|e| (e.key, e.value)).collect();
+        assert_eq!(v, [("x", "1"), ("y", "2"), ("z", "3")]);
+    }
+
+    #[test]
+    fn duplicates_last_wins_and_reported() {
+        let (r, d) = scan_str("[A]\nx=1\nX=2\n[a]\nx=3\n");
+        assert_eq!(r.get("a", "x").map(|e| e.value), Some("3"));
+        assert_eq!(r.sections[0].get("x").map(|e| e.value), Some("2"));
+        let codes: Vec<_> = d.iter().map(|d| d.code).collect();
+        assert_eq!(codes, [codes::DUPLICATE_KEY, codes::DUPLICATE_SECTION]);
+        assert_eq!(r.sections_named("A").count(), 2);
+    }
+
+    #[test]
+    fn hash_comments_and_inline_hash_kept() {
+        let (r, d) = scan_str("# top\n[1000]\nObjectType=0x07 # VAR\n  ; x\n");
+        assert!(d.is_empty());
+        assert_eq!(r.preamble.trivia[0].kind, TriviaKind::Comment);
+        assert_eq!(r.sections[0].entries[0].value, "0x07 # VAR");
+    }
+
+    #[test]
+    fn oddities_reported() {
+        let (r, d) = scan_str("k=v\n[A] junk\nnot a pair\n[B\n=v\n");
+        let codes: Vec<_> = d.iter().map(|d| d.code).collect();
+        assert!(codes.contains(&codes::KEY_OUTSIDE_SECTION));
+        assert!(codes.contains(&codes::TEXT_AFTER_HEADER));
+        assert!(codes.contains(&codes::STRAY_LINE));
+        assert!(codes.contains(&codes::MALFORMED_HEADER));
+        assert_eq!(r.sections[1].name, "B");
+        assert_eq!(r.sections[1].entries[0].key, "");
+    }
+}

@@ -1,0 +1,408 @@
+//! The writer: model → EDS/DCF text with CiA 306 spellings and canonical values.
+
+use std::fmt::Write as _;
+
+use odc_model::{
+    Device, Format, Module, Object, Origin, PdoMapping, RawEntry, Spanned, SubObject, Value,
+};
+
+use crate::lower::{COMPACT_SUB0_NAME, compact_sub_name};
+
+/// Writes a value in its canonical form.
+pub(crate) fn value_text(v: &Value) -> String {
+    match v {
+        Value::Bool(b) => u8::from(*b).to_string(),
+        Value::Unsigned(u) => format!("0x{u:X}"),
+        Value::Signed(i) => i.to_string(),
+        Value::Real32(bits) => {
+            let f = f32::from_bits(*bits);
+            if f.is_nan() { format!("0x{bits:08X}") } else { format!("{f}") }
+        }
+        Value::Real64(bits) => {
+            let f = f64::from_bits(*bits);
+            if f.is_nan() { format!("0x{bits:016X}") } else { format!("{f}") }
+        }
+        Value::Text(s) | Value::Invalid(s) => s.clone(),
+        Value::Bytes(b) => {
+            let mut s = String::with_capacity(b.len() * 2);
+            for x in b {
+                let _ = write!(s, "{x:02X}");
+            }
+            s
+        }
+        Value::Unicode(u) => String::from_utf16_lossy(u),
+        Value::Time { ms, days } => format!("{days} {ms}"),
+        Value::NodeIdPlus(n) => match *n {
+            0 => "$NODEID".to_owned(),
+            n if n > 0 => format!("$NODEID+0x{n:X}"),
+            n => format!("$NODEID-0x{:X}", n.unsigned_abs()),
+        },
+    }
+}
+
+struct W {
+    out: String,
+    dcf: bool,
+}
+
+impl W {
+    fn header(&mut self, name: &str) {
+        if !self.out.is_empty() {
+            self.out.push('\n');
+        }
+        self.out.push('[');
+        self.out.push_str(name);
+        self.out.push_str("]\n");
+    }
+    fn kv(&mut self, k: &str, v: &str) {
+        self.out.push_str(k);
+        self.out.push('=');
+        self.out.push_str(v);
+        self.out.push('\n');
+    }
+    fn opt_text(&mut self, k: &str, v: &Option<Spanned<String>>) {
+        if let Some(v) = v {
+            self.kv(k, &v.value);
+        }
+    }
+    fn opt_hex<T: Copy + Into<u64>>(&mut self, k: &str, v: &Option<Spanned<T>>) {
+        if let Some(v) = v {
+            self.kv(k, &format!("0x{:X}", v.value.into()));
+        }
+    }
+    fn opt_dec<T: Copy + Into<u64>>(&mut self, k: &str, v: &Option<Spanned<T>>) {
+        if let Some(v) = v {
+            self.kv(k, &v.value.into().to_string());
+        }
+    }
+    fn opt_bool(&mut self, k: &str, v: &Option<Spanned<bool>>) {
+        if let Some(v) = v {
+            self.kv(k, if v.value { "1" } else { "0" });
+        }
+    }
+    fn opt_value(&mut self, k: &str, v: &Option<Spanned<Value>>) {
+        if let Some(v) = v {
+            self.kv(k, &value_text(&v.value));
+        }
+    }
+    fn extra(&mut self, extra: &[RawEntry]) {
+        for e in extra {
+            self.kv(&e.key, &e.value);
+        }
+    }
+    fn lines(&mut self, name: &str, lines: &[String]) {
+        if lines.is_empty() {
+            return;
+        }
+        self.header(name);
+        self.kv("Lines", &lines.len().to_string());
+        for (i, l) in lines.iter().enumerate() {
+            self.kv(&format!("Line{}", i + 1), l);
+        }
+    }
+    fn index_list(&mut self, name: &str, count_key: &str, count: Option<u16>, items: &[u16]) {
+        self.header(name);
+        self.kv(count_key, &count.map_or(items.len(), usize::from).to_string());
+        for (i, x) in items.iter().enumerate() {
+            self.kv(&(i + 1).to_string(), &format!("0x{x:04X}"));
+        }
+    }
+
+    /// The keys of a sub-object (or of a VAR's section), without ParameterName.
+    fn sub_keys(&mut self, s: &SubObject, obj_flags: Option<&Spanned<u32>>) {
+        if let Some(k) = s.kind {
+            self.kv("ObjectType", &format!("0x{:X}", k.code()));
+        }
+        self.kv("DataType", &format!("0x{:04X}", s.data_type.code()));
+        self.kv("AccessType", s.access.as_str());
+        self.opt_value("DefaultValue", &s.default);
+        self.opt_value("LowLimit", &s.low_limit);
+        self.opt_value("HighLimit", &s.high_limit);
+        if self.dcf {
+            self.opt_value("ParameterValue", &s.parameter_value);
+            self.opt_text("Denotation", &s.denotation);
+        }
+        self.kv("PDOMapping", if s.pdo_mapping == PdoMapping::No { "0" } else { "1" });
+        if let Some(f) = obj_flags {
+            self.kv("ObjFlags", &format!("0x{:X}", f.value));
+        }
+        self.opt_text("UploadFile", &s.upload_file);
+        self.opt_text("DownloadFile", &s.download_file);
+    }
+
+    fn sub_section(&mut self, name: &str, s: &SubObject) {
+        self.header(name);
+        self.kv("ParameterName", &s.name);
+        self.sub_keys(s, s.obj_flags.as_ref());
+        self.extra(&s.extra);
+    }
+
+    fn object(&mut self, prefix: &str, o: &Object) {
+        let name = format!("{prefix}{:04X}", o.index);
+        self.header(&name);
+        self.kv("ParameterName", &o.name);
+        self.kv("ObjectType", &format!("0x{:X}", o.kind.code()));
+        if !o.kind.has_subs() {
+            if let Some(s0) = o.subs.get(&0) {
+                self.sub_keys(s0, o.obj_flags.as_ref().or(s0.obj_flags.as_ref()));
+                self.extra(&s0.extra);
+            } else if let Some(f) = &o.obj_flags {
+                self.kv("ObjFlags", &format!("0x{:X}", f.value));
+            }
+            self.extra(&o.extra);
+            for (i, s) in o.subs.range(1..) {
+                self.sub_section(&format!("{name}sub{i:X}"), s);
+            }
+            self.links(&name, o);
+            return;
+        }
+        self.opt_dec("SubNumber", &o.sub_number);
+        if let Some(f) = &o.obj_flags {
+            self.kv("ObjFlags", &format!("0x{:X}", f.value));
+        }
+        if self.dcf {
+            self.opt_text("Denotation", &o.denotation);
+        }
+        let n = o.compact_sub_obj.as_ref().map_or(0, |c| c.value);
+        if let Some(c) = &o.compact_sub_obj {
+            self.kv("CompactSubObj", &c.value.to_string());
+        }
+        // The template of the implied sub-objects: sub 1 without what is per sub-object.
+        let template = if n > 0 {
+            o.subs.get(&1).map(|t| {
+                let mut t = t.clone();
+                t.kind = None;
+                t.parameter_value = None;
+                t.denotation = None;
+                t
+            })
+        } else {
+            None
+        };
+        let template = template.as_ref();
+        if let Some(t) = template {
+            self.sub_keys(t, t.obj_flags.as_ref());
+        }
+        self.extra(&o.extra);
+        let implied = |s: &SubObject| -> bool {
+            let Some(t) = template else { return false };
+            if s.sub_index == 0 {
+                let mut e = SubObject::new(
+                    0,
+                    COMPACT_SUB0_NAME,
+                    odc_model::DataType::Unsigned8,
+                    odc_model::Access::Ro,
+                );
+                e.default = Some(Spanned::synthetic(Value::Unsigned(u64::from(n))));
+                e.parameter_value = s.parameter_value.clone();
+                e.denotation = s.denotation.clone();
+                return *s == e;
+            }
+            if s.sub_index > n {
+                return false;
+            }
+            let mut c = s.clone();
+            c.sub_index = t.sub_index;
+            c.name = t.name.clone();
+            c.parameter_value = t.parameter_value.clone();
+            c.denotation = t.denotation.clone();
+            c == *t
+        };
+        for (i, s) in &o.subs {
+            if !implied(s) {
+                self.sub_section(&format!("{name}sub{i:X}"), s);
+            }
+        }
+        if n > 0 {
+            let names: Vec<(u8, &str)> = o
+                .subs
+                .range(1..=n)
+                .filter(|(i, s)| implied(s) && s.name != compact_sub_name(&o.name, **i))
+                .map(|(i, s)| (*i, s.name.as_str()))
+                .collect();
+            if !names.is_empty() {
+                self.header(&format!("{name}Name"));
+                self.kv("NrOfEntries", &names.len().to_string());
+                for (i, s) in names {
+                    self.kv(&i.to_string(), s);
+                }
+            }
+            if self.dcf {
+                let values: Vec<(u8, String)> = o
+                    .subs
+                    .range(..=n)
+                    .filter(|(_, s)| implied(s))
+                    .filter_map(|(i, s)| Some((*i, value_text(&s.parameter_value.as_ref()?.value))))
+                    .collect();
+                if !values.is_empty() {
+                    self.header(&format!("{name}Value"));
+                    self.kv("NrOfEntries", &values.len().to_string());
+                    for (i, v) in values {
+                        self.kv(&i.to_string(), &v);
+                    }
+                }
+                let dens: Vec<(u8, &str)> = o
+                    .subs
+                    .range(..=n)
+                    .filter(|(_, s)| implied(s))
+                    .filter_map(|(i, s)| Some((*i, s.denotation.as_ref()?.value.as_str())))
+                    .collect();
+                if !dens.is_empty() {
+                    self.header(&format!("{name}Denotation"));
+                    self.kv("NrOfEntries", &dens.len().to_string());
+                    for (i, v) in dens {
+                        self.kv(&i.to_string(), v);
+                    }
+                }
+            }
+        }
+        self.links(&name, o);
+    }
+
+    fn links(&mut self, name: &str, o: &Object) {
+        if o.links.is_empty() {
+            return;
+        }
+        let items: Vec<u16> = o.links.iter().map(|l| l.value).collect();
+        self.index_list(&format!("{name}ObjectLinks"), "ObjectLinks", None, &items);
+    }
+
+    fn module(&mut self, m: &Module) {
+        let p = format!("M{}", m.number);
+        self.header(&format!("{p}ModuleInfo"));
+        self.opt_text("ProductName", &m.product_name);
+        self.opt_dec("ProductVersion", &m.product_version);
+        self.opt_dec("ProductRevision", &m.product_revision);
+        self.opt_text("OrderCode", &m.order_code);
+        self.extra(&m.extra);
+        if !m.fixed_objects.is_empty() {
+            let items: Vec<u16> = m.fixed_objects.keys().copied().collect();
+            self.index_list(&format!("{p}FixedObjects"), "NrOfEntries", None, &items);
+            for o in m.fixed_objects.values() {
+                self.object(&format!("{p}Fixed"), o);
+            }
+        }
+        if !m.sub_extends.is_empty() {
+            let items: Vec<u16> = m.sub_extends.keys().copied().collect();
+            self.index_list(&format!("{p}SubExtends"), "NrOfEntries", None, &items);
+            for (i, x) in &m.sub_extends {
+                self.header(&format!("{p}SubExt{i:04X}"));
+                self.kv("ParameterName", &x.template.name);
+                self.sub_keys(&x.template, x.template.obj_flags.as_ref());
+                self.opt_text("Count", &x.count);
+                self.opt_hex("ObjExtend", &x.obj_extend);
+                self.extra(&x.template.extra);
+            }
+        }
+        self.lines(&format!("{p}Comments"), &m.comments);
+    }
+}
+
+pub(crate) fn write(dev: &Device, format: Format) -> String {
+    let mut w = W { out: String::with_capacity(64 * 1024), dcf: format == Format::Dcf };
+    let fi = &dev.file_info;
+    if *fi != odc_model::FileInfo::default() {
+        w.header("FileInfo");
+        w.opt_text("FileName", &fi.file_name);
+        w.opt_dec("FileVersion", &fi.file_version);
+        w.opt_dec("FileRevision", &fi.file_revision);
+        w.opt_text("EDSVersion", &fi.eds_version);
+        w.opt_text("Description", &fi.description);
+        w.opt_text("CreationTime", &fi.creation_time);
+        w.opt_text("CreationDate", &fi.creation_date);
+        w.opt_text("CreatedBy", &fi.created_by);
+        w.opt_text("ModificationTime", &fi.modification_time);
+        w.opt_text("ModificationDate", &fi.modification_date);
+        w.opt_text("ModifiedBy", &fi.modified_by);
+        w.extra(&fi.extra);
+    }
+    let di = &dev.device_info;
+    if *di != odc_model::DeviceInfo::default() {
+        w.header("DeviceInfo");
+        w.opt_text("VendorName", &di.vendor_name);
+        w.opt_hex("VendorNumber", &di.vendor_number);
+        w.opt_text("ProductName", &di.product_name);
+        w.opt_hex("ProductNumber", &di.product_number);
+        w.opt_hex("RevisionNumber", &di.revision_number);
+        w.opt_text("OrderCode", &di.order_code);
+        let mut rates: Vec<u32> = vec![10, 20, 50, 125, 250, 500, 800, 1000];
+        rates.extend(di.baud_rates.iter().copied());
+        rates.sort_unstable();
+        rates.dedup();
+        for r in rates {
+            w.kv(&format!("BaudRate_{r}"), if di.baud_rates.contains(&r) { "1" } else { "0" });
+        }
+        w.opt_bool("SimpleBootUpMaster", &di.simple_boot_up_master);
+        w.opt_bool("SimpleBootUpSlave", &di.simple_boot_up_slave);
+        w.opt_dec("Granularity", &di.granularity);
+        w.opt_dec("DynamicChannelsSupported", &di.dynamic_channels_supported);
+        w.opt_bool("GroupMessaging", &di.group_messaging);
+        w.opt_dec("NrOfRXPDO", &di.nr_of_rx_pdo);
+        w.opt_dec("NrOfTXPDO", &di.nr_of_tx_pdo);
+        w.opt_bool("LSS_Supported", &di.lss_supported);
+        w.opt_hex("CompactPDO", &di.compact_pdo);
+        w.extra(&di.extra);
+    }
+    if w.dcf
+        && let Some(c) = &dev.commissioning
+    {
+        w.header("DeviceComissioning");
+        w.opt_dec("NodeID", &c.node_id);
+        w.opt_text("NodeName", &c.node_name);
+        w.opt_dec("Baudrate", &c.baudrate);
+        w.opt_dec("NetNumber", &c.net_number);
+        w.opt_text("NetworkName", &c.network_name);
+        w.opt_bool("CANopenManager", &c.canopen_manager);
+        w.opt_hex("LSS_SerialNumber", &c.lss_serial_number);
+        w.opt_text("NodeRefd", &c.node_refd);
+        w.opt_text("NetRefd", &c.net_refd);
+        w.extra(&c.extra);
+    }
+    if !dev.dummy_usage.is_empty() {
+        w.header("DummyUsage");
+        for (i, b) in &dev.dummy_usage {
+            w.kv(&format!("Dummy{i:04X}"), if b.value { "1" } else { "0" });
+        }
+    }
+    w.lines("Comments", &dev.comments);
+    for (name, list) in [
+        ("MandatoryObjects", &dev.object_lists.mandatory),
+        ("OptionalObjects", &dev.object_lists.optional),
+        ("ManufacturerObjects", &dev.object_lists.manufacturer),
+    ] {
+        if let Some(l) = list {
+            let items: Vec<u16> = l.entries.iter().map(|e| e.value).collect();
+            w.index_list(
+                name,
+                "SupportedObjects",
+                l.supported_objects.as_ref().map(|s| s.value),
+                &items,
+            );
+        }
+    }
+    for o in dev.objects.values() {
+        if o.origin == Origin::CompactPdo {
+            continue;
+        }
+        w.object("", o);
+    }
+    if !dev.modules.supported.is_empty() {
+        w.header("SupportedModules");
+        w.kv("NrOfEntries", &dev.modules.supported.len().to_string());
+        for m in &dev.modules.supported {
+            w.module(m);
+        }
+    }
+    if w.dcf && !dev.modules.connected.is_empty() {
+        w.header("ConnectedModules");
+        w.kv("NrOfEntries", &dev.modules.connected.len().to_string());
+        for (i, m) in dev.modules.connected.iter().enumerate() {
+            w.kv(&(i + 1).to_string(), &m.value.to_string());
+        }
+    }
+    for s in &dev.extra_sections {
+        w.header(&s.name);
+        w.extra(&s.entries);
+    }
+    w.out
+}
