@@ -1,0 +1,263 @@
+//! `od`: one typed descriptor per object and sub-object.
+
+use std::collections::BTreeMap;
+
+use odc_model::{Access, Device, Object, SubObject, Value};
+use proc_macro2::{Ident, Span, TokenStream};
+use quote::quote;
+
+use crate::names::{self, Namer};
+use crate::types::{RustTy, index_literal, sub_literal};
+use crate::{Ctx, doc};
+
+/// The name of one typed sub-object in the generated code.
+pub struct EntryName {
+    /// The module of its record or array, when it has one.
+    pub module: Option<Ident>,
+    /// The constant.
+    pub konst: Ident,
+    /// A unique snake-case name, for storage fields.
+    pub field: Ident,
+    /// Its Rust type.
+    pub ty: RustTy,
+}
+
+impl EntryName {
+    /// The descriptor's path from a sibling module of `od` (`super::od::…`).
+    pub fn path(&self) -> TokenStream {
+        let k = &self.konst;
+        match &self.module {
+            Some(m) => quote!(super::od::#m::#k),
+            None => quote!(super::od::#k),
+        }
+    }
+}
+
+/// Names of every typed sub-object, by (index, sub).
+pub struct OdNames {
+    /// The entries, in address order.
+    pub entries: BTreeMap<(u16, u8), EntryName>,
+    /// The module of each record or array that has typed sub-objects.
+    pub modules: BTreeMap<u16, Ident>,
+}
+
+fn ident(s: &str) -> Ident {
+    Ident::new(s, Span::call_site())
+}
+
+impl OdNames {
+    /// Names the device's objects.
+    pub fn new(device: &Device) -> Self {
+        // Objects: VARs get a constant, records and arrays a module; two namespaces.
+        let mut consts = Namer::new();
+        let mut mods = Namer::new();
+        let mut var_pos = BTreeMap::new();
+        let mut mod_pos = BTreeMap::new();
+        for (&index, object) in &device.objects {
+            if typed_subs(object).next().is_none() {
+                continue;
+            }
+            if object.kind.has_subs() {
+                let p = mods.propose(names::snake(&object.name), format!("obj_{index:04x}"));
+                mod_pos.insert(index, p);
+            } else {
+                let p = consts.propose(names::screaming(&object.name), format!("OBJ_{index:04X}"));
+                var_pos.insert(index, p);
+            }
+        }
+        let consts = consts.finish("_", &[]);
+        let mods = mods.finish("_", &[]);
+        let modules: BTreeMap<u16, Ident> =
+            mod_pos.iter().map(|(&i, &p)| (i, ident(&mods[p]))).collect();
+
+        let mut entries = BTreeMap::new();
+        let mut fields = Namer::new();
+        let mut field_pos = Vec::new();
+        for (&index, object) in &device.objects {
+            if let Some(&p) = var_pos.get(&index) {
+                let Some((sub, ty)) = typed_subs(object).next() else { continue };
+                let name = &consts[p];
+                field_pos
+                    .push(fields.propose(names::snake(name), format!("obj_{index:04x}")));
+                entries.insert((index, sub.sub_index), (None, ident(name), ty));
+            } else if let Some(module) = modules.get(&index) {
+                let mut subs = Namer::new();
+                let typed: Vec<_> = typed_subs(object).collect();
+                for (sub, _) in &typed {
+                    subs.propose(names::screaming(&sub.name), format!("SUB_{:02X}", sub.sub_index));
+                }
+                for ((sub, ty), name) in typed.iter().zip(subs.finish("_", &[])) {
+                    let field = names::snake(&format!("{module} {name}"));
+                    let suffix = format!("obj_{index:04x}_{:02x}", sub.sub_index);
+                    field_pos.push(fields.propose(field, suffix));
+                    entries
+                        .insert((index, sub.sub_index), (Some(module.clone()), ident(&name), *ty));
+                }
+            }
+        }
+        let fields = fields.finish("_", &[]);
+        let entries = entries
+            .into_iter()
+            .zip(fields)
+            .map(|((addr, (module, konst, ty)), field)| {
+                (addr, EntryName { module, konst, field: ident(&field), ty })
+            })
+            .collect();
+        OdNames { entries, modules }
+    }
+}
+
+/// The sub-objects of an object that have a Rust type, in sub-index order.
+pub fn typed_subs(object: &Object) -> impl Iterator<Item = (&SubObject, RustTy)> {
+    let var = !object.kind.has_subs();
+    object
+        .subs
+        .values()
+        .filter(move |s| !var || s.sub_index == 0)
+        .filter_map(|s| RustTy::of(s).map(|t| (s, t)))
+}
+
+/// A value as the doc comments show it.
+pub fn value_text(v: &Value) -> String {
+    match v {
+        Value::Bool(b) => b.to_string(),
+        Value::Unsigned(u) if *u >= 0x100 => format!("0x{u:X}"),
+        Value::Unsigned(u) => u.to_string(),
+        Value::Signed(i) => i.to_string(),
+        Value::Real32(b) => format!("{}", f32::from_bits(*b)),
+        Value::Real64(b) => format!("{}", f64::from_bits(*b)),
+        Value::Text(s) => format!("{s:?}"),
+        Value::Bytes(b) => b.iter().map(|x| format!("{x:02X}")).collect::<Vec<_>>().join(" "),
+        Value::Unicode(u) => String::from_utf16_lossy(u),
+        Value::Time { ms, days } => format!("{days} days {ms} ms"),
+        Value::NodeIdPlus(0) => "$NODEID".to_string(),
+        Value::NodeIdPlus(n) if *n >= 0x100 => format!("$NODEID + 0x{n:X}"),
+        Value::NodeIdPlus(n) => format!("$NODEID + {n}"),
+        Value::Invalid(s) => format!("{s:?} (invalid)"),
+    }
+}
+
+fn access_tokens(a: Access, rt: &TokenStream) -> TokenStream {
+    match a {
+        Access::Ro => quote!(#rt::Access::Ro),
+        Access::Wo => quote!(#rt::Access::Wo),
+        Access::Rw => quote!(#rt::Access::Rw),
+        Access::Rwr => quote!(#rt::Access::Rwr),
+        Access::Rww => quote!(#rt::Access::Rww),
+        Access::Const => quote!(#rt::Access::Const),
+    }
+}
+
+/// The doc comment of a descriptor: name, then address, type, access, limits, default.
+fn entry_doc(ctx: &Ctx<'_>, index: u16, sub: &SubObject, ty: RustTy) -> String {
+    let mut facts = vec![
+        format!("`0x{index:04X}:{:02X}`", sub.sub_index),
+        sub.data_type.name().into_owned(),
+        sub.access.as_str().to_string(),
+    ];
+    if sub.pdo_mapping.is_mappable() {
+        facts.push("PDO-mappable".to_string());
+    }
+    let mut lines = vec![sub.name.clone(), String::new(), facts.join(", ") + "."];
+    let rt = quote!(::odc);
+    let mut notes = Vec::new();
+    let limit = |v: Option<&odc_model::Spanned<Value>>| {
+        v.map(|v| (value_text(&v.value), ty.option_expr(&v.value, &rt).is_some()))
+    };
+    match (limit(sub.low_limit.as_ref()), limit(sub.high_limit.as_ref())) {
+        (None, None) => {}
+        (lo, hi) => {
+            let lo_t = lo.as_ref().map(|l| l.0.clone()).unwrap_or_default();
+            let hi_t = hi.as_ref().map(|h| h.0.clone()).unwrap_or_default();
+            notes.push(format!("Range: `{lo_t}..={hi_t}`."));
+            if lo.is_some_and(|l| !l.1) || hi.is_some_and(|h| !h.1) {
+                notes.push("(A limit that is no value of the type is not checked.)".to_string());
+            }
+        }
+    }
+    if let Some(d) = sub.initial_value() {
+        let ok = ty.default_expr(&d.value, &rt).is_some();
+        notes.push(format!(
+            "Default: `{}`{}",
+            value_text(&d.value),
+            if ok { "." } else { " (not a value of the type; not used)." }
+        ));
+    }
+    if !notes.is_empty() {
+        lines.push(String::new());
+        lines.push(notes.join(" "));
+    }
+    if !ctx.source.is_empty() {
+        lines.push(String::new());
+        lines.push(format!("From `{}`.", ctx.source));
+    }
+    lines.join("\n")
+}
+
+fn descriptor(ctx: &Ctx<'_>, index: u16, sub: &SubObject, name: &EntryName) -> TokenStream {
+    let rt = &ctx.rt;
+    let ty = name.ty.tokens(rt);
+    let konst = &name.konst;
+    let idx = index_literal(index);
+    let sidx = sub_literal(sub.sub_index);
+    let pname = &sub.name;
+    let access = access_tokens(sub.access, rt);
+    let mappable = sub.pdo_mapping.is_mappable();
+    let none = quote!(None);
+    let low = sub
+        .low_limit
+        .as_ref()
+        .and_then(|v| name.ty.option_expr(&v.value, rt))
+        .unwrap_or_else(|| none.clone());
+    let high = sub
+        .high_limit
+        .as_ref()
+        .and_then(|v| name.ty.option_expr(&v.value, rt))
+        .unwrap_or_else(|| none.clone());
+    let default =
+        sub.initial_value().and_then(|v| name.ty.default_expr(&v.value, rt)).unwrap_or(none);
+    let docs = doc(&entry_doc(ctx, index, sub, name.ty));
+    quote! {
+        #docs
+        pub const #konst: #rt::Entry<#ty> = #rt::Entry::full(
+            #idx, #sidx, #pname, #access, #mappable, #low, #high, #default,
+        );
+    }
+}
+
+/// The `od` module.
+pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
+    let mut items = Vec::new();
+    for (&index, object) in &ctx.device.objects {
+        if let Some(module) = ctx.names.modules.get(&index) {
+            let consts = typed_subs(object).filter_map(|(sub, _)| {
+                let name = ctx.names.entries.get(&(index, sub.sub_index))?;
+                Some(descriptor(ctx, index, sub, name))
+            });
+            let kind = format!("{:?}", object.kind).to_ascii_uppercase();
+            let docs = doc(&format!("{}\n\n`0x{index:04X}`, {kind}.", object.name));
+            items.push(quote! {
+                #docs
+                pub mod #module {
+                    #(#consts)*
+                }
+            });
+        } else if let Some((sub, name)) = typed_subs(object)
+            .next()
+            .and_then(|(sub, _)| Some((sub, ctx.names.entries.get(&(index, sub.sub_index))?)))
+        {
+            items.push(descriptor(ctx, index, sub, name));
+        }
+    }
+    let name = ctx.device.name();
+    let docs = doc(&format!(
+        "Object descriptors of {name}: one typed `Entry` per object and sub-object.\n\n\
+         Sub-objects of records and arrays are in a module named after the object."
+    ));
+    quote! {
+        #docs
+        pub mod od {
+            #(#items)*
+        }
+    }
+}

@@ -1,0 +1,353 @@
+//! Rust types for CiA 301 data types, and `const` expressions for values of them.
+
+use odc_model::{DataType, SubObject, Value};
+use proc_macro2::{Literal, TokenStream};
+use quote::quote;
+
+/// The Rust type that holds a value of a sub-object.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RustTy {
+    /// `bool`.
+    Bool,
+    /// `u8`..`u64`, or the runtime's `U24`..`U56`, by width.
+    Unsigned(u32),
+    /// `i8`..`i64`, or the runtime's `I24`..`I56`, by width.
+    Signed(u32),
+    /// `f32`.
+    F32,
+    /// `f64`.
+    F64,
+    /// `VisibleString<N>`.
+    Text(usize),
+    /// `OctetString<N>`.
+    Bytes(usize),
+    /// `TimeOfDay`.
+    TimeOfDay,
+    /// `TimeDifference`.
+    TimeDifference,
+}
+
+impl RustTy {
+    /// The type for a sub-object, or `None` when the runtime has no value type for it
+    /// (DOMAIN, UNICODE_STRING, structured and profile types).
+    pub fn of(sub: &SubObject) -> Option<RustTy> {
+        Some(match sub.data_type {
+            DataType::Boolean => RustTy::Bool,
+            DataType::Bit(1) => RustTy::Bool,
+            DataType::Bit(_) => RustTy::Unsigned(8),
+            DataType::Unsigned8 => RustTy::Unsigned(8),
+            DataType::Unsigned16 => RustTy::Unsigned(16),
+            DataType::Unsigned24 => RustTy::Unsigned(24),
+            DataType::Unsigned32 => RustTy::Unsigned(32),
+            DataType::Unsigned40 => RustTy::Unsigned(40),
+            DataType::Unsigned48 => RustTy::Unsigned(48),
+            DataType::Unsigned56 => RustTy::Unsigned(56),
+            DataType::Unsigned64 => RustTy::Unsigned(64),
+            DataType::Integer8 => RustTy::Signed(8),
+            DataType::Integer16 => RustTy::Signed(16),
+            DataType::Integer24 => RustTy::Signed(24),
+            DataType::Integer32 => RustTy::Signed(32),
+            DataType::Integer40 => RustTy::Signed(40),
+            DataType::Integer48 => RustTy::Signed(48),
+            DataType::Integer56 => RustTy::Signed(56),
+            DataType::Integer64 => RustTy::Signed(64),
+            DataType::Real32 => RustTy::F32,
+            DataType::Real64 => RustTy::F64,
+            DataType::VisibleString => RustTy::Text(string_len(sub)),
+            DataType::OctetString => RustTy::Bytes(string_len(sub)),
+            DataType::TimeOfDay => RustTy::TimeOfDay,
+            DataType::TimeDifference => RustTy::TimeDifference,
+            _ => return None,
+        })
+    }
+
+    /// The type for a PDO field of `bits` bits whose object is unknown: the narrowest unsigned
+    /// integer that holds it.
+    pub fn raw(bits: u32) -> Option<RustTy> {
+        Some(match bits {
+            1 => RustTy::Bool,
+            2..=8 => RustTy::Unsigned(8),
+            9..=16 => RustTy::Unsigned(16),
+            17..=32 => RustTy::Unsigned(32),
+            33..=64 => RustTy::Unsigned(64),
+            _ => return None,
+        })
+    }
+
+    /// Whether the type can be a PDO field (the runtime implements `PdoValue` for it).
+    pub fn is_pdo_value(self) -> bool {
+        matches!(
+            self,
+            RustTy::Bool | RustTy::Unsigned(_) | RustTy::Signed(_) | RustTy::F32 | RustTy::F64
+        )
+    }
+
+    /// Whether the type is one of Rust's own integers (literals need no constructor).
+    fn is_native_int(self) -> bool {
+        matches!(self, RustTy::Unsigned(8 | 16 | 32 | 64) | RustTy::Signed(8 | 16 | 32 | 64))
+    }
+
+    /// The type's tokens, with `rt` the runtime path.
+    pub fn tokens(self, rt: &TokenStream) -> TokenStream {
+        match self {
+            RustTy::Bool => quote!(bool),
+            RustTy::Unsigned(8) => quote!(u8),
+            RustTy::Unsigned(16) => quote!(u16),
+            RustTy::Unsigned(32) => quote!(u32),
+            RustTy::Unsigned(64) => quote!(u64),
+            RustTy::Unsigned(24) => quote!(#rt::U24),
+            RustTy::Unsigned(40) => quote!(#rt::U40),
+            RustTy::Unsigned(48) => quote!(#rt::U48),
+            RustTy::Unsigned(_) => quote!(#rt::U56),
+            RustTy::Signed(8) => quote!(i8),
+            RustTy::Signed(16) => quote!(i16),
+            RustTy::Signed(32) => quote!(i32),
+            RustTy::Signed(64) => quote!(i64),
+            RustTy::Signed(24) => quote!(#rt::I24),
+            RustTy::Signed(40) => quote!(#rt::I40),
+            RustTy::Signed(48) => quote!(#rt::I48),
+            RustTy::Signed(_) => quote!(#rt::I56),
+            RustTy::F32 => quote!(f32),
+            RustTy::F64 => quote!(f64),
+            RustTy::Text(n) => {
+                let n = Literal::usize_unsuffixed(n);
+                quote!(#rt::VisibleString<#n>)
+            }
+            RustTy::Bytes(n) => {
+                let n = Literal::usize_unsuffixed(n);
+                quote!(#rt::OctetString<#n>)
+            }
+            RustTy::TimeOfDay => quote!(#rt::TimeOfDay),
+            RustTy::TimeDifference => quote!(#rt::TimeDifference),
+        }
+    }
+
+    /// The type's path in expression position (`VisibleString::<8>`).
+    fn expr_path(self, rt: &TokenStream) -> TokenStream {
+        match self {
+            RustTy::Text(n) => {
+                let n = Literal::usize_unsuffixed(n);
+                quote!(#rt::VisibleString::<#n>)
+            }
+            RustTy::Bytes(n) => {
+                let n = Literal::usize_unsuffixed(n);
+                quote!(#rt::OctetString::<#n>)
+            }
+            _ => self.tokens(rt),
+        }
+    }
+
+    /// A `const` expression of type `Option<Self>` for `value`, or `None` when the value is
+    /// not one of this type (it does not fit, or is `$NODEID`-relative, or invalid).
+    pub fn option_expr(self, value: &Value, rt: &TokenStream) -> Option<TokenStream> {
+        Some(match self.value_expr(value, rt)? {
+            ValueExpr::Plain(e) => quote!(Some(#e)),
+            ValueExpr::Checked(e) => e,
+        })
+    }
+
+    /// A `const` expression of type `Self` (plain) or `Option<Self>` (checked constructor).
+    fn value_expr(self, value: &Value, rt: &TokenStream) -> Option<ValueExpr> {
+        let ty = self.expr_path(rt);
+        Some(match (self, value) {
+            (RustTy::Bool, Value::Bool(b)) => ValueExpr::Plain(quote!(#b)),
+            (RustTy::Bool, Value::Unsigned(u @ (0 | 1))) => {
+                let b = *u == 1;
+                ValueExpr::Plain(quote!(#b))
+            }
+            (RustTy::Unsigned(bits), Value::Unsigned(u)) => {
+                if bits < 64 && *u >> bits != 0 {
+                    return None;
+                }
+                let lit = int_literal(*u);
+                if self.is_native_int() {
+                    ValueExpr::Plain(quote!(#lit))
+                } else {
+                    ValueExpr::Checked(quote!(#ty::new(#lit)))
+                }
+            }
+            (RustTy::Unsigned(_), Value::Signed(i)) if *i >= 0 => {
+                return self.value_expr(&Value::Unsigned(i.unsigned_abs()), rt);
+            }
+            (RustTy::Signed(bits), Value::Signed(i)) => {
+                let min = -(1i128 << (bits - 1));
+                let max = (1i128 << (bits - 1)) - 1;
+                if i128::from(*i) < min || i128::from(*i) > max {
+                    return None;
+                }
+                let lit = Literal::u64_unsuffixed(i.unsigned_abs());
+                let e = if *i < 0 { quote!(-#lit) } else { quote!(#lit) };
+                if self.is_native_int() {
+                    ValueExpr::Plain(e)
+                } else {
+                    ValueExpr::Checked(quote!(#ty::new(#e)))
+                }
+            }
+            (RustTy::Signed(_), Value::Unsigned(u)) => {
+                let i = i64::try_from(*u).ok()?;
+                return self.value_expr(&Value::Signed(i), rt);
+            }
+            (RustTy::F32, Value::Real32(b)) => {
+                let lit = hex_literal(u64::from(*b), 8);
+                ValueExpr::Plain(quote!(f32::from_bits(#lit)))
+            }
+            (RustTy::F64, Value::Real64(b)) => {
+                let lit = hex_literal(*b, 16);
+                ValueExpr::Plain(quote!(f64::from_bits(#lit)))
+            }
+            (RustTy::Text(n), Value::Text(s)) => {
+                if s.len() > n || !s.bytes().all(|b| (0x20..=0x7E).contains(&b)) {
+                    return None;
+                }
+                ValueExpr::Checked(quote!(#ty::new(#s)))
+            }
+            (RustTy::Bytes(n), Value::Bytes(b)) => {
+                if b.len() != n {
+                    return None;
+                }
+                let bytes = b.iter().map(|&x| hex_literal(u64::from(x), 2));
+                ValueExpr::Plain(quote!(#rt::OctetString([#(#bytes),*])))
+            }
+            (RustTy::TimeOfDay | RustTy::TimeDifference, Value::Time { ms, days }) => {
+                let ms = Literal::u32_unsuffixed(*ms);
+                let days = Literal::u16_unsuffixed(*days);
+                ValueExpr::Plain(quote!(#ty { ms: #ms, days: #days }))
+            }
+            _ => return None,
+        })
+    }
+
+    /// A default expression of type `Option<DefaultValue<Self>>`, or `None` as for
+    /// [`RustTy::option_expr`]; `$NODEID`-relative values of integer types stay symbolic.
+    pub fn default_expr(self, value: &Value, rt: &TokenStream) -> Option<TokenStream> {
+        if let Value::NodeIdPlus(off) = value {
+            if !matches!(self, RustTy::Unsigned(_) | RustTy::Signed(_)) {
+                return None;
+            }
+            let off = u32::try_from(*off).ok()?;
+            let lit = int_literal(u64::from(off));
+            return Some(quote!(Some(#rt::DefaultValue::NodeIdPlus(#lit))));
+        }
+        Some(match self.value_expr(value, rt)? {
+            ValueExpr::Plain(e) => quote!(Some(#rt::DefaultValue::Value(#e))),
+            ValueExpr::Checked(e) => quote! {
+                match #e {
+                    Some(v) => Some(#rt::DefaultValue::Value(v)),
+                    None => None,
+                }
+            },
+        })
+    }
+
+    /// An expression of the type's zero value, for storage of sub-objects without default.
+    pub fn zero_expr(self, rt: &TokenStream) -> TokenStream {
+        let ty = self.tokens(rt);
+        match self {
+            RustTy::Bool => quote!(false),
+            RustTy::F32 | RustTy::F64 => quote!(0.0),
+            RustTy::Unsigned(_) | RustTy::Signed(_) if self.is_native_int() => quote!(0),
+            RustTy::Text(_) => quote!(#rt::slave::empty_string()),
+            RustTy::Bytes(n) => {
+                let n = Literal::usize_unsuffixed(n);
+                quote!(#rt::OctetString([0; #n]))
+            }
+            _ => quote!(<#ty as ::core::default::Default>::default()),
+        }
+    }
+}
+
+/// A value expression: of the type itself, or of `Option` when a checked constructor builds it.
+enum ValueExpr {
+    Plain(TokenStream),
+    Checked(TokenStream),
+}
+
+/// The length in bytes of a string sub-object: stated bit size, else its default's length.
+fn string_len(sub: &SubObject) -> usize {
+    if let Some(bits) = sub.bit_size {
+        return (bits as usize).div_ceil(8);
+    }
+    match sub.initial_value().map(|v| &v.value) {
+        Some(Value::Text(s)) => s.len(),
+        Some(Value::Bytes(b)) => b.len(),
+        _ => 0,
+    }
+}
+
+/// An integer literal: decimal below 0x100, hex above (addresses, COB-IDs, masks read better).
+pub fn int_literal(v: u64) -> Literal {
+    if v < 0x100 {
+        Literal::u64_unsuffixed(v)
+    } else {
+        let digits = if v <= 0xFFFF {
+            4
+        } else if v <= 0xFFFF_FFFF {
+            8
+        } else {
+            16
+        };
+        hex_literal(v, digits)
+    }
+}
+
+/// `0x…` with at least `digits` digits, and `_` every 4 digits above 4.
+pub fn hex_literal(v: u64, digits: usize) -> Literal {
+    let raw = format!("{v:0digits$X}");
+    let text = if raw.len() > 4 {
+        let chunks: Vec<&str> =
+            raw.as_bytes().rchunks(4).rev().filter_map(|c| std::str::from_utf8(c).ok()).collect();
+        chunks.join("_")
+    } else {
+        raw
+    };
+    format!("0x{text}").parse().unwrap_or_else(|_| Literal::u64_unsuffixed(v))
+}
+
+/// A 16-bit index as `0x1A00`.
+pub fn index_literal(index: u16) -> Literal {
+    hex_literal(u64::from(index), 4)
+}
+
+/// A sub-index as `0x01`.
+pub fn sub_literal(sub: u8) -> Literal {
+    hex_literal(u64::from(sub), 2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn literals() {
+        assert_eq!(int_literal(5).to_string(), "5");
+        assert_eq!(int_literal(0x180).to_string(), "0x0180");
+        assert_eq!(int_literal(0x6040_0010).to_string(), "0x6040_0010");
+        assert_eq!(index_literal(0x1A00).to_string(), "0x1A00");
+    }
+
+    #[test]
+    fn values_fit_their_type() {
+        let rt = quote!(::odc);
+        let u8t = RustTy::Unsigned(8);
+        assert!(u8t.option_expr(&Value::Unsigned(256), &rt).is_none());
+        assert_eq!(
+            u8t.option_expr(&Value::Unsigned(255), &rt).map(|t| t.to_string()),
+            Some("Some (255)".into())
+        );
+        let i16t = RustTy::Signed(16);
+        assert_eq!(
+            i16t.option_expr(&Value::Signed(-5), &rt).map(|t| t.to_string()),
+            Some("Some (- 5)".into())
+        );
+        assert!(i16t.option_expr(&Value::Signed(40000), &rt).is_none());
+        let d = i16t.default_expr(&Value::Signed(-5), &rt).map(|t| t.to_string());
+        assert_eq!(
+            d,
+            Some(":: odc :: DefaultValue :: Value (- 5)".replace(":: odc", "Some (:: odc") + ")")
+        );
+        let n = RustTy::Unsigned(32)
+            .default_expr(&Value::NodeIdPlus(0x180), &rt)
+            .map(|t| t.to_string());
+        assert_eq!(n, Some("Some (:: odc :: DefaultValue :: NodeIdPlus (0x0180))".into()));
+    }
+}
