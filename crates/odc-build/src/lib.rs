@@ -1,0 +1,401 @@
+//! Generate typed Rust from device files in a build script, like `prost-build`.
+//!
+//! ```no_run
+//! // build.rs
+//! fn main() -> Result<(), odc_build::Error> {
+//!     odc_build::Config::new().device("eds/lxm23a.eds").role(odc_build::Role::Both).compile()
+//! }
+//! ```
+//!
+//! and in the crate:
+//!
+//! ```ignore
+//! pub mod lxm23a {
+//!     include!(concat!(env!("OUT_DIR"), "/lxm23a.rs"));
+//! }
+//! // or, with the runtime: odc::include_od!("lxm23a");
+//! ```
+//!
+//! For each device file (EDS/DCF, or ESI by extension or a first non-blank `<`), the front-end
+//! reads it, `odc-check` checks it, and `odc-codegen` writes `<module>.rs` into `OUT_DIR` (only
+//! when its content changed, atomically). Every file read is announced with
+//! `cargo:rerun-if-changed=`; warnings become `cargo:warning=` lines; errors come back as an
+//! [`Error`] whose `Display` and `Debug` are the rendered diagnostics.
+
+use std::fmt;
+use std::path::{Path, PathBuf};
+
+use odc_model::{Device, Diagnostic, Sources, diag};
+use sha2::{Digest, Sha256};
+
+pub use odc_codegen::Role;
+
+/// Why generation failed.
+#[derive(thiserror::Error)]
+#[non_exhaustive]
+pub enum Error {
+    /// A file could not be read or written.
+    #[error("cannot access {}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The cause.
+        #[source]
+        source: std::io::Error,
+    },
+    /// The device file has errors; the report is rendered like rustc's.
+    #[error("{report}")]
+    Diagnostics {
+        /// The device file.
+        path: PathBuf,
+        /// The rendered diagnostics.
+        report: String,
+    },
+    /// An ESI file has fewer devices than the one asked for.
+    #[error("{}: no device number {index}; the file describes {count}", path.display())]
+    NoSuchDevice {
+        /// The device file.
+        path: PathBuf,
+        /// The index asked for.
+        index: usize,
+        /// How many devices the file has.
+        count: usize,
+    },
+    /// No output directory: `OUT_DIR` is not set (not in a build script) and none was given.
+    #[error("OUT_DIR is not set: call compile() from a build script, or set out_dir()")]
+    NotInBuildScript,
+}
+
+impl fmt::Debug for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Display::fmt(self, f)
+    }
+}
+
+/// One device file to generate.
+#[derive(Clone, Debug)]
+struct Input {
+    path: PathBuf,
+    module: Option<String>,
+    device: usize,
+}
+
+/// The code generated for one device file.
+#[derive(Clone, Debug)]
+pub struct Generated {
+    /// The module (and file stem) name.
+    pub module: String,
+    /// The Rust source.
+    pub code: String,
+    /// The device file.
+    pub path: PathBuf,
+}
+
+/// The result of [`Config::generate`]: code, and what a build script reports to cargo.
+#[derive(Clone, Debug, Default)]
+pub struct Output {
+    /// One entry per device file, in the order they were added.
+    pub generated: Vec<Generated>,
+    /// Every file read.
+    pub read: Vec<PathBuf>,
+    /// Warnings in the short form (`path:line:col: warning[CODE]: message`), one per line.
+    pub warnings: Vec<String>,
+}
+
+/// Builder for code generation from device files.
+#[derive(Clone, Debug)]
+pub struct Config {
+    inputs: Vec<Input>,
+    role: Role,
+    out_dir: Option<PathBuf>,
+    runtime_path: String,
+    check: odc_check::Config,
+    emit_rerun: Option<bool>,
+}
+
+impl Default for Config {
+    fn default() -> Self {
+        Config {
+            inputs: Vec::new(),
+            role: Role::Both,
+            out_dir: None,
+            runtime_path: "::odc".to_string(),
+            check: odc_check::Config::default(),
+            emit_rerun: None,
+        }
+    }
+}
+
+/// Generates code for the given device files with the defaults, into `OUT_DIR`.
+///
+/// # Errors
+///
+/// As [`Config::compile`].
+pub fn compile(paths: &[impl AsRef<Path>]) -> Result<(), Error> {
+    let mut config = Config::new();
+    for p in paths {
+        config.device(p);
+    }
+    config.compile()
+}
+
+impl Config {
+    /// A configuration with no device, role `Both`, runtime `::odc`.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds a device file (EDS, DCF or ESI), relative to the build script's working directory
+    /// (the package root).
+    pub fn device(&mut self, path: impl AsRef<Path>) -> &mut Self {
+        self.inputs.push(Input { path: path.as_ref().to_path_buf(), module: None, device: 0 });
+        self
+    }
+
+    /// Names the module (and output file) of the device added last; by default its file stem,
+    /// in snake case.
+    pub fn module_name(&mut self, name: &str) -> &mut Self {
+        if let Some(last) = self.inputs.last_mut() {
+            last.module = Some(name.to_string());
+        }
+        self
+    }
+
+    /// For an ESI file with several devices, picks the `index`-th (from 0) for the device
+    /// added last.
+    pub fn select_device(&mut self, index: usize) -> &mut Self {
+        if let Some(last) = self.inputs.last_mut() {
+            last.device = index;
+        }
+        self
+    }
+
+    /// Master, slave or both.
+    pub fn role(&mut self, role: Role) -> &mut Self {
+        self.role = role;
+        self
+    }
+
+    /// Where to write; default `OUT_DIR`.
+    pub fn out_dir(&mut self, dir: impl AsRef<Path>) -> &mut Self {
+        self.out_dir = Some(dir.as_ref().to_path_buf());
+        self
+    }
+
+    /// The runtime crate's path in generated code; default `::odc`.
+    pub fn runtime_path(&mut self, path: &str) -> &mut Self {
+        self.runtime_path = path.to_string();
+        self
+    }
+
+    /// The checker configuration (levels, allowances); default: every rule at its level.
+    pub fn check_config(&mut self, config: odc_check::Config) -> &mut Self {
+        self.check = config;
+        self
+    }
+
+    /// Whether to print `cargo:rerun-if-changed=`; default: when run by cargo.
+    pub fn emit_rerun_if_changed(&mut self, on: bool) -> &mut Self {
+        self.emit_rerun = Some(on);
+        self
+    }
+
+    /// Reads, checks and generates every device, without writing anything.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Io`] when a file cannot be read, [`Error::Diagnostics`] when a device file has
+    /// errors, [`Error::NoSuchDevice`] for a bad [`Config::select_device`].
+    pub fn generate(&self) -> Result<Output, Error> {
+        let mut out = Output::default();
+        for input in &self.inputs {
+            let bytes = std::fs::read(&input.path)
+                .map_err(|source| Error::Io { path: input.path.clone(), source })?;
+            out.read.push(input.path.clone());
+            let mut sources = Sources::new();
+            let name = input.path.display().to_string();
+            let (device, mut diags) = parse(&mut sources, &name, &bytes, input, &input.path)?;
+            if !diags.iter().any(Diagnostic::is_error) {
+                diags.extend(odc_check::check(&device, &self.check));
+            }
+            diag::sort(&mut diags);
+            let (errors, warnings): (Vec<_>, Vec<_>) =
+                diags.into_iter().partition(Diagnostic::is_error);
+            if !errors.is_empty() {
+                let report = diag::render_human(&sources, &errors, false);
+                return Err(Error::Diagnostics { path: input.path.clone(), report });
+            }
+            let warnings: Vec<_> = warnings
+                .into_iter()
+                .filter(|d| d.severity == odc_model::Severity::Warning)
+                .collect();
+            out.warnings.extend(diag::render_short(&sources, &warnings).lines().map(String::from));
+            let file_name = input
+                .path
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_else(|| name.clone());
+            let opts = odc_codegen::Options {
+                role: self.role,
+                runtime_path: self.runtime_path.clone(),
+                source_name: file_name,
+                source_sha256: sha256_hex(&bytes),
+            };
+            let code =
+                odc_codegen::generate(&device, &opts).map_err(|diags| Error::Diagnostics {
+                    path: input.path.clone(),
+                    report: diag::render_human(&sources, &diags, false),
+                })?;
+            let module = input.module.clone().unwrap_or_else(|| module_name(&input.path));
+            out.generated.push(Generated { module, code, path: input.path.clone() });
+        }
+        Ok(out)
+    }
+
+    /// Generates every device into the output directory, writing only files whose content
+    /// changed, and tells cargo about the files read and the warnings.
+    ///
+    /// # Errors
+    ///
+    /// As [`Config::generate`], plus [`Error::NotInBuildScript`] without an output directory
+    /// and [`Error::Io`] when a file cannot be written.
+    pub fn compile(&mut self) -> Result<(), Error> {
+        let emit = self.emit_rerun.unwrap_or_else(|| std::env::var_os("CARGO").is_some());
+        let out_dir = match &self.out_dir {
+            Some(d) => d.clone(),
+            None => {
+                std::env::var_os("OUT_DIR").map(PathBuf::from).ok_or(Error::NotInBuildScript)?
+            }
+        };
+        if emit {
+            for input in &self.inputs {
+                println!("{}", rerun_line(&input.path));
+            }
+        }
+        let output = self.generate()?;
+        for w in &output.warnings {
+            println!("cargo:warning={w}");
+        }
+        for g in &output.generated {
+            write_if_changed(&out_dir.join(format!("{}.rs", g.module)), g.code.as_bytes())?;
+        }
+        Ok(())
+    }
+}
+
+/// The directive that makes cargo re-run the build script when `path` changes.
+pub fn rerun_line(path: &Path) -> String {
+    format!("cargo:rerun-if-changed={}", path.display())
+}
+
+fn parse(
+    sources: &mut Sources,
+    name: &str,
+    bytes: &[u8],
+    input: &Input,
+    path: &Path,
+) -> Result<(Device, Vec<Diagnostic>), Error> {
+    if is_xml(path, bytes) {
+        let parsed = odc_esi::parse(sources, name, bytes);
+        let count = parsed.devices.len();
+        if parsed.diagnostics.iter().any(Diagnostic::is_error) && count == 0 {
+            return Ok((Device::default(), parsed.diagnostics));
+        }
+        let device = parsed.devices.into_iter().nth(input.device).ok_or(Error::NoSuchDevice {
+            path: path.to_path_buf(),
+            index: input.device,
+            count,
+        })?;
+        Ok((device, parsed.diagnostics))
+    } else {
+        let parsed = odc_eds::parse(sources, name, bytes);
+        Ok((parsed.device, parsed.diagnostics))
+    }
+}
+
+/// Whether the bytes are an ESI (XML) rather than an EDS/DCF: by extension, else by the first
+/// non-blank character.
+pub fn is_xml(path: &Path, bytes: &[u8]) -> bool {
+    match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+        Some("xml" | "esi") => true,
+        Some("eds" | "dcf") => false,
+        _ => {
+            let body = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+            body.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'<')
+        }
+    }
+}
+
+/// The default module name of a device file: its stem in snake case (`lexium-mdrive.eds` →
+/// `lexium_mdrive`).
+pub fn module_name(path: &Path) -> String {
+    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let mut out: String = stem
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '_' })
+        .collect();
+    if out.is_empty() || out.starts_with(|c: char| c.is_ascii_digit()) {
+        out.insert_str(0, "device_");
+    }
+    out
+}
+
+/// The SHA-256 of `bytes` in lower-case hex.
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// Writes `contents` to `path` unless it already holds exactly that; atomically (a temporary
+/// file beside it, then a rename).
+///
+/// # Errors
+///
+/// [`Error::Io`] when the file cannot be written.
+pub fn write_if_changed(path: &Path, contents: &[u8]) -> Result<(), Error> {
+    if std::fs::read(path).is_ok_and(|old| old == contents) {
+        return Ok(());
+    }
+    let io = |source| Error::Io { path: path.to_path_buf(), source };
+    let mut tmp_name = path.file_name().map(|n| n.to_os_string()).unwrap_or_default();
+    tmp_name.push(format!(".{}.tmp", std::process::id()));
+    let tmp = path.with_file_name(tmp_name);
+    std::fs::write(&tmp, contents).map_err(io)?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        io(e)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_and_directives() {
+        assert_eq!(module_name(Path::new("eds/lexium-mdrive.eds")), "lexium_mdrive");
+        assert_eq!(module_name(Path::new("esi/3x.xml")), "device_3x");
+        assert_eq!(rerun_line(Path::new("eds/x.eds")), "cargo:rerun-if-changed=eds/x.eds");
+        assert!(is_xml(Path::new("a.bin"), b"  \n<?xml"));
+        assert!(!is_xml(Path::new("a.bin"), b"[FileInfo]"));
+        assert_eq!(sha256_hex(b"").len(), 64);
+        assert!(sha256_hex(b"").starts_with("e3b0c442"));
+    }
+
+    #[test]
+    fn errors_render_as_reports() {
+        let dir = std::env::temp_dir().join(format!("odc-build-test-{}", std::process::id()));
+        let _ = std::fs::create_dir_all(&dir);
+        let eds = dir.join("broken.eds");
+        let _ = std::fs::write(&eds, "[1000]\nParameterName=Device type\nDataType=0x0007\n");
+        let e = Config::new().device(&eds).out_dir(&dir).generate().err();
+        let text = e.map(|e| format!("{e:?}")).unwrap_or_default();
+        assert!(text.contains("error"), "{text}");
+        let missing = Config::new().device(dir.join("nope.eds")).generate().err();
+        assert!(matches!(missing, Some(Error::Io { .. })));
+        let out = dir.join("x.rs");
+        assert!(write_if_changed(&out, b"a").is_ok());
+        assert!(write_if_changed(&out, b"a").is_ok());
+        assert_eq!(std::fs::read(&out).ok().as_deref(), Some(&b"a"[..]));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
