@@ -1,0 +1,17 @@
+//! The code odc generates for the repository's device files, compiled as a library: if this
+//! crate builds without warnings, the generated code does.
+
+/// Schneider Electric Lexium 23A (`eds/lxm23a.eds`).
+pub mod lxm23a {
+    include!(concat!(env!("OUT_DIR"), "/lxm23a.rs"));
+}
+
+/// Schneider Electric Lexium MDrive (`eds/lexium-mdrive.eds`).
+pub mod lexium_mdrive {
+    include!(concat!(env!("OUT_DIR"), "/lexium_mdrive.rs"));
+}
+
+/// The small drive of the codegen snapshot tests.
+pub mod mini_drive {
+    include!(concat!(env!("OUT_DIR"), "/mini_drive.rs"));
+}
