@@ -53,6 +53,10 @@
 //!   objects 0x1C10–0x1C2F counts entries in use, so it is not compared with the highest
 //!   sub-index;
 //! - a `$NODEID`-relative value must be right for every node-ID 1..=127;
+//! - an unsigned literal in a signed n-bit type, between 2^(n-1) and 2^n, is a two's-complement
+//!   bit pattern (`0xFFFF` in an INTEGER16 is -1), as ESI files write negative limits;
+//! - values of sub-objects whose stated bit size differs from their type's (ESI arrays typed by
+//!   their element) are not range-checked;
 //! - a diagnostic names the object it is about ([`Diagnostic::object`]); for front-end
 //!   diagnostics that do not, [`Config::apply`] finds the EDS section the primary span lies in.
 
@@ -163,8 +167,12 @@ pub static RULES: &[Rule] = rules::ALL;
 
 /// Every rule odc knows: this crate's and the front-ends'.
 pub fn all_rules() -> Vec<&'static RuleInfo> {
-    // TODO: add `odc_eds::RULES` and `odc_esi::RULES` once those crates compile.
-    RULES.iter().map(|r| &r.info).collect()
+    RULES
+        .iter()
+        .map(|r| &r.info)
+        .chain(odc_eds::RULES.iter())
+        .chain(odc_esi::RULES.iter())
+        .collect()
 }
 
 /// The rule with this code or name (case-insensitive), for `odc explain`.

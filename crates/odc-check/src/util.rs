@@ -1,5 +1,4 @@
 //! Small helpers shared by the rules.
-#![allow(dead_code)] // some helpers serve rules still to come
 
 use std::borrow::Cow;
 
@@ -81,15 +80,36 @@ pub(crate) fn int_range(dt: DataType) -> Option<(i128, i128)> {
     }
 }
 
+/// The value as an integer of type `dt`, with `$NODEID` taken as `node`. For a signed n-bit
+/// type, a value in 2^(n-1)..2^n is its two's-complement bit pattern (`0xFFFF` in an
+/// INTEGER16 is -1; ESI files write negative limits that way).
+pub(crate) fn integer(dt: DataType, v: &Value, node: u8) -> Option<i128> {
+    let i = v.as_i128(node)?;
+    match (dt.class(), v) {
+        (ValueClass::Signed(n), Value::Unsigned(_) | Value::Signed(_))
+            if i >= 1i128 << (n - 1) && i < 1i128 << n =>
+        {
+            Some(i - (1i128 << n))
+        }
+        _ => Some(i),
+    }
+}
+
 /// The value as a number to compare with limits, with `$NODEID` taken as `node`.
 pub(crate) fn number(dt: DataType, v: &Value, node: u8) -> Option<f64> {
     match dt.class() {
         ValueClass::Real32 | ValueClass::Real64 => v.as_f64(),
         ValueClass::Bool | ValueClass::Unsigned(_) | ValueClass::Signed(_) => {
-            v.as_i128(node).map(|i| i as f64)
+            integer(dt, v, node).map(|i| i as f64)
         }
         _ => None,
     }
+}
+
+/// Whether a sub-object's stated size agrees with its data type's (ESI arrays and strings
+/// typed by their element type do not: their values are not checked against the type).
+pub(crate) fn sized_like_type(s: &SubObject) -> bool {
+    s.bit_size.is_none_or(|b| Some(b) == s.data_type.bit_size())
 }
 
 /// Iterates over every sub-object of every object.

@@ -349,3 +349,46 @@ trips!(
 );
 trips!(d506_cia402_modes_of_operation, "D506", drive().remove(0x6060).remove(0x6861));
 trips!(d507_cia402_axis_offset, "D507", drive().at(0x6881, 0).data_type(Integer32));
+
+// T601–T602: EtherCAT.
+
+fn esi_io() -> Dev {
+    base().var(0x6000, "Input", Unsigned16, Ro).mapping(odc_model::PdoMapping::Tx).esi().with(|d| {
+        d.pdos.push(odc_model::Pdo {
+            direction: odc_model::Direction::Tx,
+            mapping_index: 0x1A00,
+            comm_index: None,
+            name: "Inputs".into(),
+            cob_id: None,
+            transmission_type: None,
+            inhibit_time: None,
+            event_timer: None,
+            sync_start: None,
+            entries: vec![odc_model::PdoEntry {
+                index: 0x6000,
+                sub: 0,
+                bits: 16,
+                name: None,
+                data_type: None,
+                span: odc_model::Span::DUMMY,
+            }],
+            sync_manager: Some(3),
+            fixed: true,
+            mandatory: false,
+            excludes: Vec::new(),
+            span: odc_model::Span::DUMMY,
+        });
+    })
+}
+
+#[test]
+fn esi_device_passes_every_rule() {
+    assert_eq!(run(esi_io()), "");
+}
+
+trips!(
+    t601_esi_pdo_entry_not_in_dictionary,
+    "T601",
+    esi_io().remove(0x6000).var(0x6001, "Other", Unsigned16, Ro)
+);
+trips!(t602_esi_pdo_entry_bit_length, "T602", esi_io().at(0x6000, 0).data_type(Unsigned32));

@@ -78,4 +78,6 @@ pub(crate) const ALL: &[Rule] = &[
     cia402::D505,
     cia402::D506,
     cia402::D507,
+    ethercat::T601,
+    ethercat::T602,
 ];

@@ -91,8 +91,10 @@ rule!(
      When its default disagrees with the sub-objects the file defines, a master that reads sub 0 \
      and walks the sub-indexes misses entries or gets SDO aborts. Exceptions, where sub 0 counts \
      entries in use: 0x1003 (pre-defined error field), the PDO mapping objects \
-     0x1600–0x17FF/0x1A00–0x1BFF and the EtherCAT assignment objects 0x1C10–0x1C2F. Fix: set \
-     DefaultValue of [iiiisub0] to the highest sub-index."
+     0x1600–0x17FF/0x1A00–0x1BFF and the EtherCAT assignment objects 0x1C10–0x1C2F. An ARRAY \
+     whose sub 0 is below its highest sub-index is taken as a variable-length array with fewer \
+     elements in use; sub 0 above the highest sub-index (elements missing) and any difference in \
+     a RECORD are reported. Fix: set DefaultValue of [iiiisub0] to the highest sub-index."
 );
 
 fn sub0_value(dev: &Device, ctx: &mut Ctx) {
@@ -104,7 +106,10 @@ fn sub0_value(dev: &Device, ctx: &mut Ctx) {
         let Some(v) = s0.default.as_ref() else { continue };
         let Value::Unsigned(n) = v.value else { continue };
         let highest = o.subs.keys().copied().filter(|&k| k != 0).max().unwrap_or(0);
-        if n != u64::from(highest) {
+        // Fewer elements in use than defined is how variable-length ARRAYs (0x1010, 0x1F51,
+        // vendor tables) start out; a RECORD's structure is fixed.
+        let short_array = o.kind == ObjectKind::Array && n < u64::from(highest);
+        if n != u64::from(highest) && !short_array {
             ctx.report(
                 o.index,
                 Some(0),

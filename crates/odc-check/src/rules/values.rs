@@ -6,8 +6,8 @@ use odc_model::{DataType, Device, ObjectKind, Spanned, SubObject, Value, ValueCl
 use super::rule;
 use crate::Ctx;
 use crate::util::{
-    NODE_IDS, addr, all_subs, first_span, idx, int_range, is_canopen, kind_name, nodes_text,
-    number, show, sub_of, value_span,
+    NODE_IDS, addr, all_subs, first_span, idx, int_range, integer, is_canopen, kind_name,
+    nodes_text, number, show, sized_like_type, sub_of, value_span,
 };
 
 /// The values of a sub-object with the key names they come from.
@@ -26,7 +26,7 @@ fn misfit(dt: DataType, v: &Value, node: u8) -> Option<String> {
         (_, Value::Invalid(_)) => None,
         (ValueClass::Bool | ValueClass::Unsigned(_) | ValueClass::Signed(_), _) => {
             let (lo, hi) = int_range(dt)?;
-            match v.as_i128(node) {
+            match integer(dt, v, node) {
                 Some(i) if i < lo || i > hi => {
                     Some(format!("{i} is out of the range of {} ({lo}..={hi})", dt.name()))
                 }
@@ -60,7 +60,7 @@ rule!(
 );
 
 fn value_out_of_type_range(dev: &Device, ctx: &mut Ctx) {
-    for (o, s) in all_subs(dev) {
+    for (o, s) in all_subs(dev).filter(|(_, s)| sized_like_type(s)) {
         for (key, v) in values(s) {
             let Some(v) = v else { continue };
             if v.value.is_node_relative() {
@@ -100,7 +100,7 @@ rule!(
 );
 
 fn limits_inverted(dev: &Device, ctx: &mut Ctx) {
-    for (o, s) in all_subs(dev) {
+    for (o, s) in all_subs(dev).filter(|(_, s)| sized_like_type(s)) {
         let (Some(lo), Some(hi)) = (&s.low_limit, &s.high_limit) else { continue };
         let relative = lo.value.is_node_relative() || hi.value.is_node_relative();
         let bad: Vec<u8> = nodes(relative)
@@ -146,7 +146,7 @@ rule!(
 );
 
 fn value_outside_limits(dev: &Device, ctx: &mut Ctx) {
-    for (o, s) in all_subs(dev) {
+    for (o, s) in all_subs(dev).filter(|(_, s)| sized_like_type(s)) {
         if s.low_limit.is_none() && s.high_limit.is_none() {
             continue;
         }
@@ -201,7 +201,7 @@ rule!(
 );
 
 fn nodeid_value_out_of_range(dev: &Device, ctx: &mut Ctx) {
-    for (o, s) in all_subs(dev) {
+    for (o, s) in all_subs(dev).filter(|(_, s)| sized_like_type(s)) {
         for (key, v) in values(s) {
             let Some(v) = v else { continue };
             if !v.value.is_node_relative() {
@@ -359,7 +359,8 @@ rule!(
      Vendor Id, ProductCode, RevisionNo) say the same thing. Masters match a device on the bus \
      to its file by the values read from 0x1018; when the file's two statements differ, it \
      matches one of them and not the other. Fix: make the defaults of 0x1018 subs 1–3 equal the \
-     [DeviceInfo] numbers."
+     [DeviceInfo] numbers. For an ESI the revision is not compared: EtherCAT masters take it from \
+     the EEPROM, and vendor files share one dictionary among many revisions."
 );
 
 fn identity_mismatch(dev: &Device, ctx: &mut Ctx) {
@@ -370,6 +371,11 @@ fn identity_mismatch(dev: &Device, ctx: &mut Ctx) {
         (2, "ProductNumber", &info.product_number),
         (3, "RevisionNumber", &info.revision_number),
     ] {
+        // EtherCAT masters identify the revision from the EEPROM (SII), and vendor files reuse
+        // one dictionary for many revisions: for an ESI only vendor and product are compared.
+        if sub == 3 && crate::util::is_esi(dev) {
+            continue;
+        }
         let (Some(declared), Some(s)) = (declared, o.sub(sub)) else { continue };
         let Some(v) = s.default.as_ref() else { continue };
         let Value::Unsigned(value) = v.value else { continue };
