@@ -10,5 +10,6 @@ fn main() -> Result<(), odc_build::Error> {
         config.device(root.join(name));
     }
     config.device(root.join("crates/odc-codegen/tests/fixtures/mini-drive.eds"));
+    config.device(root.join("esi/servoone.xml"));
     config.compile()
 }

@@ -21,7 +21,9 @@ fn canopen_writes(pdo: &Pdo, ty: &Ident, rt: &TokenStream) -> Vec<TokenStream> {
             quote!(#rt::plan::SdoWrite::u32(#c, 0x01, super::pdo::#ty::cob_id(node_id) | #invalid)),
         );
     }
-    w.push(quote!(#rt::plan::SdoWrite::u8(#map, 0x00, 0)));
+    if !pdo.entries.is_empty() {
+        w.push(quote!(#rt::plan::SdoWrite::u8(#map, 0x00, 0)));
+    }
     for (i, e) in pdo.entries.iter().enumerate() {
         let sub = sub_literal(u8::try_from(i + 1).unwrap_or(u8::MAX));
         let v = hex_literal(u64::from(e.mapping_value()), 8);
@@ -137,7 +139,8 @@ fn ethercat(ctx: &Ctx<'_>) -> TokenStream {
 
 /// The `master` module.
 pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
-    let is_ethercat = ctx.device.pdos.iter().any(|p| p.sync_manager.is_some());
+    let is_ethercat = ctx.device.format == Some(odc_model::Format::Esi)
+        || ctx.device.pdos.iter().any(|p| p.sync_manager.is_some());
     let body = if is_ethercat { ethercat(ctx) } else { canopen(ctx) };
     let docs = doc(&format!(
         "The configuration plan of {}: the SDO writes that set its default PDO mapping, as \

@@ -15,3 +15,8 @@ pub mod lexium_mdrive {
 pub mod mini_drive {
     include!(concat!(env!("OUT_DIR"), "/mini_drive.rs"));
 }
+
+/// LTi ServoOne, EtherCAT (`esi/servoone.xml`).
+pub mod servoone {
+    include!(concat!(env!("OUT_DIR"), "/servoone.rs"));
+}
