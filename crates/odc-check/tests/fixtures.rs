@@ -1,0 +1,44 @@
+//! EDS fixtures read with `odc_eds::parse`: those under `fixtures/pass` must give no diagnostic
+//! at all; those under `fixtures/fail` are snapshotted in the human rendering.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
+
+use std::path::Path;
+
+use odc_check::{Config, check};
+use odc_model::{Sources, diag};
+
+fn render(path: &Path) -> (String, usize) {
+    let bytes = std::fs::read(path).unwrap();
+    let name = format!("{}", path.file_name().unwrap().to_string_lossy());
+    let mut sources = Sources::new();
+    let parsed = odc_eds::parse(&mut sources, &name, &bytes);
+    let mut diags = parsed.diagnostics;
+    diags.extend(check(&parsed.device, &Config::default()));
+    let diags = Config::default().apply(&parsed.device, diags);
+    (diag::render_human(&sources, &diags, false), diags.len())
+}
+
+fn fixtures(kind: &str) -> Vec<std::path::PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures").join(kind);
+    let mut files: Vec<_> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().path()).collect();
+    files.sort();
+    files
+}
+
+#[test]
+fn pass_fixtures_are_clean() {
+    for f in fixtures("pass") {
+        let (out, n) = render(&f);
+        assert_eq!(n, 0, "{}:\n{out}", f.display());
+    }
+}
+
+#[test]
+fn fail_fixtures() {
+    for f in fixtures("fail") {
+        let (out, n) = render(&f);
+        assert!(n > 0, "{} trips nothing", f.display());
+        let name = f.file_stem().unwrap().to_string_lossy().into_owned();
+        insta::assert_snapshot!(name, out);
+    }
+}
