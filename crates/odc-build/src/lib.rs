@@ -28,7 +28,7 @@ use std::path::{Path, PathBuf};
 use odc_model::{Device, Diagnostic, Sources, diag};
 use sha2::{Digest, Sha256};
 
-pub use odc_codegen::Role;
+pub use odc_codegen::{self, Role};
 
 /// Why generation failed.
 #[derive(thiserror::Error)]
