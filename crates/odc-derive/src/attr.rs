@@ -18,6 +18,11 @@ impl Errors {
         }
     }
 
+    /// Number of errors so far, to tell whether a step added any.
+    pub(crate) fn count(&self) -> usize {
+        self.0.as_ref().map_or(0, |e| e.into_iter().count())
+    }
+
     pub(crate) fn take(self) -> Option<syn::Error> {
         self.0
     }

@@ -75,12 +75,16 @@ pub(crate) fn derive(input: &DeriveInput) -> TokenStream {
     let mut limit_reported = false;
 
     for (i, f) in fields.iter().enumerate() {
+        let before_attrs = errors.count();
         let a = attr::field(&f.attrs, &mut errors);
+        // A malformed attribute may have hidden the index: do not pile a second error on it.
+        let attrs_ok = errors.count() == before_attrs;
         let Some(ident) = f.ident.clone() else { continue };
         let prim = primitive_bits(&f.ty);
 
         let index = match a.index {
             Some(ix) => ix.value,
+            None if !attrs_ok => 0,
             None => {
                 errors.push(syn::Error::new(
                     ident.span(),

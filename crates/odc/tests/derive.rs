@@ -1,4 +1,5 @@
 //! Behaviour of `#[derive(Pdo)]` / `#[derive(PdoValue)]` through the public `odc` paths.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // test code: a panic is a failure report
 
 use odc::cia402::{Controlword, ModeOfOperation};
 use odc::{MappingEntry, PackError, Pdo, PdoValue, UnpackError};
