@@ -1,9 +1,18 @@
-//! EtherCAT-only parts of a device (ETG.2000): sync managers, FMMUs, mailbox, distributed clocks.
+//! EtherCAT-only parts of a device (ETG.2000): sync managers, FMMUs, mailbox, distributed clocks,
+//! EEPROM, modules and slots, and the ESI data that has no CANopen counterpart.
 //!
 //! The object dictionary and the PDOs of an ESI device live in the common model
 //! ([`crate::Device::objects`], [`crate::Device::pdos`]); this holds what only EtherCAT has.
+//! Elements the ESI front-end does not interpret (vendor `Info` blocks, `VendorSpecific`, `Sci`,
+//! images, ...) are kept as raw XML text ([`RawXml`]) with their spans, so nothing is lost.
+
+use std::collections::BTreeMap;
 
 use serde::Serialize;
+
+use crate::device::Object;
+use crate::pdo::Pdo;
+use crate::span::{Span, Spanned};
 
 /// The EtherCAT description of one device (revision) of an ESI file.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
@@ -14,4 +23,440 @@ pub struct EtherCat {
     pub product_code: Option<u32>,
     /// `Type RevisionNo`.
     pub revision: Option<u32>,
+    /// `Type SerialNo`.
+    pub serial_no: Option<u32>,
+    /// The other attributes of `Type` (`CheckProductCode`, `CheckRevisionNo`, `TcSmClass`, ...).
+    pub type_attributes: Vec<XmlAttribute>,
+    /// `Device@Physics` (e.g. `YY`: two EBUS/MII ports).
+    pub physics: Option<String>,
+    /// Vendor `Name` in every language.
+    pub vendor_names: Vec<LocalizedText>,
+    /// Device `Name` in every language, in file order.
+    pub names: Vec<LocalizedText>,
+    /// `GroupType` and the group it names (from `Descriptions/Groups`).
+    pub group: Option<Group>,
+    /// `Profile` elements (without the dictionary, which is lowered into the objects).
+    pub profiles: Vec<Profile>,
+    /// The dictionary's data types, as declared (the objects refer to them by name).
+    pub data_types: Vec<EsiDataType>,
+    /// ESI-only flags of sub-objects: access restrictions per state, category, backup, setting.
+    /// Only sub-objects that have any of them are listed, in (index, sub-index) order.
+    pub object_flags: Vec<ObjectFlags>,
+    /// `Fmmu` elements in order (FMMU 0, 1, ...).
+    pub fmmus: Vec<Fmmu>,
+    /// `Sm` elements in order (SM 0, 1, ...).
+    pub sync_managers: Vec<SyncManager>,
+    /// `Mailbox`, when the device has one.
+    pub mailbox: Option<Mailbox>,
+    /// `Dc`, when the device supports distributed clocks.
+    pub dc: Option<Dc>,
+    /// `Eeprom`.
+    pub eeprom: Option<Eeprom>,
+    /// `Slots` of a modular device.
+    pub slots: Option<Slots>,
+    /// The modules of the file (`Descriptions/Modules`, or `Modules` inside the device).
+    pub modules: Vec<EsiModule>,
+    /// Whether the dictionary was synthesised from the PDOs (the file has none).
+    pub dictionary_synthesised: bool,
+    /// Elements of the device (and of the file's `Vendor`/`Descriptions`) that the front-end does
+    /// not interpret, kept as raw XML.
+    pub raw: Vec<RawXml>,
+}
+
+/// A text with its language (`LcId`, e.g. 1033 English, 1031 German).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct LocalizedText {
+    /// The Windows locale id, when given.
+    pub lc_id: Option<u32>,
+    /// The text.
+    pub text: String,
+    /// Where it is written.
+    pub span: Span,
+}
+
+/// An XML attribute kept as written.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct XmlAttribute {
+    /// Name.
+    pub name: String,
+    /// Value (entities resolved).
+    pub value: String,
+    /// Span of the value.
+    pub span: Span,
+}
+
+/// An XML element the front-end does not interpret, kept as its source text.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct RawXml {
+    /// The element's name, with its parent's (e.g. `Device/Info`).
+    pub path: String,
+    /// The element's source text, from `<` to the end of its end tag.
+    pub xml: String,
+    /// Where it is.
+    pub span: Span,
+}
+
+/// A device group (`Descriptions/Groups/Group`).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct Group {
+    /// `Type`, the key `GroupType` refers to.
+    pub type_name: String,
+    /// `Name` in every language (empty when the group is not declared).
+    pub names: Vec<LocalizedText>,
+    /// Span of `GroupType`.
+    pub span: Span,
+}
+
+/// A `Profile` element.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct Profile {
+    /// `@Channel`.
+    pub channel: Option<u32>,
+    /// `ProfileNo` (e.g. 402, 5001).
+    pub profile_no: Option<u32>,
+    /// `AddInfo`.
+    pub add_info: Option<u32>,
+    /// `ChannelCount`.
+    pub channel_count: Option<u32>,
+    /// `DictionaryFile`: the dictionary is in another file.
+    pub dictionary_file: Option<String>,
+    /// Whether the profile has an inline `Dictionary`.
+    pub has_dictionary: bool,
+    /// Span of the element.
+    pub span: Span,
+}
+
+/// A dictionary `DataType`.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct EsiDataType {
+    /// `Name`, the key objects and sub-items refer to.
+    pub name: String,
+    /// `Index`, when given.
+    pub index: Option<u32>,
+    /// `BaseType`.
+    pub base_type: Option<String>,
+    /// `BitSize`.
+    pub bit_size: Option<u32>,
+    /// `ArrayInfo` (one per dimension).
+    pub array_info: Vec<ArrayInfo>,
+    /// `SubItem`s of a structured type.
+    pub sub_items: Vec<EsiSubItem>,
+    /// `EnumInfo` of an enumeration type.
+    pub enum_info: Vec<EnumItem>,
+    /// Span of the element.
+    pub span: Span,
+}
+
+/// `ArrayInfo`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct ArrayInfo {
+    /// `LBound`.
+    pub lbound: i64,
+    /// `Elements`.
+    pub elements: u32,
+}
+
+/// A `DataType/SubItem`.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct EsiSubItem {
+    /// `SubIdx`.
+    pub sub_idx: Option<u32>,
+    /// `Name`.
+    pub name: String,
+    /// `Type`.
+    pub type_name: String,
+    /// `BitSize`.
+    pub bit_size: Option<u32>,
+    /// `BitOffs`.
+    pub bit_offset: Option<u32>,
+    /// `Flags/Access` text.
+    pub access: Option<String>,
+    /// `Flags/PdoMapping` text.
+    pub pdo_mapping: Option<String>,
+}
+
+/// One `EnumInfo`.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct EnumItem {
+    /// `Text` (the first one; other languages are dropped).
+    pub text: String,
+    /// `Enum`.
+    pub value: i64,
+}
+
+/// ESI-only flags of one sub-object.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct ObjectFlags {
+    /// Object index.
+    pub index: u16,
+    /// Sub-index.
+    pub sub: u8,
+    /// `Access@ReadRestrictions` (PreOP, PreOP_SafeOP, PreOP_OP, SafeOP, SafeOP_OP, OP).
+    pub read_restrictions: Option<String>,
+    /// `Access@WriteRestrictions`.
+    pub write_restrictions: Option<String>,
+    /// `Category`: m (mandatory), o (optional), c (conditional).
+    pub category: Option<String>,
+    /// `Backup`.
+    pub backup: Option<bool>,
+    /// `Setting`.
+    pub setting: Option<bool>,
+    /// `Transition` (IP, PS, SO).
+    pub transition: Option<String>,
+}
+
+/// What a sync manager or FMMU is used for.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SmUsage {
+    /// `MBoxOut`: mailbox master → device.
+    MBoxOut,
+    /// `MBoxIn`: mailbox device → master.
+    MBoxIn,
+    /// `Outputs`: process data master → device.
+    Outputs,
+    /// `Inputs`: process data device → master.
+    Inputs,
+    /// `MBoxState` (FMMU only).
+    MBoxState,
+    /// Any other text (empty when the element had none).
+    Other(String),
+}
+
+impl SmUsage {
+    /// Reads the element text.
+    pub fn parse(text: &str) -> SmUsage {
+        match text.trim() {
+            "MBoxOut" => SmUsage::MBoxOut,
+            "MBoxIn" => SmUsage::MBoxIn,
+            "Outputs" => SmUsage::Outputs,
+            "Inputs" => SmUsage::Inputs,
+            "MBoxState" => SmUsage::MBoxState,
+            other => SmUsage::Other(other.to_string()),
+        }
+    }
+}
+
+/// An `Fmmu` element.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct Fmmu {
+    /// What it maps.
+    pub usage: SmUsage,
+    /// `@Sm`: the sync manager it is tied to.
+    pub sm: Option<u8>,
+    /// `@Su`: the sync unit.
+    pub su: Option<u8>,
+    /// Span of the element.
+    pub span: Span,
+}
+
+/// An `Sm` element.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct SyncManager {
+    /// The sync manager's number (position among the `Sm` elements).
+    pub number: u8,
+    /// What it carries.
+    pub usage: SmUsage,
+    /// `@MinSize`.
+    pub min_size: Option<u32>,
+    /// `@MaxSize`.
+    pub max_size: Option<u32>,
+    /// `@DefaultSize`.
+    pub default_size: Option<u32>,
+    /// `@StartAddress`.
+    pub start_address: Option<Spanned<u16>>,
+    /// `@ControlByte`.
+    pub control_byte: Option<Spanned<u8>>,
+    /// `@Enable`.
+    pub enable: bool,
+    /// `@Virtual`.
+    pub virtual_sm: bool,
+    /// `@OpOnly`.
+    pub op_only: bool,
+    /// Span of the element.
+    pub span: Span,
+}
+
+/// The `Mailbox` element: which protocols the device speaks.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct Mailbox {
+    /// `@DataLinkLayer`.
+    pub data_link_layer: bool,
+    /// CAN application protocol over EtherCAT.
+    pub coe: Option<CoE>,
+    /// File access over EtherCAT.
+    pub foe: bool,
+    /// Ethernet over EtherCAT.
+    pub eoe: bool,
+    /// Servo drive profile over EtherCAT.
+    pub soe: Option<SoE>,
+    /// ADS over EtherCAT.
+    pub aoe: bool,
+    /// Vendor-specific protocol over EtherCAT.
+    pub voe: bool,
+    /// Span of the element.
+    pub span: Span,
+}
+
+/// `Mailbox/CoE`.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct CoE {
+    /// `@SdoInfo`: the device answers SDO information requests.
+    pub sdo_info: bool,
+    /// `@PdoAssign`: 0x1C1x may be written.
+    pub pdo_assign: bool,
+    /// `@PdoConfig`: 0x16xx/0x1Axx may be written.
+    pub pdo_config: bool,
+    /// `@PdoUpload`: the master reads the PDO configuration from the device.
+    pub pdo_upload: bool,
+    /// `@CompleteAccess`.
+    pub complete_access: bool,
+    /// `@SegmentedSdo`.
+    pub segmented_sdo: bool,
+    /// `@EdsFile`.
+    pub eds_file: Option<String>,
+    /// `InitCmd`s: SDO writes the master does on state transitions.
+    pub init_cmds: Vec<InitCmd>,
+}
+
+/// `Mailbox/SoE`.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct SoE {
+    /// `@ChannelCount`.
+    pub channel_count: Option<u32>,
+    /// `InitCmd`s (with an IDN instead of an index).
+    pub init_cmds: Vec<InitCmd>,
+}
+
+/// An `InitCmd`.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct InitCmd {
+    /// `Transition` elements (IP, PS, SO, SP, OP, OS).
+    pub transitions: Vec<String>,
+    /// `Index` (CoE) or `IDN` (SoE).
+    pub index: Option<u32>,
+    /// `SubIndex`.
+    pub sub_index: Option<u32>,
+    /// `Data` as bytes (hexBinary).
+    pub data: Vec<u8>,
+    /// `Comment`.
+    pub comment: Option<String>,
+    /// `@CompleteAccess`.
+    pub complete_access: bool,
+    /// `@Fixed`.
+    pub fixed: bool,
+    /// Span of the element.
+    pub span: Span,
+}
+
+/// The `Dc` element.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct Dc {
+    /// `OpMode`s (free run, SM-synchronous, DC-synchronous...).
+    pub op_modes: Vec<DcOpMode>,
+    /// Span of the element.
+    pub span: Span,
+}
+
+/// A `Dc/OpMode`.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct DcOpMode {
+    /// `Name`.
+    pub name: String,
+    /// `Desc`.
+    pub desc: Option<String>,
+    /// `AssignActivate`: value of ESC registers 0x0980/0x0981 (e.g. 0x300 = SYNC0 on).
+    pub assign_activate: Option<u32>,
+    /// `CycleTimeSync0`.
+    pub cycle_time_sync0: Option<u32>,
+    /// `CycleTimeSync0@Factor`.
+    pub cycle_time_sync0_factor: Option<i64>,
+    /// `ShiftTimeSync0`.
+    pub shift_time_sync0: Option<i64>,
+    /// `ShiftTimeSync0@Factor`.
+    pub shift_time_sync0_factor: Option<i64>,
+    /// `CycleTimeSync1`.
+    pub cycle_time_sync1: Option<u32>,
+    /// `CycleTimeSync1@Factor`.
+    pub cycle_time_sync1_factor: Option<i64>,
+    /// `ShiftTimeSync1`.
+    pub shift_time_sync1: Option<i64>,
+    /// Span of the element.
+    pub span: Span,
+}
+
+/// The `Eeprom` element.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct Eeprom {
+    /// `ByteSize`.
+    pub byte_size: Option<u32>,
+    /// `ConfigData` bytes.
+    pub config_data: Vec<u8>,
+    /// `BootStrap` bytes.
+    pub boot_strap: Vec<u8>,
+    /// `Data`: the whole EEPROM image, when given instead.
+    pub data: Vec<u8>,
+    /// `Category` elements, kept as raw XML.
+    pub categories: Vec<RawXml>,
+    /// Span of the element.
+    pub span: Span,
+}
+
+/// The `Slots` element of a modular device.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct Slots {
+    /// `@SlotIndexIncrement`: object index distance between slots.
+    pub slot_index_increment: Option<u32>,
+    /// `@SlotPdoIncrement`: PDO index distance between slots.
+    pub slot_pdo_increment: Option<u32>,
+    /// `@MaxSlotCount`.
+    pub max_slot_count: Option<u32>,
+    /// The slots.
+    pub slots: Vec<Slot>,
+    /// Span of the element.
+    pub span: Span,
+}
+
+/// One `Slot`.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct Slot {
+    /// `Name`.
+    pub name: String,
+    /// `@MinInstances`.
+    pub min_instances: Option<u32>,
+    /// `@MaxInstances`.
+    pub max_instances: Option<u32>,
+    /// `@SlotIndexIncrement` of this slot.
+    pub slot_index_increment: Option<u32>,
+    /// `@SlotPdoIncrement` of this slot.
+    pub slot_pdo_increment: Option<u32>,
+    /// `ModuleIdent`s that fit.
+    pub module_idents: Vec<u32>,
+    /// The `ModuleIdent` marked `Default="1"`.
+    pub default_module: Option<u32>,
+    /// `ModuleClass`es that fit.
+    pub module_classes: Vec<String>,
+    /// Span of the element.
+    pub span: Span,
+}
+
+/// A `Modules/Module`.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct EsiModule {
+    /// `Type` text.
+    pub type_name: String,
+    /// `Type@ModuleIdent`.
+    pub module_ident: Option<u32>,
+    /// `Type@ModuleClass`.
+    pub module_class: Option<String>,
+    /// `Name` in every language.
+    pub names: Vec<LocalizedText>,
+    /// The module's PDOs.
+    pub pdos: Vec<Pdo>,
+    /// The module's own dictionary objects (`Profile/Dictionary/Objects`).
+    pub objects: BTreeMap<u16, Object>,
+    /// `Mailbox/CoE/InitCmd`s.
+    pub init_cmds: Vec<InitCmd>,
+    /// Span of the element.
+    pub span: Span,
 }

@@ -1,0 +1,129 @@
+//! Bytes to text: BOM, UTF-8, ISO-8859-1 (and its spellings) per the XML declaration.
+
+use std::borrow::Cow;
+
+use odc_model::Diagnostic;
+
+/// Why the bytes could not be turned into text at all.
+pub(crate) enum DecodeError {
+    Utf16,
+    Unsupported(String),
+}
+
+/// The decoded text and any warnings.
+pub(crate) struct Decoded {
+    pub text: String,
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+/// Reads `encoding="..."` from an XML declaration at the start of `bytes` (ASCII-compatible).
+fn declared_encoding(bytes: &[u8]) -> Option<String> {
+    if !bytes.starts_with(b"<?xml") {
+        return None;
+    }
+    let end = bytes.iter().take(512).position(|&b| b == b'>')?;
+    let decl = std::str::from_utf8(&bytes[..end]).ok()?;
+    let at = decl.find("encoding")?;
+    let rest = decl[at + "encoding".len()..].trim_start().strip_prefix('=')?.trim_start();
+    let quote = rest.chars().next()?;
+    if quote != '"' && quote != '\'' {
+        return None;
+    }
+    let rest = &rest[1..];
+    let close = rest.find(quote)?;
+    Some(rest[..close].trim().to_string())
+}
+
+/// Decodes the file: a UTF-8 BOM is dropped, UTF-16 (by BOM) is refused, otherwise the XML
+/// declaration's encoding is used (UTF-8 when it names none). Latin-1 in any spelling
+/// (`ISO-8859-1`, `ISO8859-1`, `latin1`, ...) is decoded as Windows-1252, as browsers do.
+pub(crate) fn decode(bytes: &[u8]) -> Result<Decoded, DecodeError> {
+    if bytes.starts_with(&[0xFF, 0xFE]) || bytes.starts_with(&[0xFE, 0xFF]) {
+        return Err(DecodeError::Utf16);
+    }
+    // UTF-16 without BOM: `<` followed by NUL (or the reverse).
+    if bytes.starts_with(&[b'<', 0]) || bytes.starts_with(&[0, b'<']) {
+        return Err(DecodeError::Utf16);
+    }
+    let body = bytes.strip_prefix(&[0xEF, 0xBB, 0xBF]).unwrap_or(bytes);
+    let mut diagnostics = Vec::new();
+    let label = declared_encoding(body);
+    let encoding = match label.as_deref() {
+        None => encoding_rs::UTF_8,
+        Some(l) => {
+            let norm: String =
+                l.chars().filter(|c| *c != '-' && *c != '_').collect::<String>().to_lowercase();
+            match norm.as_str() {
+                "utf8" => encoding_rs::UTF_8,
+                "iso88591" | "latin1" | "l1" | "iso885915" | "cp1252" | "windows1252"
+                | "usascii" | "ascii" => encoding_rs::WINDOWS_1252,
+                "utf16" | "utf16le" | "utf16be" => {
+                    // Declared UTF-16 but bytes were ASCII-compatible: trust the bytes.
+                    encoding_rs::UTF_8
+                }
+                _ => match encoding_rs::Encoding::for_label(l.as_bytes()) {
+                    Some(e) if e != encoding_rs::UTF_16LE && e != encoding_rs::UTF_16BE => e,
+                    _ => return Err(DecodeError::Unsupported(l.to_string())),
+                },
+            }
+        }
+    };
+    let text = if encoding == encoding_rs::UTF_8 {
+        match String::from_utf8_lossy(body) {
+            Cow::Borrowed(s) => s.to_string(),
+            Cow::Owned(s) => {
+                let bad = std::str::from_utf8(body).err().map(|e| e.valid_up_to()).unwrap_or(0);
+                diagnostics.push(
+                    Diagnostic::warning(
+                        "F203",
+                        format!("the file is not valid UTF-8 (first bad byte at offset {bad})"),
+                    )
+                    .with_note(
+                        "invalid bytes were replaced with U+FFFD; declare the real encoding in \
+                         the XML declaration, e.g. encoding=\"ISO-8859-1\"",
+                    ),
+                );
+                s
+            }
+        }
+    } else {
+        let (s, _) = encoding.decode_without_bom_handling(body);
+        s.into_owned()
+    };
+    Ok(Decoded { text, diagnostics })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ok(b: &[u8]) -> Decoded {
+        match decode(b) {
+            Ok(d) => d,
+            Err(_) => panic!("decode failed"),
+        }
+    }
+
+    #[test]
+    fn latin1_spellings() {
+        for label in ["ISO-8859-1", "ISO8859-1", "iso-8859-1", "latin1"] {
+            let mut b = format!("<?xml version=\"1.0\" encoding=\"{label}\"?><a>").into_bytes();
+            b.push(0xE4);
+            b.extend_from_slice(b"</a>");
+            assert!(ok(&b).text.contains("<a>\u{e4}</a>"), "{label}");
+        }
+    }
+
+    #[test]
+    fn bom_dropped_and_utf16_refused() {
+        assert_eq!(ok(b"\xEF\xBB\xBF<a/>").text, "<a/>");
+        assert!(matches!(decode(b"\xFF\xFE<\0a\0"), Err(DecodeError::Utf16)));
+    }
+
+    #[test]
+    fn invalid_utf8_warns() {
+        let d = ok(b"<a>\xE4</a>");
+        assert_eq!(d.diagnostics.len(), 1);
+        assert!(d.text.contains('\u{FFFD}'));
+    }
+}

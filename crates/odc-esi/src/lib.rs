@@ -1,0 +1,303 @@
+//! The EtherCAT ESI (ETG.2000 `EtherCATInfo` XML) front-end of odc.
+//!
+//! [`parse`] decodes the bytes (UTF-8 with or without BOM, ISO-8859-1 in any spelling the XML
+//! declaration uses; UTF-16 is refused with a diagnostic), reads them into a small span-keeping
+//! element tree (see the `xml` module for why not serde), and lowers every `<Device>` (each
+//! revision is its own device) into an [`odc_model::Device`]: identity, object dictionary,
+//! PDOs and the EtherCAT-only part ([`odc_model::ethercat::EtherCat`]).
+//!
+//! Policies:
+//! - numbers are `#x` hex (the schema's form), `0x` hex (common in real files) or decimal, with
+//!   an optional sign; booleans are `1`/`0`/`true`/`false`;
+//! - `DefaultData`/`MinData`/`MaxData` are little-endian hex bytes, decoded with the object's
+//!   data type; `DefaultValue`/`MinValue`/`MaxValue` (CODESYS-style files) are read as text;
+//! - an object's `Type` names a `DataType`; its `SubItem`s give the sub-objects, and the
+//!   object's `Info/SubItem`s are matched to them **by name**; array types expand into one
+//!   sub-object per element, named `SubIndex nnn` as Beckhoff's files do;
+//! - access `ro`/`rw`/`wo` maps to [`odc_model::Access`]; `ReadRestrictions`/`WriteRestrictions`
+//!   (per EtherCAT state), category, backup and setting flags are kept in
+//!   [`odc_model::ethercat::EtherCat::object_flags`];
+//! - a device without a dictionary gets objects synthesised from its PDO entries, the mapping
+//!   objects 0x16xx/0x1Axx and 0x1C12/0x1C13, all marked [`odc_model::Origin::PdoEntry`];
+//! - elements the front-end does not interpret are kept as raw XML with their spans;
+//! - every problem is a [`Diagnostic`] with a stable code (see [`RULES`]); reading never stops
+//!   at the first one, except at XML that is not well-formed, where what was read before the
+//!   error is still lowered.
+
+mod decode;
+mod lower;
+pub mod num;
+mod xml;
+
+use odc_model::{Device, Diagnostic, FileId, RuleInfo, Severity, Sources, Span};
+
+/// What [`parse`] produced for one file.
+pub struct Parsed {
+    /// One device per `<Device>` element, in file order.
+    pub devices: Vec<Device>,
+    /// Every problem found, sorted by position.
+    pub diagnostics: Vec<Diagnostic>,
+    /// The file's id in the [`Sources`] it was added to.
+    pub file: FileId,
+}
+
+/// Largest file read (bytes).
+pub const MAX_FILE_SIZE: usize = 256 * 1024 * 1024;
+
+/// Decodes `bytes`, adds the text to `sources` under `name`, reads and lowers it.
+/// Never panics; every problem is a diagnostic.
+pub fn parse(sources: &mut Sources, name: &str, bytes: &[u8]) -> Parsed {
+    if bytes.len() > MAX_FILE_SIZE {
+        let file = sources.add(name, String::new());
+        let d = Diagnostic::error(
+            "F205",
+            format!("the file is {} bytes; the limit is {MAX_FILE_SIZE}", bytes.len()),
+        )
+        .with_label(Span::new(file, 0, 0), "not read");
+        return Parsed { devices: Vec::new(), diagnostics: vec![d], file };
+    }
+    let decoded = match decode::decode(bytes) {
+        Ok(d) => d,
+        Err(e) => {
+            let file = sources.add(name, String::new());
+            let d = match e {
+                decode::DecodeError::Utf16 => Diagnostic::error(
+                    "F201",
+                    "the file is UTF-16; ESI files are read as UTF-8 or ISO-8859-1",
+                )
+                .with_note("convert it, e.g. `iconv -f UTF-16 -t UTF-8`"),
+                decode::DecodeError::Unsupported(label) => Diagnostic::error(
+                    "F201",
+                    format!("unsupported encoding `{label}` in the XML declaration"),
+                )
+                .with_note("ESI files are read as UTF-8 or ISO-8859-1"),
+            };
+            return Parsed {
+                devices: Vec::new(),
+                diagnostics: vec![d.with_label(Span::new(file, 0, 0), "")],
+                file,
+            };
+        }
+    };
+    let file = sources.add(name, decoded.text);
+    let mut diagnostics = decoded.diagnostics;
+    for d in &mut diagnostics {
+        if d.labels.is_empty() {
+            d.labels.push(odc_model::Label {
+                span: Span::new(file, 0, 0),
+                message: String::new(),
+                primary: true,
+            });
+        }
+    }
+    let text = sources.text(file).unwrap_or("");
+    let doc = xml::read(text, file);
+    diagnostics.extend(doc.diagnostics);
+    let devices = lower::lower(text, file, &doc.roots, &mut diagnostics);
+    odc_model::diag::sort(&mut diagnostics);
+    Parsed { devices, diagnostics, file }
+}
+
+macro_rules! rule {
+    ($code:literal, $name:literal, $sev:ident, $summary:literal, $expl:literal) => {
+        RuleInfo {
+            code: $code,
+            name: $name,
+            group: "format",
+            default: Severity::$sev,
+            summary: $summary,
+            explanation: $expl,
+        }
+    };
+}
+
+/// Every diagnostic code this crate emits.
+pub static RULES: &[RuleInfo] = &[
+    rule!(
+        "F201",
+        "esi-unsupported-encoding",
+        Error,
+        "the ESI file's encoding cannot be read",
+        "ESI files are read as UTF-8 (with or without a byte-order mark) or ISO-8859-1 (any \
+         spelling of the label in the XML declaration: ISO-8859-1, ISO8859-1, latin1). UTF-16 \
+         files and other encodings are refused. Fix: convert the file to UTF-8."
+    ),
+    rule!(
+        "F202",
+        "esi-malformed-xml",
+        Error,
+        "the ESI file is not well-formed XML",
+        "The XML reader met something that is not well-formed: a mismatched or unclosed tag, an \
+         invalid token, text or a second element after the root element, a malformed attribute. \
+         The diagnostic points at the line and column where reading stopped; what was read before \
+         is still lowered, so later diagnostics may be consequences of this one. Fix the file."
+    ),
+    rule!(
+        "F203",
+        "esi-invalid-utf8",
+        Warning,
+        "the ESI file is not valid UTF-8",
+        "The file declares no encoding (or UTF-8) but contains bytes that are not UTF-8. They are \
+         replaced with U+FFFD. Fix: declare the real encoding (encoding=\"ISO-8859-1\") or \
+         convert the file."
+    ),
+    rule!(
+        "F204",
+        "esi-depth-limit",
+        Error,
+        "XML elements nested too deeply",
+        "Elements nested deeper than 256 levels are skipped: no ESI file needs that depth, and a \
+         limit keeps hostile input from exhausting memory or stack."
+    ),
+    rule!(
+        "F205",
+        "esi-size-limit",
+        Error,
+        "the ESI file is too large",
+        "Files above 256 MiB are not read. The largest real ESI files are a few MiB."
+    ),
+    rule!(
+        "F206",
+        "esi-not-ethercatinfo",
+        Error,
+        "the root element is not EtherCATInfo",
+        "An ESI file has the root element EtherCATInfo (ETG.2000). Module files \
+         (EtherCATModule), dictionary files (EtherCATDict) and diagnosis files (EtherCATDiag) \
+         describe no device on their own and are reported with a warning; anything else is an \
+         error."
+    ),
+    rule!(
+        "F207",
+        "esi-invalid-number",
+        Error,
+        "a number that cannot be read",
+        "ETG.2000 numbers (HexDecValue) are decimal or #x-prefixed hex, optionally signed; 0x hex \
+         is accepted too. The value is dropped (or kept as invalid text) and the rest of the file \
+         is read."
+    ),
+    rule!(
+        "F208",
+        "esi-invalid-boolean",
+        Error,
+        "a boolean that cannot be read",
+        "xs:boolean values are 1, 0, true or false. The attribute is taken as absent."
+    ),
+    rule!(
+        "F209",
+        "esi-missing-element",
+        Error,
+        "a required element or attribute is missing",
+        "An element the model cannot do without is absent: an object's Index, a PDO's Index, a \
+         PDO entry's Index or BitLen, a device's Type. The enclosing element is skipped (or, for \
+         a device's Type, its identity stays empty)."
+    ),
+    rule!(
+        "F210",
+        "esi-unknown-data-type",
+        Error,
+        "a data type name that is neither built in nor declared",
+        "An object's Type (or a sub-item's) must name a DataType of the dictionary or a base type \
+         (BOOL, BITn, SINT, INT, DINT, LINT, USINT, UINT, UDINT, ULINT, REAL, LREAL, STRING(n), \
+         OCTET_STRING(n), ...). The object is kept as a DOMAIN. For a PDO entry's DataType this is \
+         a warning: the entry's BitLen still gives its size."
+    ),
+    rule!(
+        "F211",
+        "esi-invalid-data",
+        Error,
+        "DefaultData/MinData/MaxData or a value that does not fit its type",
+        "DefaultData, MinData and MaxData are little-endian hex bytes (xs:hexBinary) decoded with \
+         the object's data type; DefaultValue/MinValue/MaxValue are text. A value that is not \
+         valid hex, or does not fit the type, is kept as invalid text."
+    ),
+    rule!(
+        "F212",
+        "esi-unknown-access",
+        Warning,
+        "an access value that is not ro, rw or wo",
+        "Flags/Access is conventionally ro, rw or wo (const, rwr and rww are accepted). Anything \
+         else is read as ro."
+    ),
+    rule!(
+        "F213",
+        "esi-unknown-pdo-mapping",
+        Warning,
+        "a PdoMapping flag that is not R, T, RT or TR",
+        "Flags/PdoMapping says in which PDO direction an object may be mapped: R (RxPDO), T \
+         (TxPDO), RT/TR (both), any case. Anything else is read as not mappable."
+    ),
+    rule!(
+        "F214",
+        "esi-duplicate-object",
+        Warning,
+        "an object index defined twice",
+        "Two Object elements of one dictionary have the same Index. The later one is used."
+    ),
+    rule!(
+        "F215",
+        "esi-unmatched-subitem",
+        Warning,
+        "an object's Info/SubItem matches no sub-item of its data type",
+        "Object/Info/SubItem elements are matched to the SubItems of the object's DataType by \
+         Name (the schema's key). A name that matches none is ignored."
+    ),
+    rule!(
+        "F216",
+        "esi-unresolved-entity",
+        Warning,
+        "an entity reference that is not predefined",
+        "Only the five predefined XML entities and character references are resolved; DTD \
+         entities are never expanded. Others are kept as written."
+    ),
+    rule!(
+        "F217",
+        "esi-doctype-ignored",
+        Warning,
+        "a DOCTYPE declaration was ignored",
+        "ESI files are described by an XML schema. A DOCTYPE is not read, and its entities \
+         (internal or external) are never resolved."
+    ),
+    rule!(
+        "F218",
+        "esi-number-out-of-range",
+        Error,
+        "a number too large or too small for its field",
+        "An object index must fit 16 bits, a sub-index 8 bits, a bit length 16 bits, a product \
+         code or revision 32 bits (negative 32-bit values are taken as their two's complement)."
+    ),
+    rule!(
+        "F219",
+        "esi-nonstandard-number",
+        Warning,
+        "a number or hex string in a broken but readable form",
+        "Real files contain `#x0x6041` (two hex prefixes) and hexBinary with an odd number of \
+         digits (`2` for `02`). They are read (the second with a leading zero) and reported so \
+         that the file can be fixed."
+    ),
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rules_are_well_formed() {
+        for (i, r) in RULES.iter().enumerate() {
+            assert!(r.code.starts_with("F2") && r.code.len() == 4, "{}", r.code);
+            assert_eq!(r.group, "format");
+            assert!(
+                r.name.chars().all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-')
+            );
+            assert!(RULES[..i].iter().all(|o| o.code != r.code), "dup {}", r.code);
+        }
+    }
+
+    #[test]
+    fn garbage_never_panics() {
+        let mut s = Sources::new();
+        for input in [&b""[..], b"\xFF\xFE", b"<", b"<EtherCATInfo>", b"\x00\x01\x02", b"<a/>"] {
+            let p = parse(&mut s, "x.xml", input);
+            assert!(p.devices.is_empty());
+        }
+    }
+}

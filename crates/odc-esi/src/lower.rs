@@ -1,0 +1,1296 @@
+//! Lowering: element tree → [`odc_model::Device`]s.
+
+use std::collections::{BTreeMap, HashMap};
+
+use odc_model::ethercat::{
+    ArrayInfo, CoE, Dc, DcOpMode, Eeprom, EnumItem, EsiDataType, EsiModule, EsiSubItem, EtherCat,
+    Fmmu, Group, InitCmd, LocalizedText, Mailbox, ObjectFlags, Profile, RawXml, Slot, Slots,
+    SmUsage, SoE, SyncManager, XmlAttribute,
+};
+use odc_model::{
+    Access, DataType, Device, DeviceInfo, Diagnostic, Direction, FileId, Format, Module, Object,
+    ObjectKind, Origin, Pdo, PdoEntry, PdoMapping, Span, Spanned, SubObject, Value,
+};
+
+use crate::num;
+use crate::xml::{Attr, Element};
+
+/// Device children the lowering interprets; the others are kept raw.
+const DEVICE_KNOWN: &[&str] = &[
+    "Type",
+    "Name",
+    "GroupType",
+    "Profile",
+    "Fmmu",
+    "Sm",
+    "RxPdo",
+    "TxPdo",
+    "Mailbox",
+    "Dc",
+    "Eeprom",
+    "Slots",
+    "Modules",
+];
+
+struct Ctx<'a> {
+    src: &'a str,
+    diags: &'a mut Vec<Diagnostic>,
+}
+
+/// A data type name resolved.
+#[derive(Clone, Copy, Debug)]
+enum Resolved<'t> {
+    /// A base type (possibly through `BaseType`), with the declared size if any.
+    Simple(DataType, Option<u32>),
+    /// A declared type with sub-items.
+    Struct(&'t Element, Option<u32>),
+    /// A declared array type: element type, element bits, lower bound, element count.
+    Array(DataType, Option<u32>, i64, u32),
+}
+
+/// The data types of one dictionary, by name.
+#[derive(Default)]
+struct Types<'t> {
+    by_name: HashMap<&'t str, &'t Element>,
+}
+
+fn builtin(name: &str) -> Option<DataType> {
+    use DataType::*;
+    let n = name.trim().to_ascii_uppercase();
+    let n = n.as_str();
+    Some(match n {
+        "BOOL" | "BOOLEAN" => Boolean,
+        "BIT" => Bit(1),
+        "SINT" | "INT8" | "INTEGER8" => Integer8,
+        "INT" | "INT16" | "INTEGER16" => Integer16,
+        "INT24" | "INTEGER24" => Integer24,
+        "DINT" | "INT32" | "INTEGER32" => Integer32,
+        "INT40" | "INTEGER40" => Integer40,
+        "INT48" | "INTEGER48" => Integer48,
+        "INT56" | "INTEGER56" => Integer56,
+        "LINT" | "INT64" | "INTEGER64" => Integer64,
+        "USINT" | "BYTE" | "UINT8" | "UNSIGNED8" | "BITARR8" => Unsigned8,
+        "UINT" | "WORD" | "UINT16" | "UNSIGNED16" | "BITARR16" => Unsigned16,
+        "UINT24" | "UNSIGNED24" => Unsigned24,
+        "UDINT" | "DWORD" | "UINT32" | "UNSIGNED32" | "BITARR32" => Unsigned32,
+        "UINT40" | "UNSIGNED40" => Unsigned40,
+        "UINT48" | "UNSIGNED48" => Unsigned48,
+        "UINT56" | "UNSIGNED56" => Unsigned56,
+        "ULINT" | "LWORD" | "UINT64" | "UNSIGNED64" => Unsigned64,
+        "REAL" | "REAL32" | "FLOAT" => Real32,
+        "LREAL" | "REAL64" | "DOUBLE" => Real64,
+        "STRING" | "VISIBLE_STRING" => VisibleString,
+        "OCTET_STRING" | "GUID" => OctetString,
+        "UNICODE_STRING" | "WSTRING" => UnicodeString,
+        "TIME_OF_DAY" => TimeOfDay,
+        "TIME_DIFFERENCE" => TimeDifference,
+        "DOMAIN" => Domain,
+        _ => {
+            if let Some(bits) = n.strip_prefix("BIT")
+                && let Ok(b) = bits.parse::<u8>()
+                && (1..=8).contains(&b)
+            {
+                return Some(Bit(b));
+            }
+            if n.starts_with("STRING(") || n.starts_with("VISIBLE_STRING(") {
+                return Some(VisibleString);
+            }
+            if n.starts_with("OCTET_STRING(") {
+                return Some(OctetString);
+            }
+            if n.starts_with("UNICODE_STRING(") || n.starts_with("WSTRING(") {
+                return Some(UnicodeString);
+            }
+            if n.starts_with("ARRAY") && (n.ends_with("OF BYTE") || n.ends_with("OF USINT")) {
+                return Some(OctetString);
+            }
+            return None;
+        }
+    })
+}
+
+/// The size in bits a type name says (`STRING(10)` → 80).
+fn builtin_bits(name: &str) -> Option<u32> {
+    let n = name.trim();
+    let open = n.find('(')?;
+    let close = n.rfind(')')?;
+    let count: u32 = n.get(open + 1..close)?.trim().parse().ok()?;
+    Some(count.saturating_mul(8))
+}
+
+/// A plausible type for a field of `bits` with no declared type.
+fn type_for_bits(bits: u32) -> DataType {
+    match bits {
+        1 => DataType::Boolean,
+        2..=7 => DataType::Bit(bits as u8),
+        8 => DataType::Unsigned8,
+        16 => DataType::Unsigned16,
+        24 => DataType::Unsigned24,
+        32 => DataType::Unsigned32,
+        64 => DataType::Unsigned64,
+        _ => DataType::OctetString,
+    }
+}
+
+impl<'a> Ctx<'a> {
+    fn push(&mut self, d: Diagnostic) {
+        self.diags.push(d);
+    }
+
+    fn number(&mut self, text: &str, span: Span, what: &str) -> Option<i128> {
+        let v = num::parse_int_lenient(text).map(|(v, broken)| {
+            if broken {
+                self.push(
+                    Diagnostic::warning(
+                        "F219",
+                        format!("`{}` is not a well-formed number ({what})", text.trim()),
+                    )
+                    .with_label(span, format!("read as {v:#x}")),
+                );
+            }
+            v
+        });
+        if v.is_none() {
+            self.push(
+                Diagnostic::error("F207", format!("`{}` is not a number ({what})", text.trim()))
+                    .with_label(span, "expected decimal or #x hex")
+                    .with_note("ETG.2000 HexDecValue: [+-]?[0-9]+ or #x[0-9a-fA-F]+"),
+            );
+        }
+        v
+    }
+
+    fn ranged<T: TryFrom<i128>>(&mut self, v: i128, span: Span, what: &str) -> Option<T> {
+        let r = T::try_from(v).ok();
+        if r.is_none() {
+            self.push(
+                Diagnostic::error("F218", format!("{v} is out of range for {what}"))
+                    .with_label(span, "out of range"),
+            );
+        }
+        r
+    }
+
+    /// An element's text as a number of type `T`.
+    fn el_num<T: TryFrom<i128>>(&mut self, el: &Element, what: &str) -> Option<T> {
+        let v = self.number(el.text(), el.text_span, what)?;
+        self.ranged(v, el.text_span, what)
+    }
+
+    /// An element's text as a u32; negative values in i32 range wrap (two's complement).
+    fn el_u32(&mut self, el: &Element, what: &str) -> Option<u32> {
+        let v = self.number(el.text(), el.text_span, what)?;
+        self.wrap_u32(v, el.text_span, what)
+    }
+
+    fn wrap_u32(&mut self, v: i128, span: Span, what: &str) -> Option<u32> {
+        if (i128::from(i32::MIN)..0).contains(&v) {
+            return Some(v as i32 as u32);
+        }
+        self.ranged(v, span, what)
+    }
+
+    fn child_num<T: TryFrom<i128>>(&mut self, el: &Element, name: &str) -> Option<T> {
+        let c = el.child(name)?;
+        self.el_num(c, name)
+    }
+
+    fn child_u32(&mut self, el: &Element, name: &str) -> Option<u32> {
+        let c = el.child(name)?;
+        self.el_u32(c, name)
+    }
+
+    fn attr_num<T: TryFrom<i128>>(&mut self, el: &Element, name: &str) -> Option<T> {
+        let a = el.attr(name)?;
+        let v = self.number(&a.value, a.span, name)?;
+        self.ranged(v, a.span, name)
+    }
+
+    fn attr_u32(&mut self, el: &Element, name: &str) -> Option<u32> {
+        let a = el.attr(name)?;
+        let v = self.number(&a.value, a.span, name)?;
+        self.wrap_u32(v, a.span, name)
+    }
+
+    fn attr_bool(&mut self, el: &Element, name: &str) -> Option<bool> {
+        let a: &Attr = el.attr(name)?;
+        let v = num::parse_bool(&a.value);
+        if v.is_none() {
+            self.push(
+                Diagnostic::error("F208", format!("`{}` is not a boolean ({name})", a.value))
+                    .with_label(a.span, "expected 1, 0, true or false"),
+            );
+        }
+        v
+    }
+
+    fn el_bool(&mut self, el: &Element) -> Option<bool> {
+        let v = num::parse_bool(el.text());
+        if v.is_none() {
+            self.push(
+                Diagnostic::error(
+                    "F208",
+                    format!("`{}` is not a boolean ({})", el.text(), el.name),
+                )
+                .with_label(el.text_span, "expected 1, 0, true or false"),
+            );
+        }
+        v
+    }
+
+    fn hex(&mut self, el: &Element) -> Vec<u8> {
+        match num::parse_hex_bytes(el.text()) {
+            Some(b) => b,
+            None => {
+                self.push(
+                    Diagnostic::error("F211", format!("`{}` is not hex bytes", el.name))
+                        .with_label(el.text_span, "expected pairs of hex digits"),
+                );
+                Vec::new()
+            }
+        }
+    }
+
+    fn missing(&mut self, parent: &Element, what: &str) {
+        self.push(
+            Diagnostic::error("F209", format!("`{}` has no `{what}`", parent.name))
+                .with_label(parent.span, format!("`{what}` missing")),
+        );
+    }
+
+    fn raw(&self, parent: &str, el: &Element) -> RawXml {
+        RawXml {
+            path: format!("{parent}/{}", el.name),
+            xml: self.src.get(el.span.range()).unwrap_or("").to_string(),
+            span: el.span,
+        }
+    }
+}
+
+fn names(el: &Element, ctx: &mut Ctx<'_>) -> Vec<LocalizedText> {
+    el.children_named("Name")
+        .map(|n| LocalizedText {
+            lc_id: ctx.attr_u32(n, "LcId"),
+            text: n.text().to_string(),
+            span: n.text_span,
+        })
+        .collect()
+}
+
+/// English (1033) if there is one, else the first.
+fn preferred(names: &[LocalizedText]) -> Option<&LocalizedText> {
+    names.iter().find(|n| n.lc_id == Some(1033)).or_else(|| names.first())
+}
+
+fn first_name(el: &Element) -> String {
+    let mut best: Option<&Element> = None;
+    for n in el.children_named("Name") {
+        let english = n.attr("LcId").is_some_and(|a| a.value.trim() == "1033");
+        if english {
+            best = Some(n);
+            break;
+        }
+        if best.is_none() {
+            best = Some(n);
+        }
+    }
+    best.map(|n| n.text().to_string()).unwrap_or_default()
+}
+
+/// PDO definitions of old (ETG.2000 v1.2) files: `Descriptions/Pdos/Pdo@RefName`, referred to
+/// by `RxPdo@Ref`/`TxPdo@Ref`.
+type PdoRefs<'t> = HashMap<&'t str, &'t Element>;
+
+/// The file-level data shared by all devices.
+struct FileData<'t> {
+    pdo_refs: PdoRefs<'t>,
+    vendor_id: Option<Spanned<u32>>,
+    vendor_names: Vec<LocalizedText>,
+    groups: HashMap<String, Vec<LocalizedText>>,
+    modules: Vec<EsiModule>,
+}
+
+/// Lowers the document.
+pub(crate) fn lower(
+    src: &str,
+    _file: FileId,
+    roots: &[Element],
+    diags: &mut Vec<Diagnostic>,
+) -> Vec<Device> {
+    let mut ctx = Ctx { src, diags };
+    let Some(root) = roots.first() else {
+        if !ctx.diags.iter().any(|d| d.is_error()) {
+            ctx.push(Diagnostic::error("F202", "the file has no root element"));
+        }
+        return Vec::new();
+    };
+    match &*root.name {
+        "EtherCATInfo" => {}
+        "EtherCATModule" | "EtherCATDict" | "EtherCATDiag" => {
+            ctx.push(
+                Diagnostic::warning(
+                    "F206",
+                    format!("`{}` file: it describes no device on its own", root.name),
+                )
+                .with_label(root.span, "root element"),
+            );
+            return Vec::new();
+        }
+        other => {
+            ctx.push(
+                Diagnostic::error("F206", format!("root element is `{other}`, not `EtherCATInfo`"))
+                    .with_label(root.span, "not an ESI file"),
+            );
+            return Vec::new();
+        }
+    }
+    let vendor = root.child("Vendor");
+    let vendor_id = vendor.and_then(|v| v.child("Id")).and_then(|id| {
+        let v = ctx.el_u32(id, "Vendor Id")?;
+        Some(Spanned::new(v, id.text_span))
+    });
+    let vendor_names = vendor.map(|v| names(v, &mut ctx)).unwrap_or_default();
+    let Some(descriptions) = root.child("Descriptions") else {
+        // After a well-formedness error the rest of the file is unread: no second error for it.
+        if !ctx.diags.iter().any(|d| d.code == "F202") {
+            ctx.missing(root, "Descriptions");
+        }
+        return Vec::new();
+    };
+    let mut groups = HashMap::new();
+    if let Some(gs) = descriptions.child("Groups") {
+        for g in gs.children_named("Group") {
+            if let Some(t) = g.child("Type") {
+                let n = names(g, &mut ctx);
+                groups.insert(t.text().to_string(), n);
+            }
+        }
+    }
+    let mut pdo_refs = HashMap::new();
+    if let Some(pdos) = descriptions.child("Pdos") {
+        for p in pdos.children_named("Pdo") {
+            if let Some(r) = p.attr("RefName") {
+                pdo_refs.insert(r.value.trim(), p);
+            }
+        }
+    }
+    let modules = descriptions
+        .child("Modules")
+        .map(|m| lower_modules(m, &mut ctx, &Types::default(), &pdo_refs))
+        .unwrap_or_default();
+    let data = FileData { pdo_refs, vendor_id, vendor_names, groups, modules };
+    let mut devices = Vec::new();
+    if let Some(devs) = descriptions.child("Devices") {
+        for d in devs.children_named("Device") {
+            devices.push(lower_device(d, &data, &mut ctx));
+        }
+    }
+    devices
+}
+
+fn lower_modules(
+    el: &Element,
+    ctx: &mut Ctx<'_>,
+    outer: &Types<'_>,
+    refs: &PdoRefs<'_>,
+) -> Vec<EsiModule> {
+    let mut out = Vec::new();
+    for m in el.children_named("Module") {
+        let mut module = EsiModule { span: m.span, ..EsiModule::default() };
+        if let Some(t) = m.child("Type") {
+            module.type_name = t.text().to_string();
+            module.module_ident = ctx.attr_u32(t, "ModuleIdent");
+            module.module_class = t.attr("ModuleClass").map(|a| a.value.clone());
+        }
+        module.names = names(m, ctx);
+        let mut types = Types { by_name: outer.by_name.clone() };
+        let mut data_types = Vec::new();
+        let dict = m.child("Profile").and_then(|p| p.child("Dictionary"));
+        if let Some(dict) = dict {
+            collect_types(dict, &mut types, &mut data_types, ctx);
+        }
+        module.pdos = lower_pdos(m, ctx, &types, refs);
+        if let Some(dict) = dict {
+            let mut flags = Vec::new();
+            module.objects = lower_objects(dict, ctx, &types, &mut flags);
+        }
+        if let Some(coe) = m.child("Mailbox").and_then(|mb| mb.child("CoE")) {
+            module.init_cmds = coe.children_named("InitCmd").map(|c| init_cmd(c, ctx)).collect();
+        }
+        out.push(module);
+    }
+    out
+}
+
+fn lower_device(d: &Element, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Device {
+    let mut ec = EtherCat {
+        vendor_id: file.vendor_id.as_ref().map(|v| v.value),
+        physics: d.attr("Physics").map(|a| a.value.clone()),
+        vendor_names: file.vendor_names.clone(),
+        ..EtherCat::default()
+    };
+    let mut info = DeviceInfo {
+        vendor_number: file.vendor_id.clone(),
+        vendor_name: preferred(&file.vendor_names).map(|n| Spanned::new(n.text.clone(), n.span)),
+        ..DeviceInfo::default()
+    };
+    match d.child("Type") {
+        Some(t) => {
+            for a in &t.attrs {
+                match &*a.name {
+                    "ProductCode" => {
+                        let v = ctx.number(&a.value, a.span, "ProductCode");
+                        let v = v.and_then(|v| ctx.wrap_u32(v, a.span, "ProductCode"));
+                        ec.product_code = v;
+                        info.product_number = v.map(|v| Spanned::new(v, a.span));
+                    }
+                    "RevisionNo" => {
+                        let v = ctx.number(&a.value, a.span, "RevisionNo");
+                        let v = v.and_then(|v| ctx.wrap_u32(v, a.span, "RevisionNo"));
+                        ec.revision = v;
+                        info.revision_number = v.map(|v| Spanned::new(v, a.span));
+                    }
+                    "SerialNo" => {
+                        let v = ctx.number(&a.value, a.span, "SerialNo");
+                        ec.serial_no = v.and_then(|v| ctx.wrap_u32(v, a.span, "SerialNo"));
+                    }
+                    _ => ec.type_attributes.push(XmlAttribute {
+                        name: a.name.to_string(),
+                        value: a.value.clone(),
+                        span: a.span,
+                    }),
+                }
+            }
+            if !t.text().is_empty() {
+                info.order_code = Some(Spanned::new(t.text().to_string(), t.text_span));
+            }
+        }
+        None => ctx.missing(d, "Type"),
+    }
+    ec.names = names(d, ctx);
+    info.product_name = preferred(&ec.names).map(|n| Spanned::new(n.text.clone(), n.span));
+    if let Some(g) = d.child("GroupType") {
+        let type_name = g.text().to_string();
+        let names = file.groups.get(&type_name).cloned().unwrap_or_default();
+        ec.group = Some(Group { type_name, names, span: g.text_span });
+    }
+
+    // Dictionary: data types first (all profiles), then objects.
+    let mut types = Types::default();
+    let mut objects = BTreeMap::new();
+    let profiles: Vec<&Element> = d.children_named("Profile").collect();
+    for p in &profiles {
+        if let Some(dict) = p.child("Dictionary") {
+            collect_types(dict, &mut types, &mut ec.data_types, ctx);
+        }
+    }
+    for p in &profiles {
+        ec.profiles.push(Profile {
+            channel: ctx.attr_u32(p, "Channel"),
+            profile_no: ctx.child_u32(p, "ProfileNo"),
+            add_info: ctx.child_u32(p, "AddInfo"),
+            channel_count: ctx.child_u32(p, "ChannelCount"),
+            dictionary_file: p.child("DictionaryFile").map(|f| f.text().to_string()),
+            has_dictionary: p.child("Dictionary").is_some(),
+            span: p.span,
+        });
+        if let Some(dict) = p.child("Dictionary") {
+            let objs = lower_objects(dict, ctx, &types, &mut ec.object_flags);
+            objects.extend(objs);
+        }
+    }
+    ec.object_flags.sort_by_key(|f| (f.index, f.sub));
+
+    for f in d.children_named("Fmmu") {
+        ec.fmmus.push(Fmmu {
+            usage: SmUsage::parse(f.text()),
+            sm: ctx.attr_num(f, "Sm"),
+            su: ctx.attr_num(f, "Su"),
+            span: f.span,
+        });
+    }
+    for (i, s) in d.children_named("Sm").enumerate() {
+        let start_address = s.attr("StartAddress").and_then(|a| {
+            let v = ctx.number(&a.value, a.span, "StartAddress")?;
+            Some(Spanned::new(ctx.ranged(v, a.span, "StartAddress")?, a.span))
+        });
+        let control_byte = s.attr("ControlByte").and_then(|a| {
+            let v = ctx.number(&a.value, a.span, "ControlByte")?;
+            Some(Spanned::new(ctx.ranged(v, a.span, "ControlByte")?, a.span))
+        });
+        ec.sync_managers.push(SyncManager {
+            number: i.min(255) as u8,
+            usage: SmUsage::parse(s.text()),
+            min_size: ctx.attr_u32(s, "MinSize"),
+            max_size: ctx.attr_u32(s, "MaxSize"),
+            default_size: ctx.attr_u32(s, "DefaultSize"),
+            start_address,
+            control_byte,
+            enable: ctx.attr_bool(s, "Enable").unwrap_or(false),
+            virtual_sm: ctx.attr_bool(s, "Virtual").unwrap_or(false),
+            op_only: ctx.attr_bool(s, "OpOnly").unwrap_or(false),
+            span: s.span,
+        });
+    }
+    let pdos = lower_pdos(d, ctx, &types, &file.pdo_refs);
+    if let Some(mb) = d.child("Mailbox") {
+        ec.mailbox = Some(mailbox(mb, ctx));
+    }
+    if let Some(dc) = d.child("Dc") {
+        ec.dc = Some(lower_dc(dc, ctx));
+    }
+    if let Some(e) = d.child("Eeprom") {
+        let mut ee = Eeprom { span: e.span, ..Eeprom::default() };
+        ee.byte_size = ctx.child_u32(e, "ByteSize");
+        if let Some(c) = e.child("ConfigData") {
+            ee.config_data = ctx.hex(c);
+        }
+        if let Some(c) = e.child("BootStrap") {
+            ee.boot_strap = ctx.hex(c);
+        }
+        if let Some(c) = e.child("Data") {
+            ee.data = ctx.hex(c);
+        }
+        ee.categories = e.children_named("Category").map(|c| ctx.raw("Eeprom", c)).collect();
+        ec.eeprom = Some(ee);
+    }
+    if let Some(s) = d.child("Slots") {
+        ec.slots = Some(lower_slots(s, ctx));
+    }
+    ec.modules = file.modules.clone();
+    if let Some(m) = d.child("Modules") {
+        ec.modules.extend(lower_modules(m, ctx, &types, &file.pdo_refs));
+    }
+    for c in &d.children {
+        if !DEVICE_KNOWN.contains(&&*c.name) {
+            ec.raw.push(ctx.raw("Device", c));
+        }
+    }
+
+    if objects.is_empty() && !pdos.is_empty() {
+        synthesise(&mut objects, &pdos);
+        ec.dictionary_synthesised = true;
+    }
+
+    let modules = odc_model::Modules {
+        supported: ec
+            .modules
+            .iter()
+            .enumerate()
+            .map(|(i, m)| Module {
+                number: (i + 1).min(usize::from(u16::MAX)) as u16,
+                product_name: preferred(&m.names).map(|n| Spanned::new(n.text.clone(), n.span)),
+                order_code: (!m.type_name.is_empty())
+                    .then(|| Spanned::new(m.type_name.clone(), m.span)),
+                fixed_objects: m.objects.clone(),
+                span: m.span,
+                ..Module::default()
+            })
+            .collect(),
+        connected: Vec::new(),
+    };
+
+    Device {
+        format: Some(Format::Esi),
+        device_info: info,
+        objects,
+        modules,
+        pdos,
+        ethercat: Some(Box::new(ec)),
+        ..Device::default()
+    }
+}
+
+fn collect_types<'t>(
+    dict: &'t Element,
+    types: &mut Types<'t>,
+    out: &mut Vec<EsiDataType>,
+    ctx: &mut Ctx<'_>,
+) {
+    let Some(dts) = dict.child("DataTypes") else { return };
+    for dt in dts.children_named("DataType") {
+        let Some(name) = dt.child("Name") else {
+            ctx.missing(dt, "Name");
+            continue;
+        };
+        let name_text = name.text();
+        if types.by_name.insert(name_text, dt).is_some() {
+            // Same name declared twice (several profiles declare the base types): the later
+            // declaration wins, the model lists each once.
+            out.retain(|t| t.name != name_text);
+        }
+        let mut m = EsiDataType {
+            name: name_text.to_string(),
+            index: ctx.child_u32(dt, "Index"),
+            base_type: dt.child("BaseType").map(|b| b.text().to_string()),
+            bit_size: ctx.child_u32(dt, "BitSize"),
+            span: dt.span,
+            ..EsiDataType::default()
+        };
+        for a in dt.children_named("ArrayInfo") {
+            m.array_info.push(ArrayInfo {
+                lbound: ctx.child_num(a, "LBound").unwrap_or(0),
+                elements: ctx.child_u32(a, "Elements").unwrap_or(0),
+            });
+        }
+        for s in dt.children_named("SubItem") {
+            let flags = s.child("Flags");
+            m.sub_items.push(EsiSubItem {
+                sub_idx: ctx.child_u32(s, "SubIdx"),
+                name: s.child("Name").map(|n| n.text().to_string()).unwrap_or_default(),
+                type_name: s.child("Type").map(|n| n.text().to_string()).unwrap_or_default(),
+                bit_size: ctx.child_u32(s, "BitSize"),
+                bit_offset: ctx.child_u32(s, "BitOffs"),
+                access: flags.and_then(|f| f.child("Access")).map(|a| a.text().to_string()),
+                pdo_mapping: flags
+                    .and_then(|f| f.child("PdoMapping"))
+                    .map(|a| a.text().to_string()),
+            });
+        }
+        for e in dt.children_named("EnumInfo") {
+            let text = e.child("Text").map(|t| t.text().to_string()).unwrap_or_default();
+            if let Some(value) = e.child("Enum").and_then(|v| ctx.el_num::<i64>(v, "Enum")) {
+                m.enum_info.push(EnumItem { text, value });
+            }
+        }
+        out.push(m);
+    }
+}
+
+impl<'t> Types<'t> {
+    /// Resolves a type name; `None` when it is neither declared nor built in.
+    fn resolve(&self, name: &str, depth: u32) -> Option<Resolved<'t>> {
+        let name = name.trim();
+        if depth > 16 {
+            return None;
+        }
+        if let Some(&dt) = self.by_name.get(name) {
+            let bits = dt.child("BitSize").and_then(|b| num::parse_int(b.text()));
+            let bits = bits.and_then(|b| u32::try_from(b).ok());
+            if dt.child("SubItem").is_some() {
+                return Some(Resolved::Struct(dt, bits));
+            }
+            let base = dt.child("BaseType").map(|b| b.text());
+            // `ARRAY [0..1] OF BYTE`, `STRING(10)`: declared with ArrayInfo, but one octet or
+            // visible string sub-object, not an array of sub-objects.
+            if let Some(b) = builtin(name) {
+                return Some(Resolved::Simple(b, bits.or_else(|| builtin_bits(name))));
+            }
+            if let Some(ai) = dt.child("ArrayInfo") {
+                let lbound = ai.child("LBound").and_then(|x| num::parse_int(x.text())).unwrap_or(0);
+                let elements =
+                    ai.child("Elements").and_then(|x| num::parse_int(x.text())).unwrap_or(0);
+                let elements = u32::try_from(elements).unwrap_or(0);
+                let (elem_ty, elem_bits) = match base.and_then(|b| self.resolve(b, depth + 1)) {
+                    Some(Resolved::Simple(t, b)) => (t, b.or_else(|| t.bit_size())),
+                    _ => {
+                        let eb = bits.and_then(|b| b.checked_div(elements));
+                        (eb.map(type_for_bits).unwrap_or(DataType::Unsigned8), eb)
+                    }
+                };
+                return Some(Resolved::Array(elem_ty, elem_bits, lbound as i64, elements));
+            }
+            if let Some(base) = base
+                && base.trim() != name
+            {
+                return match self.resolve(base, depth + 1)? {
+                    Resolved::Simple(t, b) => Some(Resolved::Simple(t, bits.or(b))),
+                    other => Some(other),
+                };
+            }
+            // Enumerations and opaque types without a base type: guess from the size.
+            return Some(Resolved::Simple(type_for_bits(bits.unwrap_or(8)), bits));
+        }
+        builtin(name).map(|t| Resolved::Simple(t, builtin_bits(name)))
+    }
+}
+
+fn access_of(text: &str, span: Span, ctx: &mut Ctx<'_>) -> Access {
+    match Access::parse(text) {
+        Some(a) => a,
+        None => {
+            ctx.push(
+                Diagnostic::warning("F212", format!("unknown access `{text}`"))
+                    .with_label(span, "read as ro"),
+            );
+            Access::Ro
+        }
+    }
+}
+
+fn pdo_mapping_of(text: &str, span: Span, ctx: &mut Ctx<'_>) -> PdoMapping {
+    let t = text.trim().to_ascii_uppercase();
+    match t.as_str() {
+        "" => PdoMapping::No,
+        "R" => PdoMapping::Rx,
+        "T" => PdoMapping::Tx,
+        "RT" | "TR" => PdoMapping::Both,
+        _ => {
+            ctx.push(
+                Diagnostic::warning("F213", format!("unknown PdoMapping `{text}`"))
+                    .with_label(span, "read as not mappable"),
+            );
+            PdoMapping::No
+        }
+    }
+}
+
+/// Applies a `Flags` element to a sub-object; records the ESI-only flags.
+fn apply_flags(
+    flags: &Element,
+    index: u16,
+    sub: &mut SubObject,
+    ctx: &mut Ctx<'_>,
+    out: &mut Vec<ObjectFlags>,
+) {
+    let mut f = ObjectFlags { index, sub: sub.sub_index, ..ObjectFlags::default() };
+    if let Some(a) = flags.child("Access") {
+        sub.access = access_of(a.text(), a.text_span, ctx);
+        f.read_restrictions = a.attr("ReadRestrictions").map(|x| x.value.clone());
+        f.write_restrictions = a.attr("WriteRestrictions").map(|x| x.value.clone());
+    }
+    if let Some(p) = flags.child("PdoMapping") {
+        sub.pdo_mapping = pdo_mapping_of(p.text(), p.text_span, ctx);
+    }
+    f.category = flags.child("Category").map(|c| c.text().to_string());
+    f.transition = flags.child("Transition").map(|c| c.text().to_string());
+    f.backup = flags.child("Backup").and_then(|b| ctx.el_bool(b));
+    f.setting = flags.child("Setting").and_then(|b| ctx.el_bool(b));
+    if f != (ObjectFlags { index, sub: sub.sub_index, ..ObjectFlags::default() }) {
+        out.retain(|o| (o.index, o.sub) != (index, f.sub));
+        out.push(f);
+    }
+}
+
+/// Reads a value element: `*Data` as little-endian bytes, `*Value`/`DefaultString` as text.
+fn value_of(el: &Element, ty: DataType, ctx: &mut Ctx<'_>) -> Spanned<Value> {
+    let text = el.text();
+    let is_data = el.name.ends_with("Data");
+    let v = if is_data {
+        num::parse_hex_bytes_lenient(text).and_then(|(b, padded)| {
+            if padded {
+                ctx.push(
+                    Diagnostic::warning(
+                        "F219",
+                        format!("`{text}` has an odd number of hex digits ({})", el.name),
+                    )
+                    .with_label(el.text_span, "read with a leading zero"),
+                );
+            }
+            num::decode_data(&b, ty)
+        })
+    } else if &*el.name == "DefaultString" {
+        Some(Value::Text(el.text.clone()))
+    } else {
+        num::parse_value_text(text, ty)
+    };
+    let v = match v {
+        Some(v) => v,
+        None => {
+            let what = if is_data { "little-endian hex bytes" } else { "a value" };
+            ctx.push(
+                Diagnostic::error(
+                    "F211",
+                    format!("`{}` is not {what} of type {}", text, ty.name()),
+                )
+                .with_label(el.text_span, format!("in `{}`", el.name)),
+            );
+            Value::Invalid(text.to_string())
+        }
+    };
+    Spanned::new(v, el.text_span)
+}
+
+/// Applies an `Info` element (defaults and limits) to a sub-object.
+fn apply_info(info: &Element, sub: &mut SubObject, ctx: &mut Ctx<'_>) {
+    for c in &info.children {
+        match &*c.name {
+            "DefaultData" | "DefaultValue" | "DefaultString" => {
+                sub.default = Some(value_of(c, sub.data_type, ctx));
+            }
+            "MinData" | "MinValue" => sub.low_limit = Some(value_of(c, sub.data_type, ctx)),
+            "MaxData" | "MaxValue" => sub.high_limit = Some(value_of(c, sub.data_type, ctx)),
+            _ => {}
+        }
+    }
+}
+
+fn unknown_type(name: &str, span: Span, ctx: &mut Ctx<'_>, severe: bool) {
+    let msg = format!("unknown data type `{name}`");
+    let d = if severe { Diagnostic::error("F210", msg) } else { Diagnostic::warning("F210", msg) };
+    ctx.push(d.with_label(span, "neither declared in DataTypes nor a base type"));
+}
+
+fn lower_objects(
+    dict: &Element,
+    ctx: &mut Ctx<'_>,
+    types: &Types<'_>,
+    flags_out: &mut Vec<ObjectFlags>,
+) -> BTreeMap<u16, Object> {
+    let mut objects = BTreeMap::new();
+    let Some(objs) = dict.child("Objects") else { return objects };
+    for o in objs.children_named("Object") {
+        let Some(index_el) = o.child("Index") else {
+            ctx.missing(o, "Index");
+            continue;
+        };
+        let Some(index) = ctx.el_num::<u16>(index_el, "object index") else { continue };
+        let name = first_name(o);
+        let type_el = o.child("Type");
+        let type_name = type_el.map(|t| t.text()).unwrap_or("");
+        let bit_size = ctx.child_u32(o, "BitSize");
+        let flags = o.child("Flags");
+        let info = o.child("Info");
+        let resolved = types.resolve(type_name, 0);
+        if resolved.is_none() {
+            let span = type_el.map(|t| t.text_span).unwrap_or(o.span);
+            unknown_type(type_name, span, ctx, true);
+        }
+        let mut object = Object {
+            index,
+            name: name.clone(),
+            kind: ObjectKind::Var,
+            subs: BTreeMap::new(),
+            sub_number: None,
+            compact_sub_obj: None,
+            obj_flags: None,
+            denotation: None,
+            links: Vec::new(),
+            origin: Origin::File,
+            extra: Vec::new(),
+            span: o.span,
+        };
+        match resolved {
+            Some(Resolved::Simple(..)) | None => {
+                let (ty, bits) = match resolved {
+                    Some(Resolved::Simple(t, b)) => (t, b),
+                    _ => (DataType::Domain, None),
+                };
+                let mut sub = SubObject::new(0, name, ty, Access::Ro);
+                sub.bit_size = bit_size.or(bits);
+                sub.span = o.span;
+                if let Some(f) = flags {
+                    apply_flags(f, index, &mut sub, ctx, flags_out);
+                }
+                if let Some(i) = info {
+                    apply_info(i, &mut sub, ctx);
+                }
+                object.subs.insert(0, sub);
+            }
+            Some(Resolved::Array(elem, elem_bits, lbound, elements)) => {
+                object.kind = ObjectKind::Array;
+                let mut sub0 = SubObject::new(0, "SubIndex 000", DataType::Unsigned8, Access::Ro);
+                sub0.default = Some(Spanned::synthetic(Value::Unsigned(u64::from(elements))));
+                sub0.span = o.span;
+                object.subs.insert(0, sub0);
+                let first = lbound.clamp(1, 255);
+                for k in 0..elements.min(255) {
+                    let si = first + i64::from(k);
+                    let Ok(si) = u8::try_from(si) else { break };
+                    let mut s = SubObject::new(si, format!("SubIndex {si:03}"), elem, Access::Ro);
+                    s.bit_size = elem_bits;
+                    s.span = o.span;
+                    object.subs.insert(si, s);
+                }
+                for s in object.subs.values_mut() {
+                    if let Some(f) = flags {
+                        apply_flags(f, index, s, ctx, flags_out);
+                    }
+                }
+                if let Some(i) = info {
+                    apply_sub_infos(i, &mut object, ctx);
+                }
+            }
+            Some(Resolved::Struct(dt, _)) => {
+                lower_struct(dt, types, &mut object, flags, ctx, flags_out);
+                if let Some(i) = info {
+                    apply_sub_infos(i, &mut object, ctx);
+                }
+            }
+        }
+        if objects.insert(index, object).is_some() {
+            ctx.push(
+                Diagnostic::warning("F214", format!("object 0x{index:04X} defined twice"))
+                    .with_label(index_el.text_span, "this definition is used"),
+            );
+        }
+    }
+    objects
+}
+
+/// Builds the sub-objects of `object` from a structured data type's `SubItem`s.
+fn lower_struct(
+    dt: &Element,
+    types: &Types<'_>,
+    object: &mut Object,
+    obj_flags: Option<&Element>,
+    ctx: &mut Ctx<'_>,
+    flags_out: &mut Vec<ObjectFlags>,
+) {
+    let index = object.index;
+    let mut next: i64 = 0;
+    let mut saw_array = false;
+    let mut saw_other = false;
+    for si in dt.children_named("SubItem") {
+        let name = si.child("Name").map(|n| n.text().to_string()).unwrap_or_default();
+        let type_el = si.child("Type");
+        let type_name = type_el.map(|t| t.text()).unwrap_or("");
+        let bits = si.child("BitSize").and_then(|b| num::parse_int(b.text()));
+        let bits = bits.and_then(|b| u32::try_from(b).ok());
+        let sub_idx = si.child("SubIdx").and_then(|x| ctx.el_num::<u8>(x, "SubIdx"));
+        let flags = si.child("Flags").or(obj_flags);
+        let resolved = types.resolve(type_name, 0);
+        let mut make =
+            |si_no: u8, name: String, ty: DataType, bits: Option<u32>, ctx: &mut Ctx<'_>| {
+                let mut s = SubObject::new(si_no, name, ty, Access::Ro);
+                s.bit_size = bits;
+                s.span = si.span;
+                if let Some(f) = flags {
+                    apply_flags(f, index, &mut s, ctx, flags_out);
+                }
+                object.subs.insert(si_no, s);
+            };
+        match resolved {
+            Some(Resolved::Array(elem, elem_bits, lbound, elements)) => {
+                saw_array = true;
+                let first = sub_idx.map(i64::from).unwrap_or(lbound.max(next)).max(0);
+                for k in 0..elements.min(256) {
+                    let Ok(n) = u8::try_from(first + i64::from(k)) else { break };
+                    make(n, format!("SubIndex {n:03}"), elem, elem_bits, ctx);
+                    next = i64::from(n) + 1;
+                }
+            }
+            other => {
+                let (ty, tbits) = match other {
+                    Some(Resolved::Simple(t, b)) => (t, b),
+                    Some(Resolved::Struct(_, b)) => (DataType::Domain, b),
+                    _ => {
+                        let span = type_el.map(|t| t.text_span).unwrap_or(si.span);
+                        unknown_type(type_name, span, ctx, true);
+                        (DataType::Domain, None)
+                    }
+                };
+                let n = sub_idx.map(i64::from).unwrap_or(next);
+                let Ok(n) = u8::try_from(n) else { continue };
+                if n != 0 {
+                    saw_other = true;
+                }
+                make(n, name, ty, bits.or(tbits), ctx);
+                next = i64::from(n) + 1;
+            }
+        }
+    }
+    object.kind = if saw_array && !saw_other { ObjectKind::Array } else { ObjectKind::Record };
+}
+
+/// Matches `Info/SubItem`s to the object's sub-objects by name and applies their `Info`.
+fn apply_sub_infos(info: &Element, object: &mut Object, ctx: &mut Ctx<'_>) {
+    for (pos, si) in info.children_named("SubItem").enumerate() {
+        let name = si.child("Name").map(|n| n.text()).unwrap_or("");
+        let key = object.subs.iter().find(|(_, s)| s.name == name).map(|(k, _)| *k);
+        // Arrays whose element names differ from the file's: fall back to the position.
+        let key = key.or_else(|| {
+            (object.kind == ObjectKind::Array).then(|| object.subs.keys().nth(pos).copied())?
+        });
+        let Some(key) = key else {
+            let span = si.child("Name").map(|n| n.text_span).unwrap_or(si.span);
+            ctx.push(
+                Diagnostic::warning(
+                    "F215",
+                    format!("object 0x{:04X} has no sub-item named `{name}`", object.index),
+                )
+                .with_label(span, "matches no SubItem of the object's data type"),
+            );
+            continue;
+        };
+        if let (Some(sub), Some(i)) = (object.subs.get_mut(&key), si.child("Info")) {
+            apply_info(i, sub, ctx);
+        }
+    }
+}
+
+fn lower_pdos(
+    parent: &Element,
+    ctx: &mut Ctx<'_>,
+    types: &Types<'_>,
+    refs: &PdoRefs<'_>,
+) -> Vec<Pdo> {
+    let mut pdos = Vec::new();
+    for pdo_el in &parent.children {
+        let direction = match &*pdo_el.name {
+            "RxPdo" => Direction::Rx,
+            "TxPdo" => Direction::Tx,
+            _ => continue,
+        };
+        // The definition: the element itself, or the `Pdo` its `Ref` names (old files).
+        let c = match pdo_el.attr("Ref") {
+            Some(r) if pdo_el.child("Index").is_none() => match refs.get(r.value.trim()) {
+                Some(def) => *def,
+                None => {
+                    ctx.push(
+                        Diagnostic::error("F209", format!("no `Pdo` with RefName `{}`", r.value))
+                            .with_label(r.span, "referred to here"),
+                    );
+                    continue;
+                }
+            },
+            _ => pdo_el,
+        };
+        let Some(index_el) = c.child("Index") else {
+            ctx.missing(c, "Index");
+            continue;
+        };
+        let Some(mapping_index) = ctx.el_num::<u16>(index_el, "PDO index") else { continue };
+        let mut entries = Vec::new();
+        for e in c.children_named("Entry") {
+            let Some(ie) = e.child("Index") else {
+                ctx.missing(e, "Index");
+                continue;
+            };
+            let Some(index) = ctx.el_num::<u16>(ie, "entry index") else { continue };
+            let sub = e.child("SubIndex").and_then(|s| ctx.el_num::<u8>(s, "entry sub-index"));
+            let Some(bl) = e.child("BitLen") else {
+                ctx.missing(e, "BitLen");
+                continue;
+            };
+            let Some(bits) = ctx.el_num::<u16>(bl, "BitLen") else { continue };
+            let dt_el = e.child("DataType").filter(|t| !t.text().is_empty());
+            let data_type = dt_el.and_then(|t| match types.resolve(t.text(), 0) {
+                Some(Resolved::Simple(ty, _)) => Some(ty),
+                Some(Resolved::Array(..) | Resolved::Struct(..)) => Some(DataType::Domain),
+                None => {
+                    unknown_type(t.text(), t.text_span, ctx, false);
+                    None
+                }
+            });
+            entries.push(PdoEntry {
+                index,
+                sub: sub.unwrap_or(0),
+                bits,
+                name: e.child("Name").map(|n| n.text().to_string()).filter(|n| !n.is_empty()),
+                data_type,
+                span: e.span,
+            });
+        }
+        pdos.push(Pdo {
+            direction,
+            mapping_index,
+            comm_index: None,
+            name: first_name(c),
+            cob_id: None,
+            transmission_type: None,
+            inhibit_time: None,
+            event_timer: None,
+            sync_start: None,
+            entries,
+            sync_manager: ctx.attr_num(pdo_el, "Sm"),
+            fixed: ctx.attr_bool(pdo_el, "Fixed").unwrap_or(false),
+            mandatory: ctx.attr_bool(pdo_el, "Mandatory").unwrap_or(false),
+            excludes: c
+                .children_named("Exclude")
+                .filter_map(|x| ctx.el_num::<u16>(x, "Exclude"))
+                .collect(),
+            span: pdo_el.span,
+        });
+    }
+    pdos
+}
+
+fn init_cmd(c: &Element, ctx: &mut Ctx<'_>) -> InitCmd {
+    InitCmd {
+        transitions: c.children_named("Transition").map(|t| t.text().to_string()).collect(),
+        index: c
+            .child("Index")
+            .or_else(|| c.child("IDN"))
+            .and_then(|i| ctx.el_u32(i, "InitCmd index")),
+        sub_index: ctx.child_u32(c, "SubIndex"),
+        data: c.child("Data").map(|d| ctx.hex(d)).unwrap_or_default(),
+        comment: c.child("Comment").map(|t| t.text().to_string()),
+        complete_access: ctx.attr_bool(c, "CompleteAccess").unwrap_or(false),
+        fixed: ctx.attr_bool(c, "Fixed").unwrap_or(false),
+        span: c.span,
+    }
+}
+
+fn mailbox(mb: &Element, ctx: &mut Ctx<'_>) -> Mailbox {
+    let mut m = Mailbox {
+        data_link_layer: ctx.attr_bool(mb, "DataLinkLayer").unwrap_or(false),
+        span: mb.span,
+        ..Mailbox::default()
+    };
+    if let Some(c) = mb.child("CoE") {
+        m.coe = Some(CoE {
+            sdo_info: ctx.attr_bool(c, "SdoInfo").unwrap_or(false),
+            pdo_assign: ctx.attr_bool(c, "PdoAssign").unwrap_or(false),
+            pdo_config: ctx.attr_bool(c, "PdoConfig").unwrap_or(false),
+            pdo_upload: ctx.attr_bool(c, "PdoUpload").unwrap_or(false),
+            complete_access: ctx.attr_bool(c, "CompleteAccess").unwrap_or(false),
+            segmented_sdo: ctx.attr_bool(c, "SegmentedSdo").unwrap_or(false),
+            eds_file: c.attr("EdsFile").map(|a| a.value.clone()),
+            init_cmds: c.children_named("InitCmd").map(|i| init_cmd(i, ctx)).collect(),
+        });
+    }
+    if let Some(s) = mb.child("SoE") {
+        m.soe = Some(SoE {
+            channel_count: ctx.attr_u32(s, "ChannelCount"),
+            init_cmds: s.children_named("InitCmd").map(|i| init_cmd(i, ctx)).collect(),
+        });
+    }
+    m.foe = mb.child("FoE").is_some();
+    m.eoe = mb.child("EoE").is_some();
+    m.aoe = mb.child("AoE").is_some();
+    m.voe = mb.child("VoE").is_some();
+    m
+}
+
+fn lower_dc(dc: &Element, ctx: &mut Ctx<'_>) -> Dc {
+    let mut out = Dc { span: dc.span, ..Dc::default() };
+    for o in dc.children_named("OpMode") {
+        let factor = |name: &str, ctx: &mut Ctx<'_>| -> Option<i64> {
+            o.child(name).and_then(|e| ctx.attr_num::<i64>(e, "Factor"))
+        };
+        out.op_modes.push(DcOpMode {
+            name: o.child("Name").map(|n| n.text().to_string()).unwrap_or_default(),
+            desc: o.child("Desc").map(|n| n.text().to_string()),
+            assign_activate: ctx.child_u32(o, "AssignActivate"),
+            cycle_time_sync0: ctx.child_u32(o, "CycleTimeSync0"),
+            cycle_time_sync0_factor: factor("CycleTimeSync0", ctx),
+            shift_time_sync0: ctx.child_num(o, "ShiftTimeSync0"),
+            shift_time_sync0_factor: factor("ShiftTimeSync0", ctx),
+            cycle_time_sync1: ctx.child_u32(o, "CycleTimeSync1"),
+            cycle_time_sync1_factor: factor("CycleTimeSync1", ctx),
+            shift_time_sync1: ctx.child_num(o, "ShiftTimeSync1"),
+            span: o.span,
+        });
+    }
+    out
+}
+
+fn lower_slots(s: &Element, ctx: &mut Ctx<'_>) -> Slots {
+    let mut out = Slots {
+        slot_index_increment: ctx.attr_u32(s, "SlotIndexIncrement"),
+        slot_pdo_increment: ctx.attr_u32(s, "SlotPdoIncrement"),
+        max_slot_count: ctx.attr_u32(s, "MaxSlotCount"),
+        span: s.span,
+        ..Slots::default()
+    };
+    for slot in s.children_named("Slot") {
+        let mut sl = Slot {
+            name: first_name(slot),
+            min_instances: ctx.attr_u32(slot, "MinInstances"),
+            max_instances: ctx.attr_u32(slot, "MaxInstances"),
+            slot_index_increment: ctx.attr_u32(slot, "SlotIndexIncrement"),
+            slot_pdo_increment: ctx.attr_u32(slot, "SlotPdoIncrement"),
+            span: slot.span,
+            ..Slot::default()
+        };
+        for mi in slot.children_named("ModuleIdent") {
+            if let Some(v) = ctx.el_u32(mi, "ModuleIdent") {
+                sl.module_idents.push(v);
+                if ctx.attr_bool(mi, "Default") == Some(true) {
+                    sl.default_module = Some(v);
+                }
+            }
+        }
+        sl.module_classes =
+            slot.children_named("ModuleClass").map(|c| c.text().to_string()).collect();
+        out.slots.push(sl);
+    }
+    out
+}
+
+/// A device without a dictionary: objects for its PDO entries, mapping objects and the
+/// sync-manager assignment objects, all marked [`Origin::PdoEntry`].
+fn synthesise(objects: &mut BTreeMap<u16, Object>, pdos: &[Pdo]) {
+    let new_object = |index: u16, name: String, kind: ObjectKind, span: Span| Object {
+        index,
+        name,
+        kind,
+        subs: BTreeMap::new(),
+        sub_number: None,
+        compact_sub_obj: None,
+        obj_flags: None,
+        denotation: None,
+        links: Vec::new(),
+        origin: Origin::PdoEntry,
+        extra: Vec::new(),
+        span,
+    };
+    for pdo in pdos {
+        let (access, mapping) = match pdo.direction {
+            Direction::Rx => (Access::Rw, PdoMapping::Rx),
+            Direction::Tx => (Access::Ro, PdoMapping::Tx),
+        };
+        for e in &pdo.entries {
+            if e.is_gap() {
+                continue;
+            }
+            let name = e.name.clone().unwrap_or_else(|| pdo.name.clone());
+            let ty = e.data_type.unwrap_or_else(|| type_for_bits(u32::from(e.bits)));
+            let object = objects.entry(e.index).or_insert_with(|| {
+                let kind = if e.sub == 0 { ObjectKind::Var } else { ObjectKind::Record };
+                new_object(e.index, name.clone(), kind, e.span)
+            });
+            if e.sub != 0 && object.kind == ObjectKind::Var {
+                object.kind = ObjectKind::Record;
+            }
+            let mut s = SubObject::new(e.sub, name, ty, access);
+            s.pdo_mapping = mapping;
+            s.bit_size = Some(u32::from(e.bits));
+            s.span = e.span;
+            object.subs.entry(e.sub).or_insert(s);
+        }
+    }
+    // Sub-index 0 (highest sub-index) of records made from entries.
+    for object in objects.values_mut() {
+        if object.kind == ObjectKind::Record && !object.subs.contains_key(&0) {
+            let max = object.subs.keys().next_back().copied().unwrap_or(0);
+            let mut s0 = SubObject::new(0, "SubIndex 000", DataType::Unsigned8, Access::Ro);
+            s0.default = Some(Spanned::synthetic(Value::Unsigned(u64::from(max))));
+            object.subs.insert(0, s0);
+        }
+    }
+    for pdo in pdos {
+        if objects.contains_key(&pdo.mapping_index) {
+            continue;
+        }
+        let mut o = new_object(pdo.mapping_index, pdo.name.clone(), ObjectKind::Record, pdo.span);
+        let mut s0 = SubObject::new(0, "SubIndex 000", DataType::Unsigned8, Access::Ro);
+        s0.default = Some(Spanned::synthetic(Value::Unsigned(pdo.entries.len() as u64)));
+        s0.span = pdo.span;
+        o.subs.insert(0, s0);
+        for (i, e) in pdo.entries.iter().enumerate().take(254) {
+            let n = (i + 1) as u8;
+            let mut s =
+                SubObject::new(n, format!("SubIndex {n:03}"), DataType::Unsigned32, Access::Ro);
+            s.default = Some(Spanned::synthetic(Value::Unsigned(u64::from(e.mapping_value()))));
+            s.span = e.span;
+            o.subs.insert(n, s);
+        }
+        objects.insert(pdo.mapping_index, o);
+    }
+    for (index, dir, name) in
+        [(0x1C12u16, Direction::Rx, "RxPDO assign"), (0x1C13, Direction::Tx, "TxPDO assign")]
+    {
+        if objects.contains_key(&index) || !pdos.iter().any(|p| p.direction == dir) {
+            continue;
+        }
+        let assigned: Vec<u16> = pdos
+            .iter()
+            .filter(|p| p.direction == dir && (p.sync_manager.is_some() || p.mandatory))
+            .map(|p| p.mapping_index)
+            .collect();
+        let mut o = new_object(index, name.to_string(), ObjectKind::Array, Span::DUMMY);
+        let mut s0 = SubObject::new(0, "SubIndex 000", DataType::Unsigned8, Access::Ro);
+        s0.default = Some(Spanned::synthetic(Value::Unsigned(assigned.len() as u64)));
+        o.subs.insert(0, s0);
+        for (i, pdo_index) in assigned.iter().enumerate().take(254) {
+            let n = (i + 1) as u8;
+            let mut s =
+                SubObject::new(n, format!("SubIndex {n:03}"), DataType::Unsigned16, Access::Ro);
+            s.default = Some(Spanned::synthetic(Value::Unsigned(u64::from(*pdo_index))));
+            o.subs.insert(n, s);
+        }
+        objects.insert(index, o);
+    }
+}

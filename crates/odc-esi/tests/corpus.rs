@@ -1,0 +1,75 @@
+//! Reads every ESI file of the shared corpus (`$ODC_CORPUS/MANIFEST.tsv`, kind `esi`): no file may
+//! panic, and all but the two known not-well-formed files must parse without errors.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::path::PathBuf;
+
+use odc_model::{Severity, Sources};
+
+/// Files known not to be well-formed XML (see the corpus README).
+const KNOWN_BAD: &[&str] = &["esi/hangx__eeprom.xml", "esi/abt__DS402_PDOs_EasyCatProject.xml"];
+
+fn corpus_dir() -> PathBuf {
+    std::env::var_os("ODC_CORPUS").map(PathBuf::from).unwrap_or_else(|| {
+        PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/corpus"))
+    })
+}
+
+#[test]
+fn corpus_esi_files() {
+    let dir = corpus_dir();
+    let Ok(manifest) = std::fs::read_to_string(dir.join("MANIFEST.tsv")) else {
+        eprintln!("corpus not found at {}; skipped", dir.display());
+        return;
+    };
+    let files: Vec<&str> = manifest
+        .lines()
+        .skip(1)
+        .filter_map(|l| {
+            let mut cols = l.split('\t');
+            let file = cols.next()?;
+            (cols.next()? == "esi").then_some(file)
+        })
+        .collect();
+    let (mut devices, mut clean, mut panics) = (0usize, 0usize, Vec::new());
+    let mut failures = Vec::new();
+    let mut code_counts = std::collections::BTreeMap::<String, usize>::new();
+    for f in &files {
+        let bytes = std::fs::read(dir.join(f)).unwrap();
+        let result = std::panic::catch_unwind(|| {
+            let mut sources = Sources::new();
+            let parsed = odc_esi::parse(&mut sources, f, &bytes);
+            let errors: Vec<_> =
+                parsed.diagnostics.iter().filter(|d| d.severity == Severity::Error).collect();
+            let first = errors.first().map(|d| {
+                odc_model::diag::render_short(&sources, std::slice::from_ref(*d)).trim().to_string()
+            });
+            let codes: Vec<String> =
+                parsed.diagnostics.iter().map(|d| d.code.to_string()).collect();
+            (parsed.devices.len(), errors.len(), first, codes)
+        });
+        match result {
+            Ok((n, errors, first, codes)) => {
+                devices += n;
+                for c in codes {
+                    *code_counts.entry(c).or_default() += 1;
+                }
+                if errors == 0 {
+                    clean += 1;
+                } else {
+                    failures.push((f.to_string(), errors, first.unwrap_or_default()));
+                }
+            }
+            Err(_) => panics.push(f.to_string()),
+        }
+    }
+    println!("ESI corpus: {} files, {devices} devices, {clean} with zero errors", files.len());
+    println!("diagnostic codes: {code_counts:?}");
+    for (f, n, first) in &failures {
+        println!("  FAIL {f}: {n} error(s), first: {first}");
+    }
+    assert!(panics.is_empty(), "panicked on: {panics:?}");
+    let unexpected: Vec<_> =
+        failures.iter().filter(|(f, _, _)| !KNOWN_BAD.contains(&f.as_str())).collect();
+    assert!(unexpected.is_empty(), "unexpected failures: {unexpected:#?}");
+}
