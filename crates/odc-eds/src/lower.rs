@@ -296,7 +296,8 @@ impl<'r, 'a> Lower<'r, 'a> {
 
     /// Entries of a section and of its repeats, in file order.
     fn entries(&self, first: u32) -> impl Iterator<Item = &'r Entry<'a>> + 'r {
-        self.raw.chain(first).flat_map(|s| s.entries.iter())
+        let raw = self.raw;
+        raw.chain(first).flat_map(move |s| raw.entries_of(s).iter())
     }
 
     fn keys(&self, first: u32) -> Keys<'r, 'a> {
@@ -1010,7 +1011,7 @@ impl<'r, 'a> Lower<'r, 'a> {
         sub_index: u8,
         header: Span,
         default_dt: Option<DataType>,
-        what: &str,
+        what: &dyn std::fmt::Display,
     ) -> SubObject {
         let file = self.file;
         let name = match keys.take(K::ParameterName) {
@@ -1225,8 +1226,13 @@ impl<'r, 'a> Lower<'r, 'a> {
             for (&s, &si) in &b.subs {
                 let sheader = self.span(self.sec(si).header_pos);
                 let mut skeys = self.keys(si);
-                let what = format!("sub-object {index:04X}sub{s:X}");
-                let sub = self.sub_from_keys(&mut skeys, s, sheader, None, &what);
+                let sub = self.sub_from_keys(
+                    &mut skeys,
+                    s,
+                    sheader,
+                    None,
+                    &format_args!("sub-object {index:04X}sub{s:X}"),
+                );
                 if obj.subs.insert(s, sub).is_some() {
                     self.warn(
                         codes::COMPACT_CONFLICT,
@@ -1247,8 +1253,13 @@ impl<'r, 'a> Lower<'r, 'a> {
                 ObjectKind::DefType => Some(DataType::Unsigned32),
                 _ => None,
             };
-            let what = format!("object {index:04X}");
-            let mut sub = self.sub_from_keys(&mut keys, 0, header, default_dt, &what);
+            let mut sub = self.sub_from_keys(
+                &mut keys,
+                0,
+                header,
+                default_dt,
+                &format_args!("object {index:04X}"),
+            );
             sub.kind = None;
             // Unknown keys of a VAR section belong to the object.
             obj.extra.append(&mut sub.extra);
@@ -1267,8 +1278,13 @@ impl<'r, 'a> Lower<'r, 'a> {
                 }
                 let sheader = self.span(sec.header_pos);
                 let mut skeys = self.keys(si);
-                let what = format!("sub-object {index:04X}sub{s:X}");
-                let sub = self.sub_from_keys(&mut skeys, s, sheader, None, &what);
+                let sub = self.sub_from_keys(
+                    &mut skeys,
+                    s,
+                    sheader,
+                    None,
+                    &format_args!("sub-object {index:04X}sub{s:X}"),
+                );
                 obj.subs.insert(s, sub);
             }
         }
@@ -1429,8 +1445,13 @@ impl<'r, 'a> Lower<'r, 'a> {
                 Ok(v) => v.map(|v| Spanned::new(v.value as u16, v.span)),
                 Err(()) => None,
             });
-            let what = format!("module {number} sub-extension {index:04X}");
-            let template = self.sub_from_keys(&mut keys, 0, header, None, &what);
+            let template = self.sub_from_keys(
+                &mut keys,
+                0,
+                header,
+                None,
+                &format_args!("module {number} sub-extension {index:04X}"),
+            );
             m.sub_extends.insert(index, SubExtend { template, count, obj_extend });
         }
         if let Some(i) = b.comments {

@@ -24,7 +24,9 @@
 //! - keys before the first section go into [`RawFile::preamble`] and are reported;
 //! - duplicate sections and duplicate keys are kept and reported; lookups answer the **last**
 //!   occurrence (python `configparser(strict=False)` behaves the same, and a later line is the
-//!   one an editor appended): [`Section::get`], [`RawFile::get`].
+//!   one an editor appended): [`RawFile::get_in`], [`RawFile::get`].
+//! - entries and trivia of all sections live in two flat vectors ([`RawFile::entries`],
+//!   [`RawFile::trivia`]); a [`Section`] holds ranges into them (no allocation per section).
 
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hash, Hasher};
@@ -99,10 +101,11 @@ pub struct Section<'a> {
     pub header_pos: Pos,
     /// Text after the closing `]` (reported, ignored).
     pub after_header: Option<Pos>,
-    /// Entries in file order, duplicates included.
-    pub entries: Vec<Entry<'a>>,
-    /// Comments, blank and stray lines.
-    pub trivia: Vec<Trivia<'a>>,
+    /// Its entries in file order, duplicates included: a range of [`RawFile::entries`]
+    /// (see [`RawFile::entries_of`]).
+    pub entries: std::ops::Range<u32>,
+    /// Its comments, blank and stray lines: a range of [`RawFile::trivia`].
+    pub trivia: std::ops::Range<u32>,
     /// The next section with the same name (case-insensitive), if the name repeats.
     pub next_same: Option<u32>,
     /// Whether an earlier section has the same name.
@@ -110,27 +113,17 @@ pub struct Section<'a> {
 }
 
 impl<'a> Section<'a> {
-    fn new(name: &'a str, name_pos: Pos, header_pos: Pos) -> Self {
+    fn new(name: &'a str, name_pos: Pos, header_pos: Pos, entries: u32, trivia: u32) -> Self {
         Section {
             name,
             name_pos,
             header_pos,
             after_header: None,
-            entries: Vec::new(),
-            trivia: Vec::new(),
+            entries: entries..entries,
+            trivia: trivia..trivia,
             next_same: None,
             is_duplicate: false,
         }
-    }
-
-    /// The last entry whose key equals `key` ASCII-case-insensitively.
-    pub fn get(&self, key: &str) -> Option<&Entry<'a>> {
-        self.entries.iter().rev().find(|e| e.key.eq_ignore_ascii_case(key))
-    }
-
-    /// Every entry whose key equals `key` ASCII-case-insensitively, in file order.
-    pub fn get_all<'s>(&'s self, key: &'s str) -> impl Iterator<Item = &'s Entry<'a>> + 's {
-        self.entries.iter().filter(move |e| e.key.eq_ignore_ascii_case(key))
     }
 }
 
@@ -182,10 +175,30 @@ pub struct RawFile<'a> {
     pub preamble: Section<'a>,
     /// Sections in file order, duplicates included.
     pub sections: Vec<Section<'a>>,
+    /// All entries in file order; sections hold ranges of it.
+    pub entries: Vec<Entry<'a>>,
+    /// All comment, blank and stray lines in file order; sections hold ranges of it.
+    pub trivia: Vec<Trivia<'a>>,
     index: HashMap<Caseless<'a>, (u32, u32), BuildHasherDefault<PassHasher>>,
 }
 
 impl<'a> RawFile<'a> {
+    /// The entries of one section (not of its repeats).
+    pub fn entries_of(&self, s: &Section<'a>) -> &[Entry<'a>] {
+        self.entries.get(s.entries.start as usize..s.entries.end as usize).unwrap_or(&[])
+    }
+
+    /// The comment, blank and stray lines of one section.
+    pub fn trivia_of(&self, s: &Section<'a>) -> &[Trivia<'a>] {
+        self.trivia.get(s.trivia.start as usize..s.trivia.end as usize).unwrap_or(&[])
+    }
+
+    /// The last entry of section `s` (not of its repeats) whose key equals `key`
+    /// ASCII-case-insensitively.
+    pub fn get_in(&self, s: &Section<'a>, key: &str) -> Option<&Entry<'a>> {
+        self.entries_of(s).iter().rev().find(|e| e.key.eq_ignore_ascii_case(key))
+    }
+
     /// The first section named `name` (case-insensitive); follow [`Section::next_same`] or use
     /// [`RawFile::sections_named`] for repeats.
     pub fn section(&self, name: &str) -> Option<&Section<'a>> {
@@ -206,7 +219,7 @@ impl<'a> RawFile<'a> {
     /// The value of `key` in section `section`: the last occurrence over all sections of that
     /// name (duplicates: last wins).
     pub fn get(&self, section: &str, key: &str) -> Option<&Entry<'a>> {
-        self.sections_named(section).filter_map(|s| s.get(key)).last()
+        self.sections_named(section).filter_map(|s| self.get_in(s, key)).last()
     }
 }
 
@@ -254,7 +267,9 @@ pub fn scan<'a>(text: &'a str, file: FileId, diags: &mut Vec<Diagnostic>) -> Raw
         text
     };
     let bytes = text.as_bytes();
-    let mut preamble = Section::new("", Pos::default(), Pos::default());
+    let mut preamble = Section::new("", Pos::default(), Pos::default(), 0, 0);
+    let mut entries: Vec<Entry<'a>> = Vec::with_capacity(text.len() / 24 + 4);
+    let mut trivia: Vec<Trivia<'a>> = Vec::with_capacity(text.len() / 200 + 4);
     let mut sections: Vec<Section<'a>> = Vec::with_capacity(text.len() / 200 + 4);
     let mut line_start = 0usize;
     while line_start < bytes.len() {
@@ -269,28 +284,38 @@ pub fn scan<'a>(text: &'a str, file: FileId, diags: &mut Vec<Diagnostic>) -> Raw
             Some(c) => c,
             None => &mut preamble,
         };
-        let before = cur.entries.len() as u32;
+        let before = cur.entries.end - cur.entries.start;
         let line_pos = pos(line_start, line_end);
         if s == e {
-            cur.trivia.push(Trivia {
+            trivia.push(Trivia {
                 kind: TriviaKind::Blank,
                 text: &text[line_start..line_end],
                 pos: line_pos,
                 before,
             });
+            cur.trivia.end = trivia.len() as u32;
         } else {
             match bytes[s] {
-                b';' | b'#' => cur.trivia.push(Trivia {
-                    kind: TriviaKind::Comment,
-                    text: &text[line_start..line_end],
-                    pos: line_pos,
-                    before,
-                }),
+                b';' | b'#' => {
+                    trivia.push(Trivia {
+                        kind: TriviaKind::Comment,
+                        text: &text[line_start..line_end],
+                        pos: line_pos,
+                        before,
+                    });
+                    cur.trivia.end = trivia.len() as u32;
+                }
                 b'[' => {
                     let close = memchr::memchr(b']', &bytes[s..e]).map(|i| s + i);
                     let name_end = close.unwrap_or(e);
                     let (ns, ne) = trim_pos(text, s + 1, name_end);
-                    let mut sec = Section::new(&text[ns..ne], pos(ns, ne), pos(s, e));
+                    let mut sec = Section::new(
+                        &text[ns..ne],
+                        pos(ns, ne),
+                        pos(s, e),
+                        entries.len() as u32,
+                        trivia.len() as u32,
+                    );
                     match close {
                         None => diags.push(
                             Diagnostic::warning(
@@ -330,13 +355,14 @@ pub fn scan<'a>(text: &'a str, file: FileId, diags: &mut Vec<Diagnostic>) -> Raw
                         let (ks, ke) = trim_pos(text, s, eq);
                         let (vs, ve) = trim_pos(text, eq + 1, e);
                         let value_pos = if vs == ve { pos(eq + 1, eq + 1) } else { pos(vs, ve) };
-                        cur.entries.push(Entry {
+                        entries.push(Entry {
                             key: &text[ks..ke],
                             value: &text[vs..ve],
                             key_pos: pos(ks, ke),
                             value_pos,
                             line_pos,
                         });
+                        cur.entries.end = entries.len() as u32;
                     }
                     None => {
                         let l = &text[s..e];
@@ -355,12 +381,13 @@ pub fn scan<'a>(text: &'a str, file: FileId, diags: &mut Vec<Diagnostic>) -> Raw
                             );
                         }
                         diags.push(d);
-                        cur.trivia.push(Trivia {
+                        trivia.push(Trivia {
                             kind: TriviaKind::Stray,
                             text: &text[line_start..line_end],
                             pos: line_pos,
                             before,
                         });
+                        cur.trivia.end = trivia.len() as u32;
                     }
                 },
             }
@@ -368,7 +395,9 @@ pub fn scan<'a>(text: &'a str, file: FileId, diags: &mut Vec<Diagnostic>) -> Raw
         continue_line(&mut line_start, nl);
     }
 
-    for e in &preamble.entries {
+    for e in
+        entries.get(preamble.entries.start as usize..preamble.entries.end as usize).unwrap_or(&[])
+    {
         diags.push(
             Diagnostic::warning(codes::KEY_OUTSIDE_SECTION, "key before the first section")
                 .with_label(e.line_pos.span(file), "not in any section")
@@ -402,10 +431,12 @@ pub fn scan<'a>(text: &'a str, file: FileId, diags: &mut Vec<Diagnostic>) -> Raw
                 );
             }
         }
-        check_duplicate_keys(&sections[i], file, diags);
+        let sec = &sections[i];
+        let own = entries.get(sec.entries.start as usize..sec.entries.end as usize).unwrap_or(&[]);
+        check_duplicate_keys(sec, own, file, diags);
     }
 
-    RawFile { text, file, preamble, sections, index }
+    RawFile { text, file, preamble, sections, entries, trivia, index }
 }
 
 #[inline]
@@ -413,8 +444,13 @@ fn continue_line(line_start: &mut usize, nl: usize) {
     *line_start = nl + 1;
 }
 
-fn check_duplicate_keys(sec: &Section<'_>, file: FileId, diags: &mut Vec<Diagnostic>) {
-    let n = sec.entries.len();
+fn check_duplicate_keys(
+    sec: &Section<'_>,
+    entries: &[Entry<'_>],
+    file: FileId,
+    diags: &mut Vec<Diagnostic>,
+) {
+    let n = entries.len();
     let report = |first: &Entry<'_>, later: &Entry<'_>, diags: &mut Vec<Diagnostic>| {
         diags.push(
             Diagnostic::warning(
@@ -427,8 +463,8 @@ fn check_duplicate_keys(sec: &Section<'_>, file: FileId, diags: &mut Vec<Diagnos
     };
     if n <= 24 {
         for j in 1..n {
-            let k = &sec.entries[j];
-            if let Some(first) = sec.entries[..j]
+            let k = &entries[j];
+            if let Some(first) = entries[..j]
                 .iter()
                 .find(|e| e.key.len() == k.key.len() && e.key.eq_ignore_ascii_case(k.key))
             {
@@ -438,9 +474,9 @@ fn check_duplicate_keys(sec: &Section<'_>, file: FileId, diags: &mut Vec<Diagnos
     } else {
         let mut seen: HashMap<Caseless<'_>, usize, BuildHasherDefault<PassHasher>> =
             HashMap::with_capacity_and_hasher(n, BuildHasherDefault::default());
-        for (j, e) in sec.entries.iter().enumerate() {
+        for (j, e) in entries.iter().enumerate() {
             if let Some(&first) = seen.get(&Caseless(e.key)) {
-                report(&sec.entries[first], e, diags);
+                report(&entries[first], e, diags);
             } else {
                 seen.insert(Caseless(e.key), j);
             }
@@ -464,12 +500,12 @@ mod tests {
         let (r, d) = scan_str(text);
         assert!(d.is_empty(), "{d:?}");
         assert_eq!(r.sections.len(), 2);
-        let e = &r.sections[0].entries[0];
+        let e = &r.entries_of(&r.sections[0])[0];
         assert_eq!(e.key, "FileName");
         assert_eq!(e.value, "a.eds");
         assert_eq!(&text[e.value_pos.start as usize..e.value_pos.end as usize], "a.eds");
-        assert_eq!(r.sections[0].trivia.len(), 2);
-        assert_eq!(r.sections[0].trivia[1].kind, TriviaKind::Comment);
+        assert_eq!(r.trivia_of(&r.sections[0]).len(), 2);
+        assert_eq!(r.trivia_of(&r.sections[0])[1].kind, TriviaKind::Comment);
         assert_eq!(r.get("FILEINFO", "filename").map(|e| e.value), Some("a.eds"));
         assert_eq!(r.get("1000", "datatype").map(|e| e.value), Some("0x0007"));
     }
@@ -477,7 +513,7 @@ mod tests {
     #[test]
     fn crlf_lf_mixed_and_no_final_newline() {
         let (r, _) = scan_str("[A]\r\nx=1\ny=2\r\nz=3");
-        let v: Vec<_> = r.sections[0].entries.iter().map(|e| (e.key, e.value)).collect();
+        let v: Vec<_> = r.entries_of(&r.sections[0]).iter().map(|e| (e.key, e.value)).collect();
         assert_eq!(v, [("x", "1"), ("y", "2"), ("z", "3")]);
     }
 
@@ -485,7 +521,7 @@ mod tests {
     fn duplicates_last_wins_and_reported() {
         let (r, d) = scan_str("[A]\nx=1\nX=2\n[a]\nx=3\n");
         assert_eq!(r.get("a", "x").map(|e| e.value), Some("3"));
-        assert_eq!(r.sections[0].get("x").map(|e| e.value), Some("2"));
+        assert_eq!(r.get_in(&r.sections[0], "x").map(|e| e.value), Some("2"));
         let codes: Vec<_> = d.iter().map(|d| d.code).collect();
         assert_eq!(codes, [codes::DUPLICATE_KEY, codes::DUPLICATE_SECTION]);
         assert_eq!(r.sections_named("A").count(), 2);
@@ -495,8 +531,8 @@ mod tests {
     fn hash_comments_and_inline_hash_kept() {
         let (r, d) = scan_str("# top\n[1000]\nObjectType=0x07 # VAR\n  ; x\n");
         assert!(d.is_empty());
-        assert_eq!(r.preamble.trivia[0].kind, TriviaKind::Comment);
-        assert_eq!(r.sections[0].entries[0].value, "0x07 # VAR");
+        assert_eq!(r.trivia_of(&r.preamble)[0].kind, TriviaKind::Comment);
+        assert_eq!(r.entries_of(&r.sections[0])[0].value, "0x07 # VAR");
     }
 
     #[test]
@@ -508,6 +544,6 @@ mod tests {
         assert!(codes.contains(&codes::STRAY_LINE));
         assert!(codes.contains(&codes::MALFORMED_HEADER));
         assert_eq!(r.sections[1].name, "B");
-        assert_eq!(r.sections[1].entries[0].key, "");
+        assert_eq!(r.entries_of(&r.sections[1])[0].key, "");
     }
 }
