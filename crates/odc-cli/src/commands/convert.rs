@@ -1,0 +1,62 @@
+//! `odc convert`: write a device file as EDS or DCF.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Context;
+use odc_model::{Format, Sources};
+
+use crate::input;
+
+/// Convert a device file: EDS ↔ DCF, a normalised EDS, or one device of an ESI as EDS.
+///
+/// The output format follows `--to`, else the extension of `-o`. Keys and sections odc does
+/// not interpret are carried over. The output file is replaced only when writing succeeded.
+#[derive(clap::Args)]
+pub struct Args {
+    /// EDS, DCF or ESI file.
+    input: PathBuf,
+    /// Output file; standard output when absent.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Output format.
+    #[arg(long, value_enum)]
+    to: Option<Target>,
+    /// For an ESI with several devices: which one (0-based, in file order).
+    #[arg(long, default_value_t = 0)]
+    device: usize,
+}
+
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum Target {
+    Eds,
+    Dcf,
+}
+
+pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let target = match (args.to, &args.output) {
+        (Some(Target::Eds), _) => Format::Eds,
+        (Some(Target::Dcf), _) => Format::Dcf,
+        (None, Some(out)) if out.extension().is_some_and(|e| e.eq_ignore_ascii_case("dcf")) => {
+            Format::Dcf
+        }
+        _ => Format::Eds,
+    };
+    let mut sources = Sources::new();
+    let loaded = input::load(&mut sources, &args.input)?;
+    super::require_clean(&sources, &loaded.diagnostics)?;
+    let count = loaded.devices.len();
+    let device = loaded.devices.get(args.device).with_context(|| {
+        format!(
+            "{} holds {count} device(s); --device {} is out of range",
+            args.input.display(),
+            args.device
+        )
+    })?;
+    let text = odc_eds::write(device, target);
+    match &args.output {
+        Some(path) => input::write_atomic(path, text.as_bytes())?,
+        None => print!("{text}"),
+    }
+    Ok(ExitCode::SUCCESS)
+}

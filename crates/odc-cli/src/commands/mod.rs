@@ -1,0 +1,66 @@
+//! One module per subcommand: its arguments and its `run`.
+
+pub mod check;
+pub mod convert;
+pub mod dump;
+pub mod explain;
+pub mod info;
+
+use std::io::IsTerminal;
+
+use odc_model::{Diagnostic, Sources, diag};
+
+/// How diagnostics are printed.
+#[derive(Clone, Copy, Debug, Default, clap::ValueEnum)]
+pub enum DiagFormat {
+    /// Source snippets with the offending key underlined, like rustc.
+    #[default]
+    Human,
+    /// One line each: `path:line:col: error[CODE]: message`.
+    Short,
+    /// A JSON array of {severity, code, message, labels[{file, start, end, line, column,
+    /// message, primary}], notes}.
+    Json,
+}
+
+/// When to colour human output.
+#[derive(Clone, Copy, Debug, Default, clap::ValueEnum)]
+pub enum Color {
+    /// When standard error is a terminal.
+    #[default]
+    Auto,
+    Always,
+    Never,
+}
+
+/// Prints diagnostics to standard error (human, short) or standard output (JSON).
+pub fn print_diagnostics(
+    sources: &Sources,
+    diags: &[Diagnostic],
+    format: DiagFormat,
+    color: Color,
+) {
+    match format {
+        DiagFormat::Human => {
+            let color = match color {
+                Color::Auto => std::io::stderr().is_terminal(),
+                Color::Always => true,
+                Color::Never => false,
+            };
+            eprint!("{}", diag::render_human(sources, diags, color));
+        }
+        DiagFormat::Short => eprint!("{}", diag::render_short(sources, diags)),
+        DiagFormat::Json => println!("{}", diag::render_json(sources, diags)),
+    }
+}
+
+/// Prints front-end diagnostics and fails when any is an error: for commands that need a
+/// usable model (dump, convert, info).
+pub fn require_clean(sources: &Sources, diags: &[Diagnostic]) -> anyhow::Result<()> {
+    let errors: Vec<Diagnostic> = diags.iter().filter(|d| d.is_error()).cloned().collect();
+    if errors.is_empty() {
+        return Ok(());
+    }
+    print_diagnostics(sources, &errors, DiagFormat::Human, Color::Auto);
+    anyhow::bail!("the file has {} error(s); run `odc check` for all diagnostics", errors.len())
+}

@@ -1,0 +1,50 @@
+//! `odc`: the object-dictionary compiler's command line.
+//!
+//! Exit codes: 0 when no diagnostic is at error level, 1 when one is, 2 for usage and I/O errors.
+
+mod commands;
+mod input;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+/// Object-dictionary compiler for CANopen EDS/DCF and EtherCAT ESI device files.
+///
+/// Reads a vendor's device file, checks it against CiA 306/301/402 and ETG rules with
+/// compiler-style diagnostics, converts between formats, and dumps the object dictionary.
+#[derive(Parser)]
+#[command(name = "odc", version, propagate_version = true, max_term_width = 100)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    Check(commands::check::Args),
+    Dump(commands::dump::Args),
+    Convert(commands::convert::Args),
+    Info(commands::info::Args),
+    Explain(commands::explain::Args),
+    Lints(commands::explain::LintsArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Check(args) => commands::check::run(args),
+        Command::Dump(args) => commands::dump::run(args),
+        Command::Convert(args) => commands::convert::run(args),
+        Command::Info(args) => commands::info::run(args),
+        Command::Explain(args) => commands::explain::run(args),
+        Command::Lints(args) => commands::explain::lints(args),
+    };
+    match result {
+        Ok(code) => code,
+        Err(err) => {
+            eprintln!("error: {err:#}");
+            ExitCode::from(2)
+        }
+    }
+}

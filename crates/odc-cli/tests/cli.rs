@@ -1,0 +1,142 @@
+//! The `odc` binary as a user runs it: exit codes, diagnostic positions, atomic output.
+#![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers: a failure is the test failing
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn odc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_odc")).args(args).output().expect("odc runs")
+}
+
+fn fixture(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures").join(name).display().to_string()
+}
+
+fn repo_file(path: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(path).display().to_string()
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+#[test]
+fn check_points_at_the_line_and_column_of_a_bad_value() {
+    let path = fixture("bad-value.eds");
+    let out = odc(&["check", "--format", "short", &path]);
+    let text = stderr(&out);
+    // `DefaultValue=0x1FF` is line 32; the value starts at column 14. 0x1FF does not fit UNSIGNED8.
+    assert!(text.contains(&format!("{path}:32:14: error[F108]")), "{text}");
+    assert_eq!(out.status.code(), Some(1), "{text}");
+}
+
+#[test]
+fn check_human_output_underlines_the_value() {
+    let out = odc(&["check", "--color", "never", &fixture("bad-value.eds")]);
+    let text = stderr(&out);
+    assert!(text.contains("DefaultValue=0x1FF"), "{text}");
+    assert!(text.contains("^^^^^"), "{text}");
+}
+
+#[test]
+fn check_json_is_an_array_with_positions() {
+    let out = odc(&["check", "--format", "json", &fixture("bad-value.eds")]);
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON on stdout");
+    let bad_value = v.as_array().unwrap().iter().find(|d| d["code"] == "F108").unwrap();
+    assert_eq!(bad_value["severity"], "error");
+    assert_eq!(bad_value["labels"][0]["line"], 32);
+    assert_eq!(bad_value["labels"][0]["column"], 14);
+}
+
+#[test]
+fn missing_file_is_exit_code_2() {
+    let out = odc(&["check", "/nonexistent/odc/file.eds"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("cannot read"), "{}", stderr(&out));
+}
+
+#[test]
+fn usage_error_is_exit_code_2() {
+    assert_eq!(odc(&["check"]).status.code(), Some(2));
+    assert_eq!(odc(&["no-such-command"]).status.code(), Some(2));
+}
+
+#[test]
+fn shipped_device_files_check_without_errors() {
+    for file in ["eds/lxm23a.eds", "eds/lexium-mdrive.eds"] {
+        let out = odc(&["check", "--format", "short", &repo_file(file)]);
+        assert_eq!(out.status.code(), Some(0), "{file}: {}", stderr(&out));
+    }
+}
+
+#[test]
+fn convert_to_dcf_and_back_keeps_the_dictionary() {
+    let dir = tempdir();
+    let dcf = dir.join("lxm23a.dcf");
+    let eds = dir.join("lxm23a.eds");
+    let out = odc(&["convert", &repo_file("eds/lxm23a.eds"), "-o", &dcf.display().to_string()]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let out = odc(&["convert", &dcf.display().to_string(), "-o", &eds.display().to_string()]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let a = odc(&["dump", "--format", "json", &repo_file("eds/lxm23a.eds")]);
+    let b = odc(&["dump", "--format", "json", &eds.display().to_string()]);
+    let mut a: serde_json::Value = serde_json::from_slice(&a.stdout).unwrap();
+    let mut b: serde_json::Value = serde_json::from_slice(&b.stdout).unwrap();
+    // Spans and the format differ by construction; the dictionary must not.
+    for v in [&mut a, &mut b] {
+        strip(v);
+    }
+    assert_eq!(a["objects"], b["objects"]);
+    assert_eq!(a["device_info"], b["device_info"]);
+}
+
+#[test]
+fn failed_convert_leaves_the_previous_output_untouched() {
+    let dir = tempdir();
+    let out_path = dir.join("out.eds");
+    std::fs::write(&out_path, "previous content").unwrap();
+    let garbage = dir.join("garbage.eds");
+    std::fs::write(&garbage, "[1000]\nDataType=0x0007\nDefaultValue=not a number\n").unwrap();
+    let out =
+        odc(&["convert", &garbage.display().to_string(), "-o", &out_path.display().to_string()]);
+    assert_ne!(out.status.code(), Some(0));
+    assert_eq!(std::fs::read_to_string(&out_path).unwrap(), "previous content");
+    let leftovers: Vec<_> =
+        std::fs::read_dir(&dir).unwrap().filter_map(|e| e.ok()).map(|e| e.file_name()).collect();
+    assert_eq!(leftovers.len(), 2, "no temporary file left behind: {leftovers:?}");
+}
+
+#[test]
+fn explain_prints_a_rule() {
+    let out = odc(&["lints"]);
+    assert!(out.status.success());
+    let listing = String::from_utf8(out.stdout).unwrap();
+    let code = listing.split_whitespace().next().expect("at least one rule");
+    let out = odc(&["explain", code]);
+    assert!(out.status.success());
+    assert!(String::from_utf8(out.stdout).unwrap().starts_with(code));
+    assert_eq!(odc(&["explain", "Z999"]).status.code(), Some(2));
+}
+
+fn strip(v: &mut serde_json::Value) {
+    match v {
+        serde_json::Value::Object(map) => {
+            map.remove("span");
+            map.values_mut().for_each(strip);
+        }
+        serde_json::Value::Array(items) => items.iter_mut().for_each(strip),
+        _ => {}
+    }
+}
+
+fn tempdir() -> PathBuf {
+    use std::sync::atomic::{AtomicU32, Ordering};
+    static N: AtomicU32 = AtomicU32::new(0);
+    let dir = std::env::temp_dir().join(format!(
+        "odc-cli-test-{}-{}",
+        std::process::id(),
+        N.fetch_add(1, Ordering::Relaxed)
+    ));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
