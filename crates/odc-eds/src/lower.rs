@@ -278,6 +278,8 @@ pub(crate) struct Lower<'r, 'a> {
     dcf_hint: bool,
     /// Report unreadable header numbers as warnings ([FileInfo]: metadata only).
     soft: bool,
+    /// The next sub-object read is that of a NULL object (no AccessType needed).
+    null_object: bool,
 }
 
 fn raw_entry(e: &Entry<'_>, file: FileId) -> RawEntry {
@@ -286,7 +288,7 @@ fn raw_entry(e: &Entry<'_>, file: FileId) -> RawEntry {
 
 impl<'r, 'a> Lower<'r, 'a> {
     pub(crate) fn new(raw: &'r RawFile<'a>, diags: Vec<Diagnostic>) -> Self {
-        Lower { raw, file: raw.file, diags, dcf_hint: false, soft: false }
+        Lower { raw, file: raw.file, diags, dcf_hint: false, soft: false, null_object: false }
     }
 
     fn sec(&self, i: u32) -> &'r Section<'a> {
@@ -1013,6 +1015,7 @@ impl<'r, 'a> Lower<'r, 'a> {
         default_dt: Option<DataType>,
         what: &dyn std::fmt::Display,
     ) -> SubObject {
+        let what_is_null = std::mem::take(&mut self.null_object);
         let file = self.file;
         let name = match keys.take(K::ParameterName) {
             Some(e) => e.value.to_owned(),
@@ -1056,6 +1059,9 @@ impl<'r, 'a> Lower<'r, 'a> {
                 }
                 Access::Ro
             }),
+            None if default_dt == Some(DataType::Domain) && sub_index == 0 && what_is_null => {
+                Access::Ro
+            }
             None => {
                 self.warn(
                     codes::MISSING_ACCESS_TYPE,
@@ -1154,6 +1160,8 @@ impl<'r, 'a> Lower<'r, 'a> {
         };
         let name = match keys.get(K::ParameterName) {
             Some(e) => e.value.to_owned(),
+            // A VAR's sub-object 0 reports the missing name.
+            None if !kind.has_subs() => String::new(),
             None => {
                 self.warn(
                     codes::MISSING_NAME,
@@ -1247,6 +1255,7 @@ impl<'r, 'a> Lower<'r, 'a> {
             }
         } else {
             keys.move_to_extra(K::CompactSubObj);
+            self.null_object = kind == ObjectKind::Null;
             let default_dt = match kind {
                 ObjectKind::Domain => Some(DataType::Domain),
                 ObjectKind::Null => Some(DataType::Domain),
