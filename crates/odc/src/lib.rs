@@ -22,6 +22,7 @@ pub mod cia402;
 pub mod cob;
 pub mod emcy;
 mod entry;
+mod include;
 pub mod nmt;
 mod pdo;
 pub mod plan;

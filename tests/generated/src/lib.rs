@@ -13,7 +13,7 @@ pub mod lexium_mdrive {
 
 /// The small drive of the codegen snapshot tests.
 pub mod mini_drive {
-    include!(concat!(env!("OUT_DIR"), "/mini_drive.rs"));
+    odc::include_od!("mini_drive");
 }
 
 /// LTi ServoOne, EtherCAT (`esi/servoone.xml`).
