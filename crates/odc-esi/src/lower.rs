@@ -928,6 +928,7 @@ fn lower_struct(
     flags_out: &mut Vec<ObjectFlags>,
 ) {
     let index = object.index;
+    let object_span = object.span;
     let mut next: i64 = 0;
     let mut saw_array = false;
     let mut saw_other = false;
@@ -944,7 +945,7 @@ fn lower_struct(
             |si_no: u8, name: String, ty: DataType, bits: Option<u32>, ctx: &mut Ctx<'_>| {
                 let mut s = SubObject::new(si_no, name, ty, Access::Ro);
                 s.bit_size = bits;
-                s.span = si.span;
+                s.span = object_span;
                 if let Some(f) = flags {
                     apply_flags(f, index, &mut s, ctx, flags_out);
                 }
@@ -1003,8 +1004,11 @@ fn apply_sub_infos(info: &Element, object: &mut Object, ctx: &mut Ctx<'_>) {
             );
             continue;
         };
-        if let (Some(sub), Some(i)) = (object.subs.get_mut(&key), si.child("Info")) {
-            apply_info(i, sub, ctx);
+        if let Some(sub) = object.subs.get_mut(&key) {
+            sub.span = si.span;
+            if let Some(i) = si.child("Info") {
+                apply_info(i, sub, ctx);
+            }
         }
     }
 }

@@ -63,6 +63,12 @@ pub struct EtherCat {
     pub raw: Vec<RawXml>,
 }
 
+/// Serialises bytes as one hex string (`0a1b`), as ESI files write them.
+fn hex<S: serde::Serializer>(bytes: &[u8], s: S) -> Result<S::Ok, S::Error> {
+    let text: String = bytes.iter().map(|b| format!("{b:02x}")).collect();
+    s.serialize_str(&text)
+}
+
 /// A text with its language (`LcId`, e.g. 1033 English, 1031 German).
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct LocalizedText {
@@ -207,7 +213,7 @@ pub struct ObjectFlags {
 
 /// What a sync manager or FMMU is used for.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
+#[serde(rename_all = "PascalCase")]
 pub enum SmUsage {
     /// `MBoxOut`: mailbox master → device.
     MBoxOut,
@@ -338,6 +344,7 @@ pub struct InitCmd {
     /// `SubIndex`.
     pub sub_index: Option<u32>,
     /// `Data` as bytes (hexBinary).
+    #[serde(serialize_with = "hex")]
     pub data: Vec<u8>,
     /// `Comment`.
     pub comment: Option<String>,
@@ -391,10 +398,13 @@ pub struct Eeprom {
     /// `ByteSize`.
     pub byte_size: Option<u32>,
     /// `ConfigData` bytes.
+    #[serde(serialize_with = "hex")]
     pub config_data: Vec<u8>,
     /// `BootStrap` bytes.
+    #[serde(serialize_with = "hex")]
     pub boot_strap: Vec<u8>,
     /// `Data`: the whole EEPROM image, when given instead.
+    #[serde(serialize_with = "hex")]
     pub data: Vec<u8>,
     /// `Category` elements, kept as raw XML.
     pub categories: Vec<RawXml>,
