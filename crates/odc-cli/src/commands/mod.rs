@@ -4,6 +4,7 @@ pub mod check;
 pub mod convert;
 pub mod dump;
 pub mod explain;
+pub mod generate;
 pub mod info;
 
 use std::io::IsTerminal;
