@@ -6,7 +6,10 @@
 //! for build scripts and editors) and [`render_json`].
 
 use codespan_reporting::diagnostic as cs;
-use codespan_reporting::files::{Files, SimpleFiles};
+use std::ops::Range;
+use std::sync::OnceLock;
+
+use codespan_reporting::files::{Error as FilesError, Files};
 use codespan_reporting::term;
 use serde::Serialize;
 
@@ -150,10 +153,66 @@ pub struct RuleInfo {
 }
 
 /// The source files diagnostics point into, by [`FileId`].
+///
+/// Line starts are computed lazily, the first time a position in the file is resolved: most
+/// files parsed produce no diagnostic that needs one.
 #[derive(Default)]
 pub struct Sources {
-    files: SimpleFiles<String, String>,
-    count: u32,
+    files: Vec<SourceFile>,
+}
+
+struct SourceFile {
+    name: String,
+    text: String,
+    line_starts: OnceLock<Vec<usize>>,
+}
+
+impl SourceFile {
+    fn line_starts(&self) -> &[usize] {
+        self.line_starts.get_or_init(|| {
+            let bytes = self.text.as_bytes();
+            let mut starts = Vec::with_capacity(memchr::memchr_iter(b'\n', bytes).count() + 1);
+            starts.push(0);
+            starts.extend(memchr::memchr_iter(b'\n', bytes).map(|i| i + 1));
+            starts
+        })
+    }
+
+    /// Start of line `line` (the text's length for the line after the last).
+    fn line_start(&self, line: usize) -> Result<usize, FilesError> {
+        let starts = self.line_starts();
+        match line.cmp(&starts.len()) {
+            std::cmp::Ordering::Less => Ok(starts[line]),
+            std::cmp::Ordering::Equal => Ok(self.text.len()),
+            std::cmp::Ordering::Greater => {
+                Err(FilesError::LineTooLarge { given: line, max: starts.len() - 1 })
+            }
+        }
+    }
+}
+
+impl<'a> Files<'a> for Sources {
+    type FileId = usize;
+    type Name = &'a str;
+    type Source = &'a str;
+
+    fn name(&'a self, id: usize) -> Result<&'a str, FilesError> {
+        self.files.get(id).map(|f| f.name.as_str()).ok_or(FilesError::FileMissing)
+    }
+
+    fn source(&'a self, id: usize) -> Result<&'a str, FilesError> {
+        self.files.get(id).map(|f| f.text.as_str()).ok_or(FilesError::FileMissing)
+    }
+
+    fn line_index(&'a self, id: usize, byte_index: usize) -> Result<usize, FilesError> {
+        let f = self.files.get(id).ok_or(FilesError::FileMissing)?;
+        Ok(f.line_starts().binary_search(&byte_index).unwrap_or_else(|next| next - 1))
+    }
+
+    fn line_range(&'a self, id: usize, line_index: usize) -> Result<Range<usize>, FilesError> {
+        let f = self.files.get(id).ok_or(FilesError::FileMissing)?;
+        Ok(f.line_start(line_index)?..f.line_start(line_index + 1)?)
+    }
 }
 
 /// A 1-based line and column (column counted in characters).
@@ -173,24 +232,27 @@ impl Sources {
 
     /// Adds a file's (decoded) text under a display name.
     pub fn add(&mut self, name: impl Into<String>, text: impl Into<String>) -> FileId {
-        self.files.add(name.into(), text.into());
-        self.count += 1;
-        FileId(self.count - 1)
+        self.files.push(SourceFile {
+            name: name.into(),
+            text: text.into(),
+            line_starts: OnceLock::new(),
+        });
+        FileId(self.files.len() as u32 - 1)
     }
 
     /// The name of a file.
     pub fn name(&self, file: FileId) -> Option<&str> {
-        self.files.get(file.0 as usize).ok().map(|f| f.name().as_str())
+        self.files.get(file.0 as usize).map(|f| f.name.as_str())
     }
 
     /// The text of a file.
     pub fn text(&self, file: FileId) -> Option<&str> {
-        self.files.get(file.0 as usize).ok().map(|f| f.source().as_str())
+        self.files.get(file.0 as usize).map(|f| f.text.as_str())
     }
 
     /// Line and column of the start of `span`.
     pub fn line_col(&self, span: Span) -> Option<LineCol> {
-        let loc = self.files.location(span.file.0 as usize, span.start as usize).ok()?;
+        let loc = self.location(span.file.0 as usize, span.start as usize).ok()?;
         Some(LineCol { line: loc.line_number, column: loc.column_number })
     }
 
@@ -223,7 +285,7 @@ impl Sources {
         let mut buffer = if color { Buffer::ansi() } else { Buffer::no_color() };
         // Labels are filtered to files in this set, so rendering cannot fail on a missing file;
         // should it fail anyway (a span past the end of the text), fall back to the bare message.
-        match term::emit_to_write_style(&mut buffer, config, &self.files, &self.to_codespan(d)) {
+        match term::emit_to_write_style(&mut buffer, config, self, &self.to_codespan(d)) {
             Ok(()) => String::from_utf8_lossy(buffer.as_slice()).into_owned(),
             Err(_) => format!("{}[{}]: {}\n", d.severity.as_str(), d.code, d.message),
         }
