@@ -19,8 +19,20 @@
 //! | `pad_bits = N` / `pad_bytes = N` | field | gap before the field (CiA dummy mapping) |
 //! | `offset = N` | field | absolute bit offset (ESI `BitOffs`); must not overlap the previous field |
 //!
-//! ```ignore
-//! #[derive(odc::Pdo)]
+//! ```
+//! use odc::Pdo;
+//!
+//! #[derive(Debug, PartialEq, odc::PdoValue)]
+//! #[repr(i8)]
+//! enum Mode {
+//!     ProfilePosition = 1,
+//!     CyclicSyncPosition = 8,
+//!     #[pdo(other)]
+//!     Other(i8),
+//! }
+//!
+//! #[derive(Debug, PartialEq, odc::Pdo)]
+//! #[pdo(bytes = 8)]
 //! struct DriveRx {
 //!     #[pdo(index = 0x6040)]
 //!     controlword: u16,
@@ -28,6 +40,22 @@
 //!     mode: Mode,
 //!     #[pdo(index = 0x607A)]
 //!     target_position: i32,
+//! }
+//!
+//! let rx = DriveRx { controlword: 0x000F, mode: Mode::CyclicSyncPosition, target_position: -1 };
+//! let bytes = rx.pack()?;
+//! assert_eq!(bytes, [0x0F, 0x00, 0x08, 0xFF, 0xFF, 0xFF, 0xFF, 0x00]);
+//! assert_eq!(DriveRx::unpack(&bytes)?, rx);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! ```compile_fail
+//! #[derive(odc::Pdo)]
+//! struct TooLong {
+//!     #[pdo(index = 0x6064)]
+//!     position: i64,
+//!     #[pdo(index = 0x6041)]
+//!     statusword: u16, // bit 80 > 64: needs `#[pdo(max_bits = ...)]`
 //! }
 //! ```
 //!

@@ -204,8 +204,8 @@ impl Cursor {
 
 /// Place `fields` in order into `out`, checking widths, overlaps and an optional `limit`.
 ///
-/// All errors are returned for the first offending field; callers wanting every error
-/// (the derive) can use [`place_one`] in their own loop.
+/// Stops at the first offending field; callers that report every error (the derive) call
+/// [`place_one`] in their own loop.
 pub fn layout(
     fields: &[FieldSpec],
     out: &mut [BitRange],

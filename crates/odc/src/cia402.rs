@@ -1,7 +1,7 @@
 //! CiA 402 drive profile: controlword (0x6040), statusword (0x6041), the state machine, modes of
 //! operation (0x6060/0x6061) and supported modes (0x6502).
 
-use crate::PdoValue;
+use crate::{DataType, ObjValue, PdoValue, ValueError};
 use core::fmt;
 
 /// Controlword (0x6040). Commands are associated consts; mode-specific bits are set builder-style:
@@ -373,6 +373,28 @@ macro_rules! word_pdo {
 }
 word_pdo!(Controlword, Statusword);
 
+/// SDO encodings, so generated descriptors can be typed `Entry<Controlword>` and so on.
+macro_rules! obj_value_via {
+    ($t:ty, $inner:ty, $dt:ident, $to:expr, $from:expr) => {
+        impl ObjValue for $t {
+            const DATA_TYPE: DataType = DataType::$dt;
+            const MAX_LEN: usize = core::mem::size_of::<$inner>();
+            fn encode(&self, buf: &mut [u8]) -> Result<usize, ValueError> {
+                let to: fn(&$t) -> $inner = $to;
+                to(self).encode(buf)
+            }
+            fn decode(buf: &[u8]) -> Result<Self, ValueError> {
+                let from: fn($inner) -> $t = $from;
+                <$inner>::decode(buf).map(from)
+            }
+        }
+    };
+}
+obj_value_via!(Controlword, u16, Unsigned16, |c| c.0, Controlword);
+obj_value_via!(Statusword, u16, Unsigned16, |s| s.0, Statusword);
+obj_value_via!(ModeOfOperation, i8, Integer8, |m| m.to_i8(), ModeOfOperation::from_i8);
+obj_value_via!(SupportedModes, u32, Unsigned32, |m| m.0, SupportedModes);
+
 impl PdoValue for ModeOfOperation {
     const BITS: u32 = 8;
     const SIGNED: bool = true;
@@ -489,5 +511,19 @@ mod tests {
         assert_eq!(s.manufacturer_bits(), 1);
         assert_eq!(ModeOfOperation::from_raw(0xF8, 8), Some(ModeOfOperation::Other(-8)));
         assert_eq!(ModeOfOperation::Other(-8).to_raw() & 0xFF, 0xF8);
+    }
+
+    #[test]
+    fn sdo_encodings() {
+        let mut b = [0u8; 4];
+        assert_eq!(Controlword::SHUTDOWN.encode(&mut b), Ok(2));
+        assert_eq!(&b[..2], &[0x06, 0x00]);
+        assert_eq!(Statusword::decode(&[0x37, 0x02]), Ok(Statusword(0x0237)));
+        assert_eq!(ModeOfOperation::decode(&[0xFE]), Ok(ModeOfOperation::Other(-2)));
+        assert_eq!(ModeOfOperation::Homing.encode(&mut b), Ok(1));
+        assert_eq!(b[0], 6);
+        assert_eq!(SupportedModes::decode(&[0x81, 0, 0, 0]), Ok(SupportedModes(0x81)));
+        assert_eq!(Controlword::decode(&[1]), Err(ValueError::TooShort));
+        assert_eq!(<ModeOfOperation as ObjValue>::DATA_TYPE, DataType::Integer8);
     }
 }

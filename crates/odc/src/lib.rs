@@ -10,6 +10,34 @@
 //! - [`Pdo`], [`PdoValue`], [`bits`]: process-data packing, LSB0 little-endian at any bit offset;
 //! - [`SdoAbort`], [`emcy`], [`cia402`], [`cob`], [`nmt`]: CiA 301 / CiA 402 vocabulary.
 //!
+//! ```
+//! use odc::cia402::{Controlword, ModeOfOperation};
+//! use odc::{Access, Entry, Pdo};
+//!
+//! /// What generated `od` modules contain: the value type is part of the descriptor.
+//! pub const TARGET_POSITION: Entry<i32> = Entry::new(0x607A, 0, "Target position", Access::Rww, true);
+//!
+//! #[derive(odc::Pdo)]
+//! struct DriveRx {
+//!     #[pdo(index = 0x6040, bits = 16)]
+//!     controlword: Controlword,
+//!     #[pdo(index = 0x6060, bits = 8)]
+//!     mode: ModeOfOperation,
+//!     #[pdo(index = 0x607A)]
+//!     target_position: i32,
+//! }
+//!
+//! let rx = DriveRx {
+//!     controlword: Controlword::ENABLE_OPERATION.with_new_setpoint(true),
+//!     mode: ModeOfOperation::ProfilePosition,
+//!     target_position: 1000,
+//! };
+//! assert_eq!(rx.pack()?, [0x1F, 0x00, 0x01, 0xE8, 0x03, 0x00, 0x00]);
+//! assert_eq!(DriveRx::MAPPING[2].to_u32(), 0x607A_0020);
+//! assert_eq!(TARGET_POSITION.decode_download(&1000i32.to_le_bytes()), Ok(1000));
+//! # Ok::<(), odc::PackError>(())
+//! ```
+//!
 //! Features: `derive` (default) re-exports `#[derive(Pdo)]` and `#[derive(PdoValue)]`; `std`
 //! links std; `serde` and `defmt` add derives on the plain data types.
 #![no_std]
