@@ -1,0 +1,13 @@
+mod a {
+    odc_macros::include_device!("../../../../eds/lxm23a.eds", role = "controller");
+}
+
+mod b {
+    odc_macros::include_device!("../../../../eds/lxm23a.eds", node = 3);
+}
+
+mod c {
+    odc_macros::include_device!("../../../../esi/servoone.xml", device = 7);
+}
+
+fn main() {}

@@ -1,0 +1,5 @@
+mod device {
+    odc_macros::include_device!("eds/no-such-file.eds");
+}
+
+fn main() {}
