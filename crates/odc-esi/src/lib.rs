@@ -239,7 +239,9 @@ pub static RULES: &[RuleInfo] = &[
         Warning,
         "an object's Info/SubItem matches no sub-item of its data type",
         "Object/Info/SubItem elements are matched to the SubItems of the object's DataType by \
-         Name (the schema's key). A name that matches none is ignored."
+         Name (the schema's key). A name that matches none is applied to the sub-object at the \
+         same position (for arrays, whose element names the front-end makes up, silently), or \
+         ignored when there is none."
     ),
     rule!(
         "F216",

@@ -304,6 +304,8 @@ type PdoRefs<'t> = HashMap<&'t str, &'t Element>;
 /// The file-level data shared by all devices.
 struct FileData<'t> {
     pdo_refs: PdoRefs<'t>,
+    /// Uninterpreted elements of the root, `Vendor` and `Descriptions`.
+    raw: Vec<RawXml>,
     vendor_id: Option<Spanned<u32>>,
     vendor_names: Vec<LocalizedText>,
     groups: HashMap<String, Vec<LocalizedText>>,
@@ -378,7 +380,23 @@ pub(crate) fn lower(
         .child("Modules")
         .map(|m| lower_modules(m, &mut ctx, &Types::default(), &pdo_refs))
         .unwrap_or_default();
-    let data = FileData { pdo_refs, vendor_id, vendor_names, groups, modules };
+    let mut raw = Vec::new();
+    for c in &root.children {
+        if !matches!(&*c.name, "Vendor" | "Descriptions") {
+            raw.push(ctx.raw("EtherCATInfo", c));
+        }
+    }
+    for c in vendor.map(|v| v.children.as_slice()).unwrap_or_default() {
+        if !matches!(&*c.name, "Id" | "Name") {
+            raw.push(ctx.raw("Vendor", c));
+        }
+    }
+    for c in &descriptions.children {
+        if !matches!(&*c.name, "Groups" | "Devices" | "Modules" | "Pdos") {
+            raw.push(ctx.raw("Descriptions", c));
+        }
+    }
+    let data = FileData { pdo_refs, raw, vendor_id, vendor_names, groups, modules };
     let mut devices = Vec::new();
     if let Some(devs) = descriptions.child("Devices") {
         for d in devs.children_named("Device") {
@@ -561,6 +579,7 @@ fn lower_device(d: &Element, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Device {
     if let Some(m) = d.child("Modules") {
         ec.modules.extend(lower_modules(m, ctx, &types, &file.pdo_refs));
     }
+    ec.raw.extend(file.raw.iter().cloned());
     for c in &d.children {
         if !DEVICE_KNOWN.contains(&&*c.name) {
             ec.raw.push(ctx.raw("Device", c));
@@ -988,21 +1007,36 @@ fn lower_struct(
 fn apply_sub_infos(info: &Element, object: &mut Object, ctx: &mut Ctx<'_>) {
     for (pos, si) in info.children_named("SubItem").enumerate() {
         let name = si.child("Name").map(|n| n.text()).unwrap_or("");
-        let key = object.subs.iter().find(|(_, s)| s.name == name).map(|(k, _)| *k);
-        // Arrays whose element names differ from the file's: fall back to the position.
-        let key = key.or_else(|| {
-            (object.kind == ObjectKind::Array).then(|| object.subs.keys().nth(pos).copied())?
-        });
-        let Some(key) = key else {
-            let span = si.child("Name").map(|n| n.text_span).unwrap_or(si.span);
-            ctx.push(
-                Diagnostic::warning(
-                    "F215",
-                    format!("object 0x{:04X} has no sub-item named `{name}`", object.index),
-                )
-                .with_label(span, "matches no SubItem of the object's data type"),
-            );
-            continue;
+        let by_name = object.subs.iter().find(|(_, s)| s.name == name).map(|(k, _)| *k);
+        // Names that match nothing (`RxPDO assign Element 1` against `SubIndex 001`, vendor
+        // typos): fall back to the position, which is how the list is written.
+        let by_pos = object.subs.keys().nth(pos).copied();
+        let key = match by_name {
+            Some(k) => k,
+            None => {
+                // Arrays: element names are ours (`SubIndex nnn`), position is the real key.
+                if object.kind != ObjectKind::Array {
+                    let span = si.child("Name").map(|n| n.text_span).unwrap_or(si.span);
+                    let applied = match by_pos {
+                        Some(k) => format!("applied to sub-index {k} by position"),
+                        None => "ignored".to_string(),
+                    };
+                    ctx.push(
+                        Diagnostic::warning(
+                            "F215",
+                            format!("object 0x{:04X} has no sub-item named `{name}`", object.index),
+                        )
+                        .with_label(
+                            span,
+                            format!("matches no SubItem of the data type; {applied}"),
+                        ),
+                    );
+                }
+                match by_pos {
+                    Some(k) => k,
+                    None => continue,
+                }
+            }
         };
         if let Some(sub) = object.subs.get_mut(&key) {
             sub.span = si.span;

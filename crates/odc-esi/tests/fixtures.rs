@@ -44,6 +44,7 @@ fn english_name_preferred_and_identity() {
     let span = d.device_info.order_code.as_ref().unwrap().span;
     assert_eq!(&sources.text(p.file).unwrap()[span.range()], "EX1000");
     let ec = d.ethercat.as_ref().unwrap();
-    assert_eq!(ec.raw.len(), 1);
-    assert!(ec.raw[0].xml.starts_with("<Info>") && ec.raw[0].xml.ends_with("</Info>"));
+    assert_eq!(ec.raw.len(), 2);
+    assert_eq!(ec.raw[0].path, "Vendor/URL");
+    assert!(ec.raw[1].xml.starts_with("<Info>") && ec.raw[1].xml.ends_with("</Info>"));
 }
