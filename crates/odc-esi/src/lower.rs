@@ -432,12 +432,31 @@ fn lower_modules(
             let mut flags = Vec::new();
             module.objects = lower_objects(dict, ctx, &types, &mut flags);
         }
+        slot_dependent(m, &mut module.depend_on_slot, 0);
+        module.depend_on_slot.sort_unstable();
+        module.depend_on_slot.dedup();
         if let Some(coe) = m.child("Mailbox").and_then(|mb| mb.child("CoE")) {
             module.init_cmds = coe.children_named("InitCmd").map(|c| init_cmd(c, ctx)).collect();
         }
         out.push(module);
     }
     out
+}
+
+/// Collects the values of `Index` elements marked `DependOnSlot` below `el`.
+fn slot_dependent(el: &Element, out: &mut Vec<u16>, depth: u32) {
+    for c in &el.children {
+        if &*c.name == "Index" {
+            let marked = c.attr("DependOnSlot").and_then(|a| num::parse_bool(&a.value));
+            if marked == Some(true)
+                && let Some(v) = num::parse_int(c.text()).and_then(|v| u16::try_from(v).ok())
+            {
+                out.push(v);
+            }
+        } else if depth < 8 {
+            slot_dependent(c, out, depth + 1);
+        }
+    }
 }
 
 fn lower_device(d: &Element, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Device {

@@ -467,6 +467,9 @@ pub struct EsiModule {
     pub objects: BTreeMap<u16, Object>,
     /// `Mailbox/CoE/InitCmd`s.
     pub init_cmds: Vec<InitCmd>,
+    /// Indexes (of PDOs, PDO entries, objects) marked `DependOnSlot`: shifted by the slot's
+    /// `SlotIndexIncrement`/`SlotPdoIncrement` when the module is plugged in. Sorted, unique.
+    pub depend_on_slot: Vec<u16>,
     /// Span of the element.
     pub span: Span,
 }
