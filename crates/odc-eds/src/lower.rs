@@ -17,7 +17,16 @@ pub(crate) const COMPACT_SUB0_NAME: &str = "NrOfObjects";
 
 /// The name of an implied sub-object `n` of a compact object named `object`.
 pub(crate) fn compact_sub_name(object: &str, n: u8) -> String {
-    format!("{object}{n}")
+    let mut s = String::with_capacity(object.len() + 3);
+    s.push_str(object);
+    if n >= 100 {
+        s.push(char::from(b'0' + n / 100));
+    }
+    if n >= 10 {
+        s.push(char::from(b'0' + n / 10 % 10));
+    }
+    s.push(char::from(b'0' + n % 10));
+    s
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -228,26 +237,32 @@ enum K {
 const N_KEYS: usize = 17;
 
 fn obj_key(key: &str) -> Option<K> {
-    const KEYS: &[(&str, K)] = &[
-        ("ParameterName", K::ParameterName),
-        ("ObjectType", K::ObjectType),
-        ("DataType", K::DataType),
-        ("AccessType", K::AccessType),
-        ("PDOMapping", K::PdoMapping),
-        ("DefaultValue", K::DefaultValue),
-        ("LowLimit", K::LowLimit),
-        ("HighLimit", K::HighLimit),
-        ("ParameterValue", K::ParameterValue),
-        ("Denotation", K::Denotation),
-        ("ObjFlags", K::ObjFlags),
-        ("UploadFile", K::UploadFile),
-        ("DownloadFile", K::DownloadFile),
-        ("SubNumber", K::SubNumber),
-        ("CompactSubObj", K::CompactSubObj),
-        ("Count", K::Count),
-        ("ObjExtend", K::ObjExtend),
-    ];
-    KEYS.iter().find(|(n, _)| n.len() == key.len() && n.eq_ignore_ascii_case(key)).map(|&(_, k)| k)
+    let b = key.as_bytes();
+    if b.len() < 5 {
+        return None;
+    }
+    // Dispatch on length and first letter; at most two candidates to compare.
+    let (name, k): (&str, K) = match (b.len(), b[0] | 0x20) {
+        (13, b'p') => ("ParameterName", K::ParameterName),
+        (10, b'o') => ("ObjectType", K::ObjectType),
+        (8, b'd') => ("DataType", K::DataType),
+        (10, b'a') => ("AccessType", K::AccessType),
+        (10, b'p') => ("PDOMapping", K::PdoMapping),
+        (12, b'd') if b[1] | 0x20 == b'o' => ("DownloadFile", K::DownloadFile),
+        (12, b'd') => ("DefaultValue", K::DefaultValue),
+        (8, b'l') => ("LowLimit", K::LowLimit),
+        (9, b'h') => ("HighLimit", K::HighLimit),
+        (14, b'p') => ("ParameterValue", K::ParameterValue),
+        (10, b'd') => ("Denotation", K::Denotation),
+        (8, b'o') => ("ObjFlags", K::ObjFlags),
+        (10, b'u') => ("UploadFile", K::UploadFile),
+        (9, b's') => ("SubNumber", K::SubNumber),
+        (13, b'c') => ("CompactSubObj", K::CompactSubObj),
+        (5, b'c') => ("Count", K::Count),
+        (9, b'o') => ("ObjExtend", K::ObjExtend),
+        _ => return None,
+    };
+    b.eq_ignore_ascii_case(name.as_bytes()).then_some(k)
 }
 
 /// The known keys of one (possibly repeated) section, last occurrence winning, and the rest.
@@ -304,11 +319,15 @@ impl<'r, 'a> Lower<'r, 'a> {
 
     fn keys(&self, first: u32) -> Keys<'r, 'a> {
         let mut keys = Keys { k: [None; N_KEYS], extra: Vec::new() };
-        for e in self.entries(first) {
-            match obj_key(e.key) {
-                Some(k) => keys.k[k as usize] = Some(e),
-                None => keys.extra.push(e),
-            }
+        let mut add = |e: &'r Entry<'a>| match obj_key(e.key) {
+            Some(k) => keys.k[k as usize] = Some(e),
+            None => keys.extra.push(e),
+        };
+        let s = self.sec(first);
+        if s.next_same.is_none() {
+            self.raw.entries_of(s).iter().for_each(&mut add);
+        } else {
+            self.entries(first).for_each(&mut add);
         }
         keys
     }
@@ -1339,17 +1358,26 @@ impl<'r, 'a> Lower<'r, 'a> {
             tkeys.k[k as usize] = keys.take(k);
         }
         tkeys.k[K::ParameterName as usize] = keys.get(K::ParameterName);
-        let template = self.sub_from_keys(&mut tkeys, 1, obj.span, None, &what);
+        let mut template = self.sub_from_keys(&mut tkeys, 1, obj.span, None, &what);
+        // Every implied sub-object gets its own name: do not clone the template's.
+        template.name = String::new();
+        template.span = n.span;
         let mut sub0 = SubObject::new(0, COMPACT_SUB0_NAME, DataType::Unsigned8, Access::Ro);
         sub0.default = Some(Spanned::new(Value::Unsigned(u64::from(n.value)), n.span));
         sub0.span = n.span;
-        obj.subs.insert(0, sub0);
+        let mut subs = Vec::with_capacity(usize::from(n.value) + 1);
+        subs.push((0, sub0));
         for i in 1..=n.value {
             let mut s = template.clone();
             s.sub_index = i;
             s.name = compact_sub_name(&obj.name, i);
-            s.span = n.span;
-            obj.subs.insert(i, s);
+            subs.push((i, s));
+        }
+        if obj.subs.is_empty() {
+            // Sorted input: built in bulk, without node splits.
+            obj.subs = subs.into_iter().collect();
+        } else {
+            obj.subs.extend(subs);
         }
     }
 
