@@ -32,9 +32,10 @@ impl MappingEntry {
         Self { index: (v >> 16) as u16, sub: (v >> 8) as u8, bits: v as u8 }
     }
 
-    /// Whether this is a gap (CiA 301 dummy mapping onto a data-type index).
+    /// Whether this is a gap: CiA 301 dummy mapping onto a data-type index (0x0001–0x0007),
+    /// or an ESI gap entry (index 0).
     pub const fn is_dummy(self) -> bool {
-        self.index >= 0x0001 && self.index <= 0x0007
+        self.index <= 0x0007
     }
 }
 
@@ -233,6 +234,8 @@ mod tests {
         assert_eq!(MappingEntry::from_u32(0x607A_0020), MappingEntry::new(0x607A, 0, 32));
         assert!(MappingEntry::new(0x0005, 0, 8).is_dummy());
         assert!(!e.is_dummy());
+        assert!(MappingEntry::new(0, 0, 4).is_dummy());
+        assert!(!MappingEntry::new(0x0008, 0, 32).is_dummy());
     }
 
     #[test]
