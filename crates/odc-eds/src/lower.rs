@@ -243,26 +243,29 @@ fn obj_key(key: &str) -> Option<K> {
     }
     // Dispatch on length and first letter; at most two candidates to compare.
     let (name, k): (&str, K) = match (b.len(), b[0] | 0x20) {
-        (13, b'p') => ("ParameterName", K::ParameterName),
-        (10, b'o') => ("ObjectType", K::ObjectType),
-        (8, b'd') => ("DataType", K::DataType),
-        (10, b'a') => ("AccessType", K::AccessType),
-        (10, b'p') => ("PDOMapping", K::PdoMapping),
-        (12, b'd') if b[1] | 0x20 == b'o' => ("DownloadFile", K::DownloadFile),
-        (12, b'd') => ("DefaultValue", K::DefaultValue),
-        (8, b'l') => ("LowLimit", K::LowLimit),
-        (9, b'h') => ("HighLimit", K::HighLimit),
-        (14, b'p') => ("ParameterValue", K::ParameterValue),
-        (10, b'd') => ("Denotation", K::Denotation),
-        (8, b'o') => ("ObjFlags", K::ObjFlags),
-        (10, b'u') => ("UploadFile", K::UploadFile),
-        (9, b's') => ("SubNumber", K::SubNumber),
-        (13, b'c') => ("CompactSubObj", K::CompactSubObj),
-        (5, b'c') => ("Count", K::Count),
-        (9, b'o') => ("ObjExtend", K::ObjExtend),
+        (13, b'p') => ("parametername", K::ParameterName),
+        (10, b'o') => ("objecttype", K::ObjectType),
+        (8, b'd') => ("datatype", K::DataType),
+        (10, b'a') => ("accesstype", K::AccessType),
+        (10, b'p') => ("pdomapping", K::PdoMapping),
+        (12, b'd') if b[1] | 0x20 == b'o' => ("downloadfile", K::DownloadFile),
+        (12, b'd') => ("defaultvalue", K::DefaultValue),
+        (8, b'l') => ("lowlimit", K::LowLimit),
+        (9, b'h') => ("highlimit", K::HighLimit),
+        (14, b'p') => ("parametervalue", K::ParameterValue),
+        (10, b'd') => ("denotation", K::Denotation),
+        (8, b'o') => ("objflags", K::ObjFlags),
+        (10, b'u') => ("uploadfile", K::UploadFile),
+        (9, b's') => ("subnumber", K::SubNumber),
+        (13, b'c') => ("compactsubobj", K::CompactSubObj),
+        (5, b'c') => ("count", K::Count),
+        (9, b'o') => ("objextend", K::ObjExtend),
         _ => return None,
     };
-    b.eq_ignore_ascii_case(name.as_bytes()).then_some(k)
+    // The names are all letters, so `b | 0x20 == lower` is a case-insensitive comparison;
+    // branch-free over the key.
+    let diff = b.iter().zip(name.as_bytes()).fold(0u8, |acc, (&x, &l)| acc | ((x | 0x20) ^ l));
+    (diff == 0).then_some(k)
 }
 
 /// The known keys of one (possibly repeated) section, last occurrence winning, and the rest.
@@ -1629,4 +1632,58 @@ fn strip_float_suffix(s: &str) -> (&str, u8) {
 fn is_hex(s: &str) -> bool {
     let b = s.as_bytes();
     b.len() > 2 && b[0] == b'0' && (b[1] == b'x' || b[1] == b'X')
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn obj_key_is_case_insensitive_and_exact() {
+        let names = [
+            "ParameterName",
+            "ObjectType",
+            "DataType",
+            "AccessType",
+            "PDOMapping",
+            "DefaultValue",
+            "LowLimit",
+            "HighLimit",
+            "ParameterValue",
+            "Denotation",
+            "ObjFlags",
+            "UploadFile",
+            "DownloadFile",
+            "SubNumber",
+            "CompactSubObj",
+            "Count",
+            "ObjExtend",
+        ];
+        let mut seen = Vec::new();
+        for n in names {
+            let k = obj_key(n).map(|k| k as usize);
+            assert!(k.is_some(), "{n}");
+            assert_eq!(obj_key(&n.to_ascii_lowercase()).map(|k| k as usize), k, "{n}");
+            assert_eq!(obj_key(&n.to_ascii_uppercase()).map(|k| k as usize), k, "{n}");
+            assert!(!seen.contains(&k), "{n}");
+            seen.push(k);
+            // One character off (also a non-letter whose bit 5 is the only difference).
+            let mut b = n.as_bytes().to_vec();
+            b[n.len() - 1] = b'@';
+            assert!(obj_key(std::str::from_utf8(&b).unwrap_or("")).is_none(), "{n}");
+            assert!(obj_key(&format!("{n}x")).is_none(), "{n}");
+        }
+        assert!(obj_key("Parameter_Name").is_none());
+        assert!(obj_key("Cou t").is_none());
+    }
+
+    #[test]
+    fn compact_sub_names() {
+        assert_eq!(compact_sub_name("Obj", 0), "Obj0");
+        assert_eq!(compact_sub_name("Obj", 7), "Obj7");
+        assert_eq!(compact_sub_name("Obj", 10), "Obj10");
+        assert_eq!(compact_sub_name("Obj", 99), "Obj99");
+        assert_eq!(compact_sub_name("Obj", 100), "Obj100");
+        assert_eq!(compact_sub_name("", 255), "255");
+    }
 }

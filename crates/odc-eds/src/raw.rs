@@ -250,6 +250,28 @@ fn trim_pos(text: &str, start: usize, end: usize) -> (usize, usize) {
     (s, e)
 }
 
+/// The first `needle` in `hay[from..]`, 8 bytes at a time. Lines are short (a few tens of
+/// bytes): cheaper than a `memchr` call per line.
+#[inline]
+fn find_byte(hay: &[u8], from: usize, needle: u8) -> Option<usize> {
+    const LO: u64 = 0x0101_0101_0101_0101;
+    const HI: u64 = 0x8080_8080_8080_8080;
+    let pat = LO * u64::from(needle);
+    let mut i = from;
+    while i + 8 <= hay.len() {
+        let mut chunk = [0u8; 8];
+        chunk.copy_from_slice(&hay[i..i + 8]);
+        let w = u64::from_le_bytes(chunk) ^ pat;
+        // The lowest set bit marks the first zero byte exactly (borrows only go upwards).
+        let z = w.wrapping_sub(LO) & !w & HI;
+        if z != 0 {
+            return Some(i + (z.trailing_zeros() / 8) as usize);
+        }
+        i += 8;
+    }
+    hay[i..].iter().position(|&b| b == needle).map(|j| i + j)
+}
+
 fn pos(s: usize, e: usize) -> Pos {
     Pos { start: s as u32, end: e as u32 }
 }
@@ -273,8 +295,7 @@ pub fn scan<'a>(text: &'a str, file: FileId, diags: &mut Vec<Diagnostic>) -> Raw
     let mut sections: Vec<Section<'a>> = Vec::with_capacity(text.len() / 200 + 4);
     let mut line_start = 0usize;
     while line_start < bytes.len() {
-        let nl =
-            memchr::memchr(b'\n', &bytes[line_start..]).map_or(bytes.len(), |i| line_start + i);
+        let nl = find_byte(bytes, line_start, b'\n').unwrap_or(bytes.len());
         let mut line_end = nl;
         if line_end > line_start && bytes[line_end - 1] == b'\r' {
             line_end -= 1;
@@ -349,9 +370,8 @@ pub fn scan<'a>(text: &'a str, file: FileId, diags: &mut Vec<Diagnostic>) -> Raw
                     continue_line(&mut line_start, nl);
                     continue;
                 }
-                _ => match memchr::memchr(b'=', &bytes[s..e]) {
-                    Some(i) => {
-                        let eq = s + i;
+                _ => match find_byte(&bytes[..e], s, b'=') {
+                    Some(eq) => {
                         let (ks, ke) = trim_pos(text, s, eq);
                         let (vs, ve) = trim_pos(text, eq + 1, e);
                         let value_pos = if vs == ve { pos(eq + 1, eq + 1) } else { pos(vs, ve) };
@@ -492,6 +512,17 @@ mod tests {
         let mut d = Vec::new();
         let r = scan(text, FileId(0), &mut d);
         (r, d)
+    }
+
+    #[test]
+    fn find_byte_matches_a_plain_search() {
+        let hay = b"ab=c\nxxxxxxxxxxxxxxxxxxxxxx=\x80\xff\n==\n0123456789abcdef\n";
+        for from in 0..=hay.len() {
+            for needle in [b'\n', b'=', b'a', b'f', 0x80, 0xff, b'z'] {
+                let want = hay[from..].iter().position(|&b| b == needle).map(|j| from + j);
+                assert_eq!(find_byte(hay, from, needle), want, "{from} {needle}");
+            }
+        }
     }
 
     #[test]
