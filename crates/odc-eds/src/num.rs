@@ -49,9 +49,10 @@ pub(crate) fn parse_plain(s: &str) -> Option<(i128, u8)> {
     if b.is_empty() {
         return None;
     }
-    let value: u128 = if b.len() > 2 && b[0] == b'0' && (b[1] == b'x' || b[1] == b'X') {
+    // u64 arithmetic: a value past u64::MAX does not read.
+    let value: u64 = if b.len() > 2 && b[0] == b'0' && (b[1] == b'x' || b[1] == b'X') {
         flags |= HEX;
-        let mut v: u128 = 0;
+        let mut v: u64 = 0;
         for &c in &b[2..] {
             let d = match c {
                 b'0'..=b'9' => c - b'0',
@@ -59,14 +60,11 @@ pub(crate) fn parse_plain(s: &str) -> Option<(i128, u8)> {
                 b'A'..=b'F' => c - b'A' + 10,
                 _ => return None,
             };
-            v = v.checked_mul(16)?.checked_add(u128::from(d))?;
-            if v > u128::from(u64::MAX) {
-                return None;
-            }
+            v = v.checked_mul(16)?.checked_add(u64::from(d))?;
         }
         v
     } else {
-        let mut v: u128 = 0;
+        let mut v: u64 = 0;
         let octal = b.len() > 1 && b[0] == b'0' && b.iter().all(|c| (b'0'..=b'7').contains(c));
         let base = if octal { 8 } else { 10 };
         if b.len() > 1 && b[0] == b'0' {
@@ -76,10 +74,7 @@ pub(crate) fn parse_plain(s: &str) -> Option<(i128, u8)> {
             if !c.is_ascii_digit() {
                 return None;
             }
-            v = v * base + u128::from(c - b'0');
-            if v > u128::from(u64::MAX) {
-                return None;
-            }
+            v = v.checked_mul(base)?.checked_add(u64::from(c - b'0'))?;
         }
         if octal && v < 8 {
             // 00..07: both readings agree; no warning worth giving.

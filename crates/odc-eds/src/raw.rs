@@ -139,11 +139,25 @@ impl PartialEq for Caseless<'_> {
 impl Eq for Caseless<'_> {}
 impl Hash for Caseless<'_> {
     fn hash<H: Hasher>(&self, state: &mut H) {
-        let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-        for b in self.0.bytes() {
-            h = (h ^ u64::from(b.to_ascii_lowercase())).wrapping_mul(0x0100_0000_01b3);
+        // Eight bytes at a time. `| 0x20` folds ASCII case (names equal ignoring ASCII case hash
+        // alike; other bytes may collide, which `eq` sorts out).
+        const K: u64 = 0x9E37_79B9_7F4A_7C15;
+        const CASE: u64 = 0x2020_2020_2020_2020;
+        let b = self.0.as_bytes();
+        let mut h = b.len() as u64;
+        let mut chunks = b.chunks_exact(8);
+        for c in &mut chunks {
+            let mut w = [0u8; 8];
+            w.copy_from_slice(c);
+            h = (h.rotate_left(23) ^ (u64::from_le_bytes(w) | CASE)).wrapping_mul(K);
         }
-        state.write_u64(h);
+        let r = chunks.remainder();
+        if !r.is_empty() {
+            let mut w = [0u8; 8];
+            w[..r.len()].copy_from_slice(r);
+            h = (h.rotate_left(23) ^ (u64::from_le_bytes(w) | CASE)).wrapping_mul(K);
+        }
+        state.write_u64(h ^ (h >> 29));
     }
 }
 
@@ -430,11 +444,12 @@ pub fn scan<'a>(text: &'a str, file: FileId, diags: &mut Vec<Diagnostic>) -> Raw
         HashMap::with_capacity_and_hasher(sections.len(), BuildHasherDefault::default());
     for i in 0..sections.len() {
         let name = sections[i].name;
-        match index.get_mut(&Caseless(name)) {
-            None => {
-                index.insert(Caseless(name), (i as u32, i as u32));
+        match index.entry(Caseless(name)) {
+            std::collections::hash_map::Entry::Vacant(v) => {
+                v.insert((i as u32, i as u32));
             }
-            Some(slot) => {
+            std::collections::hash_map::Entry::Occupied(mut o) => {
+                let slot = o.get_mut();
                 let (first, last) = *slot;
                 slot.1 = i as u32;
                 sections[last as usize].next_same = Some(i as u32);
