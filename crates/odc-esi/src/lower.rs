@@ -43,7 +43,7 @@ enum Resolved<'t> {
     /// A base type (possibly through `BaseType`), with the declared size if any.
     Simple(DataType, Option<u32>),
     /// A declared type with sub-items.
-    Struct(&'t Element, Option<u32>),
+    Struct(&'t Element<'t>, Option<u32>),
     /// A declared array type: element type, element bits, lower bound, element count.
     Array(DataType, Option<u32>, i64, u32),
 }
@@ -51,7 +51,7 @@ enum Resolved<'t> {
 /// The data types of one dictionary, by name.
 #[derive(Default)]
 struct Types<'t> {
-    by_name: HashMap<&'t str, &'t Element>,
+    by_name: HashMap<&'t str, &'t Element<'t>>,
 }
 
 fn builtin(name: &str) -> Option<DataType> {
@@ -299,7 +299,7 @@ fn first_name(el: &Element) -> String {
 
 /// PDO definitions of old (ETG.2000 v1.2) files: `Descriptions/Pdos/Pdo@RefName`, referred to
 /// by `RxPdo@Ref`/`TxPdo@Ref`.
-type PdoRefs<'t> = HashMap<&'t str, &'t Element>;
+type PdoRefs<'t> = HashMap<&'t str, &'t Element<'t>>;
 
 /// The file-level data shared by all devices.
 struct FileData<'t> {
@@ -418,7 +418,7 @@ fn lower_modules(
         if let Some(t) = m.child("Type") {
             module.type_name = t.text().to_string();
             module.module_ident = ctx.attr_u32(t, "ModuleIdent");
-            module.module_class = t.attr("ModuleClass").map(|a| a.value.clone());
+            module.module_class = t.attr("ModuleClass").map(|a| a.value.to_string());
         }
         module.names = names(m, ctx);
         let mut types = Types { by_name: outer.by_name.clone() };
@@ -462,7 +462,7 @@ fn slot_dependent(el: &Element, out: &mut Vec<u16>, depth: u32) {
 fn lower_device(d: &Element, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Device {
     let mut ec = EtherCat {
         vendor_id: file.vendor_id.as_ref().map(|v| v.value),
-        physics: d.attr("Physics").map(|a| a.value.clone()),
+        physics: d.attr("Physics").map(|a| a.value.to_string()),
         vendor_names: file.vendor_names.clone(),
         ..EtherCat::default()
     };
@@ -493,7 +493,7 @@ fn lower_device(d: &Element, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Device {
                     }
                     _ => ec.type_attributes.push(XmlAttribute {
                         name: a.name.to_string(),
-                        value: a.value.clone(),
+                        value: a.value.to_string(),
                         span: a.span,
                     }),
                 }
@@ -784,8 +784,8 @@ fn apply_flags(
     let mut f = ObjectFlags { index, sub: sub.sub_index, ..ObjectFlags::default() };
     if let Some(a) = flags.child("Access") {
         sub.access = access_of(a.text(), a.text_span, ctx);
-        f.read_restrictions = a.attr("ReadRestrictions").map(|x| x.value.clone());
-        f.write_restrictions = a.attr("WriteRestrictions").map(|x| x.value.clone());
+        f.read_restrictions = a.attr("ReadRestrictions").map(|x| x.value.to_string());
+        f.write_restrictions = a.attr("WriteRestrictions").map(|x| x.value.to_string());
     }
     if let Some(p) = flags.child("PdoMapping") {
         sub.pdo_mapping = pdo_mapping_of(p.text(), p.text_span, ctx);
@@ -818,7 +818,7 @@ fn value_of(el: &Element, ty: DataType, ctx: &mut Ctx<'_>) -> Spanned<Value> {
             num::decode_data(&b, ty)
         })
     } else if &*el.name == "DefaultString" {
-        Some(Value::Text(el.text.clone()))
+        Some(Value::Text(el.text.to_string()))
     } else {
         num::parse_value_text(text, ty)
     };
@@ -1183,7 +1183,7 @@ fn mailbox(mb: &Element, ctx: &mut Ctx<'_>) -> Mailbox {
             pdo_upload: ctx.attr_bool(c, "PdoUpload").unwrap_or(false),
             complete_access: ctx.attr_bool(c, "CompleteAccess").unwrap_or(false),
             segmented_sdo: ctx.attr_bool(c, "SegmentedSdo").unwrap_or(false),
-            eds_file: c.attr("EdsFile").map(|a| a.value.clone()),
+            eds_file: c.attr("EdsFile").map(|a| a.value.to_string()),
             init_cmds: c.children_named("InitCmd").map(|i| init_cmd(i, ctx)).collect(),
         });
     }

@@ -9,6 +9,8 @@
 //! and after every event (`buffer_position`), and borrowing attribute values lets their spans be
 //! computed exactly. The tree holds only element names, attributes, trimmed text and spans.
 
+use std::borrow::Cow;
+
 use odc_model::{Diagnostic, FileId, Span};
 use quick_xml::XmlVersion;
 use quick_xml::events::{BytesStart, Event};
@@ -19,37 +21,37 @@ pub const MAX_DEPTH: usize = 256;
 
 /// An attribute: name (local part), value (entities resolved) and the span of the value.
 #[derive(Debug)]
-pub struct Attr {
-    pub name: Box<str>,
-    pub value: String,
+pub struct Attr<'s> {
+    pub name: Cow<'s, str>,
+    pub value: Cow<'s, str>,
     pub span: Span,
 }
 
 /// An element.
 #[derive(Debug)]
-pub struct Element {
+pub struct Element<'s> {
     /// Local name (namespace prefix dropped).
-    pub name: Box<str>,
-    pub attrs: Vec<Attr>,
-    pub children: Vec<Element>,
+    pub name: Cow<'s, str>,
+    pub attrs: Vec<Attr<'s>>,
+    pub children: Vec<Element<'s>>,
     /// Text and CDATA content, entities resolved, leading white space dropped.
-    pub text: String,
+    pub text: Cow<'s, str>,
     /// Span of the text without surrounding white space (the element's span if none).
     pub text_span: Span,
     /// From `<` to the end of the end tag.
     pub span: Span,
 }
 
-impl Element {
-    pub fn child(&self, name: &str) -> Option<&Element> {
+impl<'s> Element<'s> {
+    pub fn child(&self, name: &str) -> Option<&Element<'s>> {
         self.children.iter().find(|c| &*c.name == name)
     }
 
-    pub fn children_named<'a>(&'a self, name: &'a str) -> impl Iterator<Item = &'a Element> {
+    pub fn children_named<'a>(&'a self, name: &'a str) -> impl Iterator<Item = &'a Element<'s>> {
         self.children.iter().filter(move |c| &*c.name == name)
     }
 
-    pub fn attr(&self, name: &str) -> Option<&Attr> {
+    pub fn attr(&self, name: &str) -> Option<&Attr<'s>> {
         self.attrs.iter().find(|a| &*a.name == name)
     }
 
@@ -66,14 +68,18 @@ fn local(name: &str) -> &str {
 struct Builder<'s> {
     src: &'s str,
     file: FileId,
-    stack: Vec<Element>,
-    roots: Vec<Element>,
+    stack: Vec<Element<'s>>,
+    /// Finished elements waiting for their parent's end tag (children of open elements).
+    pending: Vec<Element<'s>>,
+    /// Start of each open element's children in `pending`.
+    child_start: Vec<usize>,
+    roots: Vec<Element<'s>>,
     diags: Vec<Diagnostic>,
     /// Text start/end of the element on top of the stack.
     text_bounds: Vec<Option<(u32, u32)>>,
 }
 
-impl Builder<'_> {
+impl<'s> Builder<'s> {
     fn span(&self, start: u32, end: u32) -> Span {
         Span::new(self.file, start, end)
     }
@@ -84,7 +90,22 @@ impl Builder<'_> {
         (p >= base && p + s.len() <= base + self.src.len()).then(|| (p - base) as u32)
     }
 
-    fn element(&mut self, e: &BytesStart<'_>, start: u32, end: u32) -> Element {
+    /// `s` as a slice of the source when it points into it (it does for a `&str` reader).
+    fn reborrow(&self, s: Cow<'_, str>) -> Cow<'s, str> {
+        match s {
+            Cow::Borrowed(b) => match self.offset_of(b) {
+                Some(o) => Cow::Borrowed(&self.src[o as usize..o as usize + b.len()]),
+                None => Cow::Owned(b.to_owned()),
+            },
+            Cow::Owned(o) => Cow::Owned(o),
+        }
+    }
+
+    fn name_of(&self, raw: &str) -> Cow<'s, str> {
+        self.reborrow(Cow::Borrowed(local(raw)))
+    }
+
+    fn element(&mut self, e: &BytesStart<'_>, start: u32, end: u32) -> Element<'s> {
         let mut attrs = Vec::new();
         for a in e.attributes() {
             match a {
@@ -97,7 +118,7 @@ impl Builder<'_> {
                         _ => self.span(start, end),
                     };
                     let value = match a.normalized_value(XmlVersion::Implicit1_0) {
-                        Ok(v) => v.into_owned(),
+                        Ok(v) => self.reborrow(v),
                         Err(err) => {
                             self.diags.push(
                                 Diagnostic::warning(
@@ -106,10 +127,10 @@ impl Builder<'_> {
                                 )
                                 .with_label(vspan, "kept as written"),
                             );
-                            a.value.to_string()
+                            self.reborrow(a.value.clone())
                         }
                     };
-                    attrs.push(Attr { name: local(a.key.as_ref()).into(), value, span: vspan });
+                    attrs.push(Attr { name: self.name_of(a.key.as_ref()), value, span: vspan });
                 }
                 Err(err) => {
                     self.diags.push(
@@ -120,18 +141,18 @@ impl Builder<'_> {
             }
         }
         Element {
-            name: local(e.name().as_ref()).into(),
+            name: self.name_of(e.name().as_ref()),
             attrs,
             children: Vec::new(),
-            text: String::new(),
+            text: Cow::Borrowed(""),
             text_span: self.span(start, end),
             span: self.span(start, end),
         }
     }
 
-    fn attach(&mut self, el: Element) {
+    fn attach(&mut self, el: Element<'s>) {
         match self.stack.last_mut() {
-            Some(parent) => parent.children.push(el),
+            Some(_) => self.pending.push(el),
             None => {
                 if let Some(first) = self.roots.first() {
                     let d = Diagnostic::error("F202", "a second root element")
@@ -144,7 +165,24 @@ impl Builder<'_> {
         }
     }
 
-    fn text(&mut self, s: &str, start: u32, end: u32) {
+    /// Pushes an opened element.
+    fn open(&mut self, el: Element<'s>) {
+        self.stack.push(el);
+        self.child_start.push(self.pending.len());
+        self.text_bounds.push(None);
+    }
+
+    /// Pops the innermost open element, its children gathered.
+    fn close(&mut self) -> Option<Element<'s>> {
+        let mut el = self.stack.pop()?;
+        let from = self.child_start.pop().unwrap_or(self.pending.len()).min(self.pending.len());
+        if from < self.pending.len() {
+            el.children = self.pending.drain(from..).collect();
+        }
+        Some(el)
+    }
+
+    fn text(&mut self, s: Cow<'s, str>, start: u32, end: u32) {
         if self.stack.is_empty() {
             if !s.trim().is_empty() {
                 let lead = (s.len() - s.trim_start().len()) as u32;
@@ -154,20 +192,23 @@ impl Builder<'_> {
             }
             return;
         }
-        let trimmed = s.trim();
+        let tlen = s.trim().len();
+        let lead = (s.len() - s.trim_start().len()) as u32;
         let Some(top) = self.stack.last_mut() else { return };
         if top.text.is_empty() {
-            if trimmed.is_empty() {
+            if tlen == 0 {
                 return;
             }
-            top.text.push_str(s.trim_start());
+            top.text = match s {
+                Cow::Borrowed(b) => Cow::Borrowed(b.trim_start()),
+                Cow::Owned(o) => Cow::Owned(o.trim_start().to_owned()),
+            };
         } else {
-            top.text.push_str(s);
+            top.text.to_mut().push_str(&s);
         }
-        if !trimmed.is_empty() {
-            let lead = (s.len() - s.trim_start().len()) as u32;
+        if tlen != 0 {
             let t0 = start + lead;
-            let t1 = t0 + trimmed.len() as u32;
+            let t1 = t0 + tlen as u32;
             if let Some(b) = self.text_bounds.last_mut() {
                 *b = Some(match *b {
                     Some((a, _)) => (a, t1),
@@ -179,14 +220,14 @@ impl Builder<'_> {
 }
 
 /// The root elements (normally one) and the problems met while reading.
-pub struct Document {
-    pub roots: Vec<Element>,
+pub struct Document<'s> {
+    pub roots: Vec<Element<'s>>,
     pub diagnostics: Vec<Diagnostic>,
 }
 
 /// Reads `src` into an element tree. Stops at the first well-formedness error (reported with its
 /// position) and returns what was read until then, open elements closed.
-pub fn read(src: &str, file: FileId) -> Document {
+pub fn read(src: &str, file: FileId) -> Document<'_> {
     let mut reader = Reader::from_str(src);
     {
         let c = reader.config_mut();
@@ -198,6 +239,8 @@ pub fn read(src: &str, file: FileId) -> Document {
         src,
         file,
         stack: Vec::new(),
+        pending: Vec::new(),
+        child_start: Vec::new(),
         roots: Vec::new(),
         diags: Vec::new(),
         text_bounds: Vec::new(),
@@ -237,8 +280,7 @@ pub fn read(src: &str, file: FileId) -> Document {
                     continue;
                 }
                 let el = b.element(&e, before, after);
-                b.stack.push(el);
-                b.text_bounds.push(None);
+                b.open(el);
             }
             Ok(Event::Empty(e)) => {
                 if b.stack.len() >= MAX_DEPTH {
@@ -248,7 +290,7 @@ pub fn read(src: &str, file: FileId) -> Document {
                 b.attach(el);
             }
             Ok(Event::End(_)) => {
-                if let Some(mut el) = b.stack.pop() {
+                if let Some(mut el) = b.close() {
                     el.span.end = after;
                     if let Some(Some((t0, t1))) = b.text_bounds.pop() {
                         el.text_span = b.span(t0, t1);
@@ -260,7 +302,7 @@ pub fn read(src: &str, file: FileId) -> Document {
             }
             Ok(Event::Text(t)) => {
                 let s = t.xml10_content();
-                b.text(&s, before, after);
+                b.text(s, before, after);
             }
             Ok(Event::CData(t)) => {
                 let s = t.xml10_content();
@@ -268,7 +310,11 @@ pub fn read(src: &str, file: FileId) -> Document {
                 let start = before + 9;
                 let end = after.saturating_sub(3).max(start);
                 if let Some(top) = b.stack.last_mut() {
-                    top.text.push_str(&s);
+                    if top.text.is_empty() {
+                        top.text = s;
+                    } else {
+                        top.text.to_mut().push_str(&s);
+                    }
                     if let Some(bounds) = b.text_bounds.last_mut() {
                         *bounds = Some(match *bounds {
                             Some((a, _)) => (a, end),
@@ -297,7 +343,7 @@ pub fn read(src: &str, file: FileId) -> Document {
                     }
                 };
                 if let Some(top) = b.stack.last_mut() {
-                    top.text.push_str(&text);
+                    top.text.to_mut().push_str(&text);
                     if let Some(bounds) = b.text_bounds.last_mut() {
                         *bounds = Some(match *bounds {
                             Some((a, _)) => (a, after),
@@ -330,7 +376,7 @@ pub fn read(src: &str, file: FileId) -> Document {
                 .with_label(span, "not closed"),
         );
     }
-    while let Some(mut el) = b.stack.pop() {
+    while let Some(mut el) = b.close() {
         el.span.end = end;
         let bounds = b.text_bounds.pop().flatten();
         if let Some((t0, t1)) = bounds {
