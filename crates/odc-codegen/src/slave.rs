@@ -43,6 +43,46 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
             }
         }
     });
+    // A device without typed entries (an EtherCAT coupler, say) answers every request with
+    // "no such object"; the match-based bodies would leave `node_id` unused and `Ok(())`
+    // unreachable.
+    let (new_body, read_body, write_body) = if entries.is_empty() {
+        (
+            quote! {
+                let _ = node_id;
+                Dictionary {}
+            },
+            quote! {
+                let _ = (index, sub, buf);
+                Err(#rt::SdoAbort::NoSuchObject)
+            },
+            quote! {
+                let _ = (index, sub, data, hook);
+                Err(#rt::SdoAbort::NoSuchObject)
+            },
+        )
+    } else {
+        (
+            quote! {
+                Dictionary {
+                    #(#inits)*
+                }
+            },
+            quote! {
+                match #rt::slave::locate(&ENTRIES, index, sub)? {
+                    #(#reads)*
+                    _ => Err(#rt::SdoAbort::NoSuchObject),
+                }
+            },
+            quote! {
+                match #rt::slave::locate(&ENTRIES, index, sub)? {
+                    #(#writes)*
+                    _ => return Err(#rt::SdoAbort::NoSuchObject),
+                }
+                Ok(())
+            },
+        )
+    };
     let docs = doc(&format!(
         "The object dictionary of {}, for the device's own firmware: `no_std`, no heap.\n\n\
          `ENTRIES` lists every typed sub-object in address order; `Dictionary` holds their \
@@ -66,9 +106,7 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
                 /// The dictionary of node `node_id`, every entry at its default (`$NODEID`
                 /// applied); entries without default start at zero.
                 pub fn new(node_id: u8) -> Self {
-                    Dictionary {
-                        #(#inits)*
-                    }
+                    #new_body
                 }
 
                 /// SDO upload of `index:sub` into `buf`; returns the number of bytes.
@@ -78,10 +116,7 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
                 /// The abort code: no such object or sub-index, read of a write-only entry,
                 /// `buf` too short.
                 pub fn read(&self, index: u16, sub: u8, buf: &mut [u8]) -> Result<usize, #rt::SdoAbort> {
-                    match #rt::slave::locate(&ENTRIES, index, sub)? {
-                        #(#reads)*
-                        _ => Err(#rt::SdoAbort::NoSuchObject),
-                    }
+                    #read_body
                 }
 
                 /// SDO download of `data` into `index:sub`, telling `hook` before and after
@@ -98,11 +133,7 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
                     data: &[u8],
                     hook: &mut H,
                 ) -> Result<(), #rt::SdoAbort> {
-                    match #rt::slave::locate(&ENTRIES, index, sub)? {
-                        #(#writes)*
-                        _ => return Err(#rt::SdoAbort::NoSuchObject),
-                    }
-                    Ok(())
+                    #write_body
                 }
 
                 /// SDO download of `data` into `index:sub`.
