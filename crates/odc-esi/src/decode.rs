@@ -86,11 +86,34 @@ pub(crate) fn decode(bytes: &[u8]) -> Result<Decoded, DecodeError> {
                 s
             }
         }
+    } else if encoding == encoding_rs::WINDOWS_1252 {
+        latin1(body)
     } else {
         let (s, _) = encoding.decode_without_bom_handling(body);
         s.into_owned()
     };
     Ok(Decoded { text, diagnostics })
+}
+
+/// Windows-1252 into a string sized for the text (the generic decoder reserves three bytes per
+/// input byte, which for a large file is most of the peak memory).
+fn latin1(body: &[u8]) -> String {
+    // 0x80..=0x9F map to characters of up to three UTF-8 bytes, 0xA0..=0xFF to two.
+    let extra: usize =
+        body.iter().map(|&b| usize::from(b >= 0x80) + usize::from((0x80..0xA0).contains(&b))).sum();
+    if extra == 0
+        && let Ok(s) = std::str::from_utf8(body)
+    {
+        return s.to_owned();
+    }
+    let mut out = String::with_capacity(body.len() + extra);
+    let mut decoder = encoding_rs::WINDOWS_1252.new_decoder_without_bom_handling();
+    let (result, _, _) = decoder.decode_to_string(body, &mut out, true);
+    if result == encoding_rs::CoderResult::InputEmpty {
+        out
+    } else {
+        encoding_rs::WINDOWS_1252.decode_without_bom_handling(body).0.into_owned()
+    }
 }
 
 #[cfg(test)]
