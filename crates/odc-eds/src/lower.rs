@@ -202,6 +202,36 @@ struct ObjB {
     links: Option<u32>,
 }
 
+/// The objects being collected, with the one the last section was about kept out of the map:
+/// an object's sections usually follow each other, so most sections need no map look-up.
+#[derive(Default)]
+struct ObjMap {
+    map: BTreeMap<u16, ObjB>,
+    cur: Option<(u16, ObjB)>,
+}
+
+impl ObjMap {
+    fn get(&mut self, index: u16) -> &mut ObjB {
+        if self.cur.as_ref().is_none_or(|c| c.0 != index) {
+            let b = self.map.remove(&index).unwrap_or_default();
+            if let Some((k, old)) = self.cur.replace((index, b)) {
+                self.map.insert(k, old);
+            }
+        }
+        match &mut self.cur {
+            Some(c) => &mut c.1,
+            None => unreachable!("set just above"),
+        }
+    }
+
+    fn finish(mut self) -> BTreeMap<u16, ObjB> {
+        if let Some((k, b)) = self.cur.take() {
+            self.map.insert(k, b);
+        }
+        self.map
+    }
+}
+
 #[derive(Default)]
 struct ModB {
     info: Option<u32>,
@@ -262,10 +292,25 @@ fn obj_key(key: &str) -> Option<K> {
         (9, b'o') => ("objextend", K::ObjExtend),
         _ => return None,
     };
-    // The names are all letters, so `b | 0x20 == lower` is a case-insensitive comparison;
-    // branch-free over the key.
-    let diff = b.iter().zip(name.as_bytes()).fold(0u8, |acc, (&x, &l)| acc | ((x | 0x20) ^ l));
-    (diff == 0).then_some(k)
+    // The names are all letters, so `b | 0x20 == lower` is a case-insensitive comparison. Keys
+    // of eight bytes or more: compare the first and the last eight bytes (overlapping) as words.
+    let l = name.as_bytes();
+    let n = b.len();
+    let eq = if n >= 8 {
+        const CASE: u64 = 0x2020_2020_2020_2020;
+        (le64(b, 0) | CASE) == le64(l, 0) && (le64(b, n - 8) | CASE) == le64(l, n - 8)
+    } else {
+        b.iter().zip(l).fold(0u8, |acc, (&x, &l)| acc | ((x | 0x20) ^ l)) == 0
+    };
+    eq.then_some(k)
+}
+
+/// The eight bytes of `b` at `at` as a little-endian word.
+#[inline]
+fn le64(b: &[u8], at: usize) -> u64 {
+    let mut w = [0u8; 8];
+    w.copy_from_slice(&b[at..at + 8]);
+    u64::from_le_bytes(w)
 }
 
 /// The known keys of one (possibly repeated) section, last occurrence winning, and the rest.
@@ -587,7 +632,7 @@ impl<'r, 'a> Lower<'r, 'a> {
         let lname = name.as_bytes();
         self.dcf_hint = lname.len() >= 4 && lname[lname.len() - 4..].eq_ignore_ascii_case(b".dcf");
         let mut dev = Device::default();
-        let mut objects: BTreeMap<u16, ObjB> = BTreeMap::new();
+        let mut objects = ObjMap::default();
         let mut modules: BTreeMap<u16, ModB> = BTreeMap::new();
         let mut extra: Vec<(u32, RawSection)> = Vec::new();
         let mut has_value_sections = false;
@@ -627,17 +672,17 @@ impl<'r, 'a> Lower<'r, 'a> {
                         .map(|v| Spanned::new(v.value as u16, v.span))
                         .collect();
                 }
-                Kind::Object(x) => objects.entry(x).or_default().main = Some(i),
+                Kind::Object(x) => objects.get(x).main = Some(i),
                 Kind::Sub(x, s) => {
-                    objects.entry(x).or_default().subs.insert(s, i);
+                    objects.get(x).subs.insert(s, i);
                 }
-                Kind::Name(x) => objects.entry(x).or_default().name = Some(i),
+                Kind::Name(x) => objects.get(x).name = Some(i),
                 Kind::Value(x) => {
                     has_value_sections = true;
-                    objects.entry(x).or_default().value = Some(i);
+                    objects.get(x).value = Some(i);
                 }
-                Kind::Denotation(x) => objects.entry(x).or_default().denotation = Some(i),
-                Kind::Links(x) => objects.entry(x).or_default().links = Some(i),
+                Kind::Denotation(x) => objects.get(x).denotation = Some(i),
+                Kind::Links(x) => objects.get(x).links = Some(i),
                 Kind::ModInfo(m) => modules.entry(m).or_default().info = Some(i),
                 Kind::ModFixedObjects(m) => modules.entry(m).or_default().fixed_list = Some(i),
                 Kind::ModFixed(m, x) => {
@@ -667,11 +712,11 @@ impl<'r, 'a> Lower<'r, 'a> {
             }
         }
 
+        let objects = objects.finish();
+        let mut built: Vec<(u16, Object)> = Vec::with_capacity(objects.len());
         for (index, b) in &objects {
             match self.object(*index, b, &mut extra) {
-                Some(o) => {
-                    dev.objects.insert(*index, o);
-                }
+                Some(o) => built.push((*index, o)),
                 None => {
                     // Orphan companions: kept as unknown sections.
                     let orphans = b
@@ -694,6 +739,9 @@ impl<'r, 'a> Lower<'r, 'a> {
                 }
             }
         }
+
+        // In index order: built in bulk.
+        dev.objects = built.into_iter().collect();
 
         for (number, b) in &modules {
             let m = self.module(*number, b, &mut extra);
