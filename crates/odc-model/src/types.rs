@@ -47,9 +47,9 @@ pub enum DataType {
 /// What a value of a [`DataType`] is, for parsing literals and choosing Rust types.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ValueClass {
-    /// BOOLEAN and BITn.
+    /// BOOLEAN and BIT1.
     Bool,
-    /// UNSIGNEDn, with the bit width.
+    /// UNSIGNEDn and BITn (n > 1), with the bit width.
     Unsigned(u32),
     /// INTEGERn, with the bit width.
     Signed(u32),
@@ -103,12 +103,12 @@ impl DataType {
             0x21 => PdoMapping,
             0x22 => SdoParameter,
             0x23 => Identity,
+            0x30..=0x37 => Bit((code - 0x2F) as u8),
             other => Profile(other),
         }
     }
 
-    /// The CiA 301 code. `Bit(n)` has none in CiA 301; it answers BOOLEAN's for n = 1 and
-    /// UNSIGNED8's otherwise, which is how such a field travels in an SDO.
+    /// The CiA 301 code; `Bit(n)` has ETG.1000.6's 0x0030 + n − 1 (BIT1..BIT8).
     pub fn code(self) -> u16 {
         use DataType::*;
         match self {
@@ -141,8 +141,7 @@ impl DataType {
             PdoMapping => 0x21,
             SdoParameter => 0x22,
             Identity => 0x23,
-            Bit(1) => 0x01,
-            Bit(_) => 0x05,
+            Bit(n) => 0x2F + u16::from(n),
             Profile(code) => code,
         }
     }
@@ -151,7 +150,8 @@ impl DataType {
     pub fn class(self) -> ValueClass {
         use DataType::*;
         match self {
-            Boolean | Bit(_) => ValueClass::Bool,
+            Boolean | Bit(1) => ValueClass::Bool,
+            Bit(n) => ValueClass::Unsigned(u32::from(n)),
             Unsigned8 => ValueClass::Unsigned(8),
             Unsigned16 => ValueClass::Unsigned(16),
             Unsigned24 => ValueClass::Unsigned(24),
@@ -183,10 +183,7 @@ impl DataType {
     /// Size in bits of a value of a fixed-size type; `None` for strings, domains and structures.
     pub fn bit_size(self) -> Option<u32> {
         match self.class() {
-            ValueClass::Bool => Some(match self {
-                DataType::Bit(n) => u32::from(n),
-                _ => 1,
-            }),
+            ValueClass::Bool => Some(1),
             ValueClass::Unsigned(n) | ValueClass::Signed(n) => Some(n),
             ValueClass::Real32 => Some(32),
             ValueClass::Real64 => Some(64),
