@@ -265,7 +265,10 @@ pub static RULES: &[RuleInfo] = &[
         Error,
         "a number too large or too small for its field",
         "An object index must fit 16 bits, a sub-index 8 bits, a bit length 16 bits, a product \
-         code or revision 32 bits (negative 32-bit values are taken as their two's complement)."
+         code or revision 32 bits (negative 32-bit values are taken as their two's complement). \
+         A default, minimum or maximum must fit its data type: an INTEGERn written as an \
+         unsigned bit pattern (`#xFFFD` for an INT) is taken as two's complement; anything \
+         wider is an error and the text is kept as written."
     ),
     rule!(
         "F219",

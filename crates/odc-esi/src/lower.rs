@@ -822,8 +822,15 @@ fn value_of(el: &Element, ty: DataType, ctx: &mut Ctx<'_>) -> Spanned<Value> {
     } else {
         num::parse_value_text(text, ty)
     };
-    let v = match v {
-        Some(v) => v,
+    let v = match v.map(|v| num::fit(v, ty).ok_or(())) {
+        Some(Ok(v)) => v,
+        Some(Err(())) => {
+            ctx.push(
+                Diagnostic::error("F218", format!("`{text}` does not fit {}", ty.name()))
+                    .with_label(el.text_span, format!("in `{}`", el.name)),
+            );
+            Value::Invalid(text.to_string())
+        }
         None => {
             let what = if is_data { "little-endian hex bytes" } else { "a value" };
             ctx.push(
@@ -917,7 +924,11 @@ fn lower_objects(
             }
             Some(Resolved::Array(elem, elem_bits, lbound, elements)) => {
                 object.kind = ObjectKind::Array;
-                let mut sub0 = SubObject::new(0, "SubIndex 000", DataType::Unsigned8, Access::Ro);
+                // Arrays of more than 255 elements exist (trace buffers read by complete access);
+                // their count needs a wider sub 0 than CoE's usual UNSIGNED8.
+                let count_ty =
+                    if elements > 255 { DataType::Unsigned16 } else { DataType::Unsigned8 };
+                let mut sub0 = SubObject::new(0, "SubIndex 000", count_ty, Access::Ro);
                 sub0.default = Some(Spanned::synthetic(Value::Unsigned(u64::from(elements))));
                 sub0.span = o.span;
                 object.subs.insert(0, sub0);

@@ -120,6 +120,27 @@ pub fn decode_data(bytes: &[u8], ty: DataType) -> Option<Value> {
     })
 }
 
+/// Checks that an integer value fits the width of `ty`. An INTEGERn value in `2^(n-1)..2^n`
+/// is an unsigned bit pattern and becomes its two's complement; `None` when it does not fit.
+pub fn fit(value: Value, ty: DataType) -> Option<Value> {
+    match (ty.class(), value) {
+        (ValueClass::Unsigned(bits), Value::Unsigned(u)) => {
+            (bits >= 64 || u >> bits == 0).then_some(Value::Unsigned(u))
+        }
+        (ValueClass::Signed(bits), Value::Signed(i)) if bits < 64 => {
+            let half = 1i64 << (bits - 1);
+            if (-half..half).contains(&i) {
+                Some(Value::Signed(i))
+            } else if (half..2 * half).contains(&i) {
+                Some(Value::Signed(i - 2 * half))
+            } else {
+                None
+            }
+        }
+        (_, v) => Some(v),
+    }
+}
+
 /// Reads a `DefaultValue`/`MinValue`/`MaxValue` text (CODESYS-style files) as a value of `ty`.
 pub fn parse_value_text(text: &str, ty: DataType) -> Option<Value> {
     let t = text.trim();
@@ -217,6 +238,16 @@ mod tests {
         );
         assert_eq!(decode_data(&[1, 2], DataType::OctetString), Some(Value::Bytes(vec![1, 2])));
         assert_eq!(decode_data(&[0; 9], DataType::Unsigned64), None);
+    }
+
+    #[test]
+    fn values_fit_their_type() {
+        assert_eq!(fit(Value::Unsigned(255), DataType::Unsigned8), Some(Value::Unsigned(255)));
+        assert_eq!(fit(Value::Unsigned(256), DataType::Unsigned8), None);
+        assert_eq!(fit(Value::Signed(65533), DataType::Integer16), Some(Value::Signed(-3)));
+        assert_eq!(fit(Value::Signed(-32768), DataType::Integer16), Some(Value::Signed(-32768)));
+        assert_eq!(fit(Value::Signed(-4294967295), DataType::Integer32), None);
+        assert_eq!(fit(Value::Signed(1 << 40), DataType::Integer64), Some(Value::Signed(1 << 40)));
     }
 
     #[test]

@@ -7,7 +7,19 @@ use std::path::PathBuf;
 use odc_model::{Severity, Sources};
 
 /// Files known not to be well-formed XML (see the corpus README).
-const KNOWN_BAD: &[&str] = &["esi/hangx__eeprom.xml", "esi/abt__DS402_PDOs_EasyCatProject.xml"];
+/// Files with real faults, each reported as an error:
+const KNOWN_BAD: &[&str] = &[
+    // Not well-formed XML (F202).
+    "esi/hangx__eeprom.xml",
+    "esi/abt__DS402_PDOs_EasyCatProject.xml",
+    // Defaults that do not fit their data type (F218): `00000003` (4 bytes) for UINT objects.
+    "esi/higen__Higen_FDA7000_CoE_20111219.xml",
+    // `#x70000101` as the default of a USINT sub-object.
+    "esi/trinamic__ethCat_slv_config.xml",
+    // `-4294967295` as the minimum of a DINT.
+    "esi/tormach-bogus__BogusServo.xml",
+    "esi/tormach-bogus__bogus_devices-device_xml-BogusServo.xml",
+];
 
 fn corpus_dir() -> PathBuf {
     std::env::var_os("ODC_CORPUS").map(PathBuf::from).unwrap_or_else(|| {
