@@ -76,3 +76,70 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> anyhow::Result<()> {
         anyhow::Error::new(e).context(format!("cannot write {}", path.display()))
     })
 }
+
+/// Picks the device a command works on. A file with one device needs no `spec`; otherwise
+/// `spec` is `PRODUCT[:REVISION]` (numbers in decimal, `0x` or `#x` hex) or a name (product name
+/// or order code, any case). Without a revision the highest revision of that product is taken.
+pub fn select<'a>(devices: &'a [Device], spec: Option<&str>) -> anyhow::Result<&'a Device> {
+    let Some(spec) = spec else {
+        return match devices {
+            [one] => Ok(one),
+            [] => anyhow::bail!("the file describes no device"),
+            many => anyhow::bail!(
+                "the file describes {} devices; choose one with --device PRODUCT[:REVISION] or a name:\n{}",
+                many.len(),
+                list(many)
+            ),
+        };
+    };
+    let (product, revision) = match spec.split_once(':') {
+        Some((p, r)) => {
+            (p, Some(parse_number(r).with_context(|| format!("`{r}` is not a revision number"))?))
+        }
+        None => (spec, None),
+    };
+    let number = parse_number(product);
+    let matches = |d: &&Device| {
+        let info = &d.device_info;
+        let product_ok = match number {
+            Some(n) => info.product_number.as_deref() == Some(&n),
+            None => [&info.product_name, &info.order_code]
+                .into_iter()
+                .any(|s| s.as_deref().is_some_and(|s| s.eq_ignore_ascii_case(product))),
+        };
+        product_ok && revision.is_none_or(|r| info.revision_number.as_deref() == Some(&r))
+    };
+    devices
+        .iter()
+        .filter(matches)
+        .max_by_key(|d| d.device_info.revision_number.as_deref().copied())
+        .with_context(|| {
+            format!("no device matches `{spec}`; the file describes:\n{}", list(devices))
+        })
+}
+
+/// One line per device: product code, revision, name, PDO count.
+pub fn list(devices: &[Device]) -> String {
+    let hex = |v: Option<&u32>| v.map_or_else(|| "-".to_owned(), |v| format!("0x{v:08X}"));
+    devices
+        .iter()
+        .map(|d| {
+            let info = &d.device_info;
+            format!(
+                "  {}:{}  {}  ({} PDOs)\n",
+                hex(info.product_number.as_deref()),
+                hex(info.revision_number.as_deref()),
+                d.name(),
+                d.pdos.len()
+            )
+        })
+        .collect()
+}
+
+fn parse_number(s: &str) -> Option<u32> {
+    let s = s.trim();
+    match s.strip_prefix("0x").or_else(|| s.strip_prefix("0X")).or_else(|| s.strip_prefix("#x")) {
+        Some(hex) => u32::from_str_radix(hex, 16).ok(),
+        None => s.parse().ok(),
+    }
+}

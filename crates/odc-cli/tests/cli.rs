@@ -153,3 +153,39 @@ fn generate_writes_a_module_with_the_generated_header() {
     assert!(text.contains("pub mod od"));
     assert!(text.contains("pub mod pdo"));
 }
+
+#[test]
+fn devices_of_a_many_device_file_are_listed_and_selected() {
+    let dir = tempdir();
+    let esi = dir.join("two.xml");
+    let device = |code: &str, rev: &str, name: &str| {
+        format!(
+            "<Device><Type ProductCode=\"{code}\" RevisionNo=\"{rev}\">{name}</Type><Name LcId=\"1033\">{name}</Name></Device>"
+        )
+    };
+    std::fs::write(
+        &esi,
+        format!(
+            "<?xml version=\"1.0\"?><EtherCATInfo><Vendor><Id>2</Id><Name>V</Name></Vendor><Descriptions><Devices>{}{}{}</Devices></Descriptions></EtherCATInfo>",
+            device("#x10", "#x1", "Alpha"),
+            device("#x10", "#x2", "Alpha"),
+            device("#x20", "#x1", "Beta")
+        ),
+    )
+    .unwrap();
+    let esi = esi.display().to_string();
+    let listing = String::from_utf8(odc(&["info", &esi]).stdout).unwrap();
+    assert!(listing.starts_with("3 devices:"), "{listing}");
+    assert!(listing.contains("0x00000010:0x00000002  Alpha"), "{listing}");
+    // Without --device a command that needs one device says which ones there are.
+    let out = odc(&["generate", &esi]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(stderr(&out).contains("0x00000020:0x00000001  Beta"), "{}", stderr(&out));
+    // PRODUCT alone takes the highest revision; PRODUCT:REVISION and names select exactly.
+    let info =
+        |spec: &str| String::from_utf8(odc(&["info", &esi, "--device", spec]).stdout).unwrap();
+    assert!(info("0x10").contains("revision 0x00000002"), "{}", info("0x10"));
+    assert!(info("#x10:1").contains("revision 0x00000001"), "{}", info("#x10:1"));
+    assert!(info("beta").contains("product 0x00000020"), "{}", info("beta"));
+    assert_eq!(odc(&["info", &esi, "--device", "0x30"]).status.code(), Some(2));
+}

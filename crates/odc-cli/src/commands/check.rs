@@ -37,6 +37,9 @@ pub struct Args {
     /// Checker configuration (odc.toml format).
     #[arg(long, value_name = "FILE")]
     config: Option<PathBuf>,
+    /// Only this device of each file: `PRODUCT[:REVISION]` or a name (default: all).
+    #[arg(long, value_name = "DEVICE")]
+    device: Option<String>,
     /// When to colour the output.
     #[arg(long, value_enum, default_value_t)]
     color: Color,
@@ -57,7 +60,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         config.strict(args.strict);
         let loaded = input::load(&mut sources, path)?;
         let mut front_end = loaded.diagnostics;
-        for device in &loaded.devices {
+        let devices = match &args.device {
+            Some(spec) => std::slice::from_ref(input::select(&loaded.devices, Some(spec))?),
+            None => loaded.devices.as_slice(),
+        };
+        for device in devices {
             let diags = std::mem::take(&mut front_end);
             all.extend(config.apply(device, diags));
             all.extend(odc_check::check(device, &config));
@@ -66,7 +73,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         all.extend(front_end);
     }
     diag::sort(&mut all);
-    print_diagnostics(&sources, &all, args.format, args.color);
+    print_diagnostics(&sources, &all, args.format, args.color)?;
     let errors = all.iter().filter(|d| d.is_error()).count();
     if !matches!(args.format, DiagFormat::Json) {
         let warnings = all.len() - errors;

@@ -3,7 +3,6 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::Context;
 use odc_model::{Format, Sources};
 
 use crate::input;
@@ -22,9 +21,9 @@ pub struct Args {
     /// Output format.
     #[arg(long, value_enum)]
     to: Option<Target>,
-    /// For an ESI with several devices: which one (0-based, in file order).
-    #[arg(long, default_value_t = 0)]
-    device: usize,
+    /// For a file with several devices: `PRODUCT[:REVISION]` or a name (`odc info` lists them).
+    #[arg(long, value_name = "DEVICE")]
+    device: Option<String>,
 }
 
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
@@ -45,18 +44,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mut sources = Sources::new();
     let loaded = input::load(&mut sources, &args.input)?;
     super::require_clean(&sources, &loaded.diagnostics)?;
-    let count = loaded.devices.len();
-    let device = loaded.devices.get(args.device).with_context(|| {
-        format!(
-            "{} holds {count} device(s); --device {} is out of range",
-            args.input.display(),
-            args.device
-        )
-    })?;
+    let device = input::select(&loaded.devices, args.device.as_deref())?;
     let text = odc_eds::write(device, target);
     match &args.output {
         Some(path) => input::write_atomic(path, text.as_bytes())?,
-        None => print!("{text}"),
+        None => super::out(&text)?,
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -17,30 +17,28 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let rule = odc_check::explain(&args.code).ok_or_else(|| {
         anyhow::anyhow!("no rule has the code or name `{}`; `odc lints` lists them", args.code)
     })?;
-    println!(
-        "{} ({}, group {}, default {})\n",
+    super::out(&format!(
+        "{} ({}, group {}, default {})\n\n{}\n\n{}\n",
         rule.code,
         rule.name,
         rule.group,
-        rule.default.as_str()
-    );
-    println!("{}\n", rule.summary);
-    println!("{}", rule.explanation.trim_end());
+        rule.default.as_str(),
+        rule.summary,
+        rule.explanation.trim_end()
+    ))?;
     Ok(ExitCode::SUCCESS)
 }
 
 pub fn lints(_: LintsArgs) -> anyhow::Result<ExitCode> {
     let rules = odc_check::all_rules();
     let width = rules.iter().map(|r| r.name.len()).max().unwrap_or(0);
-    for r in rules {
-        println!(
-            "{:<5} {:<width$}  {:<7} {:<8} {}",
-            r.code,
-            r.name,
-            r.group,
-            r.default.as_str(),
-            r.summary
-        );
-    }
+    let table: String = rules
+        .iter()
+        .map(|r| {
+            let level = r.default.as_str();
+            format!("{:<5} {:<width$}  {:<7} {level:<8} {}\n", r.code, r.name, r.group, r.summary)
+        })
+        .collect();
+    super::out(&table)?;
     Ok(ExitCode::SUCCESS)
 }

@@ -21,9 +21,9 @@ pub struct Args {
     /// Output file; standard output when absent.
     #[arg(short, long)]
     output: Option<PathBuf>,
-    /// For an ESI with several devices: which one (from 0).
-    #[arg(long, default_value_t = 0)]
-    device: usize,
+    /// For a file with several devices: `PRODUCT[:REVISION]` or a name (`odc info` lists them).
+    #[arg(long, value_name = "DEVICE")]
+    device: Option<String>,
     /// Path of the runtime crate in the generated code.
     #[arg(long, default_value = "::odc")]
     runtime_path: String,
@@ -42,14 +42,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mut sources = Sources::new();
     let loaded = input::load(&mut sources, &args.file)?;
     super::require_clean(&sources, &loaded.diagnostics)?;
-    let count = loaded.devices.len();
-    let device = loaded.devices.get(args.device).with_context(|| {
-        format!(
-            "{}: no device number {}; the file describes {count}",
-            args.file.display(),
-            args.device
-        )
-    })?;
+    let device = input::select(&loaded.devices, args.device.as_deref())?;
     let opts = Options {
         role: match args.role {
             RoleArg::Master => Role::Master,
@@ -73,7 +66,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     };
     match &args.output {
         Some(path) => input::write_atomic(path, code.as_bytes())?,
-        None => print!("{code}"),
+        None => super::out(&code)?,
     }
     Ok(ExitCode::SUCCESS)
 }

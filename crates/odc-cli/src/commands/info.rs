@@ -8,18 +8,30 @@ use odc_model::{Device, Direction, Sources, Value};
 use crate::input;
 
 /// Summarise a device file: identity, object counts, default PDO mappings.
+///
+/// A file with several devices (an ESI with many products or revisions) is listed one line per
+/// device unless `--device` picks one.
 #[derive(clap::Args)]
 pub struct Args {
     /// EDS, DCF or ESI file.
     file: PathBuf,
+    /// `PRODUCT[:REVISION]` or a name.
+    #[arg(long, value_name = "DEVICE")]
+    device: Option<String>,
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mut sources = Sources::new();
     let loaded = input::load(&mut sources, &args.file)?;
     super::require_clean(&sources, &loaded.diagnostics)?;
-    for device in &loaded.devices {
-        print!("{}", summary(device));
+    if args.device.is_none() && loaded.devices.len() > 1 {
+        super::out(&format!(
+            "{} devices:\n{}",
+            loaded.devices.len(),
+            input::list(&loaded.devices)
+        ))?;
+    } else {
+        super::out(&summary(input::select(&loaded.devices, args.device.as_deref())?))?;
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -34,13 +34,23 @@ pub enum Color {
     Never,
 }
 
+/// Writes to standard output. A closed pipe (`odc dump x.eds | head`) ends the output quietly
+/// instead of panicking as `print!` would.
+pub fn out(text: &str) -> anyhow::Result<()> {
+    use std::io::Write;
+    match std::io::stdout().lock().write_all(text.as_bytes()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),
+        _ => Ok(()),
+    }
+}
+
 /// Prints diagnostics to standard error (human, short) or standard output (JSON).
 pub fn print_diagnostics(
     sources: &Sources,
     diags: &[Diagnostic],
     format: DiagFormat,
     color: Color,
-) {
+) -> anyhow::Result<()> {
     match format {
         DiagFormat::Human => {
             let color = match color {
@@ -51,8 +61,9 @@ pub fn print_diagnostics(
             eprint!("{}", diag::render_human(sources, diags, color));
         }
         DiagFormat::Short => eprint!("{}", diag::render_short(sources, diags)),
-        DiagFormat::Json => println!("{}", diag::render_json(sources, diags)),
+        DiagFormat::Json => return out(&(diag::render_json(sources, diags) + "\n")),
     }
+    Ok(())
 }
 
 /// Prints front-end diagnostics and fails when any is an error: for commands that need a
@@ -62,6 +73,6 @@ pub fn require_clean(sources: &Sources, diags: &[Diagnostic]) -> anyhow::Result<
     if errors.is_empty() {
         return Ok(());
     }
-    print_diagnostics(sources, &errors, DiagFormat::Human, Color::Auto);
+    print_diagnostics(sources, &errors, DiagFormat::Human, Color::Auto)?;
     anyhow::bail!("the file has {} error(s); run `odc check` for all diagnostics", errors.len())
 }
