@@ -77,8 +77,7 @@ impl OdNames {
             if let Some(&p) = var_pos.get(&index) {
                 let Some((sub, ty)) = typed_subs(object).next() else { continue };
                 let name = &consts[p];
-                field_pos
-                    .push(fields.propose(names::snake(name), format!("obj_{index:04x}")));
+                field_pos.push(fields.propose(names::snake(name), format!("obj_{index:04x}")));
                 entries.insert((index, sub.sub_index), (None, ident(name), ty));
             } else if let Some(module) = modules.get(&index) {
                 let mut subs = Namer::new();
