@@ -70,6 +70,13 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
         quote!(Mode::#name)
     });
     let n = Literal::usize_unsuffixed(modes.len());
+    // 0x6502 may announce manufacturer-specific modes only: `Mode` is then empty, which cannot
+    // have a `repr` nor be cast.
+    let (repr, from_body, to_body) = if modes.is_empty() {
+        (quote!(), quote!(let _ = v; None), quote!(match self {}))
+    } else {
+        (quote!(#[repr(i8)]), quote!(match v { #(#arms)* _ => None, }), quote!(self as i8))
+    };
     let mode_doc = doc(&format!(
         "A mode of operation (0x6060, 0x6061) this device supports: {source}.\n\n\
          `Mode::from_i8` refuses the others, so a mode the drive cannot run is not written."
@@ -82,7 +89,7 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
 
             #mode_doc
             #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-            #[repr(i8)]
+            #repr
             pub enum Mode {
                 #(#variants)*
             }
@@ -93,15 +100,12 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
 
                 /// The mode for a value of 0x6060/0x6061, if the device supports it.
                 pub const fn from_i8(v: i8) -> Option<Mode> {
-                    match v {
-                        #(#arms)*
-                        _ => None,
-                    }
+                    #from_body
                 }
 
                 /// The value of 0x6060/0x6061.
                 pub const fn to_i8(self) -> i8 {
-                    self as i8
+                    #to_body
                 }
             }
 
