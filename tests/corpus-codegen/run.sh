@@ -176,6 +176,11 @@ for dir in "$WORK"/batches/b*/; do
         # An error outside any module (the crate itself): record it against the batch.
         if ! grep -qE '^src/d[0-9]+\.rs:' <<<"$out" && grep -q '^error' <<<"$out"; then
             printf '%s\t-\t-\t%s\t%s\n' "$(basename "$dir")" "$stage" "$(grep -m1 '^error' <<<"$out")" >>"$LOG"
+            # rustc crashed or gave up on the crate: none of its modules is known to be clean.
+            for f in "$dir"src/d*.rs; do
+                m=$(basename "$f" .rs)
+                [ -n "${BAD[$m]:-}" ] || BAD[$m]=$stage
+            done
         fi
     done
 done
