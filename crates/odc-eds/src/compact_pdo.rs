@@ -12,8 +12,6 @@
 //! synthesised with sub 0 = 0 and eight empty (0) entries. Synthesised objects carry
 //! [`Origin::CompactPdo`] and are not written back.
 
-use std::collections::BTreeMap;
-
 use odc_model::{
     Access, DataType, Device, Object, ObjectKind, Origin, Span, Spanned, SubObject, Value,
 };
@@ -26,20 +24,10 @@ fn sub(i: u8, name: &str, dt: DataType, access: Access, v: Value, span: Span) ->
 }
 
 fn object(index: u16, name: &str, subs: Vec<SubObject>, span: Span) -> Object {
-    Object {
-        index,
-        name: name.to_owned(),
-        kind: ObjectKind::Record,
-        subs: subs.into_iter().map(|s| (s.sub_index, s)).collect::<BTreeMap<_, _>>(),
-        sub_number: None,
-        compact_sub_obj: None,
-        obj_flags: None,
-        denotation: None,
-        links: Vec::new(),
-        origin: Origin::CompactPdo,
-        extra: Vec::new(),
-        span,
-    }
+    let mut object = Object::new(index, name, ObjectKind::Record, span);
+    object.subs = subs.into_iter().map(|s| (s.sub_index, s)).collect();
+    object.origin = Origin::CompactPdo;
+    object
 }
 
 /// Adds the objects `CompactPDO` implies.

@@ -4,8 +4,8 @@ use std::collections::BTreeMap;
 
 use odc_model::{
     Access, Commissioning, DataType, Device, Diagnostic, FileId, Format, Module, Object,
-    ObjectKind, ObjectList, Origin, PdoMapping, RawEntry, RawSection, Severity, Span, Spanned,
-    SubExtend, SubObject, Value, ValueClass,
+    ObjectKind, ObjectList, PdoMapping, RawEntry, RawSection, Severity, Span, Spanned, SubExtend,
+    SubObject, Value, ValueClass,
 };
 
 use crate::num;
@@ -1242,20 +1242,7 @@ impl<'r, 'a> Lower<'r, 'a> {
                 String::new()
             }
         };
-        let mut obj = Object {
-            index,
-            name,
-            kind,
-            subs: BTreeMap::new(),
-            sub_number: None,
-            compact_sub_obj: None,
-            obj_flags: None,
-            denotation: None,
-            links: Vec::new(),
-            origin: Origin::File,
-            extra: Vec::new(),
-            span: header,
-        };
+        let mut obj = Object::new(index, name, kind, header);
         if let Some(e) = keys.take(K::SubNumber) {
             match self.uint(e, 0xFFFF) {
                 Ok(v) => obj.sub_number = v.map(|v| Spanned::new(v.value as u16, v.span)),

@@ -891,20 +891,7 @@ fn lower_objects(
             let span = type_el.map(|t| t.text_span).unwrap_or(o.span);
             unknown_type(type_name, span, ctx, true);
         }
-        let mut object = Object {
-            index,
-            name: name.clone(),
-            kind: ObjectKind::Var,
-            subs: BTreeMap::new(),
-            sub_number: None,
-            compact_sub_obj: None,
-            obj_flags: None,
-            denotation: None,
-            links: Vec::new(),
-            origin: Origin::File,
-            extra: Vec::new(),
-            span: o.span,
-        };
+        let mut object = Object::new(index, name.clone(), ObjectKind::Var, o.span);
         match resolved {
             Some(Resolved::Simple(..)) | None => {
                 let (ty, bits) = match resolved {
@@ -1271,18 +1258,8 @@ fn lower_slots(s: &Element, ctx: &mut Ctx<'_>) -> Slots {
 /// sync-manager assignment objects, all marked [`Origin::PdoEntry`].
 fn synthesise(objects: &mut BTreeMap<u16, Object>, pdos: &[Pdo]) {
     let new_object = |index: u16, name: String, kind: ObjectKind, span: Span| Object {
-        index,
-        name,
-        kind,
-        subs: BTreeMap::new(),
-        sub_number: None,
-        compact_sub_obj: None,
-        obj_flags: None,
-        denotation: None,
-        links: Vec::new(),
         origin: Origin::PdoEntry,
-        extra: Vec::new(),
-        span,
+        ..Object::new(index, name, kind, span)
     };
     for pdo in pdos {
         let (access, mapping) = match pdo.direction {

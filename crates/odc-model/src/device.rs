@@ -205,6 +205,24 @@ pub struct Object {
 }
 
 impl Object {
+    /// An object read from a file, with no sub-objects and nothing optional set yet.
+    pub fn new(index: u16, name: impl Into<String>, kind: ObjectKind, span: Span) -> Self {
+        Object {
+            index,
+            name: name.into(),
+            kind,
+            subs: BTreeMap::new(),
+            sub_number: None,
+            compact_sub_obj: None,
+            obj_flags: None,
+            denotation: None,
+            links: Vec::new(),
+            origin: Origin::File,
+            extra: Vec::new(),
+            span,
+        }
+    }
+
     /// The sub-object `sub`.
     pub fn sub(&self, sub: u8) -> Option<&SubObject> {
         self.subs.get(&sub)

@@ -2,12 +2,10 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 #![allow(dead_code, missing_docs)]
 
-use std::collections::BTreeMap;
-
 use odc_check::{Config, check};
 use odc_model::{
-    Access, DataType, Device, Format, Object, ObjectKind, ObjectList, ObjectLists, Origin,
-    PdoMapping, Sources, Spanned, SubObject, Value, diag,
+    Access, DataType, Device, Format, Object, ObjectKind, ObjectList, ObjectLists, PdoMapping,
+    Sources, Spanned, SubObject, Value, diag,
 };
 
 pub use odc_model::Access::*;
@@ -58,23 +56,7 @@ type SubSpec = (u8, &'static str, DataType, Access, Option<Value>);
 
 impl Dev {
     fn object(&mut self, index: u16, name: &str, kind: ObjectKind) {
-        self.device.objects.insert(
-            index,
-            Object {
-                index,
-                name: name.into(),
-                kind,
-                subs: BTreeMap::new(),
-                sub_number: None,
-                compact_sub_obj: None,
-                obj_flags: None,
-                denotation: None,
-                links: Vec::new(),
-                origin: Origin::File,
-                extra: Vec::new(),
-                span: odc_model::Span::DUMMY,
-            },
-        );
+        self.device.objects.insert(index, Object::new(index, name, kind, odc_model::Span::DUMMY));
     }
 
     /// A VAR object.

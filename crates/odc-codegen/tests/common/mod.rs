@@ -1,25 +1,13 @@
 //! Devices built in Rust, for the snapshot tests.
 
 use odc_model::{
-    Access, DataType, Device, Object, ObjectKind, Origin, PdoMapping, Span, Spanned, SubObject,
-    Value,
+    Access, DataType, Device, Object, ObjectKind, PdoMapping, Span, Spanned, SubObject, Value,
 };
 
 fn object(index: u16, name: &str, kind: ObjectKind, subs: Vec<SubObject>) -> Object {
-    Object {
-        index,
-        name: name.to_string(),
-        kind,
-        subs: subs.into_iter().map(|s| (s.sub_index, s)).collect(),
-        sub_number: None,
-        compact_sub_obj: None,
-        obj_flags: None,
-        denotation: None,
-        links: Vec::new(),
-        origin: Origin::File,
-        extra: Vec::new(),
-        span: Span::DUMMY,
-    }
+    let mut object = Object::new(index, name, kind, Span::DUMMY);
+    object.subs = subs.into_iter().map(|s| (s.sub_index, s)).collect();
+    object
 }
 
 fn sub(sub: u8, name: &str, dt: DataType, access: Access, default: Option<Value>) -> SubObject {
