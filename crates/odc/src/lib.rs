@@ -8,6 +8,7 @@
 //! - [`Entry`], [`ObjValue`], [`EntryInfo`]: typed `const` descriptors, so that a write of the
 //!   wrong value type to an object does not compile;
 //! - [`Pdo`], [`PdoValue`], [`bits`]: process-data packing, LSB0 little-endian at any bit offset;
+//! - [`sdo`]: SDO server and client on [`can::CanFrame`]s, driven by the caller's clock;
 //! - [`SdoAbort`], [`emcy`], [`cia402`], [`cob`], [`nmt`]: CiA 301 / CiA 402 vocabulary.
 //!
 //! ```
@@ -46,6 +47,7 @@
 extern crate std;
 
 pub mod bits;
+pub mod can;
 pub mod cia402;
 pub mod cob;
 pub mod emcy;
@@ -54,7 +56,7 @@ mod include;
 pub mod nmt;
 mod pdo;
 pub mod plan;
-mod sdo;
+pub mod sdo;
 pub mod slave;
 mod types;
 mod value;

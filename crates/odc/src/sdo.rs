@@ -1,6 +1,21 @@
-//! SDO abort codes (CiA 301 table 22).
+//! SDO: abort codes (CiA 301 table 22), the frame codec, a server and a client.
+//!
+//! Everything works on [`CanFrame`](crate::can::CanFrame)s as plain data and on a
+//! millisecond clock the caller passes in, so the same code runs in firmware (an interrupt
+//! handler feeding [`Server::handle`]) and on a PC master (a [`Bus`] with the blocking
+//! [`Client`] calls). Expedited and segmented transfers in both directions; block transfer is
+//! not implemented (the server refuses it with [`SdoAbort::InvalidCommand`], as CiA 301 lets it).
 
 use core::fmt;
+
+mod client;
+pub mod frame;
+#[cfg(test)]
+mod protocol_tests;
+mod server;
+
+pub use client::{Bus, Client, SdoError, Step};
+pub use server::{DEFAULT_TIMEOUT_MS, Server};
 
 macro_rules! aborts {
     ($($v:ident = $code:literal, $text:literal;)*) => {

@@ -1,0 +1,473 @@
+//! The SDO client: uploads and downloads against one node's server, frame by frame or over a
+//! [`Bus`].
+
+use super::frame::{Init, Request, Response, Segment};
+use super::server::DEFAULT_TIMEOUT_MS;
+use crate::can::CanFrame;
+use crate::plan::SdoWrite;
+use crate::{Entry, ObjValue, ObjectAddr, SdoAbort};
+use core::fmt;
+
+/// Why a transfer failed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum SdoError<E = core::convert::Infallible> {
+    /// The server aborted the transfer with this code.
+    Remote(SdoAbort),
+    /// This client aborted it (and sent the abort frame): timeout, toggle error, an
+    /// unexpected response, a value too long for the buffer, a value of the wrong size.
+    Local(SdoAbort),
+    /// A transfer is already under way on this client.
+    Busy,
+    /// The bus failed.
+    Bus(E),
+}
+
+impl<E: fmt::Display> fmt::Display for SdoError<E> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Remote(a) => write!(f, "server aborted: {a}"),
+            Self::Local(a) => write!(f, "client aborted: {a}"),
+            Self::Busy => f.write_str("an SDO transfer is already under way"),
+            Self::Bus(e) => write!(f, "bus error: {e}"),
+        }
+    }
+}
+
+impl<E: fmt::Debug + fmt::Display> core::error::Error for SdoError<E> {}
+
+impl SdoError {
+    /// The same error with a bus error type.
+    pub fn widen<E>(self) -> SdoError<E> {
+        match self {
+            Self::Remote(a) => SdoError::Remote(a),
+            Self::Local(a) => SdoError::Local(a),
+            Self::Busy => SdoError::Busy,
+            Self::Bus(never) => match never {},
+        }
+    }
+}
+
+impl<E> SdoError<E> {
+    /// The abort code, whoever sent it.
+    pub const fn abort(&self) -> Option<SdoAbort> {
+        match self {
+            Self::Remote(a) | Self::Local(a) => Some(*a),
+            _ => None,
+        }
+    }
+}
+
+/// What to do after [`Client::handle`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Step {
+    /// Send this frame and wait for the next response.
+    Send(CanFrame),
+    /// The transfer is complete (an upload's value is in [`Client::data`]).
+    Done,
+    /// The transfer failed; send the abort frame if there is one (none when the server
+    /// aborted).
+    Failed(SdoError, Option<CanFrame>),
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum State {
+    Idle,
+    InitDownload { addr: ObjectAddr, segmented: bool, deadline: u64 },
+    Download { addr: ObjectAddr, sent: usize, toggle: bool, last: bool, deadline: u64 },
+    InitUpload { addr: ObjectAddr, deadline: u64 },
+    Upload { addr: ObjectAddr, size: Option<usize>, toggle: bool, deadline: u64 },
+}
+
+/// The SDO client for one server (node), with an `N`-byte transfer buffer: the largest value
+/// it can upload or download.
+///
+/// Frame level: [`Client::start_download`] / [`Client::start_upload`] give the first frame,
+/// [`Client::handle`] each response, [`Client::poll`] the timeout. With a [`Bus`], the
+/// blocking calls do all of that: [`Client::upload`], [`Client::download`], the typed
+/// [`Client::read`] and [`Client::write`] on generated descriptors, and [`Client::execute`]
+/// on generated configuration plans.
+#[derive(Clone, Debug)]
+pub struct Client<const N: usize> {
+    node_id: u8,
+    timeout_ms: u64,
+    state: State,
+    buf: [u8; N],
+    len: usize,
+    /// Whether the last upload's size was indicated (an expedited answer without `s` has 4
+    /// bytes of which the value's type decides how many count).
+    sized: bool,
+}
+
+impl<const N: usize> Client<N> {
+    /// The client of node `node_id`'s default SDO server, with [`DEFAULT_TIMEOUT_MS`].
+    pub const fn new(node_id: u8) -> Self {
+        Self {
+            node_id,
+            timeout_ms: DEFAULT_TIMEOUT_MS,
+            state: State::Idle,
+            buf: [0; N],
+            len: 0,
+            sized: true,
+        }
+    }
+
+    /// The same client with another response timeout.
+    pub const fn with_timeout(mut self, ms: u64) -> Self {
+        self.timeout_ms = ms;
+        self
+    }
+
+    /// CAN-ID of its requests (client → server).
+    pub const fn request_id(&self) -> u32 {
+        0x600 + self.node_id as u32
+    }
+
+    /// CAN-ID of the responses it listens to (server → client).
+    pub const fn response_id(&self) -> u32 {
+        0x580 + self.node_id as u32
+    }
+
+    /// Whether a transfer is under way.
+    pub const fn is_busy(&self) -> bool {
+        !matches!(self.state, State::Idle)
+    }
+
+    /// The value of the last completed upload.
+    pub fn data(&self) -> &[u8] {
+        self.buf.get(..self.len).unwrap_or(&self.buf)
+    }
+
+    fn frame(&self, r: Request) -> CanFrame {
+        CanFrame::new(self.request_id(), r.encode())
+    }
+
+    /// Ends the transfer with a local abort.
+    fn fail(&mut self, addr: ObjectAddr, code: SdoAbort) -> Step {
+        self.state = State::Idle;
+        Step::Failed(SdoError::Local(code), Some(self.frame(Request::Abort(addr, code))))
+    }
+
+    /// Starts downloading `data` into `index:sub`: expedited up to 4 bytes, segmented above.
+    ///
+    /// # Errors
+    ///
+    /// [`SdoError::Busy`] during another transfer, [`SdoError::Local`] with
+    /// [`SdoAbort::OutOfMemory`] when `data` is longer than the buffer.
+    pub fn start_download(
+        &mut self,
+        index: u16,
+        sub: u8,
+        data: &[u8],
+        now_ms: u64,
+    ) -> Result<CanFrame, SdoError> {
+        if self.is_busy() {
+            return Err(SdoError::Busy);
+        }
+        let addr = ObjectAddr::new(index, sub);
+        let deadline = now_ms.saturating_add(self.timeout_ms);
+        if let Some(init) = Init::expedited(data) {
+            self.state = State::InitDownload { addr, segmented: false, deadline };
+            return Ok(self.frame(Request::InitiateDownload(addr, init)));
+        }
+        let dst = self.buf.get_mut(..data.len()).ok_or(SdoError::Local(SdoAbort::OutOfMemory))?;
+        dst.copy_from_slice(data);
+        self.len = data.len();
+        let size = u32::try_from(data.len()).map_err(|_| SdoError::Local(SdoAbort::OutOfMemory))?;
+        self.state = State::InitDownload { addr, segmented: true, deadline };
+        Ok(self.frame(Request::InitiateDownload(addr, Init::Segmented(Some(size)))))
+    }
+
+    /// Starts uploading `index:sub`.
+    ///
+    /// # Errors
+    ///
+    /// [`SdoError::Busy`] during another transfer.
+    pub fn start_upload(&mut self, index: u16, sub: u8, now_ms: u64) -> Result<CanFrame, SdoError> {
+        if self.is_busy() {
+            return Err(SdoError::Busy);
+        }
+        let addr = ObjectAddr::new(index, sub);
+        self.len = 0;
+        self.sized = true;
+        self.state = State::InitUpload { addr, deadline: now_ms.saturating_add(self.timeout_ms) };
+        Ok(self.frame(Request::InitiateUpload(addr)))
+    }
+
+    /// Checks the response timeout; on expiry the transfer fails with a local
+    /// [`SdoAbort::Timeout`] and the abort frame to send.
+    pub fn poll(&mut self, now_ms: u64) -> Option<Step> {
+        match self.state {
+            State::InitDownload { addr, deadline, .. }
+            | State::Download { addr, deadline, .. }
+            | State::InitUpload { addr, deadline }
+            | State::Upload { addr, deadline, .. }
+                if now_ms > deadline =>
+            {
+                Some(self.fail(addr, SdoAbort::Timeout))
+            }
+            _ => None,
+        }
+    }
+
+    /// The deadline of the response awaited, if a transfer is under way.
+    pub const fn deadline(&self) -> Option<u64> {
+        match self.state {
+            State::Idle => None,
+            State::InitDownload { deadline, .. }
+            | State::Download { deadline, .. }
+            | State::InitUpload { deadline, .. }
+            | State::Upload { deadline, .. } => Some(deadline),
+        }
+    }
+
+    /// Handles a received frame; `None` when it is not a response of this client's server or
+    /// no transfer is under way.
+    pub fn handle(&mut self, frame: &CanFrame, now_ms: u64) -> Option<Step> {
+        if frame.id != self.response_id() {
+            return None;
+        }
+        let deadline = now_ms.saturating_add(self.timeout_ms);
+        let addr = match self.state {
+            State::Idle => return None,
+            State::InitDownload { addr, .. }
+            | State::Download { addr, .. }
+            | State::InitUpload { addr, .. }
+            | State::Upload { addr, .. } => addr,
+        };
+        let resp = match Response::decode(frame.bytes()) {
+            Ok(r) => r,
+            Err(code) => return Some(self.fail(addr, code)),
+        };
+        if let Response::Abort(_, code) = resp {
+            self.state = State::Idle;
+            return Some(Step::Failed(SdoError::Remote(code), None));
+        }
+        Some(match (self.state, resp) {
+            (State::InitDownload { segmented, .. }, Response::InitiateDownload(a)) => {
+                if a != addr {
+                    return Some(self.fail(addr, SdoAbort::InvalidCommand));
+                }
+                if segmented {
+                    self.next_download_segment(addr, 0, false, deadline)
+                } else {
+                    self.state = State::Idle;
+                    Step::Done
+                }
+            }
+            (State::Download { sent, toggle, last, .. }, Response::DownloadSegment(t)) => {
+                if t != toggle {
+                    return Some(self.fail(addr, SdoAbort::ToggleBit));
+                }
+                if last {
+                    self.state = State::Idle;
+                    Step::Done
+                } else {
+                    self.next_download_segment(addr, sent, !toggle, deadline)
+                }
+            }
+            (State::InitUpload { .. }, Response::InitiateUpload(a, init)) => {
+                if a != addr {
+                    return Some(self.fail(addr, SdoAbort::InvalidCommand));
+                }
+                match init {
+                    Init::Expedited { data, len, sized } => {
+                        let n = usize::from(len).min(4);
+                        match (self.buf.get_mut(..n), data.get(..n)) {
+                            (Some(dst), Some(src)) => dst.copy_from_slice(src),
+                            _ => return Some(self.fail(addr, SdoAbort::OutOfMemory)),
+                        }
+                        self.len = n;
+                        self.sized = sized;
+                        self.state = State::Idle;
+                        Step::Done
+                    }
+                    Init::Segmented(size) => {
+                        let size = size.map(|s| usize::try_from(s).unwrap_or(usize::MAX));
+                        if size.is_some_and(|s| s > N) {
+                            return Some(self.fail(addr, SdoAbort::OutOfMemory));
+                        }
+                        self.state = State::Upload { addr, size, toggle: false, deadline };
+                        Step::Send(self.frame(Request::UploadSegment(false)))
+                    }
+                }
+            }
+            (State::Upload { size, toggle, .. }, Response::UploadSegment(seg)) => {
+                if seg.toggle != toggle {
+                    return Some(self.fail(addr, SdoAbort::ToggleBit));
+                }
+                let bytes = seg.bytes();
+                let end = self.len + bytes.len();
+                match self.buf.get_mut(self.len..end) {
+                    Some(dst) => dst.copy_from_slice(bytes),
+                    None => return Some(self.fail(addr, SdoAbort::OutOfMemory)),
+                }
+                self.len = end;
+                if size.is_some_and(|s| end > s) {
+                    return Some(self.fail(addr, SdoAbort::LengthMismatch));
+                }
+                if !seg.last {
+                    self.state = State::Upload { addr, size, toggle: !toggle, deadline };
+                    return Some(Step::Send(self.frame(Request::UploadSegment(!toggle))));
+                }
+                if size.is_some_and(|s| end != s) {
+                    return Some(self.fail(addr, SdoAbort::LengthMismatch));
+                }
+                self.state = State::Idle;
+                Step::Done
+            }
+            _ => self.fail(addr, SdoAbort::InvalidCommand),
+        })
+    }
+
+    fn next_download_segment(
+        &mut self,
+        addr: ObjectAddr,
+        sent: usize,
+        toggle: bool,
+        deadline: u64,
+    ) -> Step {
+        let end = (sent + 7).min(self.len);
+        let last = end == self.len;
+        let seg = Segment::new(toggle, self.buf.get(sent..end).unwrap_or(&[]), last);
+        self.state = State::Download { addr, sent: end, toggle, last, deadline };
+        Step::Send(self.frame(Request::DownloadSegment(seg)))
+    }
+
+    /// Runs a started transfer to its end over `bus`.
+    fn run<B: Bus>(&mut self, bus: &mut B, first: CanFrame) -> Result<(), SdoError<B::Error>> {
+        bus.send(&first).map_err(SdoError::Bus)?;
+        loop {
+            let Some(deadline) = self.deadline() else { return Ok(()) };
+            let step = match bus.recv(deadline).map_err(SdoError::Bus)? {
+                Some(frame) => self.handle(&frame, bus.now_ms()),
+                // `recv` waited up to the deadline: the timeout has passed.
+                None => self.poll(bus.now_ms().max(deadline.saturating_add(1))),
+            };
+            match step {
+                None => {}
+                Some(Step::Send(f)) => bus.send(&f).map_err(SdoError::Bus)?,
+                Some(Step::Done) => return Ok(()),
+                Some(Step::Failed(e, abort)) => {
+                    if let Some(f) = abort {
+                        bus.send(&f).map_err(SdoError::Bus)?;
+                    }
+                    return Err(e.widen());
+                }
+            }
+        }
+    }
+
+    /// Uploads `index:sub` over `bus` and returns its bytes.
+    ///
+    /// # Errors
+    ///
+    /// The server's abort, this client's abort (timeout, protocol error), or the bus error.
+    pub fn upload<B: Bus>(
+        &mut self,
+        bus: &mut B,
+        index: u16,
+        sub: u8,
+    ) -> Result<&[u8], SdoError<B::Error>> {
+        let first = self.start_upload(index, sub, bus.now_ms()).map_err(SdoError::widen)?;
+        self.run(bus, first)?;
+        Ok(self.data())
+    }
+
+    /// Downloads `data` into `index:sub` over `bus`.
+    ///
+    /// # Errors
+    ///
+    /// As for [`Client::upload`].
+    pub fn download<B: Bus>(
+        &mut self,
+        bus: &mut B,
+        index: u16,
+        sub: u8,
+        data: &[u8],
+    ) -> Result<(), SdoError<B::Error>> {
+        let first = self.start_download(index, sub, data, bus.now_ms()).map_err(SdoError::widen)?;
+        self.run(bus, first)
+    }
+
+    /// Reads a generated descriptor's entry and decodes it as its type.
+    ///
+    /// An expedited answer without size indication carries 4 bytes; a narrower type takes
+    /// the low ones, as CiA 301 leaves the size to the object.
+    ///
+    /// # Errors
+    ///
+    /// As for [`Client::upload`]; a value of the wrong length is a local
+    /// [`SdoAbort::LengthMismatch`]-family abort (not sent: the transfer is over).
+    pub fn read<B: Bus, T: ObjValue>(
+        &mut self,
+        bus: &mut B,
+        entry: &Entry<T>,
+    ) -> Result<T, SdoError<B::Error>> {
+        self.upload(bus, entry.addr.index, entry.addr.sub)?;
+        let data = self.data();
+        let data = if self.sized { data } else { data.get(..T::MAX_LEN.min(4)).unwrap_or(data) };
+        T::decode(data).map_err(|e| SdoError::Local(e.into()))
+    }
+
+    /// Writes `value` into a generated descriptor's entry; the value type is checked by the
+    /// compiler against the descriptor.
+    ///
+    /// # Errors
+    ///
+    /// As for [`Client::download`]; a value that does not encode is a local abort.
+    pub fn write<B: Bus, T: ObjValue>(
+        &mut self,
+        bus: &mut B,
+        entry: &Entry<T>,
+        value: T,
+    ) -> Result<(), SdoError<B::Error>> {
+        let mut tmp = [0u8; N];
+        let n = value.encode(&mut tmp).map_err(|e| SdoError::Local(e.into()))?;
+        self.download(bus, entry.addr.index, entry.addr.sub, tmp.get(..n).unwrap_or(&[]))
+    }
+
+    /// Executes a configuration plan (say a generated `master::plan(node)`) in order, stopping
+    /// at the first failure.
+    ///
+    /// # Errors
+    ///
+    /// The position of the failed write in `plan` and why it failed.
+    pub fn execute<B: Bus>(
+        &mut self,
+        bus: &mut B,
+        plan: &[SdoWrite],
+    ) -> Result<(), (usize, SdoError<B::Error>)> {
+        for (i, w) in plan.iter().enumerate() {
+            let (bytes, n) = w.to_le_bytes();
+            let data = bytes.get(..n).unwrap_or(&bytes);
+            self.download(bus, w.index, w.sub, data).map_err(|e| (i, e))?;
+        }
+        Ok(())
+    }
+}
+
+/// What the blocking client calls need from a CAN interface and a clock.
+pub trait Bus {
+    /// The interface's error.
+    type Error;
+
+    /// Sends a frame.
+    ///
+    /// # Errors
+    ///
+    /// When the interface fails.
+    fn send(&mut self, frame: &CanFrame) -> Result<(), Self::Error>;
+
+    /// The next received frame, waiting until the clock reaches `deadline_ms` at the latest;
+    /// `None` if nothing arrived by then.
+    ///
+    /// # Errors
+    ///
+    /// When the interface fails.
+    fn recv(&mut self, deadline_ms: u64) -> Result<Option<CanFrame>, Self::Error>;
+
+    /// A monotonic clock in milliseconds.
+    fn now_ms(&mut self) -> u64;
+}
