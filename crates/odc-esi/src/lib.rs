@@ -91,9 +91,9 @@ pub fn parse(sources: &mut Sources, name: &str, bytes: &[u8]) -> Parsed {
         }
     }
     let text = sources.text(file).unwrap_or("");
-    let doc = xml::read(text, file);
-    diagnostics.extend(doc.diagnostics);
-    let devices = lower::lower(text, file, &doc.roots, &mut diagnostics);
+    let mut doc = xml::read(text, file);
+    diagnostics.append(&mut doc.diagnostics);
+    let devices = lower::lower(text, file, &doc, &mut diagnostics);
     odc_model::diag::sort(&mut diagnostics);
     Parsed { devices, diagnostics, file }
 }

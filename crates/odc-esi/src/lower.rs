@@ -43,7 +43,7 @@ enum Resolved<'t> {
     /// A base type (possibly through `BaseType`), with the declared size if any.
     Simple(DataType, Option<u32>),
     /// A declared type with sub-items.
-    Struct(&'t Element<'t>, Option<u32>),
+    Struct(Element<'t>, Option<u32>),
     /// A declared array type: element type, element bits, lower bound, element count.
     Array(DataType, Option<u32>, i64, u32),
 }
@@ -51,7 +51,7 @@ enum Resolved<'t> {
 /// The data types of one dictionary, by name.
 #[derive(Default)]
 struct Types<'t> {
-    by_name: HashMap<&'t str, &'t Element<'t>>,
+    by_name: HashMap<&'t str, Element<'t>>,
 }
 
 fn builtin(name: &str) -> Option<DataType> {
@@ -172,15 +172,15 @@ impl<'a> Ctx<'a> {
     }
 
     /// An element's text as a number of type `T`.
-    fn el_num<T: TryFrom<i128>>(&mut self, el: &Element, what: &str) -> Option<T> {
-        let v = self.number(el.text(), el.text_span, what)?;
-        self.ranged(v, el.text_span, what)
+    fn el_num<T: TryFrom<i128>>(&mut self, el: Element<'_>, what: &str) -> Option<T> {
+        let v = self.number(el.text(), el.text_span(), what)?;
+        self.ranged(v, el.text_span(), what)
     }
 
     /// An element's text as a u32; negative values in i32 range wrap (two's complement).
-    fn el_u32(&mut self, el: &Element, what: &str) -> Option<u32> {
-        let v = self.number(el.text(), el.text_span, what)?;
-        self.wrap_u32(v, el.text_span, what)
+    fn el_u32(&mut self, el: Element<'_>, what: &str) -> Option<u32> {
+        let v = self.number(el.text(), el.text_span(), what)?;
+        self.wrap_u32(v, el.text_span(), what)
     }
 
     fn wrap_u32(&mut self, v: i128, span: Span, what: &str) -> Option<u32> {
@@ -190,31 +190,31 @@ impl<'a> Ctx<'a> {
         self.ranged(v, span, what)
     }
 
-    fn child_num<T: TryFrom<i128>>(&mut self, el: &Element, name: &str) -> Option<T> {
+    fn child_num<T: TryFrom<i128>>(&mut self, el: Element<'_>, name: &str) -> Option<T> {
         let c = el.child(name)?;
         self.el_num(c, name)
     }
 
-    fn child_u32(&mut self, el: &Element, name: &str) -> Option<u32> {
+    fn child_u32(&mut self, el: Element<'_>, name: &str) -> Option<u32> {
         let c = el.child(name)?;
         self.el_u32(c, name)
     }
 
-    fn attr_num<T: TryFrom<i128>>(&mut self, el: &Element, name: &str) -> Option<T> {
+    fn attr_num<T: TryFrom<i128>>(&mut self, el: Element<'_>, name: &str) -> Option<T> {
         let a = el.attr(name)?;
-        let v = self.number(&a.value, a.span, name)?;
+        let v = self.number(a.value, a.span, name)?;
         self.ranged(v, a.span, name)
     }
 
-    fn attr_u32(&mut self, el: &Element, name: &str) -> Option<u32> {
+    fn attr_u32(&mut self, el: Element<'_>, name: &str) -> Option<u32> {
         let a = el.attr(name)?;
-        let v = self.number(&a.value, a.span, name)?;
+        let v = self.number(a.value, a.span, name)?;
         self.wrap_u32(v, a.span, name)
     }
 
-    fn attr_bool(&mut self, el: &Element, name: &str) -> Option<bool> {
-        let a: &Attr = el.attr(name)?;
-        let v = num::parse_bool(&a.value);
+    fn attr_bool(&mut self, el: Element<'_>, name: &str) -> Option<bool> {
+        let a: Attr = el.attr(name)?;
+        let v = num::parse_bool(a.value);
         if v.is_none() {
             self.push(
                 Diagnostic::error("F208", format!("`{}` is not a boolean ({name})", a.value))
@@ -224,55 +224,55 @@ impl<'a> Ctx<'a> {
         v
     }
 
-    fn el_bool(&mut self, el: &Element) -> Option<bool> {
+    fn el_bool(&mut self, el: Element<'_>) -> Option<bool> {
         let v = num::parse_bool(el.text());
         if v.is_none() {
             self.push(
                 Diagnostic::error(
                     "F208",
-                    format!("`{}` is not a boolean ({})", el.text(), el.name),
+                    format!("`{}` is not a boolean ({})", el.text(), el.name()),
                 )
-                .with_label(el.text_span, "expected 1, 0, true or false"),
+                .with_label(el.text_span(), "expected 1, 0, true or false"),
             );
         }
         v
     }
 
-    fn hex(&mut self, el: &Element) -> Vec<u8> {
+    fn hex(&mut self, el: Element<'_>) -> Vec<u8> {
         match num::parse_hex_bytes(el.text()) {
             Some(b) => b,
             None => {
                 self.push(
-                    Diagnostic::error("F211", format!("`{}` is not hex bytes", el.name))
-                        .with_label(el.text_span, "expected pairs of hex digits"),
+                    Diagnostic::error("F211", format!("`{}` is not hex bytes", el.name()))
+                        .with_label(el.text_span(), "expected pairs of hex digits"),
                 );
                 Vec::new()
             }
         }
     }
 
-    fn missing(&mut self, parent: &Element, what: &str) {
+    fn missing(&mut self, parent: Element<'_>, what: &str) {
         self.push(
-            Diagnostic::error("F209", format!("`{}` has no `{what}`", parent.name))
-                .with_label(parent.span, format!("`{what}` missing")),
+            Diagnostic::error("F209", format!("`{}` has no `{what}`", parent.name()))
+                .with_label(parent.span(), format!("`{what}` missing")),
         );
     }
 
-    fn raw(&self, parent: &str, el: &Element) -> RawXml {
+    fn raw(&self, parent: &str, el: Element<'_>) -> RawXml {
         RawXml {
-            path: format!("{parent}/{}", el.name),
-            xml: self.src.get(el.span.range()).unwrap_or("").to_string(),
-            span: el.span,
+            path: format!("{parent}/{}", el.name()),
+            xml: self.src.get(el.span().range()).unwrap_or("").to_string(),
+            span: el.span(),
         }
     }
 }
 
-fn names(el: &Element, ctx: &mut Ctx<'_>) -> Vec<LocalizedText> {
+fn names(el: Element<'_>, ctx: &mut Ctx<'_>) -> Vec<LocalizedText> {
     el.children_named("Name")
         .map(|n| LocalizedText {
             lc_id: ctx.attr_u32(n, "LcId"),
             text: n.text().to_string(),
-            span: n.text_span,
+            span: n.text_span(),
         })
         .collect()
 }
@@ -282,8 +282,8 @@ fn preferred(names: &[LocalizedText]) -> Option<&LocalizedText> {
     names.iter().find(|n| n.lc_id == Some(1033)).or_else(|| names.first())
 }
 
-fn first_name(el: &Element) -> String {
-    let mut best: Option<&Element> = None;
+fn first_name(el: Element<'_>) -> String {
+    let mut best: Option<Element<'_>> = None;
     for n in el.children_named("Name") {
         let english = n.attr("LcId").is_some_and(|a| a.value.trim() == "1033");
         if english {
@@ -299,7 +299,7 @@ fn first_name(el: &Element) -> String {
 
 /// PDO definitions of old (ETG.2000 v1.2) files: `Descriptions/Pdos/Pdo@RefName`, referred to
 /// by `RxPdo@Ref`/`TxPdo@Ref`.
-type PdoRefs<'t> = HashMap<&'t str, &'t Element<'t>>;
+type PdoRefs<'t> = HashMap<&'t str, Element<'t>>;
 
 /// The file-level data shared by all devices.
 struct FileData<'t> {
@@ -316,32 +316,32 @@ struct FileData<'t> {
 pub(crate) fn lower(
     src: &str,
     _file: FileId,
-    roots: &[Element],
+    doc: &crate::xml::Document<'_>,
     diags: &mut Vec<Diagnostic>,
 ) -> Vec<Device> {
     let mut ctx = Ctx { src, diags };
-    let Some(root) = roots.first() else {
+    let Some(root) = doc.roots().next() else {
         if !ctx.diags.iter().any(|d| d.is_error()) {
             ctx.push(Diagnostic::error("F202", "the file has no root element"));
         }
         return Vec::new();
     };
-    match &*root.name {
+    match root.name() {
         "EtherCATInfo" => {}
         "EtherCATModule" | "EtherCATDict" | "EtherCATDiag" => {
             ctx.push(
                 Diagnostic::warning(
                     "F206",
-                    format!("`{}` file: it describes no device on its own", root.name),
+                    format!("`{}` file: it describes no device on its own", root.name()),
                 )
-                .with_label(root.span, "root element"),
+                .with_label(root.span(), "root element"),
             );
             return Vec::new();
         }
         other => {
             ctx.push(
                 Diagnostic::error("F206", format!("root element is `{other}`, not `EtherCATInfo`"))
-                    .with_label(root.span, "not an ESI file"),
+                    .with_label(root.span(), "not an ESI file"),
             );
             return Vec::new();
         }
@@ -349,7 +349,7 @@ pub(crate) fn lower(
     let vendor = root.child("Vendor");
     let vendor_id = vendor.and_then(|v| v.child("Id")).and_then(|id| {
         let v = ctx.el_u32(id, "Vendor Id")?;
-        Some(Spanned::new(v, id.text_span))
+        Some(Spanned::new(v, id.text_span()))
     });
     let vendor_names = vendor.map(|v| names(v, &mut ctx)).unwrap_or_default();
     let Some(descriptions) = root.child("Descriptions") else {
@@ -381,18 +381,18 @@ pub(crate) fn lower(
         .map(|m| lower_modules(m, &mut ctx, &Types::default(), &pdo_refs))
         .unwrap_or_default();
     let mut raw = Vec::new();
-    for c in &root.children {
-        if !matches!(&*c.name, "Vendor" | "Descriptions") {
+    for c in root.children() {
+        if !matches!(c.name(), "Vendor" | "Descriptions") {
             raw.push(ctx.raw("EtherCATInfo", c));
         }
     }
-    for c in vendor.map(|v| v.children.as_slice()).unwrap_or_default() {
-        if !matches!(&*c.name, "Id" | "Name") {
+    for c in vendor.into_iter().flat_map(|v| v.children()) {
+        if !matches!(c.name(), "Id" | "Name") {
             raw.push(ctx.raw("Vendor", c));
         }
     }
-    for c in &descriptions.children {
-        if !matches!(&*c.name, "Groups" | "Devices" | "Modules" | "Pdos") {
+    for c in descriptions.children() {
+        if !matches!(c.name(), "Groups" | "Devices" | "Modules" | "Pdos") {
             raw.push(ctx.raw("Descriptions", c));
         }
     }
@@ -407,14 +407,14 @@ pub(crate) fn lower(
 }
 
 fn lower_modules(
-    el: &Element,
+    el: Element<'_>,
     ctx: &mut Ctx<'_>,
     outer: &Types<'_>,
     refs: &PdoRefs<'_>,
 ) -> Vec<EsiModule> {
     let mut out = Vec::new();
     for m in el.children_named("Module") {
-        let mut module = EsiModule { span: m.span, ..EsiModule::default() };
+        let mut module = EsiModule { span: m.span(), ..EsiModule::default() };
         if let Some(t) = m.child("Type") {
             module.type_name = t.text().to_string();
             module.module_ident = ctx.attr_u32(t, "ModuleIdent");
@@ -444,10 +444,10 @@ fn lower_modules(
 }
 
 /// Collects the values of `Index` elements marked `DependOnSlot` below `el`.
-fn slot_dependent(el: &Element, out: &mut Vec<u16>, depth: u32) {
-    for c in &el.children {
-        if &*c.name == "Index" {
-            let marked = c.attr("DependOnSlot").and_then(|a| num::parse_bool(&a.value));
+fn slot_dependent(el: Element<'_>, out: &mut Vec<u16>, depth: u32) {
+    for c in el.children() {
+        if c.name() == "Index" {
+            let marked = c.attr("DependOnSlot").and_then(|a| num::parse_bool(a.value));
             if marked == Some(true)
                 && let Some(v) = num::parse_int(c.text()).and_then(|v| u16::try_from(v).ok())
             {
@@ -459,7 +459,7 @@ fn slot_dependent(el: &Element, out: &mut Vec<u16>, depth: u32) {
     }
 }
 
-fn lower_device(d: &Element, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Device {
+fn lower_device(d: Element<'_>, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Device {
     let mut ec = EtherCat {
         vendor_id: file.vendor_id.as_ref().map(|v| v.value),
         physics: d.attr("Physics").map(|a| a.value.to_string()),
@@ -473,22 +473,22 @@ fn lower_device(d: &Element, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Device {
     };
     match d.child("Type") {
         Some(t) => {
-            for a in &t.attrs {
-                match &*a.name {
+            for a in t.attrs() {
+                match a.name {
                     "ProductCode" => {
-                        let v = ctx.number(&a.value, a.span, "ProductCode");
+                        let v = ctx.number(a.value, a.span, "ProductCode");
                         let v = v.and_then(|v| ctx.wrap_u32(v, a.span, "ProductCode"));
                         ec.product_code = v;
                         info.product_number = v.map(|v| Spanned::new(v, a.span));
                     }
                     "RevisionNo" => {
-                        let v = ctx.number(&a.value, a.span, "RevisionNo");
+                        let v = ctx.number(a.value, a.span, "RevisionNo");
                         let v = v.and_then(|v| ctx.wrap_u32(v, a.span, "RevisionNo"));
                         ec.revision = v;
                         info.revision_number = v.map(|v| Spanned::new(v, a.span));
                     }
                     "SerialNo" => {
-                        let v = ctx.number(&a.value, a.span, "SerialNo");
+                        let v = ctx.number(a.value, a.span, "SerialNo");
                         ec.serial_no = v.and_then(|v| ctx.wrap_u32(v, a.span, "SerialNo"));
                     }
                     _ => ec.type_attributes.push(XmlAttribute {
@@ -499,7 +499,7 @@ fn lower_device(d: &Element, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Device {
                 }
             }
             if !t.text().is_empty() {
-                info.order_code = Some(Spanned::new(t.text().to_string(), t.text_span));
+                info.order_code = Some(Spanned::new(t.text().to_string(), t.text_span()));
             }
         }
         None => ctx.missing(d, "Type"),
@@ -509,19 +509,19 @@ fn lower_device(d: &Element, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Device {
     if let Some(g) = d.child("GroupType") {
         let type_name = g.text().to_string();
         let names = file.groups.get(&type_name).cloned().unwrap_or_default();
-        ec.group = Some(Group { type_name, names, span: g.text_span });
+        ec.group = Some(Group { type_name, names, span: g.text_span() });
     }
 
     // Dictionary: data types first (all profiles), then objects.
     let mut types = Types::default();
     let mut objects = BTreeMap::new();
-    let profiles: Vec<&Element> = d.children_named("Profile").collect();
-    for p in &profiles {
+    let profiles: Vec<Element<'_>> = d.children_named("Profile").collect();
+    for &p in &profiles {
         if let Some(dict) = p.child("Dictionary") {
             collect_types(dict, &mut types, &mut ec.data_types, ctx);
         }
     }
-    for p in &profiles {
+    for &p in &profiles {
         ec.profiles.push(Profile {
             channel: ctx.attr_u32(p, "Channel"),
             profile_no: ctx.child_u32(p, "ProfileNo"),
@@ -529,7 +529,7 @@ fn lower_device(d: &Element, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Device {
             channel_count: ctx.child_u32(p, "ChannelCount"),
             dictionary_file: p.child("DictionaryFile").map(|f| f.text().to_string()),
             has_dictionary: p.child("Dictionary").is_some(),
-            span: p.span,
+            span: p.span(),
         });
         if let Some(dict) = p.child("Dictionary") {
             let objs = lower_objects(dict, ctx, &types, &mut ec.object_flags);
@@ -543,16 +543,16 @@ fn lower_device(d: &Element, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Device {
             usage: SmUsage::parse(f.text()),
             sm: ctx.attr_num(f, "Sm"),
             su: ctx.attr_num(f, "Su"),
-            span: f.span,
+            span: f.span(),
         });
     }
     for (i, s) in d.children_named("Sm").enumerate() {
         let start_address = s.attr("StartAddress").and_then(|a| {
-            let v = ctx.number(&a.value, a.span, "StartAddress")?;
+            let v = ctx.number(a.value, a.span, "StartAddress")?;
             Some(Spanned::new(ctx.ranged(v, a.span, "StartAddress")?, a.span))
         });
         let control_byte = s.attr("ControlByte").and_then(|a| {
-            let v = ctx.number(&a.value, a.span, "ControlByte")?;
+            let v = ctx.number(a.value, a.span, "ControlByte")?;
             Some(Spanned::new(ctx.ranged(v, a.span, "ControlByte")?, a.span))
         });
         ec.sync_managers.push(SyncManager {
@@ -566,7 +566,7 @@ fn lower_device(d: &Element, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Device {
             enable: ctx.attr_bool(s, "Enable").unwrap_or(false),
             virtual_sm: ctx.attr_bool(s, "Virtual").unwrap_or(false),
             op_only: ctx.attr_bool(s, "OpOnly").unwrap_or(false),
-            span: s.span,
+            span: s.span(),
         });
     }
     let pdos = lower_pdos(d, ctx, &types, &file.pdo_refs);
@@ -577,7 +577,7 @@ fn lower_device(d: &Element, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Device {
         ec.dc = Some(lower_dc(dc, ctx));
     }
     if let Some(e) = d.child("Eeprom") {
-        let mut ee = Eeprom { span: e.span, ..Eeprom::default() };
+        let mut ee = Eeprom { span: e.span(), ..Eeprom::default() };
         ee.byte_size = ctx.child_u32(e, "ByteSize");
         if let Some(c) = e.child("ConfigData") {
             ee.config_data = ctx.hex(c);
@@ -599,8 +599,8 @@ fn lower_device(d: &Element, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Device {
         ec.modules.extend(lower_modules(m, ctx, &types, &file.pdo_refs));
     }
     ec.raw.extend(file.raw.iter().cloned());
-    for c in &d.children {
-        if !DEVICE_KNOWN.contains(&&*c.name) {
+    for c in d.children() {
+        if !DEVICE_KNOWN.contains(&c.name()) {
             ec.raw.push(ctx.raw("Device", c));
         }
     }
@@ -640,7 +640,7 @@ fn lower_device(d: &Element, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Device {
 }
 
 fn collect_types<'t>(
-    dict: &'t Element,
+    dict: Element<'t>,
     types: &mut Types<'t>,
     out: &mut Vec<EsiDataType>,
     ctx: &mut Ctx<'_>,
@@ -662,7 +662,7 @@ fn collect_types<'t>(
             index: ctx.child_u32(dt, "Index"),
             base_type: dt.child("BaseType").map(|b| b.text().to_string()),
             bit_size: ctx.child_u32(dt, "BitSize"),
-            span: dt.span,
+            span: dt.span(),
             ..EsiDataType::default()
         };
         for a in dt.children_named("ArrayInfo") {
@@ -775,7 +775,7 @@ fn pdo_mapping_of(text: &str, span: Span, ctx: &mut Ctx<'_>) -> PdoMapping {
 
 /// Applies a `Flags` element to a sub-object; records the ESI-only flags.
 fn apply_flags(
-    flags: &Element,
+    flags: Element<'_>,
     index: u16,
     sub: &mut SubObject,
     ctx: &mut Ctx<'_>,
@@ -783,12 +783,12 @@ fn apply_flags(
 ) {
     let mut f = ObjectFlags { index, sub: sub.sub_index, ..ObjectFlags::default() };
     if let Some(a) = flags.child("Access") {
-        sub.access = access_of(a.text(), a.text_span, ctx);
+        sub.access = access_of(a.text(), a.text_span(), ctx);
         f.read_restrictions = a.attr("ReadRestrictions").map(|x| x.value.to_string());
         f.write_restrictions = a.attr("WriteRestrictions").map(|x| x.value.to_string());
     }
     if let Some(p) = flags.child("PdoMapping") {
-        sub.pdo_mapping = pdo_mapping_of(p.text(), p.text_span, ctx);
+        sub.pdo_mapping = pdo_mapping_of(p.text(), p.text_span(), ctx);
     }
     f.category = flags.child("Category").map(|c| c.text().to_string());
     f.transition = flags.child("Transition").map(|c| c.text().to_string());
@@ -801,24 +801,24 @@ fn apply_flags(
 }
 
 /// Reads a value element: `*Data` as little-endian bytes, `*Value`/`DefaultString` as text.
-fn value_of(el: &Element, ty: DataType, ctx: &mut Ctx<'_>) -> Spanned<Value> {
+fn value_of(el: Element<'_>, ty: DataType, ctx: &mut Ctx<'_>) -> Spanned<Value> {
     let text = el.text();
-    let is_data = el.name.ends_with("Data");
+    let is_data = el.name().ends_with("Data");
     let v = if is_data {
         num::parse_hex_bytes_lenient(text).and_then(|(b, padded)| {
             if padded {
                 ctx.push(
                     Diagnostic::warning(
                         "F219",
-                        format!("`{text}` has an odd number of hex digits ({})", el.name),
+                        format!("`{text}` has an odd number of hex digits ({})", el.name()),
                     )
-                    .with_label(el.text_span, "read with a leading zero"),
+                    .with_label(el.text_span(), "read with a leading zero"),
                 );
             }
             num::decode_data(&b, ty)
         })
-    } else if &*el.name == "DefaultString" {
-        Some(Value::Text(el.text.to_string()))
+    } else if el.name() == "DefaultString" {
+        Some(Value::Text(el.raw_text().to_string()))
     } else {
         num::parse_value_text(text, ty)
     };
@@ -827,7 +827,7 @@ fn value_of(el: &Element, ty: DataType, ctx: &mut Ctx<'_>) -> Spanned<Value> {
         Some(Err(())) => {
             ctx.push(
                 Diagnostic::error("F218", format!("`{text}` does not fit {}", ty.name()))
-                    .with_label(el.text_span, format!("in `{}`", el.name)),
+                    .with_label(el.text_span(), format!("in `{}`", el.name())),
             );
             Value::Invalid(text.to_string())
         }
@@ -838,18 +838,18 @@ fn value_of(el: &Element, ty: DataType, ctx: &mut Ctx<'_>) -> Spanned<Value> {
                     "F211",
                     format!("`{}` is not {what} of type {}", text, ty.name()),
                 )
-                .with_label(el.text_span, format!("in `{}`", el.name)),
+                .with_label(el.text_span(), format!("in `{}`", el.name())),
             );
             Value::Invalid(text.to_string())
         }
     };
-    Spanned::new(v, el.text_span)
+    Spanned::new(v, el.text_span())
 }
 
 /// Applies an `Info` element (defaults and limits) to a sub-object.
-fn apply_info(info: &Element, sub: &mut SubObject, ctx: &mut Ctx<'_>) {
-    for c in &info.children {
-        match &*c.name {
+fn apply_info(info: Element<'_>, sub: &mut SubObject, ctx: &mut Ctx<'_>) {
+    for c in info.children() {
+        match c.name() {
             "DefaultData" | "DefaultValue" | "DefaultString" => {
                 sub.default = Some(value_of(c, sub.data_type, ctx));
             }
@@ -867,7 +867,7 @@ fn unknown_type(name: &str, span: Span, ctx: &mut Ctx<'_>, severe: bool) {
 }
 
 fn lower_objects(
-    dict: &Element,
+    dict: Element<'_>,
     ctx: &mut Ctx<'_>,
     types: &Types<'_>,
     flags_out: &mut Vec<ObjectFlags>,
@@ -888,10 +888,10 @@ fn lower_objects(
         let info = o.child("Info");
         let resolved = types.resolve(type_name, 0);
         if resolved.is_none() {
-            let span = type_el.map(|t| t.text_span).unwrap_or(o.span);
+            let span = type_el.map(|t| t.text_span()).unwrap_or(o.span());
             unknown_type(type_name, span, ctx, true);
         }
-        let mut object = Object::new(index, name.clone(), ObjectKind::Var, o.span);
+        let mut object = Object::new(index, name.clone(), ObjectKind::Var, o.span());
         match resolved {
             Some(Resolved::Simple(..)) | None => {
                 let (ty, bits) = match resolved {
@@ -900,7 +900,7 @@ fn lower_objects(
                 };
                 let mut sub = SubObject::new(0, name, ty, Access::Ro);
                 sub.bit_size = bit_size.or(bits);
-                sub.span = o.span;
+                sub.span = o.span();
                 if let Some(f) = flags {
                     apply_flags(f, index, &mut sub, ctx, flags_out);
                 }
@@ -917,7 +917,7 @@ fn lower_objects(
                     if elements > 255 { DataType::Unsigned16 } else { DataType::Unsigned8 };
                 let mut sub0 = SubObject::new(0, "SubIndex 000", count_ty, Access::Ro);
                 sub0.default = Some(Spanned::synthetic(Value::Unsigned(u64::from(elements))));
-                sub0.span = o.span;
+                sub0.span = o.span();
                 object.subs.insert(0, sub0);
                 let first = lbound.clamp(1, 255);
                 for k in 0..elements.min(255) {
@@ -925,7 +925,7 @@ fn lower_objects(
                     let Ok(si) = u8::try_from(si) else { break };
                     let mut s = SubObject::new(si, format!("SubIndex {si:03}"), elem, Access::Ro);
                     s.bit_size = elem_bits;
-                    s.span = o.span;
+                    s.span = o.span();
                     object.subs.insert(si, s);
                 }
                 for s in object.subs.values_mut() {
@@ -947,7 +947,7 @@ fn lower_objects(
         if objects.insert(index, object).is_some() {
             ctx.push(
                 Diagnostic::warning("F214", format!("object 0x{index:04X} defined twice"))
-                    .with_label(index_el.text_span, "this definition is used"),
+                    .with_label(index_el.text_span(), "this definition is used"),
             );
         }
     }
@@ -956,10 +956,10 @@ fn lower_objects(
 
 /// Builds the sub-objects of `object` from a structured data type's `SubItem`s.
 fn lower_struct(
-    dt: &Element,
+    dt: Element<'_>,
     types: &Types<'_>,
     object: &mut Object,
-    obj_flags: Option<&Element>,
+    obj_flags: Option<Element<'_>>,
     ctx: &mut Ctx<'_>,
     flags_out: &mut Vec<ObjectFlags>,
 ) {
@@ -1002,7 +1002,7 @@ fn lower_struct(
                     Some(Resolved::Simple(t, b)) => (t, b),
                     Some(Resolved::Struct(_, b)) => (DataType::Domain, b),
                     _ => {
-                        let span = type_el.map(|t| t.text_span).unwrap_or(si.span);
+                        let span = type_el.map(|t| t.text_span()).unwrap_or(si.span());
                         unknown_type(type_name, span, ctx, true);
                         (DataType::Domain, None)
                     }
@@ -1021,7 +1021,7 @@ fn lower_struct(
 }
 
 /// Matches `Info/SubItem`s to the object's sub-objects by name and applies their `Info`.
-fn apply_sub_infos(info: &Element, object: &mut Object, ctx: &mut Ctx<'_>) {
+fn apply_sub_infos(info: Element<'_>, object: &mut Object, ctx: &mut Ctx<'_>) {
     for (pos, si) in info.children_named("SubItem").enumerate() {
         let name = si.child("Name").map(|n| n.text()).unwrap_or("");
         let by_name = object.subs.iter().find(|(_, s)| s.name == name).map(|(k, _)| *k);
@@ -1033,7 +1033,7 @@ fn apply_sub_infos(info: &Element, object: &mut Object, ctx: &mut Ctx<'_>) {
             None => {
                 // Arrays: element names are ours (`SubIndex nnn`), position is the real key.
                 if object.kind != ObjectKind::Array {
-                    let span = si.child("Name").map(|n| n.text_span).unwrap_or(si.span);
+                    let span = si.child("Name").map(|n| n.text_span()).unwrap_or(si.span());
                     let applied = match by_pos {
                         Some(k) => format!("applied to sub-index {k} by position"),
                         None => "ignored".to_string(),
@@ -1056,7 +1056,7 @@ fn apply_sub_infos(info: &Element, object: &mut Object, ctx: &mut Ctx<'_>) {
             }
         };
         if let Some(sub) = object.subs.get_mut(&key) {
-            sub.span = si.span;
+            sub.span = si.span();
             if let Some(i) = si.child("Info") {
                 apply_info(i, sub, ctx);
             }
@@ -1065,14 +1065,14 @@ fn apply_sub_infos(info: &Element, object: &mut Object, ctx: &mut Ctx<'_>) {
 }
 
 fn lower_pdos(
-    parent: &Element,
+    parent: Element<'_>,
     ctx: &mut Ctx<'_>,
     types: &Types<'_>,
     refs: &PdoRefs<'_>,
 ) -> Vec<Pdo> {
     let mut pdos = Vec::new();
-    for pdo_el in &parent.children {
-        let direction = match &*pdo_el.name {
+    for pdo_el in parent.children() {
+        let direction = match pdo_el.name() {
             "RxPdo" => Direction::Rx,
             "TxPdo" => Direction::Tx,
             _ => continue,
@@ -1114,7 +1114,7 @@ fn lower_pdos(
                 Some(Resolved::Simple(ty, _)) => Some(ty),
                 Some(Resolved::Array(..) | Resolved::Struct(..)) => Some(DataType::Domain),
                 None => {
-                    unknown_type(t.text(), t.text_span, ctx, false);
+                    unknown_type(t.text(), t.text_span(), ctx, false);
                     None
                 }
             });
@@ -1124,7 +1124,7 @@ fn lower_pdos(
                 bits,
                 name: e.child("Name").map(|n| n.text().to_string()).filter(|n| !n.is_empty()),
                 data_type,
-                span: e.span,
+                span: e.span(),
             });
         }
         pdos.push(Pdo {
@@ -1145,13 +1145,13 @@ fn lower_pdos(
                 .children_named("Exclude")
                 .filter_map(|x| ctx.el_num::<u16>(x, "Exclude"))
                 .collect(),
-            span: pdo_el.span,
+            span: pdo_el.span(),
         });
     }
     pdos
 }
 
-fn init_cmd(c: &Element, ctx: &mut Ctx<'_>) -> InitCmd {
+fn init_cmd(c: Element<'_>, ctx: &mut Ctx<'_>) -> InitCmd {
     InitCmd {
         transitions: c.children_named("Transition").map(|t| t.text().to_string()).collect(),
         index: c
@@ -1163,14 +1163,14 @@ fn init_cmd(c: &Element, ctx: &mut Ctx<'_>) -> InitCmd {
         comment: c.child("Comment").map(|t| t.text().to_string()),
         complete_access: ctx.attr_bool(c, "CompleteAccess").unwrap_or(false),
         fixed: ctx.attr_bool(c, "Fixed").unwrap_or(false),
-        span: c.span,
+        span: c.span(),
     }
 }
 
-fn mailbox(mb: &Element, ctx: &mut Ctx<'_>) -> Mailbox {
+fn mailbox(mb: Element<'_>, ctx: &mut Ctx<'_>) -> Mailbox {
     let mut m = Mailbox {
         data_link_layer: ctx.attr_bool(mb, "DataLinkLayer").unwrap_or(false),
-        span: mb.span,
+        span: mb.span(),
         ..Mailbox::default()
     };
     if let Some(c) = mb.child("CoE") {
@@ -1198,8 +1198,8 @@ fn mailbox(mb: &Element, ctx: &mut Ctx<'_>) -> Mailbox {
     m
 }
 
-fn lower_dc(dc: &Element, ctx: &mut Ctx<'_>) -> Dc {
-    let mut out = Dc { span: dc.span, ..Dc::default() };
+fn lower_dc(dc: Element<'_>, ctx: &mut Ctx<'_>) -> Dc {
+    let mut out = Dc { span: dc.span(), ..Dc::default() };
     for o in dc.children_named("OpMode") {
         let factor = |name: &str, ctx: &mut Ctx<'_>| -> Option<i64> {
             o.child(name).and_then(|e| ctx.attr_num::<i64>(e, "Factor"))
@@ -1215,18 +1215,18 @@ fn lower_dc(dc: &Element, ctx: &mut Ctx<'_>) -> Dc {
             cycle_time_sync1: ctx.child_u32(o, "CycleTimeSync1"),
             cycle_time_sync1_factor: factor("CycleTimeSync1", ctx),
             shift_time_sync1: ctx.child_num(o, "ShiftTimeSync1"),
-            span: o.span,
+            span: o.span(),
         });
     }
     out
 }
 
-fn lower_slots(s: &Element, ctx: &mut Ctx<'_>) -> Slots {
+fn lower_slots(s: Element<'_>, ctx: &mut Ctx<'_>) -> Slots {
     let mut out = Slots {
         slot_index_increment: ctx.attr_u32(s, "SlotIndexIncrement"),
         slot_pdo_increment: ctx.attr_u32(s, "SlotPdoIncrement"),
         max_slot_count: ctx.attr_u32(s, "MaxSlotCount"),
-        span: s.span,
+        span: s.span(),
         ..Slots::default()
     };
     for slot in s.children_named("Slot") {
@@ -1236,7 +1236,7 @@ fn lower_slots(s: &Element, ctx: &mut Ctx<'_>) -> Slots {
             max_instances: ctx.attr_u32(slot, "MaxInstances"),
             slot_index_increment: ctx.attr_u32(slot, "SlotIndexIncrement"),
             slot_pdo_increment: ctx.attr_u32(slot, "SlotPdoIncrement"),
-            span: slot.span,
+            span: slot.span(),
             ..Slot::default()
         };
         for mi in slot.children_named("ModuleIdent") {

@@ -8,6 +8,15 @@
 //! the nesting depth is limited. quick-xml's pull reader on a `&str` gives byte positions before
 //! and after every event (`buffer_position`), and borrowing attribute values lets their spans be
 //! computed exactly. The tree holds only element names, attributes, trimmed text and spans.
+//!
+//! Layout: one flat arena of fixed-size nodes in document order (pre-order), so that reading a
+//! file makes a handful of allocations instead of several per element, and the tree stays
+//! about the size of the text (a node is 40 bytes; an ESI element averages ~55 source bytes).
+//! A node's first child is the node after it and its next sibling is the node after its
+//! subtree (`subtree_end`); its attributes are the run of the attribute arena up to the next
+//! node's. Names, texts and attribute values are offsets into the source; the few that differ
+//! from it (entities resolved, line ends normalised, text broken by child elements) live in a
+//! side table of owned strings. [`Element`] and [`Attr`] are copyable handles onto the arena.
 
 use std::borrow::Cow;
 
@@ -19,45 +28,187 @@ use quick_xml::{Error, Reader};
 /// Deepest element nesting read; deeper content is skipped with a diagnostic.
 pub const MAX_DEPTH: usize = 256;
 
-/// An attribute: name (local part), value (entities resolved) and the span of the value.
-#[derive(Debug)]
-pub struct Attr<'s> {
-    pub name: Cow<'s, str>,
-    pub value: Cow<'s, str>,
-    pub span: Span,
+/// A string of the tree: `len` bytes of the source at `at`, or (`len == OWNED`) the owned
+/// string number `at` of the document.
+#[derive(Clone, Copy, Debug)]
+struct Str {
+    at: u32,
+    len: u32,
 }
 
-/// An element.
+/// `Str::len` of an owned string. Never a real length: files are at most 256 MiB.
+const OWNED: u32 = u32::MAX;
+
+impl Str {
+    const EMPTY: Str = Str { at: 0, len: 0 };
+}
+
+/// An element in the arena.
 #[derive(Debug)]
-pub struct Element<'s> {
+struct Node {
     /// Local name (namespace prefix dropped).
-    pub name: Cow<'s, str>,
-    pub attrs: Vec<Attr<'s>>,
-    pub children: Vec<Element<'s>>,
-    /// Text and CDATA content, entities resolved, leading white space dropped.
-    pub text: Cow<'s, str>,
-    /// Span of the text without surrounding white space (the element's span if none).
-    pub text_span: Span,
+    name: Str,
     /// From `<` to the end of the end tag.
+    start: u32,
+    end: u32,
+    /// Text and CDATA content, entities resolved, leading white space dropped.
+    text: Str,
+    /// Span of the text without surrounding white space (the element's span if none).
+    text_start: u32,
+    text_end: u32,
+    /// One past the last node of this element's subtree.
+    subtree_end: u32,
+    /// This element's first attribute in [`Document::attrs`].
+    attr_start: u32,
+}
+
+/// An attribute in the arena.
+#[derive(Debug)]
+struct RawAttr {
+    name: Str,
+    value: Str,
+    /// Span of the value as written.
+    start: u32,
+    end: u32,
+}
+
+/// The elements read (normally under one root) and the problems met while reading.
+pub struct Document<'s> {
+    src: &'s str,
+    file: FileId,
+    nodes: Vec<Node>,
+    attrs: Vec<RawAttr>,
+    strings: Vec<String>,
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+impl<'s> Document<'s> {
+    fn str(&self, s: Str) -> &str {
+        if s.len == OWNED {
+            self.strings.get(s.at as usize).map_or("", String::as_str)
+        } else {
+            self.src.get(s.at as usize..s.at as usize + s.len as usize).unwrap_or("")
+        }
+    }
+
+    fn span(&self, start: u32, end: u32) -> Span {
+        Span::new(self.file, start, end)
+    }
+
+    /// The top-level elements (more than one only in a malformed file).
+    pub fn roots(&self) -> Children<'_> {
+        Children { doc: self, next: 0, end: self.nodes.len() as u32 }
+    }
+}
+
+/// An attribute: name (local part), value (entities resolved) and the span of the value.
+#[derive(Clone, Copy, Debug)]
+pub struct Attr<'d> {
+    pub name: &'d str,
+    pub value: &'d str,
     pub span: Span,
 }
 
-impl<'s> Element<'s> {
-    pub fn child(&self, name: &str) -> Option<&Element<'s>> {
-        self.children.iter().find(|c| &*c.name == name)
+/// An element: a handle onto the document's arena.
+#[derive(Clone, Copy)]
+pub struct Element<'d> {
+    doc: &'d Document<'d>,
+    /// Invariant: a valid index of `doc.nodes` (handles are only made by [`Children`]).
+    idx: u32,
+}
+
+impl std::fmt::Debug for Element<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "<{}> at {:?}", self.name(), self.span())
+    }
+}
+
+/// The child elements of an element (or the roots of a document), in document order.
+#[derive(Clone)]
+pub struct Children<'d> {
+    doc: &'d Document<'d>,
+    next: u32,
+    end: u32,
+}
+
+impl<'d> Iterator for Children<'d> {
+    type Item = Element<'d>;
+
+    fn next(&mut self) -> Option<Element<'d>> {
+        if self.next >= self.end {
+            return None;
+        }
+        let idx = self.next;
+        let after = self.doc.nodes.get(idx as usize)?.subtree_end;
+        // `subtree_end > idx` for every closed node; `max` keeps a bad value from looping.
+        self.next = after.max(idx + 1);
+        Some(Element { doc: self.doc, idx })
+    }
+}
+
+impl<'d> Element<'d> {
+    fn node(self) -> &'d Node {
+        // `idx` is valid (see the field); index rather than `get` keeps the accessors total.
+        &self.doc.nodes[self.idx as usize]
     }
 
-    pub fn children_named<'a>(&'a self, name: &'a str) -> impl Iterator<Item = &'a Element<'s>> {
-        self.children.iter().filter(move |c| &*c.name == name)
+    /// Local name (namespace prefix dropped).
+    pub fn name(self) -> &'d str {
+        self.doc.str(self.node().name)
     }
 
-    pub fn attr(&self, name: &str) -> Option<&Attr<'s>> {
-        self.attrs.iter().find(|a| &*a.name == name)
+    /// From `<` to the end of the end tag.
+    pub fn span(self) -> Span {
+        let n = self.node();
+        self.doc.span(n.start, n.end)
+    }
+
+    /// Span of the text without surrounding white space (the element's span if none).
+    pub fn text_span(self) -> Span {
+        let n = self.node();
+        self.doc.span(n.text_start, n.text_end)
+    }
+
+    /// The text and CDATA content, entities resolved, leading white space dropped.
+    pub fn raw_text(self) -> &'d str {
+        self.doc.str(self.node().text)
     }
 
     /// The text, trimmed.
-    pub fn text(&self) -> &str {
-        self.text.trim_end()
+    pub fn text(self) -> &'d str {
+        self.raw_text().trim_end()
+    }
+
+    pub fn children(self) -> Children<'d> {
+        let n = self.node();
+        Children { doc: self.doc, next: self.idx + 1, end: n.subtree_end }
+    }
+
+    pub fn child(self, name: &str) -> Option<Element<'d>> {
+        self.children().find(|c| c.name() == name)
+    }
+
+    pub fn children_named<'a>(self, name: &'a str) -> impl Iterator<Item = Element<'d>> + 'a
+    where
+        'd: 'a,
+    {
+        self.children().filter(move |c| c.name() == name)
+    }
+
+    pub fn attrs(self) -> impl Iterator<Item = Attr<'d>> {
+        let doc = self.doc;
+        let from = self.node().attr_start as usize;
+        let to =
+            doc.nodes.get(self.idx as usize + 1).map_or(doc.attrs.len(), |n| n.attr_start as usize);
+        doc.attrs.get(from..to).unwrap_or_default().iter().map(move |a| Attr {
+            name: doc.str(a.name),
+            value: doc.str(a.value),
+            span: doc.span(a.start, a.end),
+        })
+    }
+
+    pub fn attr(self, name: &str) -> Option<Attr<'d>> {
+        self.attrs().find(|a| a.name == name)
     }
 }
 
@@ -65,164 +216,225 @@ fn local(name: &str) -> &str {
     name.rsplit(':').next().unwrap_or(name)
 }
 
+/// Where `s` starts in `src`, when it is a slice of it (it is for a `&str` reader).
+fn offset_in(src: &str, s: &str) -> Option<u32> {
+    let base = src.as_ptr() as usize;
+    let p = s.as_ptr() as usize;
+    (p >= base && p + s.len() <= base + src.len()).then(|| (p - base) as u32)
+}
+
+/// The text gathered so far for an open element.
+enum Text {
+    Borrowed(u32, u32),
+    Owned(String),
+}
+
+impl Text {
+    fn is_empty(&self) -> bool {
+        match self {
+            Text::Borrowed(a, b) => a == b,
+            Text::Owned(s) => s.is_empty(),
+        }
+    }
+}
+
+/// An element whose end tag has not been read yet.
+struct Open {
+    idx: u32,
+    /// End of the start tag.
+    tag_end: u32,
+    text: Text,
+    /// Start and end of the non-blank text.
+    bounds: Option<(u32, u32)>,
+}
+
 struct Builder<'s> {
-    src: &'s str,
-    file: FileId,
-    stack: Vec<Element<'s>>,
-    /// Finished elements waiting for their parent's end tag (children of open elements).
-    pending: Vec<Element<'s>>,
-    /// Start of each open element's children in `pending`.
-    child_start: Vec<usize>,
-    roots: Vec<Element<'s>>,
-    diags: Vec<Diagnostic>,
-    /// Text start/end of the element on top of the stack.
-    text_bounds: Vec<Option<(u32, u32)>>,
+    doc: Document<'s>,
+    stack: Vec<Open>,
+    /// Span of the first top-level element, once closed.
+    first_root: Option<Span>,
 }
 
 impl<'s> Builder<'s> {
     fn span(&self, start: u32, end: u32) -> Span {
-        Span::new(self.file, start, end)
+        self.doc.span(start, end)
     }
 
-    fn offset_of(&self, s: &str) -> Option<u32> {
-        let base = self.src.as_ptr() as usize;
-        let p = s.as_ptr() as usize;
-        (p >= base && p + s.len() <= base + self.src.len()).then(|| (p - base) as u32)
+    fn own(&mut self, s: String) -> Str {
+        self.doc.strings.push(s);
+        Str { at: (self.doc.strings.len() - 1) as u32, len: OWNED }
     }
 
-    /// `s` as a slice of the source when it points into it (it does for a `&str` reader).
-    fn reborrow(&self, s: Cow<'_, str>) -> Cow<'s, str> {
-        match s {
-            Cow::Borrowed(b) => match self.offset_of(b) {
-                Some(o) => Cow::Borrowed(&self.src[o as usize..o as usize + b.len()]),
-                None => Cow::Owned(b.to_owned()),
-            },
-            Cow::Owned(o) => Cow::Owned(o),
+    /// `s` as a slice of the source when it is one, else an owned copy.
+    fn store(&mut self, s: Cow<'_, str>) -> Str {
+        if let Cow::Borrowed(b) = &s
+            && let Some(at) = offset_in(self.doc.src, b)
+        {
+            return Str { at, len: b.len() as u32 };
         }
+        self.own(s.into_owned())
     }
 
-    fn name_of(&self, raw: &str) -> Cow<'s, str> {
-        self.reborrow(Cow::Borrowed(local(raw)))
-    }
-
-    fn element(&mut self, e: &BytesStart<'_>, start: u32, end: u32) -> Element<'s> {
-        let mut attrs = Vec::new();
+    /// Appends the node of a start tag (or empty-element tag) spanning `start..end`.
+    fn element(&mut self, e: &BytesStart<'_>, start: u32, end: u32) -> u32 {
+        let attr_start = self.doc.attrs.len() as u32;
         for a in e.attributes() {
             match a {
                 Ok(a) => {
-                    let vspan = match &a.value {
-                        std::borrow::Cow::Borrowed(v) => self
-                            .offset_of(v)
-                            .map(|o| self.span(o, o + v.len() as u32))
-                            .unwrap_or(self.span(start, end)),
-                        _ => self.span(start, end),
+                    let (vstart, vend) = match &a.value {
+                        Cow::Borrowed(v) => match offset_in(self.doc.src, v) {
+                            Some(o) => (o, o + v.len() as u32),
+                            None => (start, end),
+                        },
+                        _ => (start, end),
                     };
                     let value = match a.normalized_value(XmlVersion::Implicit1_0) {
-                        Ok(v) => self.reborrow(v),
+                        Ok(v) => self.store(v),
                         Err(err) => {
-                            self.diags.push(
+                            self.doc.diagnostics.push(
                                 Diagnostic::warning(
                                     "F216",
                                     format!("attribute value has an unresolved reference: {err}"),
                                 )
-                                .with_label(vspan, "kept as written"),
+                                .with_label(self.span(vstart, vend), "kept as written"),
                             );
-                            self.reborrow(a.value.clone())
+                            self.store(a.value.clone())
                         }
                     };
-                    attrs.push(Attr { name: self.name_of(a.key.as_ref()), value, span: vspan });
+                    let name = self.store(Cow::Borrowed(local(a.key.as_ref())));
+                    self.doc.attrs.push(RawAttr { name, value, start: vstart, end: vend });
                 }
                 Err(err) => {
-                    self.diags.push(
+                    self.doc.diagnostics.push(
                         Diagnostic::error("F202", format!("malformed attribute: {err}"))
                             .with_label(self.span(start, end), "in this tag"),
                     );
                 }
             }
         }
-        Element {
-            name: self.name_of(e.name().as_ref()),
-            attrs,
-            children: Vec::new(),
-            text: Cow::Borrowed(""),
-            text_span: self.span(start, end),
-            span: self.span(start, end),
-        }
+        let name = self.store(Cow::Borrowed(local(e.name().as_ref())));
+        let idx = self.doc.nodes.len() as u32;
+        self.doc.nodes.push(Node {
+            name,
+            start,
+            end,
+            text: Str::EMPTY,
+            text_start: start,
+            text_end: end,
+            subtree_end: idx + 1,
+            attr_start,
+        });
+        idx
     }
 
-    fn attach(&mut self, el: Element<'s>) {
-        match self.stack.last_mut() {
-            Some(_) => self.pending.push(el),
-            None => {
-                if let Some(first) = self.roots.first() {
-                    let d = Diagnostic::error("F202", "a second root element")
-                        .with_label(el.span, "XML allows one root element")
-                        .with_secondary(first.span, "the root element");
-                    self.diags.push(d);
-                }
-                self.roots.push(el);
+    /// A top-level element is complete: a second one is an error.
+    fn attached(&mut self, idx: u32) {
+        if !self.stack.is_empty() {
+            return;
+        }
+        let Some(n) = self.doc.nodes.get(idx as usize) else { return };
+        let span = self.span(n.start, n.end);
+        match self.first_root {
+            Some(first) => {
+                let d = Diagnostic::error("F202", "a second root element")
+                    .with_label(span, "XML allows one root element")
+                    .with_secondary(first, "the root element");
+                self.doc.diagnostics.push(d);
             }
+            None => self.first_root = Some(span),
         }
     }
 
-    /// Pushes an opened element.
-    fn open(&mut self, el: Element<'s>) {
-        self.stack.push(el);
-        self.child_start.push(self.pending.len());
-        self.text_bounds.push(None);
+    /// Closes the innermost open element at `end`; `text_span` is used when it has no text.
+    fn close(&mut self, end: u32, eof: bool) -> Option<u32> {
+        let open = self.stack.pop()?;
+        let subtree_end = self.doc.nodes.len() as u32;
+        let text = match open.text {
+            Text::Borrowed(a, b) => Str { at: a, len: b - a },
+            Text::Owned(s) => self.own(s),
+        };
+        let n = self.doc.nodes.get_mut(open.idx as usize)?;
+        let (t0, t1) = match open.bounds {
+            Some(b) => b,
+            // Without text, the element's span; an element cut off by the end of the file keeps
+            // its start tag's.
+            None if eof => (n.start, open.tag_end),
+            None => (n.start, end),
+        };
+        n.end = end;
+        n.subtree_end = subtree_end;
+        n.text = text;
+        n.text_start = t0;
+        n.text_end = t1;
+        Some(open.idx)
     }
 
-    /// Pops the innermost open element, its children gathered.
-    fn close(&mut self) -> Option<Element<'s>> {
-        let mut el = self.stack.pop()?;
-        let from = self.child_start.pop().unwrap_or(self.pending.len()).min(self.pending.len());
-        if from < self.pending.len() {
-            el.children = self.pending.drain(from..).collect();
+    /// Appends content to the innermost open element's text: `set` replaces an empty text.
+    fn append(&mut self, piece: Cow<'_, str>, bounds: (u32, u32), set: bool) {
+        let src = self.doc.src;
+        let Some(top) = self.stack.last_mut() else { return };
+        if top.text.is_empty() && set {
+            top.text = match &piece {
+                Cow::Borrowed(b) => match offset_in(src, b) {
+                    Some(o) => Text::Borrowed(o, o + b.len() as u32),
+                    None => Text::Owned(b.to_string()),
+                },
+                Cow::Owned(o) => Text::Owned(o.clone()),
+            };
+        } else {
+            let owned = match &mut top.text {
+                Text::Owned(s) => s,
+                Text::Borrowed(a, b) => {
+                    let s = src.get(*a as usize..*b as usize).unwrap_or("").to_string();
+                    top.text = Text::Owned(s);
+                    match &mut top.text {
+                        Text::Owned(s) => s,
+                        Text::Borrowed(..) => return,
+                    }
+                }
+            };
+            owned.push_str(&piece);
         }
-        Some(el)
+        top.bounds = Some(match top.bounds {
+            Some((a, _)) => (a, bounds.1),
+            None => bounds,
+        });
     }
 
-    fn text(&mut self, s: Cow<'s, str>, start: u32, end: u32) {
+    fn text(&mut self, s: Cow<'_, str>, start: u32, end: u32) {
         if self.stack.is_empty() {
             if !s.trim().is_empty() {
                 let lead = (s.len() - s.trim_start().len()) as u32;
                 let d = Diagnostic::error("F202", "text outside the root element")
                     .with_label(self.span(start + lead, end.min(start + lead + 20)), "here");
-                self.diags.push(d);
+                self.doc.diagnostics.push(d);
             }
             return;
         }
-        let tlen = s.trim().len();
+        let tlen = s.trim().len() as u32;
         let lead = (s.len() - s.trim_start().len()) as u32;
-        let Some(top) = self.stack.last_mut() else { return };
-        if top.text.is_empty() {
+        let top_empty = self.stack.last().is_some_and(|t| t.text.is_empty());
+        if top_empty {
             if tlen == 0 {
                 return;
             }
-            top.text = match s {
+            let trimmed = match s {
                 Cow::Borrowed(b) => Cow::Borrowed(b.trim_start()),
                 Cow::Owned(o) => Cow::Owned(o.trim_start().to_owned()),
             };
+            self.append(trimmed, (start + lead, start + lead + tlen), true);
         } else {
-            top.text.to_mut().push_str(&s);
-        }
-        if tlen != 0 {
-            let t0 = start + lead;
-            let t1 = t0 + tlen as u32;
-            if let Some(b) = self.text_bounds.last_mut() {
-                *b = Some(match *b {
-                    Some((a, _)) => (a, t1),
-                    None => (t0, t1),
-                });
+            let bounds = (start + lead, start + lead + tlen);
+            // Blank pieces extend the text but not its span.
+            let keep = self.stack.last().and_then(|t| t.bounds);
+            self.append(s, bounds, false);
+            if tlen == 0
+                && let Some(top) = self.stack.last_mut()
+            {
+                top.bounds = keep;
             }
         }
     }
-}
-
-/// The root elements (normally one) and the problems met while reading.
-pub struct Document<'s> {
-    pub roots: Vec<Element<'s>>,
-    pub diagnostics: Vec<Diagnostic>,
 }
 
 /// Reads `src` into an element tree. Stops at the first well-formedness error (reported with its
@@ -235,15 +447,20 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
         c.expand_empty_elements = false;
         c.trim_text(false);
     }
+    // Every element starts with `<`, and so does every other markup: an upper bound, counted
+    // once so that the arena never moves while it fills (pages never written cost nothing).
+    let tags = src.bytes().filter(|&c| c == b'<').count();
     let mut b = Builder {
-        src,
-        file,
+        doc: Document {
+            src,
+            file,
+            nodes: Vec::with_capacity(tags),
+            attrs: Vec::new(),
+            strings: Vec::new(),
+            diagnostics: Vec::new(),
+        },
         stack: Vec::new(),
-        pending: Vec::new(),
-        child_start: Vec::new(),
-        roots: Vec::new(),
-        diags: Vec::new(),
-        text_bounds: Vec::new(),
+        first_root: None,
     };
     let mut skip = 0usize;
     let mut depth_reported = false;
@@ -274,33 +491,38 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
                             format!("elements nested deeper than {MAX_DEPTH} levels"),
                         )
                         .with_label(b.span(before, after), "this element and its content skipped");
-                        b.diags.push(d);
+                        b.doc.diagnostics.push(d);
                     }
                     skip = 1;
                     continue;
                 }
-                let el = b.element(&e, before, after);
-                b.open(el);
+                let idx = b.element(&e, before, after);
+                b.stack.push(Open {
+                    idx,
+                    tag_end: after,
+                    text: Text::Borrowed(0, 0),
+                    bounds: None,
+                });
             }
             Ok(Event::Empty(e)) => {
                 if b.stack.len() >= MAX_DEPTH {
                     continue;
                 }
-                let el = b.element(&e, before, after);
-                b.attach(el);
+                let idx = b.element(&e, before, after);
+                b.attached(idx);
             }
             Ok(Event::End(_)) => {
-                if let Some(mut el) = b.close() {
-                    el.span.end = after;
-                    if let Some(Some((t0, t1))) = b.text_bounds.pop() {
-                        el.text_span = b.span(t0, t1);
-                    } else {
-                        el.text_span = el.span;
-                    }
-                    b.attach(el);
+                if let Some(idx) = b.close(after, false) {
+                    b.attached(idx);
                 }
             }
             Ok(Event::Text(t)) => {
+                // Blank runs between tags (most text events) are dropped unless they continue a
+                // text: no line-end normalisation for them.
+                let blank = t.trim().is_empty();
+                if blank && b.stack.last().is_none_or(|top| top.text.is_empty()) {
+                    continue;
+                }
                 let s = t.xml10_content();
                 b.text(s, before, after);
             }
@@ -309,19 +531,7 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
                 // Positions of the content inside `<![CDATA[` ... `]]>`.
                 let start = before + 9;
                 let end = after.saturating_sub(3).max(start);
-                if let Some(top) = b.stack.last_mut() {
-                    if top.text.is_empty() {
-                        top.text = s;
-                    } else {
-                        top.text.to_mut().push_str(&s);
-                    }
-                    if let Some(bounds) = b.text_bounds.last_mut() {
-                        *bounds = Some(match *bounds {
-                            Some((a, _)) => (a, end),
-                            None => (start, end),
-                        });
-                    }
-                }
+                b.append(s, (start, end), true);
             }
             Ok(Event::GeneralRef(r)) => {
                 let name = r.xml10_content();
@@ -338,25 +548,17 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
                             format!("unknown entity `&{name};` (entities are never resolved)"),
                         )
                         .with_label(b.span(before, after), "kept as written");
-                        b.diags.push(d);
+                        b.doc.diagnostics.push(d);
                         format!("&{name};")
                     }
                 };
-                if let Some(top) = b.stack.last_mut() {
-                    top.text.to_mut().push_str(&text);
-                    if let Some(bounds) = b.text_bounds.last_mut() {
-                        *bounds = Some(match *bounds {
-                            Some((a, _)) => (a, after),
-                            None => (before, after),
-                        });
-                    }
-                }
+                b.append(Cow::Owned(text), (before, after), false);
             }
             Ok(Event::DocType(_)) => {
                 let d = Diagnostic::warning("F217", "DOCTYPE declaration ignored")
                     .with_label(b.span(before, after), "not read: no DTD, no external entities")
                     .with_note("ESI files are described by an XML schema; a DTD has no meaning");
-                b.diags.push(d);
+                b.doc.diagnostics.push(d);
             }
             Ok(Event::Decl(_) | Event::PI(_) | Event::Comment(_)) => {}
             Ok(Event::Eof) => break,
@@ -368,32 +570,30 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
     }
     // Close elements left open (error or truncated file).
     let end = src.len() as u32;
-    if !b.stack.is_empty() && !b.diags.iter().any(|d| d.code == "F202" && d.is_error()) {
-        let open = b.stack.last().map(|e| e.name.to_string()).unwrap_or_default();
-        let span = b.stack.last().map(|e| e.span).unwrap_or(b.span(end, end));
-        b.diags.push(
+    if let Some(top) = b.stack.last()
+        && !b.doc.diagnostics.iter().any(|d| d.code == "F202" && d.is_error())
+        && let Some(n) = b.doc.nodes.get(top.idx as usize)
+    {
+        let open = b.doc.str(n.name).to_string();
+        let span = b.span(n.start, n.end);
+        b.doc.diagnostics.push(
             Diagnostic::error("F202", format!("the file ends inside element `{open}`"))
                 .with_label(span, "not closed"),
         );
     }
-    while let Some(mut el) = b.close() {
-        el.span.end = end;
-        let bounds = b.text_bounds.pop().flatten();
-        if let Some((t0, t1)) = bounds {
-            el.text_span = b.span(t0, t1);
-        }
-        b.attach(el);
+    while let Some(idx) = b.close(end, true) {
+        b.attached(idx);
     }
-    Document { roots: b.roots, diagnostics: b.diags }
+    b.doc
 }
 
 fn report(b: &mut Builder<'_>, reader: &Reader<&[u8]>, e: Error) {
-    let pos = (reader.error_position() as u32).min(b.src.len() as u32);
-    let end = (pos + 1).min(b.src.len() as u32).max(pos);
+    let pos = (reader.error_position() as u32).min(b.doc.src.len() as u32);
+    let end = (pos + 1).min(b.doc.src.len() as u32).max(pos);
     let d = Diagnostic::error("F202", format!("the file is not well-formed XML: {e}"))
         .with_label(b.span(pos, end), "reading stopped here")
         .with_note("what was read before this point is still used");
-    b.diags.push(d);
+    b.doc.diagnostics.push(d);
 }
 
 #[cfg(test)]
@@ -406,13 +606,13 @@ mod tests {
             "<?xml version=\"1.0\"?>\n<a x=\"#x10\"><b> hi &amp; <![CDATA[<c>]]> </b><e/></a>";
         let doc = read(src, FileId(0));
         assert!(doc.diagnostics.is_empty(), "{:?}", doc.diagnostics);
-        let a = &doc.roots[0];
-        assert_eq!(&src[a.span.range()], &src[22..]);
+        let a = doc.roots().next().unwrap();
+        assert_eq!(&src[a.span().range()], &src[22..]);
         let x = a.attr("x").unwrap();
         assert_eq!(&src[x.span.range()], "#x10");
         let b = a.child("b").unwrap();
         assert_eq!(b.text(), "hi & <c>");
-        assert_eq!(&src[b.text_span.range()], "hi &amp; <![CDATA[<c>");
+        assert_eq!(&src[b.text_span().range()], "hi &amp; <![CDATA[<c>");
         assert!(a.child("e").is_some());
     }
 
@@ -437,7 +637,7 @@ mod tests {
     fn doctype_not_resolved() {
         let src = "<!DOCTYPE a [<!ENTITY x SYSTEM \"file:///etc/passwd\">]><a>&x;</a>";
         let doc = read(src, FileId(0));
-        assert_eq!(doc.roots[0].text(), "&x;");
+        assert_eq!(doc.roots().next().unwrap().text(), "&x;");
         assert!(doc.diagnostics.iter().any(|d| d.code == "F217"));
     }
 }
