@@ -68,9 +68,19 @@ pub fn locate(table: &[EntryInfo], index: u16, sub: u8) -> Result<usize, SdoAbor
 }
 
 /// The value an entry starts with on node `node_id`: its default with `$NODEID` applied, else
-/// `fallback` (also when a node-relative default does not fit the type).
-pub fn initial<T: ObjValue>(entry: &Entry<T>, node_id: u8, fallback: T) -> T {
-    entry.default.and_then(|d| d.resolve(node_id)).unwrap_or(fallback)
+/// `fallback` (also when a node-relative default does not fit the type) moved into the entry's
+/// limits, so that a dictionary never starts with a value it would refuse by SDO (an entry
+/// with `LowLimit=1` and no default starts at 1, not 0: a master that reads it and writes it
+/// back must not get 0x06090032).
+pub fn initial<T: ObjValue + PartialOrd>(entry: &Entry<T>, node_id: u8, fallback: T) -> T {
+    if let Some(v) = entry.default.and_then(|d| d.resolve(node_id)) {
+        return v;
+    }
+    match (entry.low, entry.high) {
+        (Some(lo), _) if fallback < lo => lo,
+        (_, Some(hi)) if fallback > hi => hi,
+        _ => fallback,
+    }
 }
 
 /// An empty `VisibleString<N>`, the storage of a string entry without default.
@@ -117,6 +127,13 @@ mod tests {
         let e: Entry<u8> =
             Entry::new(1, 0, "", Access::Rw, false).with_default(DefaultValue::NodeIdPlus(0xF0));
         assert_eq!(initial(&e, 0x20, 7), 7);
+        // Without default, zero moves into the limits.
+        let e: Entry<u32> = Entry::new(1, 0, "", Access::Rw, false).with_limits(Some(1), Some(3));
+        assert_eq!(initial(&e, 5, 0), 1);
+        let e: Entry<i8> = Entry::new(1, 0, "", Access::Rw, false).with_limits(None, Some(-4));
+        assert_eq!(initial(&e, 5, 0), -4);
+        let e: Entry<u8> = Entry::new(1, 0, "", Access::Rw, false).with_limits(Some(0), Some(9));
+        assert_eq!(initial(&e, 5, 0), 0);
         assert!(empty_string::<4>().is_empty());
     }
 }
