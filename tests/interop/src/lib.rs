@@ -1,0 +1,302 @@
+//! The Rust side of the python-canopen interop tests: the loopback CAN transport, the python
+//! processes, and the generated code of every device under test.
+//!
+//! Transport: the Rust test listens on 127.0.0.1 (a free port), the Python script connects;
+//! each CAN frame is one 16-byte record (see [`wire`] and `python/socketbus.py`).
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use odc::EntryInfo;
+use odc::can::CanFrame;
+use odc::plan::SdoWrite;
+use odc::slave::ObjectDictionary;
+use std::io::{self, Read, Write};
+use std::net::{TcpListener, TcpStream};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+/// The frame record both sides use: Linux SocketCAN's `struct can_frame`, little-endian.
+///
+/// | bytes | field |
+/// |---|---|
+/// | 0–3 | CAN-ID, u32 LE; bit 31 = 29-bit identifier, bit 30 = remote frame |
+/// | 4 | data length, 0–8 |
+/// | 5–7 | zero |
+/// | 8–15 | data, zero-padded |
+pub mod wire {
+    use odc::can::CanFrame;
+
+    /// Bytes per frame.
+    pub const LEN: usize = 16;
+
+    /// The record of `f` (standard identifiers only: every CANopen frame of these tests).
+    pub fn encode(f: &CanFrame) -> [u8; LEN] {
+        let mut r = [0u8; LEN];
+        r[..4].copy_from_slice(&(f.id & 0x1FFF_FFFF).to_le_bytes());
+        r[4] = f.len.min(8);
+        r[8..].copy_from_slice(&f.data);
+        r
+    }
+
+    /// The frame of a record; `None` for a length over 8.
+    pub fn decode(r: &[u8; LEN]) -> Option<CanFrame> {
+        let id = u32::from_le_bytes([r[0], r[1], r[2], r[3]]) & 0x1FFF_FFFF;
+        let len = r[4];
+        (len <= 8).then(|| {
+            let mut data = [0u8; 8];
+            data[..usize::from(len)].copy_from_slice(&r[8..8 + usize::from(len)]);
+            CanFrame { id, len, data }
+        })
+    }
+}
+
+/// One end of the loopback CAN link, with a millisecond clock: an [`odc::sdo::Bus`].
+pub struct TcpCan {
+    stream: TcpStream,
+    pending: Vec<u8>,
+    start: Instant,
+    /// Frames sent and received, for the report.
+    pub frames: usize,
+}
+
+impl TcpCan {
+    /// Wraps an accepted connection.
+    pub fn new(stream: TcpStream) -> io::Result<Self> {
+        stream.set_nodelay(true)?;
+        Ok(Self { stream, pending: Vec::new(), start: Instant::now(), frames: 0 })
+    }
+}
+
+impl odc::sdo::Bus for TcpCan {
+    type Error = io::Error;
+
+    fn send(&mut self, frame: &CanFrame) -> io::Result<()> {
+        self.frames += 1;
+        self.stream.write_all(&wire::encode(frame))
+    }
+
+    /// `Err(UnexpectedEof)` once the peer closed the connection.
+    fn recv(&mut self, deadline_ms: u64) -> io::Result<Option<CanFrame>> {
+        loop {
+            if self.pending.len() >= wire::LEN {
+                let rec: [u8; wire::LEN] = self.pending[..wire::LEN].try_into().unwrap();
+                self.pending.drain(..wire::LEN);
+                self.frames += 1;
+                return wire::decode(&rec)
+                    .map(Some)
+                    .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidData, "DLC over 8"));
+            }
+            let now = self.now_ms();
+            if now >= deadline_ms {
+                return Ok(None);
+            }
+            self.stream.set_read_timeout(Some(Duration::from_millis(deadline_ms - now)))?;
+            let mut buf = [0u8; 1024];
+            match self.stream.read(&mut buf) {
+                Ok(0) => return Err(io::ErrorKind::UnexpectedEof.into()),
+                Ok(n) => self.pending.extend_from_slice(&buf[..n]),
+                Err(e)
+                    if matches!(e.kind(), io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut) =>
+                {
+                    return Ok(None);
+                }
+                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
+                Err(e) => return Err(e),
+            }
+        }
+    }
+
+    fn now_ms(&mut self) -> u64 {
+        u64::try_from(self.start.elapsed().as_millis()).unwrap_or(u64::MAX)
+    }
+}
+
+/// The python interpreter with `canopen`: `ODC_INTEROP_PYTHON`, else `python3`; `None` when
+/// it cannot import canopen (the caller skips, unless `ODC_INTEROP_REQUIRED` is set).
+pub fn python() -> Option<PathBuf> {
+    let py = std::env::var_os("ODC_INTEROP_PYTHON")
+        .map_or_else(|| PathBuf::from("python3"), PathBuf::from);
+    let ok = Command::new(&py)
+        .args(["-c", "import canopen, can"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    if ok {
+        return Some(py);
+    }
+    assert!(
+        std::env::var_os("ODC_INTEROP_REQUIRED").is_none(),
+        "ODC_INTEROP_REQUIRED is set but {} cannot import canopen",
+        py.display()
+    );
+    None
+}
+
+/// A python script with the loopback bus connected; killed if dropped before it ended.
+pub struct Peer {
+    child: Child,
+    out: Option<JoinHandle<String>>,
+    err: Option<JoinHandle<String>>,
+    /// The connected bus.
+    pub bus: TcpCan,
+}
+
+fn drain(r: Option<impl Read + Send + 'static>) -> Option<JoinHandle<String>> {
+    r.map(|mut r| {
+        std::thread::spawn(move || {
+            let mut s = String::new();
+            let _ = r.read_to_string(&mut s);
+            s
+        })
+    })
+}
+
+impl Peer {
+    /// Starts `python/<script>` with `--connect 127.0.0.1:PORT` and `args`, and accepts its
+    /// connection (within 30 s, which covers importing canopen on a slow machine).
+    pub fn start(python: &Path, script: &str, args: &[&str]) -> Self {
+        let listener = TcpListener::bind("127.0.0.1:0").unwrap();
+        let port = listener.local_addr().unwrap().port();
+        let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("python").join(script);
+        let mut child = Command::new(python)
+            .arg(&script)
+            .arg("--connect")
+            .arg(format!("127.0.0.1:{port}"))
+            .args(args)
+            .env("PYTHONDONTWRITEBYTECODE", "1")
+            .stdin(Stdio::null())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap_or_else(|e| panic!("cannot start {}: {e}", python.display()));
+        let out = drain(child.stdout.take());
+        let err = drain(child.stderr.take());
+        listener.set_nonblocking(true).unwrap();
+        let deadline = Instant::now() + Duration::from_secs(30);
+        let stream = loop {
+            match listener.accept() {
+                Ok((s, _)) => break s,
+                Err(e) if e.kind() == io::ErrorKind::WouldBlock => {
+                    if Instant::now() > deadline || child.try_wait().unwrap().is_some() {
+                        let _ = child.kill();
+                        let _ = child.wait();
+                        let err = err.map(|h| h.join().unwrap()).unwrap_or_default();
+                        panic!("{} did not connect:\n{err}", script.display());
+                    }
+                    std::thread::sleep(Duration::from_millis(10));
+                }
+                Err(e) => panic!("accept: {e}"),
+            }
+        };
+        stream.set_nonblocking(false).unwrap();
+        Self { child, out, err, bus: TcpCan::new(stream).unwrap() }
+    }
+
+    /// Whether the script has ended.
+    pub fn exited(&mut self) -> bool {
+        self.child.try_wait().unwrap().is_some()
+    }
+
+    /// Closes the link, waits for the script (at most `limit`, then kills it) and returns
+    /// its stdout and stderr; panics when it failed.
+    pub fn finish(mut self, limit: Duration) -> (String, String) {
+        let _ = self.bus.stream.shutdown(std::net::Shutdown::Both);
+        let deadline = Instant::now() + limit;
+        let status = loop {
+            if let Some(s) = self.child.try_wait().unwrap() {
+                break Some(s);
+            }
+            if Instant::now() > deadline {
+                let _ = self.child.kill();
+                let _ = self.child.wait();
+                break None;
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        };
+        let out = self.out.take().map(|h| h.join().unwrap()).unwrap_or_default();
+        let err = self.err.take().map(|h| h.join().unwrap()).unwrap_or_default();
+        match status {
+            Some(s) if s.success() => (out, err),
+            Some(s) => panic!("python peer failed ({s}):\n{err}\n{out}"),
+            None => panic!("python peer killed after {limit:?}:\n{err}\n{out}"),
+        }
+    }
+}
+
+impl Drop for Peer {
+    fn drop(&mut self) {
+        if self.child.try_wait().ok().flatten().is_none() {
+            let _ = self.child.kill();
+            let _ = self.child.wait();
+        }
+    }
+}
+
+/// One device under test: its file and the code odc generated for it.
+pub struct Device {
+    /// Short name for reports.
+    pub name: &'static str,
+    /// The device file.
+    pub path: PathBuf,
+    /// The slave's entry table (`slave::ENTRIES`).
+    pub entries: &'static [EntryInfo],
+    /// A fresh slave dictionary (`slave::Dictionary::new`) for a node id.
+    pub slave: fn(u8) -> Box<dyn ObjectDictionary + Send>,
+    /// The master's configuration plan (`master::plan`) for a node id.
+    pub plan: fn(u8) -> Vec<SdoWrite>,
+    /// The default of `od::DEVICE_TYPE`, read through the typed client call.
+    pub device_type: &'static odc::Entry<u32>,
+}
+
+macro_rules! devices {
+    ($($(#[$m:meta])* $module:ident => $path:expr;)*) => {
+        $(
+            $(#[$m])*
+            #[allow(missing_docs, clippy::all)]
+            pub mod $module {
+                include!(concat!(env!("OUT_DIR"), "/", stringify!($module), ".rs"));
+            }
+        )*
+
+        /// Every device under test.
+        #[allow(clippy::vec_init_then_push)] // pushes under `cfg`, not a `vec![]`
+        pub fn devices() -> Vec<Device> {
+            let mut v = Vec::new();
+            $(
+                $(#[$m])*
+                v.push(Device {
+                    name: stringify!($module),
+                    path: $path,
+                    entries: &$module::slave::ENTRIES,
+                    slave: |n| Box::new($module::slave::Dictionary::new(n)),
+                    plan: |n| $module::master::plan(n).to_vec(),
+                    device_type: &$module::od::DEVICE_TYPE,
+                });
+            )*
+            v
+        }
+    };
+}
+
+fn repo(file: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(file)
+}
+
+#[cfg(odc_interop_corpus)]
+fn corpus(file: &str) -> PathBuf {
+    Path::new(env!("ODC_INTEROP_CORPUS")).join(file)
+}
+
+devices! {
+    lxm23a => repo("eds/lxm23a.eds");
+    lexium_mdrive => repo("eds/lexium-mdrive.eds");
+    servoone => repo("eds/servoone.eds");
+    lenze_e94aycca => repo("eds/lenze-e94aycca.eds");
+    linmot_e1200 => repo("eds/linmot-e1200.eds");
+    #[cfg(odc_interop_corpus)]
+    maxon_epos4 => corpus("eds/maxon__Epos4_70_15.eds");
+    #[cfg(odc_interop_corpus)]
+    elcom_erio => corpus("eds/elcom__Elcom_e-RIO_8xx_CANopen_Profile.eds");
+}

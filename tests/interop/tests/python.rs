@@ -1,0 +1,288 @@
+//! odc against python-canopen, both ways, for every device of `odc_tests_interop::devices`.
+//!
+//! - `our_slave_their_master`: odc's `sdo::Server` serves the generated `slave::Dictionary`;
+//!   `python/master.py` drives it with `canopen.RemoteNode` loaded from the same file.
+//! - `their_slave_our_master`: `python/slave.py` serves the file with `canopen.LocalNode`;
+//!   odc's `sdo::Client` reads it through the generated descriptors and executes the
+//!   generated PDO-mapping plan, then reads the mapping back.
+//!
+//! Skipped (with a message) when no python with `canopen` is found, unless
+//! `ODC_INTEROP_REQUIRED` is set (as `.ci/run` does). Each device prints one line of counts;
+//! run with `--nocapture` to see them.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use odc::SdoAbort;
+use odc::sdo::{Bus, Client, SdoError, Server};
+use odc::slave::ObjectDictionary;
+use odc_tests_interop::{Device, Peer, devices, python};
+use serde_json::Value;
+use std::collections::BTreeMap;
+use std::time::{Duration, Instant};
+
+const NODE: u8 = 5;
+/// Transfer buffer of both sides: larger than any value of the device files under test.
+const BUF: usize = 1024;
+/// A bound on one device's session (the slowest takes a few seconds).
+const SESSION: Duration = Duration::from_secs(240);
+
+fn last_json(out: &str) -> Value {
+    let line = out
+        .lines()
+        .rev()
+        .find(|l| l.starts_with('{'))
+        .unwrap_or_else(|| panic!("no JSON in:\n{out}"));
+    serde_json::from_str(line).unwrap()
+}
+
+/// Serves `dev`'s generated slave to the python master until it disconnects; returns the
+/// dictionary as the session left it and the script's report.
+fn serve(py: &std::path::Path, dev: &Device) -> (Box<dyn ObjectDictionary + Send>, Value) {
+    let path = dev.path.to_str().unwrap();
+    let mut peer =
+        Peer::start(py, "master.py", &["--eds", path, "--node", "5", "--device", dev.name]);
+    let mut od = (dev.slave)(NODE);
+    let mut server = Server::<BUF>::new(NODE);
+    let end = Instant::now() + SESSION;
+    loop {
+        assert!(Instant::now() < end, "{}: session over {SESSION:?}", dev.name);
+        let now = peer.bus.now_ms();
+        match peer.bus.recv(now + 20) {
+            Ok(Some(frame)) => {
+                if let Some(r) = server.handle(od.as_mut(), &frame, peer.bus.now_ms()) {
+                    peer.bus.send(&r).unwrap();
+                }
+            }
+            Ok(None) => {
+                if let Some(abort) = server.poll(peer.bus.now_ms()) {
+                    peer.bus.send(&abort).unwrap();
+                }
+                if peer.exited() {
+                    break;
+                }
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => break,
+            Err(e) => panic!("{}: {e}", dev.name),
+        }
+    }
+    let (out, _err) = peer.finish(Duration::from_secs(30));
+    (od, last_json(&out))
+}
+
+fn read_u32(od: &dyn ObjectDictionary, index: u16, sub: u8) -> Option<u32> {
+    let mut b = [0u8; 8];
+    let n = od.read(index, sub, &mut b).ok()?;
+    let mut w = [0u8; 4];
+    w[..n.min(4)].copy_from_slice(&b[..n.min(4)]);
+    Some(u32::from_le_bytes(w))
+}
+
+#[test]
+fn our_slave_their_master() {
+    let Some(py) = python() else {
+        eprintln!("skipped: no python with canopen (set ODC_INTEROP_PYTHON)");
+        return;
+    };
+    println!(
+        "our slave, their master (odc sdo::Server + generated slave, python-canopen RemoteNode)"
+    );
+    println!(
+        "{:<22} {:>5} {:>6} {:>7} {:>6} {:>5} {:>7} {:>5}  abort codes",
+        "device", "read", "no-def", "written", "aborts", "pdos", "pdo-sdo", "saved"
+    );
+    let mut failures = Vec::new();
+    for dev in devices() {
+        let (od, report) = serve(&py, &dev);
+        if std::env::var_os("ODC_INTEROP_DEBUG").is_some() {
+            eprintln!("{report:#}");
+        }
+        let fresh = (dev.slave)(NODE);
+        // pdo.save() must have changed the slave's own tables, to exactly what python read back.
+        let saved = report["saved"].as_array().unwrap();
+        for s in saved {
+            let map = u16::try_from(s["map_index"].as_u64().unwrap()).unwrap();
+            let comm = u16::try_from(s["comm_index"].as_u64().unwrap()).unwrap();
+            let entries: Vec<u32> = s["entries"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| u32::try_from(v.as_u64().unwrap()).unwrap())
+                .collect();
+            assert_eq!(
+                read_u32(od.as_ref(), map, 0),
+                Some(u32::try_from(entries.len()).unwrap()),
+                "{} 0x{map:04X}:00",
+                dev.name
+            );
+            for (i, e) in entries.iter().enumerate() {
+                let sub = u8::try_from(i + 1).unwrap();
+                assert_eq!(
+                    read_u32(od.as_ref(), map, sub),
+                    Some(*e),
+                    "{} 0x{map:04X}:{sub:02X}",
+                    dev.name
+                );
+            }
+            let tt = u32::try_from(s["trans_type"].as_u64().unwrap()).unwrap();
+            assert_eq!(read_u32(od.as_ref(), comm, 2), Some(tt), "{} 0x{comm:04X}:02", dev.name);
+            let changed = (0..=entries.len()).any(|i| {
+                let sub = u8::try_from(i).unwrap();
+                read_u32(od.as_ref(), map, sub) != read_u32(fresh.as_ref(), map, sub)
+            }) || read_u32(od.as_ref(), comm, 2) != read_u32(fresh.as_ref(), comm, 2);
+            assert!(changed, "{}: 0x{map:04X} unchanged by pdo.save()", dev.name);
+            let cob = u32::try_from(s["cob_id"].as_u64().unwrap()).unwrap();
+            // python-canopen keeps the 29 identifier bits in `cob_id` and bit 30 (no RTR) apart.
+            assert_eq!(
+                read_u32(od.as_ref(), comm, 1).map(|c| c & 0x1FFF_FFFF),
+                Some(cob),
+                "{} 0x{comm:04X}:01",
+                dev.name
+            );
+            assert_eq!(
+                read_u32(od.as_ref(), comm, 1).map(|c| c >> 31),
+                Some(0),
+                "{}: PDO left invalid",
+                dev.name
+            );
+        }
+        let n = |k: &str| report[k].as_u64().unwrap();
+        println!(
+            "{:<22} {:>5} {:>6} {:>7} {:>6} {:>5} {:>7} {:>5}  {}",
+            dev.name,
+            n("read"),
+            n("read_without_default"),
+            n("written"),
+            n("aborts"),
+            n("pdo_compared"),
+            report["pdo_read_sdo_only"].as_u64().unwrap_or(0),
+            saved.len(),
+            report["abort_codes"]
+        );
+        if let Some(settled) = report["settled"].as_object() {
+            for (why, at) in settled {
+                println!("{:<22} settled ({}x): {why}", "", at.as_array().map_or(0, Vec::len));
+            }
+        }
+        if report["skipped"].as_object().is_some_and(|m| !m.is_empty()) {
+            println!("{:<22} skipped: {}", "", report["skipped"]);
+        }
+        for d in report["disagreements"].as_array().unwrap() {
+            failures.push(format!("{}: {d}", dev.name));
+        }
+    }
+    assert!(failures.is_empty(), "disagreements with python-canopen:\n{}", failures.join("\n"));
+}
+
+/// What odc's client saw from python-canopen's LocalNode for one device.
+#[derive(Default)]
+struct Master {
+    read: usize,
+    matched: usize,
+    /// LocalNode answers 0x060A0023 for an object without default (it has no value to give);
+    /// odc's generated slave starts those at zero.
+    no_default: usize,
+    written: usize,
+    checked_back: usize,
+    failures: Vec<String>,
+}
+
+fn drive(py: &std::path::Path, dev: &Device) -> Master {
+    let path = dev.path.to_str().unwrap();
+    let mut peer = Peer::start(py, "slave.py", &["--eds", path, "--node", "5"]);
+    let reference = (dev.slave)(NODE);
+    let mut client = Client::<BUF>::new(NODE).with_timeout(2000);
+    let mut m = Master::default();
+    let bus = &mut peer.bus;
+    // Wait for LocalNode's boot-up message: only then does it answer SDO requests.
+    let boot = bus.now_ms() + 30_000;
+    loop {
+        match bus.recv(boot).unwrap() {
+            Some(f) if f.id == 0x700 + u32::from(NODE) && f.bytes() == [0] => break,
+            Some(_) => {}
+            None => panic!("{}: no boot-up message from LocalNode", dev.name),
+        }
+    }
+
+    // A typed read through a generated descriptor.
+    let want = dev.device_type.default.and_then(|d| d.resolve(NODE));
+    match client.read(bus, dev.device_type) {
+        Ok(v) if Some(v) == want => m.matched += 1,
+        Err(SdoError::Remote(SdoAbort::NoResource)) if want.is_none() => m.no_default += 1,
+        other => m.failures.push(format!("DEVICE_TYPE: {other:?}, want {want:?}")),
+    }
+    m.read += 1;
+
+    // Every readable entry, byte for byte against odc's own slave at its defaults.
+    for e in dev.entries.iter().filter(|e| e.access.readable()) {
+        let (i, s) = (e.addr.index, e.addr.sub);
+        let mut want = [0u8; BUF];
+        let n = reference.read(i, s, &mut want).unwrap();
+        m.read += 1;
+        match client.upload(bus, i, s) {
+            Ok(got) if got == &want[..n] => m.matched += 1,
+            // Strings: python-canopen pads nothing, odc may hold a shorter capacity; compare text.
+            Ok(got) => {
+                m.failures.push(format!("{}: got {got:02X?}, want {:02X?}", e.addr, &want[..n]))
+            }
+            Err(SdoError::Remote(SdoAbort::NoResource)) => m.no_default += 1,
+            Err(SdoError::Remote(SdoAbort::NoData)) if n == 0 => m.matched += 1,
+            Err(err) => m.failures.push(format!("{}: {err:?}", e.addr)),
+        }
+    }
+
+    // The generated PDO-mapping plan, then every address it wrote read back.
+    let plan = (dev.plan)(NODE);
+    if let Err((at, err)) = client.execute(bus, &plan) {
+        m.failures.push(format!("plan write {at} {:?}: {err:?}", plan[at]));
+    }
+    m.written = plan.len();
+    let mut last = BTreeMap::new();
+    for w in &plan {
+        last.insert((w.index, w.sub), *w);
+    }
+    for ((i, s), w) in &last {
+        let (bytes, n) = w.to_le_bytes();
+        match client.upload(bus, *i, *s) {
+            Ok(got) if got == &bytes[..n] => m.checked_back += 1,
+            other => m
+                .failures
+                .push(format!("read back 0x{i:04X}:{s:02X}: {other:?}, want {:02X?}", &bytes[..n])),
+        }
+    }
+    let (out, _err) = peer.finish(Duration::from_secs(30));
+    // LocalNode's own store holds what the plan wrote.
+    let store = &last_json(&out)["data_store"];
+    for ((i, s), w) in &last {
+        let (bytes, n) = w.to_le_bytes();
+        let hex: String = bytes[..n].iter().map(|b| format!("{b:02x}")).collect();
+        let key = format!("0x{i:04X}:{s:02X}");
+        if store[&key].as_str() != Some(hex.as_str()) {
+            m.failures.push(format!("LocalNode store {key} = {}, want {hex}", store[&key]));
+        }
+    }
+    m
+}
+
+#[test]
+fn their_slave_our_master() {
+    let Some(py) = python() else {
+        eprintln!("skipped: no python with canopen (set ODC_INTEROP_PYTHON)");
+        return;
+    };
+    println!(
+        "their slave, our master (python-canopen LocalNode, odc sdo::Client + generated od/master)"
+    );
+    println!(
+        "{:<22} {:>5} {:>7} {:>6} {:>7} {:>9}",
+        "device", "read", "matched", "no-def", "written", "read-back"
+    );
+    let mut failures = Vec::new();
+    for dev in devices() {
+        let m = drive(&py, &dev);
+        println!(
+            "{:<22} {:>5} {:>7} {:>6} {:>7} {:>9}",
+            dev.name, m.read, m.matched, m.no_default, m.written, m.checked_back
+        );
+        failures.extend(m.failures.iter().map(|f| format!("{}: {f}", dev.name)));
+    }
+    assert!(failures.is_empty(), "disagreements with python-canopen:\n{}", failures.join("\n"));
+}
