@@ -10,8 +10,8 @@
 //! | `C2xx` | `cia301` | values, types, limits, mandatory objects, identity |
 //! | `C3xx` | `cia301` | PDO mapping |
 //! | `C4xx` | `cia301` | COB-IDs and communication objects |
-//! | `D5xx` | `cia402` | CiA 402 drives (only when 0x1000 says profile 402) |
-//! | `T6xx` | `etg` | EtherCAT (only for ESI devices) |
+//! | `D5xx` | `cia402` | CiA 402 drives (when 0x1000, or an ESI `Profile`, says profile 402) |
+//! | `T6xx` | `etg` | EtherCAT (ESI devices): PDO entries, sync managers, PDO assignment, `Exclude`, mailbox, DC |
 //!
 //! The front-ends have their own rules (`odc_eds::RULES`, `odc_esi::RULES`, group `format`);
 //! [`Config::apply`] handles their diagnostics too.

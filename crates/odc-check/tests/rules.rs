@@ -4,7 +4,8 @@
 mod common;
 
 use common::*;
-use odc_model::Spanned;
+use odc_model::ethercat::SmUsage;
+use odc_model::{PdoMapping, Spanned};
 
 /// Asserts that `dev` trips `code` and snapshots the whole output.
 macro_rules! trips {
@@ -350,36 +351,50 @@ trips!(
 trips!(d506_cia402_modes_of_operation, "D506", drive().remove(0x6060).remove(0x6861));
 trips!(d507_cia402_axis_offset, "D507", drive().at(0x6881, 0).data_type(Integer32));
 
-// T601–T602: EtherCAT.
-
-fn esi_io() -> Dev {
-    base().var(0x6000, "Input", Unsigned16, Ro).mapping(odc_model::PdoMapping::Tx).esi().with(|d| {
-        d.pdos.push(odc_model::Pdo {
-            direction: odc_model::Direction::Tx,
-            mapping_index: 0x1A00,
-            comm_index: None,
-            name: "Inputs".into(),
-            cob_id: None,
-            transmission_type: None,
-            inhibit_time: None,
-            event_timer: None,
-            sync_start: None,
-            entries: vec![odc_model::PdoEntry {
-                index: 0x6000,
-                sub: 0,
-                bits: 16,
-                name: None,
-                data_type: None,
-                span: odc_model::Span::DUMMY,
-            }],
-            sync_manager: Some(3),
-            fixed: true,
-            mandatory: false,
-            excludes: Vec::new(),
-            span: odc_model::Span::DUMMY,
-        });
-    })
+/// The drive as an ESI whose profile, not 0x1000, says 402.
+fn esi_drive(profile: odc_model::ethercat::Profile) -> Dev {
+    drive().remove(0x1000).esi().ethercat(|e| e.profiles.push(profile))
 }
+
+fn profile_402() -> odc_model::ethercat::Profile {
+    odc_model::ethercat::Profile { profile_no: Some(402), ..Default::default() }
+}
+
+#[test]
+fn esi_profile_402_makes_a_drive() {
+    assert_eq!(run(esi_drive(profile_402())), "");
+    let out = run(esi_drive(profile_402()).remove(0x6041));
+    assert!(out.contains("error[D501]: CiA 402 drive has no statusword 0x6041"), "{out}");
+    // 0x1000 decides when it has a value: 5001 (modular device) is not a drive.
+    let mdp = esi_drive(profile_402()).var(0x1000, "Device type", Unsigned32, Ro).default(u(5001));
+    assert_eq!(run(mdp.remove(0x6041)), "");
+    // Without 0x1000 and without profile 402, the D rules do not run.
+    let other = odc_model::ethercat::Profile { profile_no: Some(5001), ..Default::default() };
+    assert_eq!(run(esi_drive(other).remove(0x6041)), "");
+}
+
+#[test]
+fn esi_channels_give_the_axes() {
+    // Channel 0 is MDP, channel 1 a 402 axis: only axis 2 (0x6800..) is checked.
+    let channels = odc_model::ethercat::Profile {
+        channel_profiles: vec![Some(5001), Some(402)],
+        ..Default::default()
+    };
+    let out = run(esi_drive(channels.clone()).remove(0x6840).remove(0x6040));
+    assert_eq!(out, "error[D501]: CiA 402 drive (axis 2) has no controlword 0x6840\n");
+    // ChannelCount 3 of profile 402: axis 3 (0x7000..) must exist too.
+    let three = odc_model::ethercat::Profile { channel_count: Some(3), ..profile_402() };
+    let out = run(esi_drive(three));
+    assert!(out.contains("(axis 3) has no controlword 0x7040"), "{out}");
+}
+
+#[test]
+fn esi_without_dictionary_is_not_checked_as_a_drive() {
+    let d = esi_drive(profile_402()).remove(0x6041).ethercat(|e| e.dictionary_synthesised = true);
+    assert_eq!(run(d), "");
+}
+
+// T601–T618: EtherCAT.
 
 #[test]
 fn esi_device_passes_every_rule() {
@@ -392,3 +407,174 @@ trips!(
     esi_io().remove(0x6000).var(0x6001, "Other", Unsigned16, Ro)
 );
 trips!(t602_esi_pdo_entry_bit_length, "T602", esi_io().at(0x6000, 0).data_type(Unsigned32));
+trips!(
+    t603_esi_pdo_entry_direction,
+    "T603",
+    esi_io().at(0x7000, 0).mapping(PdoMapping::Tx).at(0x7001, 0).mapping(PdoMapping::No)
+);
+
+#[test]
+fn fixed_pdos_are_not_checked_for_direction() {
+    let d = esi_io().at(0x7000, 0).mapping(PdoMapping::No).edit_pdo(0x1600, |p| p.fixed = true);
+    assert_eq!(run(d.edit_pdo(0x1602, |p| p.fixed = true)), "");
+}
+
+trips!(
+    t604_esi_pdo_sync_manager,
+    "T604",
+    esi_io().edit_pdo(0x1600, |p| p.sync_manager = Some(3)).edit_pdo(0x1A00, |p| {
+        p.sync_manager = Some(7);
+    })
+);
+
+#[test]
+fn sync_managers_without_a_type_are_judged_by_their_control_byte() {
+    // IgH's `ethercat xml` writes <Sm> elements without text.
+    let untyped = |d: Dev| {
+        d.edit_sm(2, |s| s.usage = SmUsage::Other(String::new()))
+            .edit_sm(3, |s| s.usage = SmUsage::Other(String::new()))
+    };
+    assert_eq!(run(untyped(esi_io())), "");
+    let out =
+        run(untyped(esi_io()).edit_sm(2, |s| s.control_byte = Some(Spanned::synthetic(0x20))));
+    assert!(out.contains("[T604]"), "{out}");
+}
+
+trips!(
+    t605_esi_sm_pdo_size,
+    "T605",
+    esi_io().edit_sm(2, |s| s.max_size = Some(1)).edit_sm(3, |s| s.min_size = Some(4))
+);
+trips!(
+    t606_esi_sm_size_range,
+    "T606",
+    esi_io()
+        .edit_sm(0, |s| s.min_size = Some(256))
+        .edit_sm(1, |s| s.max_size = Some(64))
+        .edit_sm(2, |s| s.min_size = Some(16))
+);
+trips!(
+    t607_esi_pdo_assign_unknown,
+    "T607",
+    esi_io().remove(0x1C12).array(
+        0x1C12,
+        "RxPDO assign",
+        &[
+            (1, "SubIndex 001", Unsigned16, Rw, Some(u(0x1600))),
+            (2, "SubIndex 002", Unsigned16, Rw, Some(u(0x1605))),
+            (3, "SubIndex 003", Unsigned16, Rw, Some(u(0x1A00))),
+        ],
+    )
+);
+trips!(
+    t608_esi_pdo_assign_default,
+    "T608",
+    esi_io()
+        .at(0x1C13, 1)
+        .default(u(0))
+        .remove(0x1C12)
+        .array(
+            0x1C12,
+            "RxPDO assign",
+            &[
+                (1, "SubIndex 001", Unsigned16, Rw, Some(u(0x1601))),
+                (2, "SubIndex 002", Unsigned16, Rw, Some(u(0x1600))),
+            ],
+        )
+        .edit_pdo(0x1601, |p| p.sync_manager = Some(2))
+);
+trips!(
+    t609_esi_pdo_exclude_unknown,
+    "T609",
+    esi_io().edit_pdo(0x1600, |p| p.excludes = vec![0x1610])
+);
+trips!(t610_esi_pdo_exclude_asymmetric, "T610", esi_io().edit_pdo(0x1602, |p| p.excludes.clear()));
+trips!(
+    t611_esi_default_pdos_excluded,
+    "T611",
+    esi_io()
+        .edit_pdo(0x1601, |p| p.mandatory = true)
+        .edit_pdo(0x1602, |p| p.sync_manager = Some(2))
+        .edit_sm(2, |s| s.max_size = None)
+);
+trips!(
+    t612_esi_mailbox_sync_managers,
+    "T612",
+    esi_io().ethercat(|e| {
+        e.sync_managers.swap(0, 1);
+        e.sync_managers.truncate(1);
+    })
+);
+trips!(
+    t613_esi_mailbox_size,
+    "T613",
+    esi_io().edit_sm(0, |s| s.default_size = Some(8)).edit_sm(1, |s| s.default_size = None)
+);
+trips!(
+    t614_esi_sm_control_byte,
+    "T614",
+    esi_io()
+        .edit_sm(0, |s| s.control_byte = Some(Spanned::synthetic(0x24)))
+        .edit_sm(1, |s| s.control_byte = Some(Spanned::synthetic(0x26)))
+        .edit_sm(3, |s| s.control_byte = Some(Spanned::synthetic(0x2B)))
+);
+
+#[test]
+fn process_data_may_use_mailbox_mode() {
+    // A single-buffered (mailbox-mode) process-data sync manager is legal.
+    let d = esi_io().edit_sm(2, |s| s.control_byte = Some(Spanned::synthetic(0x26)));
+    assert_eq!(run(d), "");
+}
+
+trips!(
+    t615_esi_sm_overlap,
+    "T615",
+    // SM 2 (outputs, 2 bytes, three buffers) occupies 0x1100..0x1106.
+    esi_io().edit_sm(3, |s| s.start_address = Some(Spanned::synthetic(0x1104)))
+);
+
+#[test]
+fn sync_managers_on_the_digital_io_registers_may_touch() {
+    let d = esi_io()
+        .edit_sm(2, |s| s.start_address = Some(Spanned::synthetic(0x0F00)))
+        .edit_sm(3, |s| s.start_address = Some(Spanned::synthetic(0x0F01)));
+    assert_eq!(run(d), "");
+}
+
+trips!(
+    t616_esi_dc_assign_activate,
+    "T616",
+    esi_io().ethercat(|e| {
+        if let Some(dc) = e.dc.as_mut() {
+            dc.op_modes.push(op_mode("Sync0NoCyclic", 0x200));
+            dc.op_modes.push(op_mode("Reserved", 0x0302));
+            dc.op_modes.push(op_mode("TooWide", 0x10300));
+        }
+    })
+);
+trips!(
+    t617_esi_dc_op_mode_name,
+    "T617",
+    esi_io().ethercat(|e| {
+        if let Some(dc) = e.dc.as_mut() {
+            dc.op_modes.push(op_mode(" ", 0x700));
+        }
+    })
+);
+trips!(
+    t618_esi_sm_type_object,
+    "T618",
+    esi_io().at(0x1C00, 3).default(u(4)).at(0x1C00, 4).default(u(3))
+);
+
+#[test]
+fn esi_rules_do_not_run_on_canopen_devices() {
+    let mut d = esi_io().edit_pdo(0x1600, |p| p.sync_manager = Some(7)).build();
+    d.format = Some(odc_model::Format::Eds);
+    d.pdos.clear();
+    let out = odc_model::diag::render_short(
+        &odc_model::Sources::new(),
+        &odc_check::check(&d, &odc_check::Config::default()),
+    );
+    assert!(!out.contains("[T6"), "{out}");
+}

@@ -527,6 +527,10 @@ fn lower_device(d: Element<'_>, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Devic
             profile_no: ctx.child_u32(p, "ProfileNo"),
             add_info: ctx.child_u32(p, "AddInfo"),
             channel_count: ctx.child_u32(p, "ChannelCount"),
+            channel_profiles: p
+                .children_named("ChannelInfo")
+                .map(|c| ctx.child_u32(c, "ProfileNo"))
+                .collect(),
             dictionary_file: p.child("DictionaryFile").map(|f| f.text().to_string()),
             has_dictionary: p.child("Dictionary").is_some(),
             span: p.span(),

@@ -124,6 +124,11 @@ pub struct Profile {
     pub add_info: Option<u32>,
     /// `ChannelCount`.
     pub channel_count: Option<u32>,
+    /// `ChannelInfo/ProfileNo` of each channel, in order (a device whose channels follow
+    /// different profiles lists them instead of `ChannelCount`); `None` where a `ChannelInfo`
+    /// has no readable `ProfileNo`.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub channel_profiles: Vec<Option<u32>>,
     /// `DictionaryFile`: the dictionary is in another file.
     pub dictionary_file: Option<String>,
     /// Whether the profile has an inline `Dictionary`.

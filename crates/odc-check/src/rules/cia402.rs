@@ -1,6 +1,9 @@
-//! D501–D507: CiA 402 drives (CiA 402-2), checked when 0x1000 says device profile 402.
+//! D501–D507: CiA 402 drives (CiA 402-2; over EtherCAT ETG.6010).
+//!
+//! A device is a CiA 402 drive when 0x1000 says device profile 402, or (ESI) when a `Profile`
+//! says `ProfileNo` 402, for the whole device or per channel (`ChannelCount`, `ChannelInfo`).
 //! A multi-axis device repeats the profile area every 0x800 indexes (axis n at
-//! 0x6000 + n·0x800); each axis that has a controlword or statusword is checked on its own.
+//! 0x6000 + n·0x800); each axis is checked on its own.
 
 use odc_model::{DataType, Device, Direction, Object, SubObject};
 
@@ -8,25 +11,90 @@ use super::rule;
 use crate::Ctx;
 use crate::util::{first_span, idx, initial_u64};
 
-/// Whether the device implements CiA 402: 0x1000 bits 0–15 = 402.
-fn is_402(dev: &Device) -> bool {
-    initial_u64(dev, 0x1000, 0).is_some_and(|v| v & 0xFFFF == 402)
+/// The profile area repeats at most 8 times (0x6000–0x9FFF).
+const MAX_AXES: u16 = 8;
+
+/// What 0x1000 says: `Some(true)` when bits 0–15 are 402, `Some(false)` for another profile,
+/// `None` when the object or its value is absent.
+fn device_type_402(dev: &Device) -> Option<bool> {
+    initial_u64(dev, 0x1000, 0).map(|v| v & 0xFFFF == 402)
 }
 
-/// The index offsets of the axes: 0 for the first, n·0x800 for further ones that exist.
+/// The axes (0-based) an ESI `Profile` list declares as CiA 402: channels are counted over
+/// the profiles in order; a profile covers `ChannelCount` channels (one when not given), or one
+/// per `ChannelInfo`, each with its own `ProfileNo`.
+fn esi_402_axes(dev: &Device) -> Vec<u16> {
+    let Some(ec) = dev.ethercat.as_deref() else { return Vec::new() };
+    let mut out = Vec::new();
+    let mut channel: u32 = 0;
+    for p in &ec.profiles {
+        if p.channel_profiles.is_empty() {
+            let n = p.channel_count.unwrap_or(1).max(1);
+            if p.profile_no == Some(402) {
+                out.extend(
+                    (channel..channel.saturating_add(n)).filter_map(|c| u16::try_from(c).ok()),
+                );
+            }
+            channel = channel.saturating_add(n);
+        } else {
+            for cp in &p.channel_profiles {
+                if *cp == Some(402)
+                    && let Ok(c) = u16::try_from(channel)
+                {
+                    out.push(c);
+                }
+                channel = channel.saturating_add(1);
+            }
+        }
+    }
+    out.retain(|&a| a < MAX_AXES);
+    out
+}
+
+/// The index offsets of the axes to check: n·0x800 for each axis the device declares as a
+/// CiA 402 one, plus every further axis whose controlword or statusword exists.
+///
+/// 0x1000 decides when it has a value: an ESI whose `Profile` says 402 while 0x1000 says
+/// another profile (Beckhoff's AX5805 safety card and Synapticon's multi-device file say 5001,
+/// modular devices whose axes come with their modules) is not a drive itself. The ESI profile
+/// decides when 0x1000 has no value, and gives the number of axes of a 402 device. Devices whose
+/// ESI has no dictionary (its objects are only the PDO entries) are not checked.
 fn axes(dev: &Device) -> Vec<u16> {
-    if !is_402(dev) {
+    if dev.ethercat.as_deref().is_some_and(|e| e.dictionary_synthesised) {
         return Vec::new();
     }
-    let mut out = vec![0];
-    for n in 1..8u16 {
+    let mut out: Vec<u16> = match device_type_402(dev) {
+        Some(false) => return Vec::new(),
+        Some(true) => vec![0],
+        None => Vec::new(),
+    };
+    out.extend(esi_402_axes(dev).into_iter().map(|a| a * 0x800));
+    if out.is_empty() {
+        return out;
+    }
+    for n in 1..MAX_AXES {
         let base = n * 0x800;
         if dev.objects.contains_key(&(0x6040 + base)) || dev.objects.contains_key(&(0x6041 + base))
         {
             out.push(base);
         }
     }
+    out.sort_unstable();
+    out.dedup();
     out
+}
+
+/// Where the device says it is a 402 drive: 0x1000, else its ESI profile.
+fn profile_span(dev: &Device) -> odc_model::Span {
+    let profile = dev.ethercat.as_deref().and_then(|e| {
+        e.profiles
+            .iter()
+            .find(|p| p.profile_no == Some(402) || p.channel_profiles.contains(&Some(402)))
+    });
+    first_span([
+        dev.objects.get(&0x1000).map_or(odc_model::Span::DUMMY, |o| o.span),
+        profile.map_or(odc_model::Span::DUMMY, |p| p.span),
+    ])
 }
 
 fn axis_text(base: u16) -> String {
@@ -48,17 +116,18 @@ rule!(
     controlword_statusword,
     "a CiA 402 drive lacks the controlword 0x6040 or the statusword 0x6041",
     "Every CiA 402 axis is driven through its state machine: the master writes the controlword \
-     0x6040 and reads the statusword 0x6041 (CiA 402-2 §8). A device that says profile 402 in \
-     0x1000 but lacks one of them cannot be enabled by any 402 master (python-canopen's \
-     BaseNode402, ros2_canopen). For multi-axis devices each axis has its own pair at \
-     +0x800·n. Fix: add the objects, or correct 0x1000."
+     0x6040 and reads the statusword 0x6041 (CiA 402-2 §8). A device that says profile 402 (in \
+     0x1000, or in an ESI's Profile/ProfileNo) but lacks one of them cannot be enabled by any \
+     402 master (python-canopen's BaseNode402, ros2_canopen, the ETG.6010 state machine of \
+     EtherCAT masters). For multi-axis devices each axis has its own pair at +0x800·n. Fix: \
+     add the objects, or correct 0x1000 / ProfileNo."
 );
 
 fn controlword_statusword(dev: &Device, ctx: &mut Ctx) {
     for base in axes(dev) {
         for (index, what) in [(0x6040 + base, "controlword"), (0x6041 + base, "statusword")] {
             if !dev.objects.contains_key(&index) {
-                let span = dev.objects.get(&0x1000).map_or(odc_model::Span::DUMMY, |o| o.span);
+                let span = profile_span(dev);
                 ctx.report(
                     index,
                     None,

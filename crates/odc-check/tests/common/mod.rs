@@ -3,9 +3,10 @@
 #![allow(dead_code, missing_docs)]
 
 use odc_check::{Config, check};
+use odc_model::ethercat::{CoE, Dc, DcOpMode, EtherCat, Mailbox, SmUsage, SyncManager};
 use odc_model::{
-    Access, DataType, Device, Format, Object, ObjectKind, ObjectList, ObjectLists, PdoMapping,
-    Sources, Spanned, SubObject, Value, diag,
+    Access, DataType, Device, Direction, Format, Object, ObjectKind, ObjectList, ObjectLists, Pdo,
+    PdoEntry, PdoMapping, Sources, Spanned, SubObject, Value, diag,
 };
 
 pub use odc_model::Access::*;
@@ -230,9 +231,144 @@ impl Dev {
         self
     }
 
+    /// Edits the EtherCAT part (created empty if absent).
+    pub fn ethercat(mut self, f: impl FnOnce(&mut EtherCat)) -> Dev {
+        f(self.device.ethercat.get_or_insert_with(Default::default));
+        self
+    }
+
+    /// Adds an ESI PDO.
+    pub fn esi_pdo(mut self, pdo: Pdo) -> Dev {
+        self.device.pdos.push(pdo);
+        self
+    }
+
+    /// Edits the ESI PDO with this index.
+    pub fn edit_pdo(mut self, index: u16, f: impl FnOnce(&mut Pdo)) -> Dev {
+        if let Some(p) = self.device.pdos.iter_mut().find(|p| p.mapping_index == index) {
+            f(p);
+        }
+        self
+    }
+
+    /// Edits sync manager `n`.
+    pub fn edit_sm(self, n: usize, f: impl FnOnce(&mut SyncManager)) -> Dev {
+        self.ethercat(|e| {
+            if let Some(sm) = e.sync_managers.get_mut(n) {
+                f(sm);
+            }
+        })
+    }
+
     pub fn build(self) -> Device {
         self.device
     }
+}
+
+/// An ESI sync manager.
+pub fn sm(number: u8, usage: SmUsage, start: u16, control: u8, size: Option<u32>) -> SyncManager {
+    SyncManager {
+        number,
+        usage,
+        min_size: None,
+        max_size: None,
+        default_size: size,
+        start_address: Some(Spanned::synthetic(start)),
+        control_byte: Some(Spanned::synthetic(control)),
+        enable: true,
+        virtual_sm: false,
+        op_only: false,
+        span: odc_model::Span::DUMMY,
+    }
+}
+
+/// An ESI PDO with entries `(index, sub, bits)`, assigned to sync manager `sm`.
+pub fn esi_pdo(dir: Direction, index: u16, sm: Option<u8>, entries: &[(u16, u8, u16)]) -> Pdo {
+    Pdo {
+        direction: dir,
+        mapping_index: index,
+        comm_index: None,
+        name: format!("PDO {index:04X}"),
+        cob_id: None,
+        transmission_type: None,
+        inhibit_time: None,
+        event_timer: None,
+        sync_start: None,
+        entries: entries
+            .iter()
+            .map(|&(index, sub, bits)| PdoEntry {
+                index,
+                sub,
+                bits,
+                name: None,
+                data_type: None,
+                span: odc_model::Span::DUMMY,
+            })
+            .collect(),
+        sync_manager: sm,
+        fixed: false,
+        mandatory: false,
+        excludes: Vec::new(),
+        span: odc_model::Span::DUMMY,
+    }
+}
+
+/// A DC operation mode.
+pub fn op_mode(name: &str, assign_activate: u32) -> DcOpMode {
+    DcOpMode { name: name.into(), assign_activate: Some(assign_activate), ..DcOpMode::default() }
+}
+
+/// An EtherCAT I/O device with a dictionary, mailbox (CoE), four sync managers, one RxPDO
+/// (0x1600 on SM 2) and one TxPDO (0x1A00 on SM 3) plus two optional PDOs that exclude each
+/// other, the assignment objects 0x1C12/0x1C13, 0x1C00 and two DC modes; it passes every rule.
+pub fn esi_io() -> Dev {
+    base()
+        .esi()
+        .var(0x6000, "Input", Unsigned16, Ro)
+        .mapping(PdoMapping::Tx)
+        .var(0x7000, "Output", Unsigned16, Rw)
+        .mapping(PdoMapping::Rx)
+        .var(0x7001, "Output 2", Unsigned32, Rw)
+        .mapping(PdoMapping::Rx)
+        .array(
+            0x1C00,
+            "Sync manager type",
+            &[
+                (1, "SM 0", Unsigned8, Ro, Some(u(1))),
+                (2, "SM 1", Unsigned8, Ro, Some(u(2))),
+                (3, "SM 2", Unsigned8, Ro, Some(u(3))),
+                (4, "SM 3", Unsigned8, Ro, Some(u(4))),
+            ],
+        )
+        .array(0x1C12, "RxPDO assign", &[(1, "SubIndex 001", Unsigned16, Rw, Some(u(0x1600)))])
+        .array(0x1C13, "TxPDO assign", &[(1, "SubIndex 001", Unsigned16, Rw, Some(u(0x1A00)))])
+        .esi_pdo(esi_pdo(Direction::Rx, 0x1600, Some(2), &[(0x7000, 0, 16)]))
+        .esi_pdo(esi_pdo(Direction::Tx, 0x1A00, Some(3), &[(0x6000, 0, 16)]))
+        .esi_pdo(Pdo {
+            excludes: vec![0x1602],
+            ..esi_pdo(Direction::Rx, 0x1601, None, &[(0x7001, 0, 32)])
+        })
+        .esi_pdo(Pdo {
+            excludes: vec![0x1601],
+            ..esi_pdo(Direction::Rx, 0x1602, None, &[(0x7000, 0, 16), (0x7001, 0, 32)])
+        })
+        .ethercat(|e| {
+            e.sync_managers = vec![
+                sm(0, SmUsage::MBoxOut, 0x1000, 0x26, Some(128)),
+                sm(1, SmUsage::MBoxIn, 0x1080, 0x22, Some(128)),
+                SyncManager {
+                    min_size: Some(1),
+                    max_size: Some(8),
+                    ..sm(2, SmUsage::Outputs, 0x1100, 0x64, None)
+                },
+                sm(3, SmUsage::Inputs, 0x1180, 0x20, None),
+            ];
+            e.mailbox = Some(Mailbox { coe: Some(CoE::default()), ..Mailbox::default() });
+            e.dc = Some(Dc {
+                op_modes: vec![op_mode("FreeRun", 0), op_mode("DcSync", 0x300)],
+                span: odc_model::Span::DUMMY,
+            });
+        })
 }
 
 /// Checks with the default configuration and renders the short form.
