@@ -182,6 +182,8 @@ struct Master {
     no_default: usize,
     written: usize,
     checked_back: usize,
+    /// Remote aborts checked (code as expected).
+    aborts: usize,
     failures: Vec<String>,
 }
 
@@ -229,6 +231,30 @@ fn drive(py: &std::path::Path, dev: &Device) -> Master {
         }
     }
 
+    // Aborts from LocalNode reach odc's client as remote aborts with their codes: a write to
+    // every entry the file makes read-only, a read and a write of a missing object.
+    for e in dev.entries.iter().filter(|e| !e.access.writable()) {
+        let mut cur = [0u8; BUF];
+        let n = reference.read(e.addr.index, e.addr.sub, &mut cur).unwrap_or(4).max(1);
+        match client.download(bus, e.addr.index, e.addr.sub, &cur[..n]) {
+            Err(SdoError::Remote(SdoAbort::WriteOfReadOnly)) => m.aborts += 1,
+            other => m.failures.push(format!("write of read-only {}: {other:?}", e.addr)),
+        }
+    }
+    for index in [0x1FFFu16, 0x5FFF, 0x9FFF] {
+        if dev.entries.iter().any(|e| e.addr.index == index) {
+            continue;
+        }
+        match client.upload(bus, index, 0) {
+            Err(SdoError::Remote(SdoAbort::NoSuchObject)) => m.aborts += 1,
+            other => m.failures.push(format!("read of missing 0x{index:04X}: {other:?}")),
+        }
+        match client.download(bus, index, 0, &[1]) {
+            Err(SdoError::Remote(SdoAbort::NoSuchObject)) => m.aborts += 1,
+            other => m.failures.push(format!("write of missing 0x{index:04X}: {other:?}")),
+        }
+    }
+
     // The generated PDO-mapping plan, then every address it wrote read back.
     let plan = (dev.plan)(NODE);
     if let Err((at, err)) = client.execute(bus, &plan) {
@@ -272,15 +298,15 @@ fn their_slave_our_master() {
         "their slave, our master (python-canopen LocalNode, odc sdo::Client + generated od/master)"
     );
     println!(
-        "{:<22} {:>5} {:>7} {:>6} {:>7} {:>9}",
-        "device", "read", "matched", "no-def", "written", "read-back"
+        "{:<22} {:>5} {:>7} {:>6} {:>7} {:>9} {:>6}",
+        "device", "read", "matched", "no-def", "written", "read-back", "aborts"
     );
     let mut failures = Vec::new();
     for dev in devices() {
         let m = drive(&py, &dev);
         println!(
-            "{:<22} {:>5} {:>7} {:>6} {:>7} {:>9}",
-            dev.name, m.read, m.matched, m.no_default, m.written, m.checked_back
+            "{:<22} {:>5} {:>7} {:>6} {:>7} {:>9} {:>6}",
+            dev.name, m.read, m.matched, m.no_default, m.written, m.checked_back, m.aborts
         );
         failures.extend(m.failures.iter().map(|f| format!("{}: {f}", dev.name)));
     }
