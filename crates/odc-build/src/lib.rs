@@ -21,6 +21,12 @@
 //! when its content changed, atomically). Every file read is announced with
 //! `cargo:rerun-if-changed=`; warnings become `cargo:warning=` lines; errors come back as an
 //! [`Error`] whose `Display` and `Debug` are the rendered diagnostics.
+//!
+//! A device file may have an overlay beside it ([`overlay_path`]: `<stem>.odc.toml`, else
+//! `odc.toml` in its directory), the same file `odc check` reads: its checker settings (the
+//! device's quirk allowances) apply unless [`Config::check_config`] was called, and its
+//! `[[scheme]]` tables (vendor parameter numbering, see [`odc_codegen::Scheme`]) become modules
+//! of the generated code.
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -60,6 +66,14 @@ pub enum Error {
         index: usize,
         /// How many devices the file has.
         count: usize,
+    },
+    /// The overlay beside a device file is not valid.
+    #[error("invalid overlay {}: {message}", path.display())]
+    Overlay {
+        /// The overlay file.
+        path: PathBuf,
+        /// What is wrong, with its position.
+        message: String,
     },
     /// No output directory: `OUT_DIR` is not set (not in a build script) and none was given.
     #[error("OUT_DIR is not set: call compile() from a build script, or set out_dir()")]
@@ -109,7 +123,7 @@ pub struct Config {
     role: Role,
     out_dir: Option<PathBuf>,
     runtime_path: String,
-    check: odc_check::Config,
+    check: Option<odc_check::Config>,
     emit_rerun: Option<bool>,
 }
 
@@ -120,7 +134,7 @@ impl Default for Config {
             role: Role::Both,
             out_dir: None,
             runtime_path: "::odc".to_string(),
-            check: odc_check::Config::default(),
+            check: None,
             emit_rerun: None,
         }
     }
@@ -188,9 +202,10 @@ impl Config {
         self
     }
 
-    /// The checker configuration (levels, allowances); default: every rule at its level.
+    /// The checker configuration (levels, allowances) for every device; default: each
+    /// device's overlay ([`overlay_path`]), else every rule at its level.
     pub fn check_config(&mut self, config: odc_check::Config) -> &mut Self {
-        self.check = config;
+        self.check = Some(config);
         self
     }
 
@@ -212,11 +227,23 @@ impl Config {
             let bytes = std::fs::read(&input.path)
                 .map_err(|source| Error::Io { path: input.path.clone(), source })?;
             out.read.push(input.path.clone());
+            let overlay = match overlay_path(&input.path) {
+                Some(path) => {
+                    out.read.push(path.clone());
+                    Some(read_overlay(&path)?)
+                }
+                None => None,
+            };
+            let check = match (&self.check, &overlay) {
+                (Some(c), _) => c.clone(),
+                (None, Some(o)) => o.check.clone(),
+                (None, None) => odc_check::Config::default(),
+            };
             let mut sources = Sources::new();
             let name = input.path.display().to_string();
             let (device, mut diags) = parse(&mut sources, &name, &bytes, input, &input.path)?;
             if !diags.iter().any(Diagnostic::is_error) {
-                diags.extend(odc_check::check(&device, &self.check));
+                diags.extend(odc_check::check(&device, &check));
             }
             diag::sort(&mut diags);
             let (errors, warnings): (Vec<_>, Vec<_>) =
@@ -240,6 +267,7 @@ impl Config {
                 runtime_path: self.runtime_path.clone(),
                 source_name: file_name,
                 source_sha256: sha256_hex(&bytes),
+                schemes: overlay.map(|o| o.codegen.scheme).unwrap_or_default(),
             };
             let code =
                 odc_codegen::generate(&device, &opts).map_err(|diags| Error::Diagnostics {
@@ -270,6 +298,11 @@ impl Config {
         if emit {
             for input in &self.inputs {
                 println!("{}", rerun_line(&input.path));
+                // Only an existing overlay: cargo re-runs a build script on every build while a
+                // watched file is missing.
+                if let Some(overlay) = overlay_path(&input.path) {
+                    println!("{}", rerun_line(&overlay));
+                }
             }
         }
         let output = self.generate()?;
@@ -281,6 +314,45 @@ impl Config {
         }
         Ok(())
     }
+}
+
+/// The places a device file's overlay may be, in the order they are tried: `<stem>.odc.toml`
+/// beside the file, then `odc.toml` in its directory.
+pub fn overlay_candidates(file: &Path) -> [PathBuf; 2] {
+    let dir = file.parent().unwrap_or(Path::new(""));
+    let mut beside = file.file_stem().map(|s| s.to_os_string()).unwrap_or_default();
+    beside.push(".odc.toml");
+    [dir.join(beside), dir.join("odc.toml")]
+}
+
+/// The overlay of a device file, if one exists (see [`overlay_candidates`]). `odc check`,
+/// `odc generate`, this crate and `include_device!` all find a device's quirk allowances and
+/// parameter schemes this way.
+pub fn overlay_path(file: &Path) -> Option<PathBuf> {
+    overlay_candidates(file).into_iter().find(|p| p.is_file())
+}
+
+/// A device's overlay, read: the checker's settings and the code generator's schemes.
+#[derive(Clone, Debug)]
+pub struct Overlay {
+    /// Levels, strictness and per-object allowances.
+    pub check: odc_check::Config,
+    /// Vendor parameter schemes.
+    pub codegen: odc_codegen::Overlay,
+}
+
+/// Reads an overlay file.
+///
+/// # Errors
+///
+/// [`Error::Io`] when it cannot be read, [`Error::Overlay`] when either part is invalid.
+pub fn read_overlay(path: &Path) -> Result<Overlay, Error> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+    let bad = |message: String| Error::Overlay { path: path.to_path_buf(), message };
+    let check = odc_check::Config::from_toml(&text).map_err(|e| bad(e.to_string()))?;
+    let codegen = odc_codegen::Overlay::from_toml(&text).map_err(|e| bad(e.to_string()))?;
+    Ok(Overlay { check, codegen })
 }
 
 /// The directive that makes cargo re-run the build script when `path` changes.
@@ -379,6 +451,36 @@ mod tests {
         assert!(!is_xml(Path::new("a.bin"), b"[FileInfo]"));
         assert_eq!(sha256_hex(b"").len(), 64);
         assert!(sha256_hex(b"").starts_with("e3b0c442"));
+    }
+
+    #[test]
+    fn overlay_beside_the_file_gives_allowances_and_schemes() {
+        let dir = std::env::temp_dir().join(format!("odc-build-overlay-{}", std::process::id()));
+        let _ = std::fs::create_dir_all(&dir);
+        let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../eds");
+        let eds = dir.join("lxm23a.eds");
+        let _ = std::fs::copy(repo.join("lxm23a.eds"), &eds);
+        assert_eq!(overlay_path(&eds), None);
+        // Without its overlay, the LXM23A's 0x6502 quirk is a warning.
+        let out = Config::new().device(&eds).generate();
+        assert!(out.as_ref().is_ok_and(|o| o.warnings.iter().any(|w| w.contains("D504"))));
+        let _ = std::fs::copy(repo.join("lxm23a.odc.toml"), dir.join("lxm23a.odc.toml"));
+        assert_eq!(overlay_path(&eds), Some(dir.join("lxm23a.odc.toml")));
+        let out = Config::new().device(&eds).generate();
+        let out = out.unwrap_or_default();
+        assert!(out.warnings.is_empty(), "{:?}", out.warnings);
+        assert!(out.read.contains(&dir.join("lxm23a.odc.toml")));
+        let code = out.generated.first().map(|g| g.code.as_str()).unwrap_or("");
+        assert!(code.contains("pub mod keypad {"));
+        assert!(code.contains("pub const P3_05: ::odc::Entry<u16>"));
+        // An explicit checker configuration wins over the overlay's; the schemes stay.
+        let out = Config::new().device(&eds).check_config(odc_check::Config::default()).generate();
+        assert!(out.is_ok_and(|o| o.warnings.iter().any(|w| w.contains("D504"))));
+        // A broken overlay is an error naming the file.
+        let _ = std::fs::write(dir.join("lxm23a.odc.toml"), "[[scheme]]\nmodule = 1\n");
+        let e = Config::new().device(&eds).generate().err().map(|e| e.to_string());
+        assert!(e.is_some_and(|e| e.contains("lxm23a.odc.toml")));
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]

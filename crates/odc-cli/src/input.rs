@@ -43,22 +43,22 @@ pub fn load(sources: &mut Sources, path: &Path) -> anyhow::Result<Loaded> {
 /// beside the file, else `odc.toml` in its directory, else the defaults. Quirk allowances of one
 /// device thus live next to that device's file.
 pub fn config_for(explicit: Option<&Path>, file: &Path) -> anyhow::Result<odc_check::Config> {
-    let dir = file.parent().unwrap_or(Path::new("."));
-    let beside = file.file_stem().map(|stem| {
-        let mut name = stem.to_os_string();
-        name.push(".odc.toml");
-        dir.join(name)
-    });
-    let candidates = [explicit.map(Path::to_path_buf), beside, Some(dir.join("odc.toml"))];
-    for path in candidates.into_iter().flatten() {
-        if explicit.is_some_and(|e| e == path) || path.is_file() {
-            let text = std::fs::read_to_string(&path)
-                .with_context(|| format!("cannot read {}", path.display()))?;
-            return odc_check::Config::from_toml(&text)
-                .with_context(|| format!("invalid configuration in {}", path.display()));
-        }
-    }
-    Ok(odc_check::Config::default())
+    let Some(path) = explicit.map(Path::to_path_buf).or_else(|| odc_build::overlay_path(file))
+    else {
+        return Ok(odc_check::Config::default());
+    };
+    let text =
+        std::fs::read_to_string(&path).with_context(|| format!("cannot read {}", path.display()))?;
+    odc_check::Config::from_toml(&text)
+        .with_context(|| format!("invalid configuration in {}", path.display()))
+}
+
+/// The vendor parameter schemes of a device file: the `[[scheme]]` tables of its overlay
+/// (found as for [`config_for`]), none without one.
+pub fn schemes_for(file: &Path) -> anyhow::Result<Vec<odc_build::odc_codegen::Scheme>> {
+    let Some(path) = odc_build::overlay_path(file) else { return Ok(Vec::new()) };
+    let overlay = odc_build::read_overlay(&path)?;
+    Ok(overlay.codegen.scheme)
 }
 
 /// Writes `contents` to `path` atomically: into a temporary file beside it, then renamed over

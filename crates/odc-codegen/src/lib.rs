@@ -11,7 +11,9 @@
 //!   placement (EtherCAT);
 //! - `cia402`: the modes of operation the device supports, when it declares the profile;
 //! - `slave` (role slave): a heap-free object dictionary with typed storage and SDO checks;
-//! - `master` (role master): the SDO writes that configure the default PDO mapping.
+//! - `master` (role master): the SDO writes that configure the default PDO mapping;
+//! - one module per vendor parameter scheme of [`Options::schemes`] (see [`Scheme`]): the
+//!   maker's parameter numbers (`lenze::code(11)`, `lenze::C00011`) mapped to typed entries.
 //!
 //! The output is deterministic, starts with an `@generated` line naming the input file and its
 //! hash, and names the runtime by absolute paths (`::odc::…` by default).
@@ -21,10 +23,12 @@ mod master;
 mod names;
 mod od;
 mod pdo;
+mod scheme;
 mod slave;
 mod types;
 
 use odc_model::{Device, Diagnostic, RuleInfo, Severity};
+pub use scheme::{Arg, Element, Overlay, Scheme, Selector, SelectorValue};
 use proc_macro2::TokenStream;
 use quote::quote;
 
@@ -60,6 +64,8 @@ pub struct Options {
     pub source_name: String,
     /// The SHA-256 of the input file's bytes, in lower-case hex.
     pub source_sha256: String,
+    /// Vendor parameter schemes (from the overlay beside the device file), one module each.
+    pub schemes: Vec<Scheme>,
 }
 
 impl Default for Options {
@@ -69,6 +75,7 @@ impl Default for Options {
             runtime_path: "::odc".to_string(),
             source_name: String::new(),
             source_sha256: String::new(),
+            schemes: Vec::new(),
         }
     }
 }
@@ -103,6 +110,19 @@ pub static RULES: &[RuleInfo] = &[
                       entry longer than that (a string or domain mapped into process data) has \
                       no field type; fix the mapping in the device file.",
     },
+    RuleInfo {
+        code: "G604",
+        name: "invalid-parameter-scheme",
+        group: "codegen",
+        default: Severity::Error,
+        summary: "a vendor parameter scheme of the device's overlay cannot be generated",
+        explanation: "A `[[scheme]]` of the `<stem>.odc.toml` beside the device file maps a \
+                      vendor's parameter numbers to object indexes. Its index must be a linear \
+                      expression of its declared arguments (`0x5FFF - code`), the argument \
+                      ranges must keep the index within 0..=0xFFFF (and an element's sub-index \
+                      within 0..=0xFF), and module, function, argument and alias names must be \
+                      distinct Rust identifiers. The message says which condition failed.",
+    },
 ];
 
 /// Shared state of one generation run.
@@ -135,10 +155,11 @@ pub fn generate(device: &Device, opts: &Options) -> Result<String, Vec<Diagnosti
     let cia402 = cia402::generate(&ctx);
     let slave = if opts.role.slave() { slave::generate(&ctx) } else { TokenStream::new() };
     let master = if opts.role.master() { master::generate(&ctx) } else { TokenStream::new() };
+    let schemes = scheme::generate(&ctx, &opts.schemes, &mut errors);
     if !errors.is_empty() {
         return Err(errors);
     }
-    let tokens = quote! { #od #pdo #cia402 #slave #master };
+    let tokens = quote! { #od #pdo #cia402 #slave #master #schemes };
     let file: syn::File = syn::parse2(tokens).map_err(|e| {
         vec![Diagnostic::error("G601", format!("generated code does not parse: {e}"))]
     })?;

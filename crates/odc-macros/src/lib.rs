@@ -138,8 +138,14 @@ fn expand(args: &Args) -> syn::Result<TokenStream> {
 fn generate(name: &str, path: &Path, bytes: &[u8], args: &Args) -> Result<String, String> {
     let mut sources = Sources::new();
     let (device, mut diags) = parse(&mut sources, name, path, bytes, args.device)?;
+    // The overlay beside the file: its quirk allowances and parameter schemes.
+    let overlay = match odc_build::overlay_path(path) {
+        Some(p) => Some(odc_build::read_overlay(&p).map_err(|e| e.to_string())?),
+        None => None,
+    };
+    let check = overlay.as_ref().map(|o| o.check.clone()).unwrap_or_default();
     if !diags.iter().any(Diagnostic::is_error) {
-        diags.extend(odc_check::check(&device, &odc_check::Config::default()));
+        diags.extend(odc_check::check(&device, &check));
     }
     diag::sort(&mut diags);
     let errors: Vec<Diagnostic> = diags.into_iter().filter(|d| d.is_error()).collect();
@@ -155,6 +161,7 @@ fn generate(name: &str, path: &Path, bytes: &[u8], args: &Args) -> Result<String
         runtime_path: "::odc".to_string(),
         source_name: file_name,
         source_sha256: odc_build::sha256_hex(bytes),
+        schemes: overlay.map(|o| o.codegen.scheme).unwrap_or_default(),
     };
     odc_codegen::generate(&device, &opts).map_err(|d| diag::render_human(&sources, &d, false))
 }

@@ -9,8 +9,8 @@ use odc_model::{Sources, diag};
 
 use crate::input;
 
-/// Generate typed Rust (descriptors, PDO structs, slave dictionary, master plan) from a device
-/// file.
+/// Generate typed Rust (descriptors, PDO structs, slave dictionary, master plan, and the vendor
+/// parameter schemes of the overlay beside the file) from a device file.
 #[derive(clap::Args)]
 pub struct Args {
     /// EDS, DCF or ESI file.
@@ -56,6 +56,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default(),
         source_sha256: odc_build::sha256_hex(&bytes),
+        schemes: input::schemes_for(&args.file)?,
     };
     let code = match odc_codegen::generate(device, &opts) {
         Ok(code) => code,

@@ -1,0 +1,78 @@
+//! Vendor parameter schemes: the module generated from a `[[scheme]]`, and the `G604`
+//! diagnostics for rules that cannot be generated.
+
+mod common;
+
+use odc_codegen::{Options, Overlay, generate};
+
+fn with_schemes(toml: &str) -> Options {
+    let overlay = Overlay::from_toml(toml).expect("overlay parses");
+    Options { source_name: "mini-drive.eds".into(), schemes: overlay.scheme, ..Options::default() }
+}
+
+/// The text of `pub mod <name> { ... }` in generated code.
+fn module<'a>(code: &'a str, name: &str) -> &'a str {
+    let start = code.find(&format!("\npub mod {name} {{")).expect("module generated");
+    let end = code[start + 1..].find("\n}\n").map_or(code.len(), |e| start + 1 + e + 3);
+    &code[start + 1..end]
+}
+
+#[test]
+fn element_scheme_module() {
+    // The mini drive's only manufacturer object is 0x2000, "type": parameter 0 of this rule.
+    let opts = with_schemes(
+        r#"
+        [[scheme]]
+        module = "vendor"
+        function = "param"
+        doc = "Parameters P n at 0x2000 + n."
+        index = "0x2000 + n"
+        args = [{ name = "n", range = "0..=0x1FFF" }]
+        const-name = "P{n:03}"
+        element = { name = "e", range = "0..=9", offset = 1 }
+        "#,
+    );
+    let code = generate(&common::drive(), &opts).expect("generates");
+    insta::assert_snapshot!(module(&code, "vendor"));
+}
+
+#[test]
+fn selector_scheme_module() {
+    let opts = with_schemes(
+        r#"
+        [[scheme]]
+        module = "upid"
+        function = "param"
+        index = "0x2000 + 2 * id - 2"
+        args = [{ name = "id", range = "1..=100" }]
+        exclude = ["0x2002"]
+        selector = { type = "Op", arg = "op", values = [{ name = "ram", sub = 1, doc = "RAM value" }, { name = "rom", sub = 2 }] }
+        "#,
+    );
+    let code = generate(&common::drive(), &opts).expect("generates");
+    insta::assert_snapshot!(module(&code, "upid"));
+}
+
+#[test]
+fn bad_schemes_are_g604_errors() {
+    let cases = [
+        ("index = \"0x2000 + n * m\"", "linear"),
+        ("index = \"0x2000 + k\"", "no argument"),
+        ("index = \"0xFFFF + n\"", "beyond 0..=0xFFFF"),
+        ("index = \"0x2000 + n\"\nconst-name = \"p{n}\"", "upper-case"),
+        ("index = \"0x2000 + n\"\nconst-name = \"P{q}\"", "no argument `q`"),
+    ];
+    for (rule, expected) in cases {
+        let toml = format!(
+            "[[scheme]]\nmodule = \"v\"\nfunction = \"f\"\n{rule}\nargs = [{{ name = \"n\", range = \"0..=9\" }}]\n"
+        );
+        let errors = generate(&common::drive(), &with_schemes(&toml)).expect_err(rule);
+        assert_eq!(errors.len(), 1, "{rule}");
+        assert_eq!(errors[0].code, "G604");
+        assert!(errors[0].message.contains(expected), "{rule}: {}", errors[0].message);
+    }
+    let twice = "[[scheme]]\nmodule = \"v\"\nfunction = \"f\"\nindex = \"n\"\nargs = [{ name = \"n\", range = \"0..=9\" }]\n";
+    let errors = generate(&common::drive(), &with_schemes(&format!("{twice}{twice}")))
+        .expect_err("two modules of one name");
+    assert!(errors[0].message.contains("two schemes"), "{}", errors[0].message);
+}
