@@ -193,9 +193,139 @@ impl Statusword {
     pub const fn homing_error(self) -> bool {
         self.bit(13)
     }
+
+    /// The same statusword with bit `n` (0–15) set or cleared; the state bits are better set
+    /// with [`State::statusword`] and [`Statusword::with_state`].
+    pub const fn with_bit(self, n: u32, on: bool) -> Self {
+        if n >= 16 {
+            return self;
+        }
+        let bit = 1 << n;
+        if on { Self(self.0 | bit) } else { Self(self.0 & !bit) }
+    }
+
+    /// The same statusword in `state`: bits 0–3, 5 and 6 replaced, the others kept.
+    pub const fn with_state(self, state: State) -> Self {
+        Self((self.0 & !State::STATE_BITS) | state.statusword().0)
+    }
+
+    /// Bit 4 set or cleared: voltage enabled.
+    pub const fn with_voltage_enabled(self, on: bool) -> Self {
+        self.with_bit(4, on)
+    }
+    /// Bit 7 set or cleared: warning.
+    pub const fn with_warning(self, on: bool) -> Self {
+        self.with_bit(7, on)
+    }
+    /// Bit 9 set or cleared: remote.
+    pub const fn with_remote(self, on: bool) -> Self {
+        self.with_bit(9, on)
+    }
+    /// Bit 10 set or cleared: target reached.
+    pub const fn with_target_reached(self, on: bool) -> Self {
+        self.with_bit(10, on)
+    }
+    /// Bit 11 set or cleared: internal limit active.
+    pub const fn with_internal_limit(self, on: bool) -> Self {
+        self.with_bit(11, on)
+    }
+    /// Bit 12 set or cleared: set-point acknowledge (pp), homing attained (hm), speed zero (pv).
+    pub const fn with_setpoint_ack(self, on: bool) -> Self {
+        self.with_bit(12, on)
+    }
+    /// Bit 13 set or cleared: following error (pp, csp), homing error (hm).
+    pub const fn with_following_error(self, on: bool) -> Self {
+        self.with_bit(13, on)
+    }
+}
+
+/// A controlword as the device reads it: the command of bits 0–3 (CiA 402 table 28), with
+/// "disable voltage" winning over "quick stop" winning over the others, as the table's "x"
+/// entries imply.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Command {
+    /// Bit 1 clear.
+    DisableVoltage,
+    /// Bit 1 set, bit 2 clear.
+    QuickStop,
+    /// Bits 2, 1 set, bit 0 clear.
+    Shutdown,
+    /// Bits 2, 1, 0 set, bit 3 clear: switch on, or disable operation.
+    SwitchOn,
+    /// Bits 3, 2, 1, 0 set: enable operation (from "ready to switch on", switch on too).
+    EnableOperation,
+}
+
+impl Controlword {
+    /// The device-control command bits 0–3 hold (bit 7, fault reset, acts on its edge and is
+    /// not part of it).
+    pub const fn command(self) -> Command {
+        let c = self.0;
+        if c & 0x02 == 0 {
+            Command::DisableVoltage
+        } else if c & 0x04 == 0 {
+            Command::QuickStop
+        } else if c & 0x01 == 0 {
+            Command::Shutdown
+        } else if c & 0x08 == 0 {
+            Command::SwitchOn
+        } else {
+            Command::EnableOperation
+        }
+    }
 }
 
 impl State {
+    /// The statusword bits that encode a state: 0–3, 5 and 6.
+    pub const STATE_BITS: u16 = 0x6F;
+
+    /// The statusword of a drive in this state, with only the state bits set (CiA 402 table
+    /// 30; bit 5, "quick stop", set where the table leaves it open). A drive adds voltage
+    /// enabled, remote, target reached and the mode bits with the `Statusword::with_*`
+    /// methods; [`Statusword::state`] decodes the result back to `self`.
+    pub const fn statusword(self) -> Statusword {
+        Statusword(match self {
+            Self::NotReadyToSwitchOn => 0x00,
+            Self::SwitchOnDisabled => 0x40,
+            Self::ReadyToSwitchOn => 0x21,
+            Self::SwitchedOn => 0x23,
+            Self::OperationEnabled => 0x27,
+            Self::QuickStopActive => 0x07,
+            Self::FaultReactionActive => 0x2F,
+            Self::Fault => 0x28,
+        })
+    }
+
+    /// The state a drive in this state moves to on receiving `cw`: the device-control
+    /// transitions 2–12, 15 and 16 of CiA 402 (§6.2). A command with no transition from this
+    /// state leaves it unchanged; "enable operation" in "ready to switch on" runs transitions
+    /// 3 and 4 at once, as the profile allows. Fault reset (15) acts on the rising edge of bit
+    /// 7 only, which the caller knows: `fault_reset_edge` says the previous controlword had
+    /// bit 7 clear. The transitions the drive makes on its own (0, 1, 13, 14, and leaving
+    /// "quick stop active" after the stop) are the drive's, not the controlword's.
+    pub const fn after(self, cw: Controlword, fault_reset_edge: bool) -> State {
+        use Command::*;
+        match (self, cw.command()) {
+            (Self::Fault, _) if fault_reset_edge && cw.bit(7) => Self::SwitchOnDisabled,
+            (Self::SwitchOnDisabled, Shutdown) => Self::ReadyToSwitchOn,
+            (Self::ReadyToSwitchOn, SwitchOn) => Self::SwitchedOn,
+            (Self::ReadyToSwitchOn, EnableOperation) => Self::OperationEnabled,
+            (Self::ReadyToSwitchOn, DisableVoltage | QuickStop) => Self::SwitchOnDisabled,
+            (Self::SwitchedOn, EnableOperation) => Self::OperationEnabled,
+            (Self::SwitchedOn, Shutdown) => Self::ReadyToSwitchOn,
+            (Self::SwitchedOn, DisableVoltage | QuickStop) => Self::SwitchOnDisabled,
+            (Self::OperationEnabled, SwitchOn) => Self::SwitchedOn,
+            (Self::OperationEnabled, Shutdown) => Self::ReadyToSwitchOn,
+            (Self::OperationEnabled, DisableVoltage) => Self::SwitchOnDisabled,
+            (Self::OperationEnabled, QuickStop) => Self::QuickStopActive,
+            (Self::QuickStopActive, DisableVoltage) => Self::SwitchOnDisabled,
+            (Self::QuickStopActive, EnableOperation) => Self::OperationEnabled,
+            (s, _) => s,
+        }
+    }
+
     /// The controlword that moves this state one step toward `OperationEnabled`, or holds it
     /// there. `None` while the drive changes state on its own (not ready, fault reaction).
     ///
@@ -482,6 +612,69 @@ mod tests {
             assert_eq!(s, State::OperationEnabled);
         }
         assert_eq!(State::FaultReactionActive.next_command_towards_enabled(), None);
+    }
+
+    #[test]
+    fn device_side_transitions() {
+        use State::*;
+        let cw = Controlword;
+        // Every state's statusword decodes back to it.
+        for s in [
+            NotReadyToSwitchOn,
+            SwitchOnDisabled,
+            ReadyToSwitchOn,
+            SwitchedOn,
+            OperationEnabled,
+            QuickStopActive,
+            FaultReactionActive,
+            Fault,
+        ] {
+            assert_eq!(s.statusword().state(), Some(s), "{s}");
+            assert_eq!(s.statusword().with_voltage_enabled(true).state(), Some(s), "{s}");
+        }
+        assert_eq!(SwitchOnDisabled.after(Controlword::SHUTDOWN, false), ReadyToSwitchOn);
+        assert_eq!(ReadyToSwitchOn.after(Controlword::SWITCH_ON, false), SwitchedOn);
+        assert_eq!(ReadyToSwitchOn.after(Controlword::ENABLE_OPERATION, false), OperationEnabled);
+        assert_eq!(SwitchedOn.after(Controlword::ENABLE_OPERATION, false), OperationEnabled);
+        // Mode bits do not change the command: 0x1F is enable operation + new set-point.
+        assert_eq!(OperationEnabled.after(cw(0x1F), false), OperationEnabled);
+        assert_eq!(OperationEnabled.after(Controlword::DISABLE_OPERATION, false), SwitchedOn);
+        assert_eq!(OperationEnabled.after(Controlword::SHUTDOWN, false), ReadyToSwitchOn);
+        assert_eq!(OperationEnabled.after(Controlword::DISABLE_VOLTAGE, false), SwitchOnDisabled);
+        // 0x000B (bits 0, 1, 3; bit 2 clear) is quick stop, as the LXM23A examples send it.
+        assert_eq!(OperationEnabled.after(cw(0x0B), false), QuickStopActive);
+        assert_eq!(QuickStopActive.after(Controlword::ENABLE_OPERATION, false), OperationEnabled);
+        assert_eq!(QuickStopActive.after(Controlword::DISABLE_VOLTAGE, false), SwitchOnDisabled);
+        assert_eq!(SwitchOnDisabled.after(Controlword::ENABLE_OPERATION, false), SwitchOnDisabled);
+        assert_eq!(Fault.after(Controlword::FAULT_RESET, false), Fault);
+        assert_eq!(Fault.after(Controlword::FAULT_RESET, true), SwitchOnDisabled);
+        assert_eq!(Fault.after(Controlword::SHUTDOWN, true), Fault);
+        // The manual drive's walk reaches "operation enabled" by the host's own commands.
+        let mut s = SwitchOnDisabled;
+        while let Some(c) = s.next_command_towards_enabled().filter(|_| s != OperationEnabled) {
+            s = s.after(c, true);
+        }
+        assert_eq!(s, OperationEnabled);
+    }
+
+    #[test]
+    fn statusword_builders() {
+        let sw = State::OperationEnabled
+            .statusword()
+            .with_voltage_enabled(true)
+            .with_remote(true)
+            .with_target_reached(true)
+            .with_setpoint_ack(true)
+            .with_bit(14, true);
+        assert_eq!(sw.bits(), 0x5637);
+        assert_eq!(sw.with_state(State::SwitchOnDisabled).bits(), 0x5650);
+        assert_eq!(sw.with_bit(16, true), sw);
+        assert_eq!(sw.with_following_error(true).bits(), 0x7637);
+        assert!(sw.with_warning(true).warning());
+        assert!(sw.with_internal_limit(true).internal_limit());
+        assert_eq!(Controlword(0x0B).command(), Command::QuickStop);
+        assert_eq!(Controlword(0x80).command(), Command::DisableVoltage);
+        assert_eq!(Controlword(0x0E).command(), Command::Shutdown);
     }
 
     #[test]

@@ -70,6 +70,12 @@ impl NmtState {
         self as u8
     }
 
+    /// The byte of a node-guarding response: the state in bits 0–6, the toggle in bit 7 (0 in
+    /// the first response after reset communication, inverted in each next one).
+    pub const fn guarding_byte(self, toggle: bool) -> u8 {
+        self as u8 | if toggle { 0x80 } else { 0 }
+    }
+
     /// Whether SDO communication works in this state.
     pub const fn sdo_allowed(self) -> bool {
         matches!(self, Self::Operational | Self::PreOperational)
@@ -79,6 +85,12 @@ impl NmtState {
     pub const fn pdo_allowed(self) -> bool {
         matches!(self, Self::Operational)
     }
+}
+
+/// An entry of the consumer heartbeat time array 0x1016 (CiA 301 §7.5.2.14): the producer's
+/// node id in bits 16–23, its heartbeat time in ms in bits 0–15.
+pub const fn heartbeat_consumer_entry(node: u8, time_ms: u16) -> u32 {
+    (node as u32) << 16 | time_ms as u32
 }
 
 #[cfg(test)]
@@ -103,5 +115,9 @@ mod tests {
         assert_eq!(NmtState::from_u8(1), None);
         assert!(NmtState::PreOperational.sdo_allowed() && !NmtState::PreOperational.pdo_allowed());
         assert!(!NmtState::Stopped.sdo_allowed());
+        assert_eq!(NmtState::Operational.guarding_byte(false), 0x05);
+        assert_eq!(NmtState::Operational.guarding_byte(true), 0x85);
+        assert_eq!(NmtState::from_u8(NmtState::Stopped.guarding_byte(true)), Some(NmtState::Stopped));
+        assert_eq!(heartbeat_consumer_entry(1, 15), 0x0001_000F);
     }
 }
