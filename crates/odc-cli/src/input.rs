@@ -47,8 +47,8 @@ pub fn config_for(explicit: Option<&Path>, file: &Path) -> anyhow::Result<odc_ch
     else {
         return Ok(odc_check::Config::default());
     };
-    let text =
-        std::fs::read_to_string(&path).with_context(|| format!("cannot read {}", path.display()))?;
+    let text = std::fs::read_to_string(&path)
+        .with_context(|| format!("cannot read {}", path.display()))?;
     odc_check::Config::from_toml(&text)
         .with_context(|| format!("invalid configuration in {}", path.display()))
 }

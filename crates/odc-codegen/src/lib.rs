@@ -28,9 +28,9 @@ mod slave;
 mod types;
 
 use odc_model::{Device, Diagnostic, RuleInfo, Severity};
-pub use scheme::{Arg, Element, Overlay, Scheme, Selector, SelectorValue};
 use proc_macro2::TokenStream;
 use quote::quote;
+pub use scheme::{Arg, Element, Overlay, Scheme, Selector, SelectorValue};
 
 /// Which side of the bus the code is for.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

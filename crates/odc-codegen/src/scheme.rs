@@ -199,7 +199,9 @@ impl Linear {
                 coef = coef.checked_mul(n).ok_or_else(|| format!("`{term}` overflows"))?;
             } else if is_ident(f) {
                 if var.is_some() {
-                    return Err(format!("`{term}` multiplies two arguments; the rule must be linear"));
+                    return Err(format!(
+                        "`{term}` multiplies two arguments; the rule must be linear"
+                    ));
                 }
                 var = Some(f.to_string());
             } else {
@@ -325,9 +327,8 @@ fn render(pattern: &str, values: &BTreeMap<&str, Placeholder>) -> Result<String,
         let close = after.find('}').ok_or_else(|| format!("`{pattern}`: unclosed `{{`"))?;
         let spec = after.get(..close).unwrap_or("");
         let (name, format) = spec.split_once(':').unwrap_or((spec, ""));
-        let value = values
-            .get(name.trim())
-            .ok_or_else(|| format!("`{pattern}`: no argument `{name}`"))?;
+        let value =
+            values.get(name.trim()).ok_or_else(|| format!("`{pattern}`: no argument `{name}`"))?;
         match value {
             Placeholder::Number(v) => out.push_str(&format_number(*v, format, pattern)?),
             Placeholder::Text(t) => out.push_str(t),
@@ -390,7 +391,10 @@ fn check(s: &Scheme) -> Result<Checked<'_>, String> {
     let mut names = BTreeSet::new();
     for a in &s.args {
         if !is_ident(&a.name) || !names.insert(a.name.clone()) {
-            return Err(format!("argument `{}` is not a Rust identifier or is declared twice", a.name));
+            return Err(format!(
+                "argument `{}` is not a Rust identifier or is declared twice",
+                a.name
+            ));
         }
         args.push((a.name.clone(), parse_range(&a.range)?));
     }
@@ -454,7 +458,10 @@ fn check(s: &Scheme) -> Result<Checked<'_>, String> {
             let mut seen = BTreeSet::new();
             for v in &sel.values {
                 if crate::names::camel(&v.name).is_empty() || !seen.insert(v.sub) {
-                    return Err(format!("selector value `{}` is unnamed or repeats a sub-index", v.name));
+                    return Err(format!(
+                        "selector value `{}` is unnamed or repeats a sub-index",
+                        v.name
+                    ));
                 }
             }
             None
@@ -565,7 +572,11 @@ fn aliases(ctx: &Ctx<'_>, c: &Checked<'_>) -> Result<Vec<Alias>, String> {
 }
 
 /// The modules of every scheme, or `G604` diagnostics.
-pub(crate) fn generate(ctx: &Ctx<'_>, schemes: &[Scheme], errors: &mut Vec<Diagnostic>) -> TokenStream {
+pub(crate) fn generate(
+    ctx: &Ctx<'_>,
+    schemes: &[Scheme],
+    errors: &mut Vec<Diagnostic>,
+) -> TokenStream {
     let mut out = TokenStream::new();
     let mut modules = BTreeSet::new();
     for s in schemes {
@@ -580,7 +591,9 @@ pub(crate) fn generate(ctx: &Ctx<'_>, schemes: &[Scheme], errors: &mut Vec<Diagn
             Ok(tokens) => out.extend(tokens),
             Err(e) => errors.push(
                 Diagnostic::error("G604", format!("parameter scheme `{}`: {e}", s.module))
-                    .with_note("schemes are declared in the `<stem>.odc.toml` beside the device file"),
+                    .with_note(
+                        "schemes are declared in the `<stem>.odc.toml` beside the device file",
+                    ),
             ),
         }
     }
@@ -779,10 +792,7 @@ fn module(ctx: &Ctx<'_>, c: &Checked<'_>, aliases: &[Alias]) -> TokenStream {
         let path = entry.path();
         let ty = entry.ty.tokens(rt);
         let name = ident(&a.name);
-        let d = doc(&format!(
-            "{}: `0x{:04X}:{:02X}`, {}.",
-            a.name, a.index, a.sub, a.what
-        ));
+        let d = doc(&format!("{}: `0x{:04X}:{:02X}`, {}.", a.name, a.index, a.sub, a.what));
         items.push(quote! {
             #d
             pub const #name: #rt::Entry<#ty> = #path;
@@ -905,7 +915,8 @@ mod tests {
         let o = Overlay::from_toml(text).unwrap();
         assert_eq!(o.scheme.len(), 1);
         assert_eq!(o.scheme[0].element.as_ref().map(|e| e.offset), Some(0));
-        let typo = "[[scheme]]\nmodule = \"a\"\nfunction = \"b\"\nindex = \"1\"\nargs = []\nconst = 1\n";
+        let typo =
+            "[[scheme]]\nmodule = \"a\"\nfunction = \"b\"\nindex = \"1\"\nargs = []\nconst = 1\n";
         assert!(Overlay::from_toml(typo).is_err());
     }
 }

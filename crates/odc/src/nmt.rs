@@ -117,7 +117,10 @@ mod tests {
         assert!(!NmtState::Stopped.sdo_allowed());
         assert_eq!(NmtState::Operational.guarding_byte(false), 0x05);
         assert_eq!(NmtState::Operational.guarding_byte(true), 0x85);
-        assert_eq!(NmtState::from_u8(NmtState::Stopped.guarding_byte(true)), Some(NmtState::Stopped));
+        assert_eq!(
+            NmtState::from_u8(NmtState::Stopped.guarding_byte(true)),
+            Some(NmtState::Stopped)
+        );
         assert_eq!(heartbeat_consumer_entry(1, 15), 0x0001_000F);
     }
 }

@@ -31,7 +31,10 @@ fn lxm23a_keypad_parameters() {
     assert_eq!(node_id.addr, ObjectAddr::new(0x2305, 0));
     let gear: Entry<i32> = typed(keypad::P1_44);
     assert_eq!(gear.addr, ObjectAddr::new(0x212C, 0));
-    assert_eq!(keypad::lookup(ObjectAddr::new(0x2305, 0)).map(|e| e.data_type), Some(DataType::Unsigned16));
+    assert_eq!(
+        keypad::lookup(ObjectAddr::new(0x2305, 0)).map(|e| e.data_type),
+        Some(DataType::Unsigned16)
+    );
     assert_eq!(keypad::ENTRIES.len(), 14);
     assert!(keypad::ENTRIES.windows(2).all(|w| w[0].addr < w[1].addr));
 }
