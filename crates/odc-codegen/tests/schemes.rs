@@ -1,5 +1,6 @@
 //! Vendor parameter schemes: the module generated from a `[[scheme]]`, and the `G604`
 //! diagnostics for rules that cannot be generated.
+#![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers: a failure is the test failing
 
 mod common;
 
