@@ -10,6 +10,7 @@
 //! | `C2xx` | `cia301` | values, types, limits, mandatory objects, identity |
 //! | `C3xx` | `cia301` | PDO mapping |
 //! | `C4xx` | `cia301` | COB-IDs and communication objects |
+//! | `C5xx` | `cia301` | DCF commissioning, modular devices, object links (CiA 306 §4.6–4.7) |
 //! | `D5xx` | `cia402` | CiA 402 drives (when 0x1000, or an ESI `Profile`, says profile 402) |
 //! | `T6xx` | `etg` | EtherCAT (ESI devices): PDO entries, sync managers, PDO assignment, `Exclude`, mailbox, DC |
 //!

@@ -1,5 +1,6 @@
-//! EDS fixtures read with `odc_eds::parse`: those under `fixtures/pass` must give no diagnostic
-//! at all; those under `fixtures/fail` are snapshotted in the human rendering.
+//! Device files read with `odc_eds::parse` (EDS/DCF) or `odc_esi::parse` (`.xml`): those under
+//! `fixtures/pass` must give no diagnostic at all; those under `fixtures/fail` are snapshotted
+//! in the human rendering.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
 use std::path::Path;
@@ -11,10 +12,22 @@ fn render(path: &Path) -> (String, usize) {
     let bytes = std::fs::read(path).unwrap();
     let name = format!("{}", path.file_name().unwrap().to_string_lossy());
     let mut sources = Sources::new();
-    let parsed = odc_eds::parse(&mut sources, &name, &bytes);
-    let mut diags = parsed.diagnostics;
-    diags.extend(check(&parsed.device, &Config::default()));
-    let diags = Config::default().apply(&parsed.device, diags);
+    let config = Config::default();
+    let mut diags = Vec::new();
+    if name.ends_with(".xml") {
+        let parsed = odc_esi::parse(&mut sources, &name, &bytes);
+        let mut front_end = parsed.diagnostics;
+        for device in &parsed.devices {
+            diags.extend(config.apply(device, std::mem::take(&mut front_end)));
+            diags.extend(check(device, &config));
+        }
+        diags.extend(front_end);
+    } else {
+        let parsed = odc_eds::parse(&mut sources, &name, &bytes);
+        diags.extend(config.apply(&parsed.device, parsed.diagnostics));
+        diags.extend(check(&parsed.device, &config));
+    }
+    diag::sort(&mut diags);
     (diag::render_human(&sources, &diags, false), diags.len())
 }
 

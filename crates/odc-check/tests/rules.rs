@@ -19,10 +19,34 @@ macro_rules! trips {
     };
 }
 
+/// Every rule has a device above or below that trips it (a `rules__<code>_*` snapshot holding
+/// its code); the devices `base`, `io`, `drive`, `dcf` and `esi_io` pass every rule.
+#[test]
+fn every_rule_has_a_tripping_fixture() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/snapshots");
+    let snaps: Vec<(String, String)> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| {
+            let p = e.unwrap().path();
+            let name = p.file_name().unwrap().to_string_lossy().into_owned();
+            (name, std::fs::read_to_string(&p).unwrap())
+        })
+        .collect();
+    let mut missing = Vec::new();
+    for r in odc_check::RULES {
+        let prefix = format!("rules__{}_", r.info.code.to_lowercase());
+        let tag = format!("[{}]", r.info.code);
+        if !snaps.iter().any(|(n, text)| n.starts_with(&prefix) && text.contains(&tag)) {
+            missing.push(r.info.code);
+        }
+    }
+    assert!(missing.is_empty(), "rules without a tripping fixture: {missing:?}");
+}
+
 #[test]
 fn base_device_passes_every_rule() {
-    assert_eq!(run(base()), "");
-    assert_eq!(run(base().lists()), "");
+    assert_eq!(run_with(base(), &all_rules_on()), "");
+    assert_eq!(run_with(base().lists(), &all_rules_on()), "");
 }
 
 // C101–C105: object lists.
@@ -151,7 +175,13 @@ trips!(
 trips!(
     c203_value_outside_limits,
     "C203",
-    base().var(0x2000, "x", Integer16, Rw).low(i(0)).high(i(10)).default(i(11)).param(i(-1))
+    base()
+        .var(0x2000, "x", Integer16, Rw)
+        .low(i(0))
+        .high(i(10))
+        .default(i(11))
+        .param(i(-1))
+        .with(|d| d.format = Some(odc_model::Format::Dcf))
 );
 trips!(
     c204_nodeid_value_out_of_range,
@@ -206,7 +236,7 @@ fn io() -> Dev {
 
 #[test]
 fn io_device_passes_every_rule() {
-    assert_eq!(run(io()), "");
+    assert_eq!(run_with(io(), &all_rules_on()), "");
 }
 
 trips!(c301_pdo_mapped_object_missing, "C301", io().pdo(true, 1, node(0x180), &[0x6001_0008]));
@@ -301,6 +331,164 @@ fn sync_producer_with_period_passes() {
     assert_eq!(run(d), "");
 }
 
+// C501–C508: DCF, modules, object links.
+
+/// A DCF of a modular device: commissioning, LastEDS, a configured value, one module that
+/// extends 0x6000 and adds 0x6100, plugged into slot 1, and a link 0x1018 -> 0x1000.
+fn dcf() -> Dev {
+    base().var(0x6000, "Inputs", Unsigned8, Ro).at(0x1017, 0).param(u(100)).with(|d| {
+        d.format = Some(odc_model::Format::Dcf);
+        d.file_info.file_name = Some(Spanned::synthetic("node5.dcf".into()));
+        d.file_info.extra.push(odc_model::RawEntry {
+            key: "LastEDS".into(),
+            value: "device.eds".into(),
+            span: odc_model::Span::DUMMY,
+        });
+        d.device_info.baud_rates = vec![250, 500];
+        d.commissioning = Some(odc_model::Commissioning {
+            node_id: Some(Spanned::synthetic(5)),
+            baudrate: Some(Spanned::synthetic(500)),
+            ..Default::default()
+        });
+        let template = odc_model::SubObject::new(1, "Channel", Unsigned8, Ro);
+        let mut m = odc_model::Module { number: 1, ..Default::default() };
+        m.sub_extends.insert(
+            0x6000,
+            odc_model::SubExtend {
+                template,
+                count: Some(Spanned::synthetic("2".into())),
+                obj_extend: None,
+            },
+        );
+        m.fixed_objects.insert(
+            0x6100,
+            odc_model::Object::new(
+                0x6100,
+                "Module object",
+                odc_model::ObjectKind::Record,
+                odc_model::Span::DUMMY,
+            ),
+        );
+        m.sub_extends.insert(
+            0x6101,
+            odc_model::SubExtend {
+                template: odc_model::SubObject::new(1, "x", Unsigned8, Ro),
+                count: Some(Spanned::synthetic("1;4".into())),
+                obj_extend: Some(Spanned::synthetic(0x6100)),
+            },
+        );
+        d.modules.supported.push(m);
+        d.modules.connected.push(Spanned::synthetic(1));
+        if let Some(o) = d.objects.get_mut(&0x1018) {
+            o.links.push(Spanned::synthetic(0x1000));
+        }
+    })
+}
+
+#[test]
+fn dcf_passes_every_rule() {
+    assert_eq!(run_with(dcf(), &all_rules_on()), "");
+    // LSS "not configured" is a node-ID a DCF may hold.
+    let lss = dcf().with(|d| {
+        if let Some(c) = d.commissioning.as_mut() {
+            c.node_id = Some(Spanned::synthetic(255));
+        }
+    });
+    assert_eq!(run(lss), "");
+}
+
+trips!(
+    c501_dcf_only_keys,
+    "C501",
+    dcf().with(|d| d.file_info.file_name = Some(Spanned::synthetic("device.eds".into())))
+);
+
+#[test]
+fn c501_denotation_in_an_eds() {
+    let d = base().with(|d| {
+        if let Some(o) = d.objects.get_mut(&0x1018) {
+            o.denotation = Some(Spanned::synthetic("Identity of axis 1".into()));
+        }
+    });
+    assert_eq!(run(d), "note[C501]: the EDS has a Denotation in 0x1018\n");
+}
+
+#[test]
+fn c502_dcf_last_eds() {
+    let d = || dcf().with(|d| d.file_info.extra.clear());
+    // Off by default.
+    assert_eq!(run(d()), "");
+    let out = run_with(d(), &all_rules_on());
+    assert!(out.contains("[C502]"), "{out}");
+    insta::assert_snapshot!("c502_dcf_last_eds", out);
+}
+
+trips!(
+    c503_dcf_node_id,
+    "C503",
+    dcf().with(|d| {
+        if let Some(c) = d.commissioning.as_mut() {
+            c.node_id = Some(Spanned::synthetic(0));
+        }
+    })
+);
+trips!(
+    c504_dcf_baudrate,
+    "C504",
+    dcf().with(|d| {
+        if let Some(c) = d.commissioning.as_mut() {
+            c.baudrate = Some(Spanned::synthetic(1000));
+        }
+    })
+);
+
+#[test]
+fn c504_bit_rate_that_is_none() {
+    let d = dcf().with(|d| {
+        if let Some(c) = d.commissioning.as_mut() {
+            c.baudrate = Some(Spanned::synthetic(0));
+        }
+    });
+    assert_eq!(run(d), "warning[C504]: Baudrate=0 is not a CiA 301 bit rate (kbit/s)\n");
+}
+
+trips!(
+    c505_module_sub_extend_parent,
+    "C505",
+    dcf().with(|d| {
+        if let Some(ext) = d.modules.supported[0].sub_extends.get_mut(&0x6101) {
+            ext.obj_extend = Some(Spanned::synthetic(0x6200));
+        }
+    })
+);
+trips!(
+    c506_module_count,
+    "C506",
+    dcf().with(|d| {
+        let m = &mut d.modules.supported[0];
+        if let Some(ext) = m.sub_extends.get_mut(&0x6000) {
+            ext.count = Some(Spanned::synthetic("2;3;4".into()));
+        }
+        if let Some(ext) = m.sub_extends.get_mut(&0x6101) {
+            ext.count = None;
+        }
+    })
+);
+trips!(
+    c507_connected_module_unknown,
+    "C507",
+    dcf().with(|d| d.modules.connected.push(Spanned::synthetic(3)))
+);
+trips!(
+    c508_object_link_missing,
+    "C508",
+    dcf().with(|d| {
+        if let Some(o) = d.objects.get_mut(&0x1018) {
+            o.links.push(Spanned::synthetic(0x2000));
+        }
+    })
+);
+
 // D501–D507: CiA 402.
 
 /// A two-axis csp/pp drive that passes every rule.
@@ -330,7 +518,7 @@ fn drive() -> Dev {
 
 #[test]
 fn drive_passes_every_rule() {
-    assert_eq!(run(drive()), "");
+    assert_eq!(run_with(drive(), &all_rules_on()), "");
     // Without profile 402 in 0x1000 none of the D rules apply.
     assert_eq!(run(drive().at(0x1000, 0).default(u(0x191)).remove(0x6040)), "");
 }
@@ -398,7 +586,7 @@ fn esi_without_dictionary_is_not_checked_as_a_drive() {
 
 #[test]
 fn esi_device_passes_every_rule() {
-    assert_eq!(run(esi_io()), "");
+    assert_eq!(run_with(esi_io(), &all_rules_on()), "");
 }
 
 trips!(

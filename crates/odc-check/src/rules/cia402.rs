@@ -84,17 +84,20 @@ fn axes(dev: &Device) -> Vec<u16> {
     out
 }
 
-/// Where the device says it is a 402 drive: 0x1000, else its ESI profile.
+/// Where the device says it is a 402 drive: 0x1000 when it has a value, else the ESI profile.
 fn profile_span(dev: &Device) -> odc_model::Span {
     let profile = dev.ethercat.as_deref().and_then(|e| {
         e.profiles
             .iter()
             .find(|p| p.profile_no == Some(402) || p.channel_profiles.contains(&Some(402)))
     });
-    first_span([
-        dev.objects.get(&0x1000).map_or(odc_model::Span::DUMMY, |o| o.span),
-        profile.map_or(odc_model::Span::DUMMY, |p| p.span),
-    ])
+    let device_type = dev.objects.get(&0x1000).map_or(odc_model::Span::DUMMY, |o| o.span);
+    let profile = profile.map_or(odc_model::Span::DUMMY, |p| p.span);
+    if device_type_402(dev).is_some() {
+        first_span([device_type, profile])
+    } else {
+        first_span([profile, device_type])
+    }
 }
 
 fn axis_text(base: u16) -> String {

@@ -2,6 +2,7 @@
 
 mod cia402;
 mod cob;
+mod dcf;
 mod ethercat;
 mod lists;
 mod pdo;
@@ -71,6 +72,14 @@ pub(crate) const ALL: &[Rule] = &[
     cob::C406,
     cob::C407,
     cob::C408,
+    dcf::C501,
+    dcf::C502,
+    dcf::C503,
+    dcf::C504,
+    dcf::C505,
+    dcf::C506,
+    dcf::C507,
+    dcf::C508,
     cia402::D501,
     cia402::D502,
     cia402::D503,

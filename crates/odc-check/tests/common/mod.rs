@@ -371,6 +371,13 @@ pub fn esi_io() -> Dev {
         })
 }
 
+/// Every rule on, the ones that are off by default at warning level.
+pub fn all_rules_on() -> Config {
+    let mut c = Config::default();
+    c.set_level("all", odc_check::Level::Warn).unwrap();
+    c
+}
+
 /// Checks with the default configuration and renders the short form.
 pub fn run(dev: Dev) -> String {
     run_with(dev, &Config::default())
