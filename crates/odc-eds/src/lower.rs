@@ -1268,8 +1268,9 @@ impl<'r, 'a> Lower<'r, 'a> {
                 None => None,
             };
             obj.compact_sub_obj = compact.clone();
-            if let Some(n) = compact.filter(|n| n.value > 0) {
-                self.compact_subs(&mut obj, &mut keys, n, b);
+            match compact.filter(|n| n.value > 0) {
+                Some(n) => self.compact_subs(&mut obj, &mut keys, n, b),
+                None => obj.subs.reserve_exact(b.subs.len()),
             }
             keys.take(K::ParameterName);
             // Keys that only a VAR or a compact object uses are kept as written.
@@ -1329,6 +1330,7 @@ impl<'r, 'a> Lower<'r, 'a> {
             sub.kind = None;
             // Unknown keys of a VAR section belong to the object.
             obj.extra.append(&mut sub.extra);
+            obj.subs.reserve_exact(1 + b.subs.len());
             obj.subs.insert(0, sub);
             for (&s, &si) in &b.subs {
                 let sec = self.sec(si);
@@ -1376,7 +1378,7 @@ impl<'r, 'a> Lower<'r, 'a> {
         obj: &mut Object,
         keys: &mut Keys<'r, 'a>,
         n: Spanned<u8>,
-        _b: &ObjB,
+        b: &ObjB,
     ) {
         let what = format!("compact object {:04X}", obj.index);
         // The template: DataType, AccessType, PDOMapping and values of the object section.
@@ -1403,19 +1405,15 @@ impl<'r, 'a> Lower<'r, 'a> {
         let mut sub0 = SubObject::new(0, COMPACT_SUB0_NAME, DataType::Unsigned8, Access::Ro);
         sub0.default = Some(Spanned::new(Value::Unsigned(u64::from(n.value)), n.span));
         sub0.span = n.span;
-        let mut subs = Vec::with_capacity(usize::from(n.value) + 1);
-        subs.push((0, sub0));
+        // Explicit sub sections are read after this, so `obj.subs` is empty here: appended in
+        // order into a vector of the right size.
+        obj.subs.reserve_exact(usize::from(n.value) + 1 + b.subs.len());
+        obj.subs.insert(0, sub0);
         for i in 1..=n.value {
             let mut s = template.clone();
             s.sub_index = i;
             s.name = compact_sub_name(&obj.name, i);
-            subs.push((i, s));
-        }
-        if obj.subs.is_empty() {
-            // Sorted input: built in bulk, without node splits.
-            obj.subs = subs.into_iter().collect();
-        } else {
-            obj.subs.extend(subs);
+            obj.subs.insert(i, s);
         }
     }
 

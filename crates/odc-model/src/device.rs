@@ -7,6 +7,7 @@ use serde::Serialize;
 use crate::ethercat::EtherCat;
 use crate::pdo::Pdo;
 use crate::span::{Span, Spanned};
+use crate::subs::SubObjects;
 use crate::types::{Access, DataType, ObjectKind, PdoMapping};
 use crate::value::Value;
 
@@ -185,7 +186,7 @@ pub struct Object {
     /// `ObjectType`.
     pub kind: ObjectKind,
     /// Sub-objects ordered by sub-index.
-    pub subs: BTreeMap<u8, SubObject>,
+    pub subs: SubObjects,
     /// `SubNumber` as declared (a count, gaps allowed).
     pub sub_number: Option<Spanned<u16>>,
     /// `CompactSubObj` as declared; the sub-objects it implies are in `subs`.
@@ -211,7 +212,7 @@ impl Object {
             index,
             name: name.into(),
             kind,
-            subs: BTreeMap::new(),
+            subs: SubObjects::new(),
             sub_number: None,
             compact_sub_obj: None,
             obj_flags: None,

@@ -16,6 +16,7 @@ pub mod diag;
 pub mod ethercat;
 pub mod pdo;
 mod span;
+pub mod subs;
 mod types;
 mod value;
 
@@ -26,5 +27,6 @@ pub use device::{
 pub use diag::{Diagnostic, Label, RuleInfo, Severity, Sources};
 pub use pdo::{Pdo, PdoEntry};
 pub use span::{FileId, Span, Spanned};
+pub use subs::SubObjects;
 pub use types::{Access, DataType, Direction, ObjectKind, PdoMapping, ValueClass};
 pub use value::Value;
