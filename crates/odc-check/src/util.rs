@@ -3,7 +3,7 @@
 use std::borrow::Cow;
 
 use odc_model::{
-    DataType, Device, Format, Object, Pdo, Span, Spanned, SubObject, Value, ValueClass,
+    DataType, Device, Format, Object, Origin, Pdo, Span, Spanned, SubObject, Value, ValueClass,
     pdo::resolve_canopen_pdos,
 };
 
@@ -112,9 +112,15 @@ pub(crate) fn sized_like_type(s: &SubObject) -> bool {
     s.bit_size.is_none_or(|b| Some(b) == s.data_type.bit_size())
 }
 
-/// Iterates over every sub-object of every object.
+/// The objects the file describes: all but those odc synthesised from the PDO entries of an
+/// ESI without a dictionary, whose structure and values are odc's, not the file's.
+pub(crate) fn objects(dev: &Device) -> impl Iterator<Item = &Object> {
+    dev.objects.values().filter(|o| o.origin != Origin::PdoEntry)
+}
+
+/// Iterates over every sub-object of every object the file describes (see [`objects`]).
 pub(crate) fn all_subs(dev: &Device) -> impl Iterator<Item = (&Object, &SubObject)> {
-    dev.objects.values().flat_map(|o| o.subs.values().map(move |s| (o, s)))
+    objects(dev).flat_map(|o| o.subs.values().map(move |s| (o, s)))
 }
 
 /// Formats a set of node-IDs compactly: `every node-ID`, `node-ID 5`, `node-IDs 3..=127`.

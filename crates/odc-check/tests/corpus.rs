@@ -28,6 +28,8 @@ fn corpus() {
     let mut total: BTreeMap<&str, usize> = BTreeMap::new();
     // ODC_CORPUS_SAMPLES=C112,C201 prints a few diagnostics of those rules.
     let samples = std::env::var("ODC_CORPUS_SAMPLES").unwrap_or_default();
+    // ODC_CORPUS_KIND=esi (or eds, dcf) reads only the files of that kind.
+    let only_kind = std::env::var("ODC_CORPUS_KIND").ok();
     let mut printed: BTreeMap<&str, usize> = BTreeMap::new();
     // Rules that are off by default are counted too (reported at warning level here).
     let mut config = Config::default();
@@ -37,6 +39,9 @@ fn corpus() {
     for line in manifest.lines().skip(1) {
         let mut cols = line.split('\t');
         let (Some(file), Some(kind)) = (cols.next(), cols.next()) else { continue };
+        if only_kind.as_deref().is_some_and(|k| k != kind) {
+            continue;
+        }
         let Ok(bytes) = std::fs::read(dir.join(file)) else { continue };
         let mut sources = Sources::new();
         let devs: Vec<Device> = match kind {

@@ -5,7 +5,7 @@ mod common;
 
 use common::*;
 use odc_model::ethercat::SmUsage;
-use odc_model::{PdoMapping, Spanned};
+use odc_model::{Direction, PdoMapping, Spanned};
 
 /// Asserts that `dev` trips `code` and snapshots the whole output.
 macro_rules! trips {
@@ -754,6 +754,56 @@ trips!(
     "T618",
     esi_io().at(0x1C00, 3).default(u(4)).at(0x1C00, 4).default(u(3))
 );
+
+trips!(
+    t619_esi_subitem_duplicate,
+    "T619",
+    esi_io().ethercat(|e| {
+        let items = &mut e.data_types[0].sub_items;
+        items[2].name = "Vendor ID".into();
+        let mut again = items[1].clone();
+        again.name = "Revision".into();
+        items.push(again);
+    })
+);
+trips!(
+    t620_esi_subitem_layout,
+    "T620",
+    esi_io().ethercat(|e| {
+        let t = &mut e.data_types[0];
+        t.sub_items[2].bit_offset = Some(40);
+        let mut copy = t.clone();
+        copy.name = "DT1018B".into();
+        copy.sub_items[2].bit_offset = Some(128);
+        e.data_types.push(copy);
+    })
+);
+trips!(
+    t621_esi_pdo_entry_alignment,
+    "T621",
+    esi_io().edit_pdo(0x1A00, |p| {
+        p.entries.insert(0, esi_pdo(Direction::Tx, 0, None, &[(0, 0, 4)]).entries.remove(0));
+    })
+);
+
+#[test]
+fn bit_fields_padded_to_a_byte_are_aligned() {
+    let d = esi_io().edit_pdo(0x1A00, |p| {
+        let gap = esi_pdo(Direction::Tx, 0, None, &[(0, 0, 4), (0, 0, 4)]).entries;
+        p.entries.splice(0..0, gap);
+    });
+    assert_eq!(run(d), "");
+}
+
+#[test]
+fn c207_notes_byte_swapped_identity_in_an_esi() {
+    let d = esi_io().with(|d| d.device_info.vendor_number = Some(Spanned::synthetic(0x3412_0000)));
+    let device = d.build();
+    let diags = odc_check::check(&device, &odc_check::Config::default());
+    let c207: Vec<_> = diags.iter().filter(|d| d.code == "C207").collect();
+    assert_eq!(c207.len(), 1, "{diags:?}");
+    assert!(c207[0].notes.iter().any(|n| n.contains("bytes are reversed")), "{c207:?}");
+}
 
 #[test]
 fn esi_rules_do_not_run_on_canopen_devices() {

@@ -971,3 +971,136 @@ fn sm_type_object(dev: &Device, ctx: &mut Ctx) {
         }
     }
 }
+
+rule!(
+    T619,
+    "T619",
+    "esi-subitem-duplicate",
+    "etg",
+    Warning,
+    Warn,
+    subitem_duplicate,
+    "two SubItems of one dictionary DataType share a Name or a SubIdx",
+    "The SubItems of a structured <DataType> are the sub-objects of every object of that type. \
+     ETG.2000 makes SubItem/Name a key within its DataType: an object's <Info><SubItem> values \
+     are matched to the type's SubItems by that name, so with two of one name the defaults go \
+     to one of them at random (tools differ). Two SubItems with one SubIdx describe two \
+     sub-objects at one sub-index. Fix: give each SubItem its own Name and SubIdx."
+);
+
+fn subitem_duplicate(dev: &Device, ctx: &mut Ctx) {
+    let Some(ec) = ec(dev) else { return };
+    for t in &ec.data_types {
+        for (k, s) in t.sub_items.iter().enumerate() {
+            let earlier = &t.sub_items[..k];
+            let why = if !s.name.is_empty() && earlier.iter().any(|e| e.name == s.name) {
+                format!("two SubItems are named `{}`", s.name)
+            } else if let Some(i) =
+                s.sub_idx.filter(|&i| earlier.iter().any(|e| e.sub_idx == Some(i)))
+            {
+                format!("two SubItems have SubIdx {i}")
+            } else {
+                continue;
+            };
+            ctx.report_device(t.span, format!("DataType `{}`: {why}", t.name));
+        }
+    }
+}
+
+rule!(
+    T620,
+    "T620",
+    "esi-subitem-layout",
+    "etg",
+    Warning,
+    Warn,
+    subitem_layout,
+    "a DataType's SubItems overlap or reach past its BitSize",
+    "Each SubItem of a structured <DataType> occupies BitSize bits from BitOffs on; together \
+     they make the object's CompleteAccess image (ETG.1000.6 SDO complete access) of the \
+     type's BitSize bits. SubItems that overlap, or that end past the type's BitSize, describe \
+     no possible image: a master reading or writing the object with CompleteAccess splits the \
+     bytes differently from the device. Fix: correct BitOffs/BitSize of the SubItems or the \
+     type's BitSize."
+);
+
+fn subitem_layout(dev: &Device, ctx: &mut Ctx) {
+    let Some(ec) = ec(dev) else { return };
+    for t in &ec.data_types {
+        let mut items: Vec<(u32, u32, &str)> = t
+            .sub_items
+            .iter()
+            .filter_map(|s| Some((s.bit_offset?, s.bit_size?, s.name.as_str())))
+            .filter(|&(_, size, _)| size > 0)
+            .collect();
+        items.sort_by_key(|&(off, _, _)| off);
+        let past = t.bit_size.and_then(|total| {
+            items
+                .iter()
+                .find(|&&(off, size, _)| u64::from(off) + u64::from(size) > u64::from(total))
+                .map(|&(off, size, name)| {
+                    format!(
+                        "SubItem `{name}` (bits {off}..{}) ends past BitSize {total}",
+                        off + size
+                    )
+                })
+        });
+        let overlap = items.windows(2).find(|w| w[0].0 + w[0].1 > w[1].0).map(|w| {
+            format!(
+                "SubItems `{}` (bits {}..{}) and `{}` (from bit {}) overlap",
+                w[0].2,
+                w[0].0,
+                w[0].0 + w[0].1,
+                w[1].2,
+                w[1].0
+            )
+        });
+        if let Some(why) = past.or(overlap) {
+            ctx.report_device(t.span, format!("DataType `{}`: {why}", t.name));
+        }
+    }
+}
+
+rule!(
+    T621,
+    "T621",
+    "esi-pdo-entry-alignment",
+    "etg",
+    Warning,
+    Warn,
+    pdo_entry_alignment,
+    "a PDO entry of 8 bits or more does not start on a byte boundary",
+    "Entries of 8 bits or more are expected to start on a byte boundary within their PDO: the \
+     ESC moves process data bytewise, slave stacks (Beckhoff SSC, SOES) map them to aligned C \
+     variables, and masters that type the process image (ethercrab's wire derive) refuse \
+     unaligned multi-bit fields. Files keep them aligned with gap entries (Index 0) after bit \
+     fields. An unaligned entry is read at a different offset by tools that align and by tools \
+     that do not. Fix: insert a gap entry so that the entry starts on a byte boundary."
+);
+
+fn pdo_entry_alignment(dev: &Device, ctx: &mut Ctx) {
+    if ec(dev).is_none() {
+        return;
+    }
+    for p in &dev.pdos {
+        let mut offset: u32 = 0;
+        for e in &p.entries {
+            if !e.is_gap() && e.bits >= 8 && !offset.is_multiple_of(8) {
+                ctx.report(
+                    p.mapping_index,
+                    None,
+                    first_span([e.span, p.span]),
+                    format!(
+                        "{} maps 0x{:04X}:{:02X} ({} bits) at bit offset {offset}",
+                        pdo_name(p),
+                        e.index,
+                        e.sub,
+                        e.bits
+                    ),
+                );
+                break;
+            }
+            offset = offset.saturating_add(u32::from(e.bits));
+        }
+    }
+}

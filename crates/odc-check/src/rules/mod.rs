@@ -105,4 +105,7 @@ pub(crate) const ALL: &[Rule] = &[
     ethercat::T616,
     ethercat::T617,
     ethercat::T618,
+    ethercat::T619,
+    ethercat::T620,
+    ethercat::T621,
 ];

@@ -4,7 +4,7 @@ use odc_model::{DataType, Device, ObjectKind, Origin, Spanned, Value};
 
 use super::rule;
 use crate::Ctx;
-use crate::util::{first_span, idx, is_canopen, kind_name, value_span};
+use crate::util::{first_span, idx, is_canopen, kind_name, objects, value_span};
 
 rule!(
     C110,
@@ -23,7 +23,7 @@ rule!(
 );
 
 fn sub_number_mismatch(dev: &Device, ctx: &mut Ctx) {
-    for o in dev.objects.values() {
+    for o in objects(dev) {
         if !o.kind.has_subs() || o.origin != Origin::File || o.compact_sub_obj.is_some() {
             continue;
         }
@@ -56,7 +56,7 @@ rule!(
 );
 
 fn sub0_type(dev: &Device, ctx: &mut Ctx) {
-    for o in dev.objects.values() {
+    for o in objects(dev) {
         if !o.kind.has_subs() {
             continue;
         }
@@ -98,7 +98,7 @@ rule!(
 );
 
 fn sub0_value(dev: &Device, ctx: &mut Ctx) {
-    for o in dev.objects.values() {
+    for o in objects(dev) {
         if !o.kind.has_subs() || sub0_is_a_count(o.index) {
             continue;
         }
@@ -139,7 +139,7 @@ rule!(
 );
 
 fn sub_index_ff(dev: &Device, ctx: &mut Ctx) {
-    for o in dev.objects.values() {
+    for o in objects(dev) {
         if let Some(s) = o.sub(0xFF) {
             ctx.report(
                 o.index,
@@ -167,7 +167,7 @@ rule!(
 );
 
 fn array_not_uniform(dev: &Device, ctx: &mut Ctx) {
-    for o in dev.objects.values() {
+    for o in objects(dev) {
         if o.kind != ObjectKind::Array {
             continue;
         }
@@ -213,7 +213,7 @@ fn sub_number_or_compact(dev: &Device, ctx: &mut Ctx) {
     if !is_canopen(dev) {
         return;
     }
-    for o in dev.objects.values() {
+    for o in objects(dev) {
         if o.origin != Origin::File {
             continue;
         }
@@ -264,7 +264,7 @@ rule!(
 );
 
 fn var_with_subs(dev: &Device, ctx: &mut Ctx) {
-    for o in dev.objects.values() {
+    for o in objects(dev) {
         if o.kind.has_subs() {
             continue;
         }
@@ -300,7 +300,7 @@ rule!(
 );
 
 fn missing_sub0(dev: &Device, ctx: &mut Ctx) {
-    for o in dev.objects.values() {
+    for o in objects(dev) {
         if matches!(o.kind, ObjectKind::Array | ObjectKind::Record) && o.sub(0).is_none() {
             ctx.report(o.index, None, o.span, format!("{} has no sub-index 0", idx(o.index)));
         }

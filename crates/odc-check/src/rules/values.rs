@@ -380,7 +380,7 @@ fn identity_mismatch(dev: &Device, ctx: &mut Ctx) {
         let Some(v) = s.default.as_ref() else { continue };
         let Value::Unsigned(value) = v.value else { continue };
         if value != u64::from(declared.value) {
-            ctx.report(
+            let d = ctx.report(
                 0x1018,
                 Some(sub),
                 value_span(o, s, Some(v)),
@@ -388,13 +388,19 @@ fn identity_mismatch(dev: &Device, ctx: &mut Ctx) {
                     "0x1018:{sub:02X} defaults to 0x{value:08X} but {key} is 0x{:08X}",
                     declared.value
                 ),
-            )
-            .labels
-            .push(odc_model::Label {
+            );
+            d.labels.push(odc_model::Label {
                 span: declared.span,
                 message: format!("{key} given here"),
                 primary: false,
             });
+            if crate::util::is_esi(dev) && value == u64::from(declared.value.swap_bytes()) {
+                d.notes.push(
+                    "the bytes are reversed: ESI DefaultData is little-endian (least significant \
+                     byte first)"
+                        .into(),
+                );
+            }
         }
     }
 }

@@ -3,7 +3,9 @@
 #![allow(dead_code, missing_docs)]
 
 use odc_check::{Config, check};
-use odc_model::ethercat::{CoE, Dc, DcOpMode, EtherCat, Mailbox, SmUsage, SyncManager};
+use odc_model::ethercat::{
+    CoE, Dc, DcOpMode, EsiDataType, EsiSubItem, EtherCat, Mailbox, SmUsage, SyncManager,
+};
 use odc_model::{
     Access, DataType, Device, Direction, Format, Object, ObjectKind, ObjectList, ObjectLists, Pdo,
     PdoEntry, PdoMapping, Sources, Spanned, SubObject, Value, diag,
@@ -364,6 +366,23 @@ pub fn esi_io() -> Dev {
                 sm(3, SmUsage::Inputs, 0x1180, 0x20, None),
             ];
             e.mailbox = Some(Mailbox { coe: Some(CoE::default()), ..Mailbox::default() });
+            e.data_types = vec![EsiDataType {
+                name: "DT1018".into(),
+                bit_size: Some(144),
+                sub_items: [(0, "SubIndex 000", 8), (1, "Vendor ID", 32), (2, "Product code", 32)]
+                    .iter()
+                    .zip([0, 16, 48])
+                    .map(|(&(idx, name, bits), off)| EsiSubItem {
+                        sub_idx: Some(idx),
+                        name: name.into(),
+                        type_name: if bits == 8 { "USINT" } else { "UDINT" }.into(),
+                        bit_size: Some(bits),
+                        bit_offset: Some(off),
+                        ..EsiSubItem::default()
+                    })
+                    .collect(),
+                ..EsiDataType::default()
+            }];
             e.dc = Some(Dc {
                 op_modes: vec![op_mode("FreeRun", 0), op_mode("DcSync", 0x300)],
                 span: odc_model::Span::DUMMY,
