@@ -118,6 +118,11 @@ pub(crate) fn objects(dev: &Device) -> impl Iterator<Item = &Object> {
     dev.objects.values().filter(|o| o.origin != Origin::PdoEntry)
 }
 
+/// The object at `index` if the file describes it (see [`objects`]).
+pub(crate) fn object(dev: &Device, index: u16) -> Option<&Object> {
+    dev.objects.get(&index).filter(|o| o.origin != Origin::PdoEntry)
+}
+
 /// Iterates over every sub-object of every object the file describes (see [`objects`]).
 pub(crate) fn all_subs(dev: &Device) -> impl Iterator<Item = (&Object, &SubObject)> {
     objects(dev).flat_map(|o| o.subs.values().map(move |s| (o, s)))

@@ -26,8 +26,11 @@ fn corpus() {
     // rule code -> files that trip it; and the total number of diagnostics.
     let mut tripped: BTreeMap<&str, BTreeSet<String>> = BTreeMap::new();
     let mut total: BTreeMap<&str, usize> = BTreeMap::new();
-    // ODC_CORPUS_SAMPLES=C112,C201 prints a few diagnostics of those rules.
+    // ODC_CORPUS_SAMPLES=C112,C201 prints a few (ODC_CORPUS_SAMPLE_LIMIT, 25) diagnostics of
+    // those rules.
     let samples = std::env::var("ODC_CORPUS_SAMPLES").unwrap_or_default();
+    let limit: usize =
+        std::env::var("ODC_CORPUS_SAMPLE_LIMIT").ok().and_then(|v| v.parse().ok()).unwrap_or(25);
     // ODC_CORPUS_KIND=esi (or eds, dcf) reads only the files of that kind.
     let only_kind = std::env::var("ODC_CORPUS_KIND").ok();
     let mut printed: BTreeMap<&str, usize> = BTreeMap::new();
@@ -55,7 +58,7 @@ fn corpus() {
             for d in check(dev, &config) {
                 if samples.split(',').any(|c| c == d.code) {
                     let n = printed.entry(d.code).or_default();
-                    if *n < 25 {
+                    if *n < limit {
                         *n += 1;
                         let lc = d.primary_span().and_then(|s| sources.line_col(s));
                         let line = lc.map_or(0, |l| l.line);
@@ -82,9 +85,10 @@ fn corpus() {
         let set = tripped.get(code);
         let n = set.map_or(0, BTreeSet::len);
         let esi = set.map_or(0, |s| s.iter().filter(|f| f.starts_with("esi/")).count());
-        let level = match r.info.default {
-            Severity::Note => "note",
-            _ => r.level.as_str(),
+        let level = match (r.level, r.info.default) {
+            (Level::Allow, _) => "allow",
+            (_, Severity::Note) => "note",
+            (level, _) => level.as_str(),
         };
         println!(
             "{code:<6} {:<34} {n:>5} {:>5} {esi:>5} {:>7}  {level}",

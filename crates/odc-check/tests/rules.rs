@@ -806,6 +806,27 @@ fn c207_notes_byte_swapped_identity_in_an_esi() {
 }
 
 #[test]
+fn objects_synthesised_from_pdo_entries_are_not_checked_as_the_files() {
+    // An ESI without a dictionary: odc made 0x603F (entries :00 of 16 bits and :01) and a
+    // mapping object at 0x1018 (SoE PDO indexes are IDNs) from the PDO entries.
+    let d = esi_io()
+        .record(0x603F, "error_code", &[(1, "detail", Unsigned16, Ro, None)])
+        .at(0x603F, 0)
+        .data_type(Unsigned16)
+        .remove(0x1018)
+        .record(0x1018, "MDT 2", &[(1, "SubIndex 001", Unsigned32, Ro, Some(u(0x0086_0010)))])
+        .with(|d| {
+            d.device_info.vendor_number = Some(Spanned::synthetic(0x1234));
+            for i in [0x603F, 0x1018] {
+                if let Some(o) = d.objects.get_mut(&i) {
+                    o.origin = odc_model::Origin::PdoEntry;
+                }
+            }
+        });
+    assert_eq!(run(d), "");
+}
+
+#[test]
 fn esi_rules_do_not_run_on_canopen_devices() {
     let mut d = esi_io().edit_pdo(0x1600, |p| p.sync_manager = Some(7)).build();
     d.format = Some(odc_model::Format::Eds);

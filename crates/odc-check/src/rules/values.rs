@@ -309,7 +309,7 @@ rule!(
 
 fn wrong_object_type(dev: &Device, ctx: &mut Ctx) {
     for shape in SHAPES {
-        let Some(o) = dev.objects.get(&shape.index) else { continue };
+        let Some(o) = crate::util::object(dev, shape.index) else { continue };
         let var_like = shape.kind == ObjectKind::Var && !o.kind.has_subs();
         if o.kind != shape.kind && !var_like {
             ctx.report(
@@ -364,7 +364,7 @@ rule!(
 );
 
 fn identity_mismatch(dev: &Device, ctx: &mut Ctx) {
-    let Some(o) = dev.objects.get(&0x1018) else { return };
+    let Some(o) = crate::util::object(dev, 0x1018) else { return };
     let info = &dev.device_info;
     for (sub, key, declared) in [
         (1, "VendorNumber", &info.vendor_number),
