@@ -1,0 +1,322 @@
+//! A LinMot E1200 on a simulated CAN bus: `cargo run --example linmot`.
+//!
+//! The E1200 has no CiA 402: it runs LinMot's own control word and motion command interface
+//! (manual 7.1). Both ends run code generated from `eds/linmot-e1200.eds`:
+//! - the master configures TxPDO 4 by UPID (manual 9.1.3) through the generated descriptors,
+//!   reads the UPIDs' RAM values through the generated UPID scheme (`upid::U1CA4_RAM`, …),
+//!   starts the node, and runs the manual's control word sequence: homing (083Fh), operational
+//!   (003Fh), then the motion command "VAI 16Bit Go To Pos" (0901h) to 50 mm, sending SYNCs
+//!   until the actual position is there;
+//! - the drive is a simulation around the generated slave dictionary: SDO through odc's
+//!   server, TxPDO 4 mapped from the UPIDs the master wrote (its mapping entries in 1A03h,
+//!   its data read from the UPID objects 2000h + UPID of the dictionary).
+//!
+//! The manual gives the layout of RxPDO 1/2 and TxPDO 1 (Control Word, MC Header, MC
+//! parameter bytes; Status Word, State Var, Actual Position) but no objects for these built-in
+//! items, so the device file cannot map them and the generated code has no struct for them:
+//! this program lays them out itself ([`rxpdo1`], [`TxPdo1`]). Nor does it give the bits of
+//! Status Word and State Var (they are in LinMot's motion control software manual): the
+//! simulated drive echoes the control word it runs in Status Word, leaves State Var 0, and
+//! reports Actual Position in the motion command's unit (0.1 mm).
+
+use std::thread;
+use std::time::Duration;
+
+use odc::can::CanFrame;
+use odc::nmt::{NmtCommand, NmtState};
+use odc::sdo::Server;
+use odc::{MappingEntry, ObjectAddr};
+use odc_examples::bus::{self, Closed, Port};
+use odc_examples::master::Master;
+use odc_examples::{Error, pdo};
+
+/// The code generated from the device file, for both ends (a program uses part of it).
+#[allow(dead_code, unused_imports)]
+mod linmot_e1200 {
+    odc::include_od!("linmot_e1200");
+}
+use linmot_e1200::{od, slave, upid};
+
+/// The node id parameter's default (manual 4.3: 63).
+const NODE: u8 = 63;
+
+/// The motion command "VAI 16Bit Go To Pos" (090xh; x is the count nibble).
+const VAI_GO_TO_POS: u16 = 0x0900;
+
+/// RxPDO 1 (manual 5.1): Control Word, Motion Command Header, MC parameter bytes 0..3.
+fn rxpdo1(control_word: u16, header: u16, par: [u8; 4]) -> [u8; 8] {
+    let (c, h) = (control_word.to_le_bytes(), header.to_le_bytes());
+    [c[0], c[1], h[0], h[1], par[0], par[1], par[2], par[3]]
+}
+
+/// TxPDO 1 (manual 5.1): Status Word, State Var, Actual Position.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct TxPdo1 {
+    status_word: u16,
+    state_var: u16,
+    actual_position: i32,
+}
+
+impl TxPdo1 {
+    fn pack(&self) -> [u8; 8] {
+        let (s, v, p) = (
+            self.status_word.to_le_bytes(),
+            self.state_var.to_le_bytes(),
+            self.actual_position.to_le_bytes(),
+        );
+        [s[0], s[1], v[0], v[1], p[0], p[1], p[2], p[3]]
+    }
+
+    fn unpack(b: &[u8]) -> Option<Self> {
+        let b: &[u8; 8] = b.try_into().ok()?;
+        Some(TxPdo1 {
+            status_word: u16::from_le_bytes([b[0], b[1]]),
+            state_var: u16::from_le_bytes([b[2], b[3]]),
+            actual_position: i32::from_le_bytes([b[4], b[5], b[6], b[7]]),
+        })
+    }
+}
+
+/// TxPDO 4 as the PLC maps it after 9.1.3: the placeholders 4F08h sub 7, 8 (2 bytes) and 9
+/// (4 bytes), typed as the UPIDs behind them.
+#[derive(Clone, Copy, Debug, PartialEq, odc::Pdo)]
+struct TxPdo4 {
+    #[pdo(index = 0x4F08, sub = 7)]
+    analog_voltage: u16,
+    #[pdo(index = 0x4F08, sub = 8)]
+    diff_analog_voltage: i16,
+    #[pdo(index = 0x4F08, sub = 9)]
+    difference_velocity: i32,
+}
+
+/// The simulated E1200.
+struct LinMot {
+    od: slave::Dictionary,
+    server: Server<64>,
+    nmt: NmtState,
+    rx1: [u8; 8],
+    rx2: [u8; 8],
+    control_word: u16,
+    count: u16,
+    position: i32,
+    target: i32,
+    speed: i32,
+}
+
+impl LinMot {
+    fn new() -> Self {
+        let mut od = slave::Dictionary::new(NODE);
+        // What the drive measures.
+        od.x4_4_analog_voltage_upid_1ca4h_ram_value = 4500;
+        od.diff_analog_voltage_upid_1ca6h_ram_value = -120;
+        od.difference_velocity_upid_1b91h_ram_value = 0;
+        LinMot {
+            od,
+            server: Server::new(NODE),
+            nmt: NmtState::PreOperational,
+            rx1: [0; 8],
+            rx2: [0; 8],
+            control_word: 0,
+            count: 0,
+            position: 0,
+            target: 0,
+            speed: 0,
+        }
+    }
+
+    fn run(mut self, port: &Port) -> Result<(), Closed> {
+        port.send(CanFrame::from_slice(0x700 + u32::from(NODE), &[0]).ok_or(Closed)?)?;
+        loop {
+            match port.recv_timeout(Duration::from_secs(1)) {
+                Ok(Some(frame)) => {
+                    for out in self.handle(&frame) {
+                        port.send(out)?;
+                    }
+                }
+                Ok(None) => {}
+                Err(Closed) => return Ok(()),
+            }
+        }
+    }
+
+    fn handle(&mut self, frame: &CanFrame) -> Vec<CanFrame> {
+        let node = u32::from(NODE);
+        match frame.id {
+            0x000 => {
+                if let [cs, n] = *frame.bytes()
+                    && (n == 0 || n == NODE)
+                    && cs == NmtCommand::Start as u8
+                {
+                    self.nmt = NmtState::Operational;
+                }
+                Vec::new()
+            }
+            0x080 if self.nmt == NmtState::Operational => self.sync(),
+            id if id == self.server.request_id() => {
+                let answer = self.server.handle(&mut self.od, frame, 0);
+                self.map_upids();
+                answer.into_iter().collect()
+            }
+            // RPDOs of the default mapping (transmission type 1): taken at the next SYNC.
+            id if id == 0x200 + node => {
+                self.rx1.copy_from_slice(&frame.data);
+                Vec::new()
+            }
+            id if id == 0x300 + node => {
+                self.rx2.copy_from_slice(&frame.data);
+                Vec::new()
+            }
+            _ => Vec::new(),
+        }
+    }
+
+    /// "The controller automatically maps those parameters to the PDOs" (9.1.1): 1A03h gets one
+    /// entry per UPID of 4F08h sub 1..4, pointing at that sub-index with the UPID's bit length,
+    /// which the UPID's object (2000h + UPID) gives.
+    fn map_upids(&mut self) {
+        let upids = [
+            (1, self.od.tpdo4_upid_mapping_tpdo4_upi_ds_1),
+            (2, self.od.tpdo4_upid_mapping_tpdo4_upi_ds_2),
+            (3, self.od.tpdo4_upid_mapping_tpdo4_upi_ds_3),
+            (4, self.od.tpdo4_upid_mapping_tpdo4_upi_ds_4),
+        ];
+        let mut n = 0u8;
+        for (sub, id) in upids {
+            let Some(ram) = upid::param(id, upid::Op::Ram) else { continue };
+            let Some(bits) = upid::lookup(ram).and_then(|e| e.data_type.bits()) else { continue };
+            n += 1;
+            let entry = MappingEntry::new(0x4F08, sub, u8::try_from(bits).unwrap_or(32));
+            let _ = self.od.write(0x1A03, n, &entry.to_u32().to_le_bytes());
+        }
+        let _ = self.od.write(0x1A03, 0, &[n]);
+    }
+
+    /// One SYNC: take the RPDOs, run the control word and a new motion command, move, and
+    /// send the TPDOs.
+    fn sync(&mut self) -> Vec<CanFrame> {
+        let word = |b: &[u8; 8], i: usize| u16::from_le_bytes([b[i], b[i + 1]]);
+        let control_word = word(&self.rx1, 0);
+        if control_word != self.control_word && control_word & 0x0800 != 0 {
+            // Homing (7.1: Control Word 083Fh): this simulation's axis is homed at once.
+            self.position = 0;
+            self.target = 0;
+        }
+        self.control_word = control_word;
+        let header = word(&self.rx1, 2);
+        // A command runs when its count nibble changes (5.1).
+        if header & 0xF != self.count && header & 0xFFF0 == VAI_GO_TO_POS {
+            self.count = header & 0xF;
+            self.target = i32::from(word(&self.rx1, 4) as i16);
+            // Maximal velocity in mm/s; per 10 ms SYNC period in 0.1 mm.
+            self.speed = i32::from(word(&self.rx1, 6)) / 10;
+        }
+        let step = (self.target - self.position).clamp(-self.speed.max(1), self.speed.max(1));
+        self.position += step;
+        let mut out = Vec::new();
+        let tx1 =
+            TxPdo1 { status_word: self.control_word, state_var: 0, actual_position: self.position };
+        let node = u32::from(NODE);
+        out.extend(CanFrame::from_slice(0x180 + node, &tx1.pack()));
+        if let Some(id) = pdo::cob_id(&self.od, 0x1803)
+            && let Ok(entries) = pdo::mapping(&self.od, 0x1A03)
+        {
+            // The UPIDs' values, in the mapped order.
+            let mut data = Vec::new();
+            for e in entries.iter().filter(|e| e.index == 0x4F08) {
+                let id = [
+                    self.od.tpdo4_upid_mapping_tpdo4_upi_ds_1,
+                    self.od.tpdo4_upid_mapping_tpdo4_upi_ds_2,
+                    self.od.tpdo4_upid_mapping_tpdo4_upi_ds_3,
+                    self.od.tpdo4_upid_mapping_tpdo4_upi_ds_4,
+                ]
+                .get(usize::from(e.sub).saturating_sub(1))
+                .copied()
+                .unwrap_or(0);
+                let Some(ObjectAddr { index, sub }) = upid::param(id, upid::Op::Ram) else {
+                    continue;
+                };
+                let mut buf = [0u8; 4];
+                let n = usize::from(e.bits / 8).min(4);
+                if self.od.read(index, sub, &mut buf[..n]).is_ok() {
+                    data.extend_from_slice(&buf[..n]);
+                }
+            }
+            if !data.is_empty() {
+                out.extend(CanFrame::from_slice(id, &data));
+            }
+        }
+        out
+    }
+}
+
+/// The program: the drive in a thread, the master in this one.
+pub fn main() -> Result<(), Error> {
+    let (master_port, drive_port) = bus::pair();
+    let drive = thread::spawn(move || LinMot::new().run(&drive_port));
+    let mut m = Master::new(master_port, NODE);
+    let node = u32::from(NODE);
+
+    m.step("boot-up");
+    m.boot_up()?;
+    m.step("TxPDO 4 by UPID (manual 9.1.3): 1CA4h, 1CA6h, 1B91h into 4F08h sub 1..3");
+    m.write(&od::tpdo4_upid_mapping::TPDO4_UPI_DS_1, 0x1CA4)?;
+    m.write(&od::tpdo4_upid_mapping::TPDO4_UPI_DS_2, 0x1CA6)?;
+    m.write(&od::tpdo4_upid_mapping::TPDO4_UPI_DS_3, 0x1B91)?;
+    let mapping = od::transmit_pdo_mapping_parameter_3_tx_pdo_4::PDO_MAPPING_ENTRY_1;
+    let first = m.read(&mapping)?;
+    println!("-- the drive mapped 1A03h sub 1 = {first:08X}h");
+    if first != 0x4F08_0110 {
+        return Err("TxPDO 4 is not mapped as the manual says".into());
+    }
+    m.step("the UPIDs' RAM values through the generated UPID scheme");
+    let voltage = m.read(&upid::U1CA4_RAM)?;
+    let diff = m.read(&upid::U1CA6_RAM)?;
+    println!("-- X4.4 analog voltage {voltage}, diff analog voltage {diff}");
+
+    m.step("NMT start; the control word sequence of manual 7.1");
+    m.nmt(NmtCommand::Start)?;
+    let tx1 = |f: CanFrame| TxPdo1::unpack(f.bytes()).ok_or("TxPDO 1 has 8 bytes");
+    m.step("homing: Control Word 083Fh");
+    send(&mut m, 0x200 + node, &rxpdo1(0x083F, 0, [0; 4]))?;
+    m.sync()?;
+    let s = tx1(m.expect(0x180 + node)?)?;
+    let _ = m.tpdo::<TxPdo4>(0x480 + node)?;
+    println!("   status word {:04X}h, actual position {}", s.status_word, s.actual_position);
+    m.step("enter operational state: Control Word 003Fh");
+    send(&mut m, 0x200 + node, &rxpdo1(0x003F, 0, [0; 4]))?;
+    m.sync()?;
+    let _ = tx1(m.expect(0x180 + node)?)?;
+    let _ = m.tpdo::<TxPdo4>(0x480 + node)?;
+    m.step("VAI 16Bit Go To Pos (0901h): 50 mm at 1 m/s, 10 m/s² up and down");
+    let (position, velocity, acceleration, deceleration) = (500i16, 1000u16, 100u16, 100u16);
+    let (p, v) = (position.to_le_bytes(), velocity.to_le_bytes());
+    let (a, d) = (acceleration.to_le_bytes(), deceleration.to_le_bytes());
+    send(&mut m, 0x200 + node, &rxpdo1(0x003F, VAI_GO_TO_POS | 1, [p[0], p[1], v[0], v[1]]))?;
+    send(&mut m, 0x300 + node, &[a[0], a[1], d[0], d[1], 0, 0, 0, 0])?;
+    let mut syncs = 0;
+    loop {
+        m.sync()?;
+        syncs += 1;
+        let s = tx1(m.expect(0x180 + node)?)?;
+        let t4 = m.tpdo::<TxPdo4>(0x480 + node)?;
+        println!(
+            "   actual position {} (0.1 mm), analog voltage {}, diff {}",
+            s.actual_position, t4.analog_voltage, t4.diff_analog_voltage
+        );
+        if s.actual_position == i32::from(position) {
+            break;
+        }
+        if syncs == 100 {
+            return Err("the drive did not reach 50 mm".into());
+        }
+    }
+    println!("-- at 50 mm after {syncs} SYNCs");
+    drop(m);
+    drive.join().map_err(|_| "the drive thread panicked")??;
+    Ok(())
+}
+
+/// Any frame from the master.
+fn send(m: &mut Master, id: u32, data: &[u8]) -> Result<(), Error> {
+    m.frame(&CanFrame::from_slice(id, data).ok_or("at most 8 bytes")?)
+}
