@@ -139,6 +139,59 @@ trips!(
     base().var(0x2002, "Var", Unsigned8, Rw).sub(1, "stray", Unsigned8, Rw)
 );
 trips!(c117_missing_sub0, "C117", record_2000().remove_sub(0x2000, 0).sub_number(2));
+trips!(
+    c118_obj_flags_reserved,
+    "C118",
+    base().var(0x2000, "Flags", Unsigned8, Rw).with(|d| {
+        if let Some(o) = d.objects.get_mut(&0x2000) {
+            o.obj_flags = Some(Spanned::synthetic(0x4));
+        }
+        if let Some(s) = d.objects.get_mut(&0x1018).and_then(|o| o.subs.get_mut(&1)) {
+            s.obj_flags = Some(Spanned::synthetic(0x11));
+        }
+    })
+);
+
+#[test]
+fn c118_defined_obj_flags_pass() {
+    let d = base().var(0x2000, "Flags", Unsigned8, Rw).with(|d| {
+        if let Some(o) = d.objects.get_mut(&0x2000) {
+            o.obj_flags = Some(Spanned::synthetic(0x3));
+        }
+    });
+    assert_eq!(run_with(d, &all_rules_on()), "");
+}
+
+trips!(
+    c119_pdo_comm_record,
+    "C119",
+    io().sub_of(0x1400, 6, "SYNC start value", Unsigned8, Rw)
+        .at(0x1400, 2)
+        .data_type(Unsigned16)
+        .at(0x1400, 0)
+        .default(u(6))
+        .sub_number(4)
+        .remove_sub(0x1800, 1)
+        .at(0x1800, 0)
+        .sub_number(2)
+);
+
+#[test]
+fn c119_full_pdo_comm_records_pass() {
+    let d = io()
+        .sub_of(0x1800, 3, "Inhibit time", Unsigned16, Rw)
+        .sub(4, "Reserved", Unsigned8, Rw)
+        .sub(5, "Event timer", Unsigned16, Rw)
+        .sub(6, "SYNC start value", Unsigned8, Rw)
+        .at(0x1800, 0)
+        .default(u(6))
+        .sub_number(7)
+        .sub_of(0x1400, 5, "Event timer", Unsigned16, Rw)
+        .at(0x1400, 0)
+        .default(u(5))
+        .sub_number(4);
+    assert_eq!(run_with(d, &all_rules_on()), "");
+}
 
 // C201–C208: values.
 
@@ -203,6 +256,34 @@ trips!(
     })
 );
 trips!(c208_limits_on_non_numeric, "C208", base().var(0x2000, "Name", VisibleString, Ro).low(u(0)));
+
+fn with_files(d: Dev, index: u16, upload: Option<&str>, download: Option<&str>) -> Dev {
+    d.with(|d| {
+        if let Some(s) = d.objects.get_mut(&index).and_then(|o| o.subs.get_mut(&0)) {
+            s.upload_file = upload.map(|f| Spanned::synthetic(f.into()));
+            s.download_file = download.map(|f| Spanned::synthetic(f.into()));
+        }
+    })
+}
+
+trips!(
+    c209_upload_download_file,
+    "C209",
+    with_files(
+        with_files(base().var(0x2000, "Program", Domain, Rw), 0x2000, Some("prog.bin"), None)
+            .var(0x2001, "Setting", Unsigned32, Wo),
+        0x2001,
+        None,
+        Some("setting.bin")
+    )
+);
+
+#[test]
+fn c209_domain_files_with_matching_access_pass() {
+    let d = with_files(base().var(0x2000, "Image", Domain, Const), 0x2000, Some("a.bin"), None);
+    let d = with_files(d.var(0x2001, "Log", Domain, Wo), 0x2001, None, Some("b.bin"));
+    assert_eq!(run_with(d, &all_rules_on()), "");
+}
 
 // C301–C309: PDO mapping.
 
@@ -270,6 +351,46 @@ trips!(
 );
 trips!(c309_pdo_mapping_entry_missing, "C309", io().remove_sub(0x1A00, 2));
 
+fn granularity(d: Dev, g: u8) -> Dev {
+    d.with(|d| d.device_info.granularity = Some(Spanned::synthetic(g)))
+}
+
+trips!(
+    c310_pdo_granularity,
+    "C310",
+    granularity(io().var(0x6001, "Switch", Boolean, Ro).mappable(), 8).pdo(
+        true,
+        1,
+        node(0x180),
+        &[0x6000_0008, 0x6001_0001]
+    )
+);
+
+#[test]
+fn c310_granularity_zero_and_out_of_range() {
+    assert_eq!(
+        run(granularity(io(), 0)),
+        "warning[C310]: Granularity=0 says the PDO mapping is not modifiable, but 0x1600:01 is \
+         writable (rw)\n"
+    );
+    assert_eq!(run(granularity(io(), 65)), "warning[C310]: Granularity=65 is above 64 bits\n");
+}
+
+#[test]
+fn c310_fitting_granularity_passes() {
+    assert_eq!(run_with(granularity(io(), 8), &all_rules_on()), "");
+    assert_eq!(run_with(granularity(io(), 1), &all_rules_on()), "");
+    // A fixed mapping (read-only mapping objects) on a device whose mapping is not modifiable.
+    let fixed = granularity(io(), 0).with(|d| {
+        for o in d.objects.range_mut(0x1600..=0x1BFF).map(|(_, o)| o) {
+            for s in o.subs.values_mut() {
+                s.access = Ro;
+            }
+        }
+    });
+    assert_eq!(run_with(fixed, &all_rules_on()), "");
+}
+
 // C401–C408: COB-IDs and communication objects.
 
 trips!(
@@ -310,6 +431,44 @@ trips!(
     "C408",
     io().at(0x1200, 1).default(node(0x601)).at(0x1200, 2).default(u(0x581))
 );
+
+fn guarding(d: Dev, guard: u64, life: u64) -> Dev {
+    d.var(0x100C, "Guard time", Unsigned16, Rw)
+        .default(u(guard))
+        .var(0x100D, "Life time factor", Unsigned8, Rw)
+        .default(u(life))
+}
+
+trips!(c409_heartbeat_and_guarding, "C409", guarding(base().at(0x1017, 0).default(u(100)), 100, 3));
+
+#[test]
+fn c409_one_error_control_configured_passes() {
+    // Both supported, one configured.
+    assert_eq!(run_with(guarding(base().at(0x1017, 0).default(u(100)), 0, 3), &all_rules_on()), "");
+    assert_eq!(run_with(guarding(base(), 100, 3), &all_rules_on()), "");
+}
+
+fn consumers(entries: &[u64]) -> Dev {
+    let subs: Vec<_> = entries
+        .iter()
+        .enumerate()
+        .map(|(k, &v)| (k as u8 + 1, "Consumer heartbeat time", Unsigned32, Rw, Some(u(v))))
+        .collect();
+    base().array(0x1016, "Consumer heartbeat time", &subs)
+}
+
+trips!(
+    c410_heartbeat_consumer_entry,
+    "C410",
+    consumers(&[0x0005_0064, 0x0005_00C8, 0x0080_0064, 0x0000_0064, 0x0105_0000])
+);
+
+#[test]
+fn c410_well_formed_consumers_pass() {
+    // Unused entries (time 0) may repeat a node-ID or name none.
+    let d = consumers(&[0x0005_0064, 0x0006_00C8, 0x0005_0000, 0x0000_0000, 0x007F_0001]);
+    assert_eq!(run_with(d, &all_rules_on()), "");
+}
 
 #[test]
 fn sync_producer_with_period_passes() {

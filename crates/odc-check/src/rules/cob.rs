@@ -1,4 +1,4 @@
-//! C401–C408: COB-IDs and the communication objects (CiA 301 §7.3, §7.5.2).
+//! C401–C410: COB-IDs and the communication objects (CiA 301 §7.3, §7.5.2).
 
 use odc_model::{Device, Label, Object, Spanned, SubObject, Value};
 
@@ -506,5 +506,122 @@ fn show_cob(v: &Value) -> String {
     match v {
         Value::Unsigned(u) => format!("0x{u:X}"),
         other => show(other),
+    }
+}
+
+rule!(
+    C409,
+    "C409",
+    "heartbeat-and-guarding",
+    "cia301",
+    Warning,
+    Warn,
+    heartbeat_and_guarding,
+    "both heartbeat and node guarding are configured",
+    "CiA 301 §7.2.8.3 lets a device use one error-control protocol at a time: the heartbeat \
+     producer (0x1017 producer heartbeat time non-zero) or node guarding (0x100C guard time × \
+     0x100D life time factor non-zero), never both; a device with both configured by default \
+     answers guarding requests and sends heartbeats, and masters disagree about which one \
+     supervises it (dcfgen refuses the combination). Only the initial values (ParameterValue \
+     over DefaultValue) count: supporting both objects is fine. Fix: set 0x1017 or 0x100C/0x100D \
+     to 0 (heartbeat is preferred for new designs)."
+);
+
+fn heartbeat_and_guarding(dev: &Device, ctx: &mut Ctx) {
+    if !is_canopen(dev) {
+        return;
+    }
+    let hb = initial_u64(dev, 0x1017, 0).unwrap_or(0);
+    let guard = initial_u64(dev, 0x100C, 0).unwrap_or(0);
+    let life = initial_u64(dev, 0x100D, 0).unwrap_or(0);
+    if hb == 0 || guard == 0 || life == 0 {
+        return;
+    }
+    let span = |i| {
+        dev.objects.get(&i).map_or(odc_model::Span::DUMMY, |o| {
+            let v = o.var().and_then(|s| s.initial_value().map(|v| v.span));
+            first_span([v.unwrap_or(odc_model::Span::DUMMY), o.span])
+        })
+    };
+    ctx.report(
+        0x1017,
+        None,
+        span(0x1017),
+        format!(
+            "heartbeat producer time 0x1017 = {hb} ms and node guarding (0x100C = {guard} ms × \
+             0x100D = {life}) are both configured"
+        ),
+    )
+    .labels
+    .push(Label { span: span(0x100C), message: "guard time here".into(), primary: false });
+}
+
+rule!(
+    C410,
+    "C410",
+    "heartbeat-consumer-entry",
+    "cia301",
+    Warning,
+    Warn,
+    heartbeat_consumer_entry,
+    "a consumer heartbeat time entry (0x1016) is malformed or duplicated",
+    "Each sub-object 1..=127 of 0x1016 (consumer heartbeat time, CiA 301 §7.5.2.26) is an \
+     UNSIGNED32: bits 0–15 the heartbeat time in ms, bits 16–23 the node-ID of the producer, \
+     bits 24–31 reserved (0). An entry with a non-zero time must name a node-ID 1..=127 (others \
+     never match a heartbeat, so the supervision is silently off), and no two entries with a \
+     non-zero time may name the same node: CiA 301 makes the device refuse such a \
+     configuration (SDO abort 0x0604 0043), so a DCF that holds it cannot be downloaded. Entries \
+     with time 0 are unused and not checked, except for their reserved bits. Fix: correct the \
+     node-ID, clear bits 24–31, or remove the duplicate."
+);
+
+fn heartbeat_consumer_entry(dev: &Device, ctx: &mut Ctx) {
+    if !is_canopen(dev) {
+        return;
+    }
+    let Some(o) = dev.objects.get(&0x1016) else { return };
+    let mut seen: Vec<(u64, u8, odc_model::Span)> = Vec::new();
+    for s in o.subs.values().filter(|s| s.sub_index != 0) {
+        let Some(v) = s.initial_value() else { continue };
+        let Value::Unsigned(raw) = v.value else { continue };
+        let span = first_span([v.span, s.span, o.span]);
+        let at = format!("0x1016:{:02X}", s.sub_index);
+        let sub = o.kind.has_subs().then_some(s.sub_index);
+        let node = (raw >> 16) & 0xFF;
+        let time = raw & 0xFFFF;
+        if raw >> 24 != 0 {
+            ctx.report(
+                0x1016,
+                sub,
+                span,
+                format!("{at} = 0x{raw:08X} sets the reserved bits 24–31"),
+            );
+        } else if time != 0 && !(1..=127).contains(&node) {
+            ctx.report(
+                0x1016,
+                sub,
+                span,
+                format!("{at} = 0x{raw:08X} watches node-ID {node}, which is not 1..=127"),
+            );
+        } else if time != 0 {
+            if let Some(&(_, first, first_span_)) = seen.iter().find(|(n, _, _)| *n == node) {
+                ctx.report(
+                    0x1016,
+                    sub,
+                    span,
+                    format!(
+                        "{at} = 0x{raw:08X} watches node-ID {node}, as 0x1016:{first:02X} does"
+                    ),
+                )
+                .labels
+                .push(Label {
+                    span: first_span_,
+                    message: format!("0x1016:{first:02X} here"),
+                    primary: false,
+                });
+            } else {
+                seen.push((node, s.sub_index, span));
+            }
+        }
     }
 }

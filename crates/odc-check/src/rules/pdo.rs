@@ -1,4 +1,4 @@
-//! C301–C309: the default PDO mapping of CANopen devices (CiA 301 §7.5.2.35–§7.5.2.38,
+//! C301–C310: the default PDO mapping of CANopen devices (CiA 301 §7.5.2.35–§7.5.2.38,
 //! CiA 306 §4.5.2, mirrored from the CANopenNode run-time checks).
 
 use odc_model::{DataType, Device, Direction, Pdo, PdoEntry, Span, SubObject, ValueClass};
@@ -398,5 +398,86 @@ fn pdo_mapping_entry_missing(dev: &Device, ctx: &mut Ctx) {
             first_span([span, o.span]),
             format!("{}:00 says {n} entries but {which}", idx(index)),
         );
+    }
+}
+
+rule!(
+    C310,
+    "C310",
+    "pdo-granularity",
+    "cia301",
+    Warning,
+    Warn,
+    pdo_granularity,
+    "the PDO mapping disagrees with [DeviceInfo] Granularity",
+    "[DeviceInfo] Granularity (CiA 306 §4.5.1) is the unit, in bits, in which the device maps \
+     objects into PDOs: 8 for byte-wise mapping, 1 for bit-wise; 0 means the mapping is not \
+     modifiable. Values above 64 mean nothing (a classic CAN PDO has 64 bits; EdsDcfNet and \
+     lely check the range). A default mapping entry whose length is not a multiple of the \
+     granularity (a 1-bit BOOLEAN on a byte-granular device) cannot be mapped by the device, \
+     and writable mapping sub-objects (AccessType rw/wo) on a device with Granularity=0 \
+     contradict \"not modifiable\": a master that believes one tries a remapping the other \
+     forbids. Fix: state the granularity the device really has, or make the mapping entries \
+     fit it (read-only mapping objects for a fixed mapping)."
+);
+
+fn pdo_granularity(dev: &Device, ctx: &mut Ctx) {
+    use odc_model::Access;
+    if !is_canopen(dev) {
+        return;
+    }
+    let Some(g) = dev.device_info.granularity.as_ref() else { return };
+    if g.value > 64 {
+        ctx.report_device(g.span, format!("Granularity={} is above 64 bits", g.value));
+        return;
+    }
+    if g.value == 0 {
+        let writable = dev
+            .objects
+            .range(0x1600..=0x1BFF)
+            .filter(|(i, _)| !(0x1800..0x1A00).contains(*i))
+            .flat_map(|(_, o)| o.subs.values().map(move |s| (o, s)))
+            .find(|(_, s)| {
+                s.sub_index != 0
+                    && matches!(s.access, Access::Rw | Access::Wo | Access::Rww | Access::Rwr)
+            });
+        if let Some((o, s)) = writable {
+            ctx.report_device(
+                g.span,
+                format!(
+                    "Granularity=0 says the PDO mapping is not modifiable, but {}:{:02X} is \
+                     writable ({})",
+                    idx(o.index),
+                    s.sub_index,
+                    s.access.as_str()
+                ),
+            )
+            .labels
+            .push(odc_model::Label {
+                span: first_span([s.span, o.span]),
+                message: "writable mapping entry".into(),
+                primary: false,
+            });
+        }
+        return;
+    }
+    for p in pdos(dev).iter() {
+        for (k, e) in p.entries.iter().enumerate() {
+            if e.bits % u16::from(g.value) != 0 {
+                ctx.report(
+                    p.mapping_index,
+                    entry_sub(k),
+                    entry_span(p, e),
+                    format!(
+                        "{} maps 0x{:04X}:{:02X} with {} bits, not a multiple of Granularity={}",
+                        pdo_name(p),
+                        e.index,
+                        e.sub,
+                        e.bits,
+                        g.value
+                    ),
+                );
+            }
+        }
     }
 }

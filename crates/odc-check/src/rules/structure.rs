@@ -1,10 +1,10 @@
-//! C110–C117: the shape of objects and sub-objects (CiA 306 §4.5.2, CiA 301 §7.4.3).
+//! C110–C119: the shape of objects and sub-objects (CiA 306 §4.5.2, CiA 301 §7.4.3).
 
 use odc_model::{DataType, Device, ObjectKind, Origin, Spanned, Value};
 
 use super::rule;
 use crate::Ctx;
-use crate::util::{first_span, idx, is_canopen, kind_name, objects, value_span};
+use crate::util::{first_span, idx, is_canopen, kind_name, objects, sub_of, value_span};
 
 rule!(
     C110,
@@ -303,6 +303,170 @@ fn missing_sub0(dev: &Device, ctx: &mut Ctx) {
     for o in objects(dev) {
         if matches!(o.kind, ObjectKind::Array | ObjectKind::Record) && o.sub(0).is_none() {
             ctx.report(o.index, None, o.span, format!("{} has no sub-index 0", idx(o.index)));
+        }
+    }
+}
+
+/// The ObjFlags bits CiA 306 §4.5.2 defines: bit 0 refuse write on download, bit 1 refuse read
+/// on scan.
+const OBJ_FLAGS_DEFINED: u32 = 0b11;
+
+rule!(
+    C118,
+    "C118",
+    "obj-flags-reserved",
+    "cia301",
+    Warning,
+    Warn,
+    obj_flags_reserved,
+    "ObjFlags sets bits that CiA 306 reserves",
+    "ObjFlags (CiA 306 §4.5.2) tells configuration tools how to treat an object: bit 0 \
+     \"refuse write on download\" (a tool does not write the value when it downloads a \
+     configuration), bit 1 \"refuse read on scan\" (a tool does not read it when it scans the \
+     device). Bits 2–31 are reserved in EDS/DCF and must be 0 (bit 2 exists only in XDD/XDC, \
+     CiA 311); EdsDcfNet checks the same. A tool that meets a reserved bit may ignore the flags \
+     or refuse the file, and a later revision may give the bit a meaning. Fix: clear the \
+     reserved bits (ObjFlags=0, 1, 2 or 3)."
+);
+
+fn obj_flags_reserved(dev: &Device, ctx: &mut Ctx) {
+    if !is_canopen(dev) {
+        return;
+    }
+    for o in objects(dev) {
+        let object_flags = o.obj_flags.as_ref().map(|f| (None, f, o.span));
+        let sub_flags = o
+            .subs
+            .values()
+            .filter_map(|s| s.obj_flags.as_ref().map(|f| (sub_of(o, s.sub_index), f, s.span)));
+        for (sub, f, fallback) in object_flags.into_iter().chain(sub_flags) {
+            let reserved = f.value & !OBJ_FLAGS_DEFINED;
+            if reserved != 0 {
+                let at = sub.map_or_else(|| idx(o.index), |s| format!("{}:{s:02X}", idx(o.index)));
+                ctx.report(
+                    o.index,
+                    sub,
+                    first_span([f.span, fallback, o.span]),
+                    format!(
+                        "{at} has ObjFlags=0x{:X}, which sets reserved bits 0x{reserved:X}",
+                        f.value
+                    ),
+                );
+            }
+        }
+    }
+}
+
+/// The type of each sub-object of a PDO communication record (CiA 301 §7.5.2.35, §7.5.2.37),
+/// `None` for sub 4, which is reserved and whose type CiA 301 leaves to compatibility.
+fn pdo_comm_sub_type(sub: u8) -> Option<DataType> {
+    match sub {
+        1 => Some(DataType::Unsigned32),
+        2 | 6 => Some(DataType::Unsigned8),
+        3 | 5 => Some(DataType::Unsigned16),
+        _ => None,
+    }
+}
+
+/// The name of a PDO communication sub-object.
+fn pdo_comm_sub_name(sub: u8) -> &'static str {
+    match sub {
+        1 => "COB-ID",
+        2 => "transmission type",
+        3 => "inhibit time",
+        4 => "reserved",
+        5 => "event timer",
+        _ => "SYNC start value",
+    }
+}
+
+rule!(
+    C119,
+    "C119",
+    "pdo-comm-record",
+    "cia301",
+    Warning,
+    Warn,
+    pdo_comm_record,
+    "a PDO communication object does not have the shape CiA 301 gives it",
+    "The PDO communication parameter objects (RPDO 0x1400–0x15FF, TPDO 0x1800–0x19FF, \
+     CiA 301 §7.5.2.35/§7.5.2.37) are RECORDs with sub 1 COB-ID (UNSIGNED32) and sub 2 \
+     transmission type (UNSIGNED8), both mandatory, and optionally sub 3 inhibit time \
+     (UNSIGNED16), sub 4 reserved (compatibility entry), sub 5 event timer (UNSIGNED16) and, \
+     for TPDOs only, sub 6 SYNC start value (UNSIGNED8). Nothing lies past the last of these. A \
+     sub-object of another type makes an SDO of the expected length abort, and one that CiA 301 \
+     does not define (an RPDO sub 6, CANopenEditor#45; libedssharp#135 on sub 4) is \
+     not configured by masters. Sub 0 (the highest sub-index) is left to C112. \
+     Objects odc synthesised from CompactPDO are not checked. \
+     Fix: give the sub-objects the types above and remove the others."
+);
+
+fn pdo_comm_record(dev: &Device, ctx: &mut Ctx) {
+    if !is_canopen(dev) {
+        return;
+    }
+    for o in objects(dev) {
+        let (tx, last) = match o.index {
+            0x1400..=0x15FF => (false, 5u8),
+            0x1800..=0x19FF => (true, 6u8),
+            _ => continue,
+        };
+        if o.origin != Origin::File {
+            continue;
+        }
+        let (what, a_what) = if tx { ("TPDO", "a TPDO") } else { ("RPDO", "an RPDO") };
+        if !o.kind.has_subs() {
+            ctx.report(
+                o.index,
+                None,
+                o.span,
+                format!(
+                    "{what} communication object {} is a {}, not a RECORD",
+                    idx(o.index),
+                    kind_name(o.kind)
+                ),
+            );
+            continue;
+        }
+        for sub in [1u8, 2] {
+            if o.sub(sub).is_none() {
+                ctx.report(
+                    o.index,
+                    None,
+                    o.span,
+                    format!(
+                        "{what} communication object {} has no sub {sub} ({})",
+                        idx(o.index),
+                        pdo_comm_sub_name(sub)
+                    ),
+                );
+            }
+        }
+        for s in o.subs.values().filter(|s| s.sub_index != 0) {
+            let span = first_span([s.span, o.span]);
+            let at = format!("{}:{:02X}", idx(o.index), s.sub_index);
+            if s.sub_index > last {
+                let why = if s.sub_index == 6 {
+                    "an RPDO has no SYNC start value".to_string()
+                } else {
+                    format!("{a_what} communication object ends at sub {last}")
+                };
+                ctx.report(o.index, Some(s.sub_index), span, format!("{at} is not defined: {why}"));
+            } else if let Some(dt) = pdo_comm_sub_type(s.sub_index)
+                && s.data_type != dt
+            {
+                ctx.report(
+                    o.index,
+                    Some(s.sub_index),
+                    span,
+                    format!(
+                        "{at} ({}) is {}, not {}",
+                        pdo_comm_sub_name(s.sub_index),
+                        s.data_type.name(),
+                        dt.name()
+                    ),
+                );
+            }
         }
     }
 }

@@ -1,4 +1,4 @@
-//! C201–C208: values, types and limits; mandatory objects; identity (CiA 306 §4.5.2,
+//! C201–C209: values, types and limits; mandatory objects; identity (CiA 306 §4.5.2,
 //! CiA 301 §7.4, §7.5).
 
 use odc_model::{DataType, Device, ObjectKind, Spanned, SubObject, Value, ValueClass};
@@ -431,6 +431,66 @@ fn limits_on_non_numeric(dev: &Device, ctx: &mut Ctx) {
                 value_span(o, s, Some(l)),
                 format!("{} is {} but has limits", addr(o, s.sub_index), s.data_type.name()),
             );
+        }
+    }
+}
+
+rule!(
+    C209,
+    "C209",
+    "upload-download-file",
+    "cia301",
+    Warning,
+    Warn,
+    upload_download_file,
+    "UploadFile/DownloadFile on an object that is not a DOMAIN of the matching access",
+    "CiA 306 §4.5.2 lets a DOMAIN sub-object name a file instead of holding its value: with \
+     UploadFile the device's data is the file's content (what an SDO upload returns), so the \
+     object is read-only (AccessType ro or const); with DownloadFile what an SDO download \
+     writes goes to the file, so the object is write-only (wo). Both are for DOMAINs only: \
+     other types carry their value in DefaultValue/ParameterValue. lely-core's DCF reader \
+     applies exactly these conditions and rejects anything else, so the file loads in one tool \
+     and not in another. Fix: make the object a DOMAIN with AccessType ro/const (UploadFile) \
+     or wo (DownloadFile), or drop the key."
+);
+
+fn upload_download_file(dev: &Device, ctx: &mut Ctx) {
+    use odc_model::Access;
+    if !is_canopen(dev) {
+        return;
+    }
+    for (o, s) in all_subs(dev) {
+        let keys = [
+            (
+                "UploadFile",
+                s.upload_file.as_ref(),
+                matches!(s.access, Access::Ro | Access::Const),
+                "ro or const",
+            ),
+            ("DownloadFile", s.download_file.as_ref(), s.access == Access::Wo, "wo"),
+        ];
+        for (key, file, access_ok, wanted) in keys {
+            let Some(file) = file else { continue };
+            let span = first_span([file.span, s.span, o.span]);
+            let at = addr(o, s.sub_index);
+            if s.data_type != DataType::Domain {
+                ctx.report(
+                    o.index,
+                    sub_of(o, s.sub_index),
+                    span,
+                    format!("{at} has {key} but is {}, not DOMAIN", s.data_type.name()),
+                );
+            } else if !access_ok {
+                ctx.report(
+                    o.index,
+                    sub_of(o, s.sub_index),
+                    span,
+                    format!(
+                        "{at} has {key} but AccessType={}; {key} needs {wanted}",
+                        s.access.as_str()
+                    ),
+                );
+            }
         }
     }
 }
