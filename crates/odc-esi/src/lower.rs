@@ -1,5 +1,6 @@
 //! Lowering: element tree → [`odc_model::Device`]s.
 
+use std::cell::RefCell;
 use std::collections::{BTreeMap, HashMap};
 
 use odc_model::ethercat::{
@@ -52,12 +53,28 @@ enum Resolved<'t> {
 #[derive(Default)]
 struct Types<'t> {
     by_name: HashMap<&'t str, Element<'t>>,
+    /// Names already resolved: a dictionary names the same few types thousands of times, and
+    /// resolving walks the type's element and its base types.
+    resolved: RefCell<HashMap<&'t str, Option<Resolved<'t>>>>,
 }
 
 fn builtin(name: &str) -> Option<DataType> {
     use DataType::*;
-    let n = name.trim().to_ascii_uppercase();
-    let n = n.as_str();
+    let name = name.trim();
+    // Upper-cased on the stack: called for every type name a dictionary mentions.
+    let mut buf = [0u8; 32];
+    let heap;
+    let n = match buf.get_mut(..name.len()) {
+        Some(b) => {
+            b.copy_from_slice(name.as_bytes());
+            b.make_ascii_uppercase();
+            std::str::from_utf8(b).unwrap_or("")
+        }
+        None => {
+            heap = name.to_ascii_uppercase();
+            heap.as_str()
+        }
+    };
     Some(match n {
         "BOOL" | "BOOLEAN" => Boolean,
         "BIT" => Bit(1),
@@ -406,11 +423,11 @@ pub(crate) fn lower(
     devices
 }
 
-fn lower_modules(
-    el: Element<'_>,
+fn lower_modules<'t>(
+    el: Element<'t>,
     ctx: &mut Ctx<'_>,
-    outer: &Types<'_>,
-    refs: &PdoRefs<'_>,
+    outer: &Types<'t>,
+    refs: &PdoRefs<'t>,
 ) -> Vec<EsiModule> {
     let mut out = Vec::new();
     for m in el.children_named("Module") {
@@ -421,7 +438,7 @@ fn lower_modules(
             module.module_class = t.attr("ModuleClass").map(|a| a.value.to_string());
         }
         module.names = names(m, ctx);
-        let mut types = Types { by_name: outer.by_name.clone() };
+        let mut types = Types { by_name: outer.by_name.clone(), ..Types::default() };
         let mut data_types = Vec::new();
         let dict = m.child("Profile").and_then(|p| p.child("Dictionary"));
         if let Some(dict) = dict {
@@ -429,7 +446,7 @@ fn lower_modules(
         }
         module.pdos = lower_pdos(m, ctx, &types, refs);
         if let Some(dict) = dict {
-            let mut flags = Vec::new();
+            let mut flags = FlagsOut::new();
             module.objects = lower_objects(dict, ctx, &types, &mut flags);
         }
         slot_dependent(m, &mut module.depend_on_slot, 0);
@@ -521,6 +538,7 @@ fn lower_device(d: Element<'_>, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Devic
             collect_types(dict, &mut types, &mut ec.data_types, ctx);
         }
     }
+    let mut flags = FlagsOut::new();
     for &p in &profiles {
         ec.profiles.push(Profile {
             channel: ctx.attr_u32(p, "Channel"),
@@ -536,11 +554,11 @@ fn lower_device(d: Element<'_>, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Devic
             span: p.span(),
         });
         if let Some(dict) = p.child("Dictionary") {
-            let objs = lower_objects(dict, ctx, &types, &mut ec.object_flags);
+            let objs = lower_objects(dict, ctx, &types, &mut flags);
             objects.extend(objs);
         }
     }
-    ec.object_flags.sort_by_key(|f| (f.index, f.sub));
+    ec.object_flags = flags.into_values().collect();
 
     for f in d.children_named("Fmmu") {
         ec.fmmus.push(Fmmu {
@@ -650,6 +668,8 @@ fn collect_types<'t>(
     ctx: &mut Ctx<'_>,
 ) {
     let Some(dts) = dict.child("DataTypes") else { return };
+    // New declarations may change what a name resolves to.
+    types.resolved.get_mut().clear();
     for dt in dts.children_named("DataType") {
         let Some(name) = dt.child("Name") else {
             ctx.missing(dt, "Name");
@@ -701,7 +721,16 @@ fn collect_types<'t>(
 
 impl<'t> Types<'t> {
     /// Resolves a type name; `None` when it is neither declared nor built in.
-    fn resolve(&self, name: &str, depth: u32) -> Option<Resolved<'t>> {
+    fn resolve(&self, name: &'t str) -> Option<Resolved<'t>> {
+        if let Some(r) = self.resolved.borrow().get(name) {
+            return *r;
+        }
+        let r = self.resolve_at(name, 0);
+        self.resolved.borrow_mut().insert(name, r);
+        r
+    }
+
+    fn resolve_at(&self, name: &str, depth: u32) -> Option<Resolved<'t>> {
         let name = name.trim();
         if depth > 16 {
             return None;
@@ -723,7 +752,7 @@ impl<'t> Types<'t> {
                 let elements =
                     ai.child("Elements").and_then(|x| num::parse_int(x.text())).unwrap_or(0);
                 let elements = u32::try_from(elements).unwrap_or(0);
-                let (elem_ty, elem_bits) = match base.and_then(|b| self.resolve(b, depth + 1)) {
+                let (elem_ty, elem_bits) = match base.and_then(|b| self.resolve_at(b, depth + 1)) {
                     Some(Resolved::Simple(t, b)) => (t, b.or_else(|| t.bit_size())),
                     _ => {
                         let eb = bits.and_then(|b| b.checked_div(elements));
@@ -735,7 +764,7 @@ impl<'t> Types<'t> {
             if let Some(base) = base
                 && base.trim() != name
             {
-                return match self.resolve(base, depth + 1)? {
+                return match self.resolve_at(base, depth + 1)? {
                     Resolved::Simple(t, b) => Some(Resolved::Simple(t, bits.or(b))),
                     other => Some(other),
                 };
@@ -777,13 +806,16 @@ fn pdo_mapping_of(text: &str, span: Span, ctx: &mut Ctx<'_>) -> PdoMapping {
     }
 }
 
+/// The ESI-only flags of a device's sub-objects: the last one given for a sub-object wins.
+type FlagsOut = BTreeMap<(u16, u8), ObjectFlags>;
+
 /// Applies a `Flags` element to a sub-object; records the ESI-only flags.
 fn apply_flags(
     flags: Element<'_>,
     index: u16,
     sub: &mut SubObject,
     ctx: &mut Ctx<'_>,
-    out: &mut Vec<ObjectFlags>,
+    out: &mut FlagsOut,
 ) {
     let mut f = ObjectFlags { index, sub: sub.sub_index, ..ObjectFlags::default() };
     if let Some(a) = flags.child("Access") {
@@ -799,8 +831,7 @@ fn apply_flags(
     f.backup = flags.child("Backup").and_then(|b| ctx.el_bool(b));
     f.setting = flags.child("Setting").and_then(|b| ctx.el_bool(b));
     if f != (ObjectFlags { index, sub: sub.sub_index, ..ObjectFlags::default() }) {
-        out.retain(|o| (o.index, o.sub) != (index, f.sub));
-        out.push(f);
+        out.insert((index, f.sub), f);
     }
 }
 
@@ -870,11 +901,11 @@ fn unknown_type(name: &str, span: Span, ctx: &mut Ctx<'_>, severe: bool) {
     ctx.push(d.with_label(span, "neither declared in DataTypes nor a base type"));
 }
 
-fn lower_objects(
-    dict: Element<'_>,
+fn lower_objects<'t>(
+    dict: Element<'t>,
     ctx: &mut Ctx<'_>,
-    types: &Types<'_>,
-    flags_out: &mut Vec<ObjectFlags>,
+    types: &Types<'t>,
+    flags_out: &mut FlagsOut,
 ) -> BTreeMap<u16, Object> {
     let mut objects = BTreeMap::new();
     let Some(objs) = dict.child("Objects") else { return objects };
@@ -890,7 +921,7 @@ fn lower_objects(
         let bit_size = ctx.child_u32(o, "BitSize");
         let flags = o.child("Flags");
         let info = o.child("Info");
-        let resolved = types.resolve(type_name, 0);
+        let resolved = types.resolve(type_name);
         if resolved.is_none() {
             let span = type_el.map(|t| t.text_span()).unwrap_or(o.span());
             unknown_type(type_name, span, ctx, true);
@@ -959,13 +990,13 @@ fn lower_objects(
 }
 
 /// Builds the sub-objects of `object` from a structured data type's `SubItem`s.
-fn lower_struct(
-    dt: Element<'_>,
-    types: &Types<'_>,
+fn lower_struct<'t>(
+    dt: Element<'t>,
+    types: &Types<'t>,
     object: &mut Object,
-    obj_flags: Option<Element<'_>>,
+    obj_flags: Option<Element<'t>>,
     ctx: &mut Ctx<'_>,
-    flags_out: &mut Vec<ObjectFlags>,
+    flags_out: &mut FlagsOut,
 ) {
     let index = object.index;
     let object_span = object.span;
@@ -980,7 +1011,7 @@ fn lower_struct(
         let bits = bits.and_then(|b| u32::try_from(b).ok());
         let sub_idx = si.child("SubIdx").and_then(|x| ctx.el_num::<u8>(x, "SubIdx"));
         let flags = si.child("Flags").or(obj_flags);
-        let resolved = types.resolve(type_name, 0);
+        let resolved = types.resolve(type_name);
         let mut make =
             |si_no: u8, name: String, ty: DataType, bits: Option<u32>, ctx: &mut Ctx<'_>| {
                 let mut s = SubObject::new(si_no, name, ty, Access::Ro);
@@ -1026,15 +1057,27 @@ fn lower_struct(
 
 /// Matches `Info/SubItem`s to the object's sub-objects by name and applies their `Info`.
 fn apply_sub_infos(info: Element<'_>, object: &mut Object, ctx: &mut Ctx<'_>) {
-    for (pos, si) in info.children_named("SubItem").enumerate() {
-        let name = si.child("Name").map(|n| n.text()).unwrap_or("");
-        let by_name = object.subs.iter().find(|(_, s)| s.name == name).map(|(k, _)| *k);
-        // Names that match nothing (`RxPDO assign Element 1` against `SubIndex 001`, vendor
-        // typos): fall back to the position, which is how the list is written.
-        let by_pos = object.subs.keys().nth(pos).copied();
+    // Where each SubItem goes, found first (the lookups borrow the sub-objects' names): by name
+    // (the first sub-object of that name), else by position.
+    let targets: Vec<(Element<'_>, &str, Option<u8>, Option<u8>)> = {
+        let mut first_named: HashMap<&str, u8> = HashMap::with_capacity(object.subs.len());
+        for (k, s) in object.subs.iter().rev() {
+            first_named.insert(s.name.as_str(), *k);
+        }
+        let mut keys = object.subs.keys();
+        info.children_named("SubItem")
+            .map(|si| {
+                let name = si.child("Name").map(|n| n.text()).unwrap_or("");
+                (si, name, first_named.get(name).copied(), keys.next().copied())
+            })
+            .collect()
+    };
+    for (si, name, by_name, by_pos) in targets {
         let key = match by_name {
             Some(k) => k,
             None => {
+                // Names that match nothing (`RxPDO assign Element 1` against `SubIndex 001`,
+                // vendor typos): fall back to the position, which is how the list is written.
                 // Arrays: element names are ours (`SubIndex nnn`), position is the real key.
                 if object.kind != ObjectKind::Array {
                     let span = si.child("Name").map(|n| n.text_span()).unwrap_or(si.span());
@@ -1068,11 +1111,11 @@ fn apply_sub_infos(info: Element<'_>, object: &mut Object, ctx: &mut Ctx<'_>) {
     }
 }
 
-fn lower_pdos(
-    parent: Element<'_>,
+fn lower_pdos<'t>(
+    parent: Element<'t>,
     ctx: &mut Ctx<'_>,
-    types: &Types<'_>,
-    refs: &PdoRefs<'_>,
+    types: &Types<'t>,
+    refs: &PdoRefs<'t>,
 ) -> Vec<Pdo> {
     let mut pdos = Vec::new();
     for pdo_el in parent.children() {
@@ -1114,7 +1157,7 @@ fn lower_pdos(
             };
             let Some(bits) = ctx.el_num::<u16>(bl, "BitLen") else { continue };
             let dt_el = e.child("DataType").filter(|t| !t.text().is_empty());
-            let data_type = dt_el.and_then(|t| match types.resolve(t.text(), 0) {
+            let data_type = dt_el.and_then(|t| match types.resolve(t.text()) {
                 Some(Resolved::Simple(ty, _)) => Some(ty),
                 Some(Resolved::Array(..) | Resolved::Struct(..)) => Some(DataType::Domain),
                 None => {

@@ -519,7 +519,8 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
             Ok(Event::Text(t)) => {
                 // Blank runs between tags (most text events) are dropped unless they continue a
                 // text: no line-end normalisation for them.
-                let blank = t.trim().is_empty();
+                let blank = t.bytes().all(|c| matches!(c, b' ' | b'\t' | b'\n' | b'\r'))
+                    || t.trim().is_empty();
                 if blank && b.stack.last().is_none_or(|top| top.text.is_empty()) {
                     continue;
                 }
