@@ -1491,7 +1491,7 @@ impl<'r, 'a> Lower<'r, 'a> {
         for (&index, ob) in &b.fixed {
             match self.object(index, ob, extra) {
                 Some(o) => {
-                    m.fixed_objects.insert(index, o);
+                    std::sync::Arc::make_mut(&mut m.fixed_objects).insert(index, o);
                 }
                 None => {
                     for &i in ob.subs.values() {

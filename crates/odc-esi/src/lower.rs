@@ -2,6 +2,7 @@
 
 use std::cell::RefCell;
 use std::collections::{BTreeMap, HashMap};
+use std::sync::Arc;
 
 use odc_model::ethercat::{
     ArrayInfo, CoE, Dc, DcOpMode, Eeprom, EnumItem, EsiDataType, EsiModule, EsiSubItem, EtherCat,
@@ -447,7 +448,7 @@ fn lower_modules<'t>(
         module.pdos = lower_pdos(m, ctx, &types, refs);
         if let Some(dict) = dict {
             let mut flags = FlagsOut::new();
-            module.objects = lower_objects(dict, ctx, &types, &mut flags);
+            module.objects = Arc::new(lower_objects(dict, ctx, &types, &mut flags));
         }
         slot_dependent(m, &mut module.depend_on_slot, 0);
         module.depend_on_slot.sort_unstable();

@@ -1,6 +1,7 @@
 //! The device: one object dictionary, whether it was read from an EDS, a DCF or an ESI.
 
 use std::collections::BTreeMap;
+use std::sync::Arc;
 
 use serde::Serialize;
 
@@ -339,7 +340,9 @@ pub struct Module {
     /// Keys of `[MxModuleInfo]` not named above.
     pub extra: Vec<RawEntry>,
     /// `[MxFixedObjects]` with each `[MxFixedIIII]`: objects the module adds at fixed indexes.
-    pub fixed_objects: BTreeMap<u16, Object>,
+    /// Shared: the modules an ESI file declares once apply to each of its devices, whose
+    /// module lists would otherwise each hold a copy of every module's dictionary.
+    pub fixed_objects: Arc<BTreeMap<u16, Object>>,
     /// `[MxSubExtends]` with each `[MxSubExtIIII]`: sub-objects the module appends to an object.
     pub sub_extends: BTreeMap<u16, SubExtend>,
     /// `[MxComments]` lines.

@@ -7,6 +7,7 @@
 //! images, ...) are kept as raw XML text ([`RawXml`]) with their spans, so nothing is lost.
 
 use std::collections::BTreeMap;
+use std::sync::Arc;
 
 use serde::Serialize;
 
@@ -468,8 +469,9 @@ pub struct EsiModule {
     pub names: Vec<LocalizedText>,
     /// The module's PDOs.
     pub pdos: Vec<Pdo>,
-    /// The module's own dictionary objects (`Profile/Dictionary/Objects`).
-    pub objects: BTreeMap<u16, Object>,
+    /// The module's own dictionary objects (`Profile/Dictionary/Objects`). Shared with
+    /// [`crate::Module::fixed_objects`] and with every device of the file the module applies to.
+    pub objects: Arc<BTreeMap<u16, Object>>,
     /// `Mailbox/CoE/InitCmd`s.
     pub init_cmds: Vec<InitCmd>,
     /// Indexes (of PDOs, PDO entries, objects) marked `DependOnSlot`: shifted by the slot's
