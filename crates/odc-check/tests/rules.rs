@@ -519,7 +519,7 @@ fn dcf() -> Dev {
                 obj_extend: None,
             },
         );
-        m.fixed_objects.insert(
+        std::sync::Arc::make_mut(&mut m.fixed_objects).insert(
             0x6100,
             odc_model::Object::new(
                 0x6100,
