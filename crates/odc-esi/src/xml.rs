@@ -184,15 +184,21 @@ impl<'d> Element<'d> {
         Children { doc: self.doc, next: self.idx + 1, end: n.subtree_end }
     }
 
+    /// Whether the element is called `name` (lengths compared first: most are not).
+    pub fn is(self, name: &str) -> bool {
+        let n = self.node().name;
+        (n.len == name.len() as u32 || n.len == OWNED) && self.doc.str(n) == name
+    }
+
     pub fn child(self, name: &str) -> Option<Element<'d>> {
-        self.children().find(|c| c.name() == name)
+        self.children().find(|c| c.is(name))
     }
 
     pub fn children_named<'a>(self, name: &'a str) -> impl Iterator<Item = Element<'d>> + 'a
     where
         'd: 'a,
     {
-        self.children().filter(move |c| c.name() == name)
+        self.children().filter(move |c| c.is(name))
     }
 
     pub fn attrs(self) -> impl Iterator<Item = Attr<'d>> {
@@ -213,7 +219,10 @@ impl<'d> Element<'d> {
 }
 
 fn local(name: &str) -> &str {
-    name.rsplit(':').next().unwrap_or(name)
+    match name.as_bytes().iter().rposition(|&b| b == b':') {
+        Some(colon) => name.get(colon + 1..).unwrap_or(name),
+        None => name,
+    }
 }
 
 /// Where `s` starts in `src`, when it is a slice of it (it is for a `&str` reader).
@@ -447,14 +456,13 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
         c.expand_empty_elements = false;
         c.trim_text(false);
     }
-    // Every element starts with `<`, and so does every other markup: an upper bound, counted
-    // once so that the arena never moves while it fills (pages never written cost nothing).
-    let tags = src.bytes().filter(|&c| c == b'<').count();
+    // ESI files average 50-60 source bytes per element; the arena grows past this if needed.
+    let nodes = src.len() / 40;
     let mut b = Builder {
         doc: Document {
             src,
             file,
-            nodes: Vec::with_capacity(tags),
+            nodes: Vec::with_capacity(nodes),
             attrs: Vec::new(),
             strings: Vec::new(),
             diagnostics: Vec::new(),
