@@ -30,7 +30,7 @@ pub fn load(sources: &mut Sources, path: &Path) -> anyhow::Result<Loaded> {
     let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
     let name = path.display().to_string();
     let (devices, diagnostics) = if is_xml(path, &bytes) {
-        let parsed = odc_esi::parse(sources, &name, &bytes);
+        let parsed = odc_esi::parse_vec(sources, &name, bytes);
         (parsed.devices, parsed.diagnostics)
     } else {
         let parsed = odc_eds::parse(sources, &name, &bytes);

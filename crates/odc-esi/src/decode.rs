@@ -37,7 +37,9 @@ fn declared_encoding(bytes: &[u8]) -> Option<String> {
 /// Decodes the file: a UTF-8 BOM is dropped, UTF-16 (by BOM) is refused, otherwise the XML
 /// declaration's encoding is used (UTF-8 when it names none). Latin-1 in any spelling
 /// (`ISO-8859-1`, `ISO8859-1`, `latin1`, ...) is decoded as Windows-1252, as browsers do.
-pub(crate) fn decode(bytes: &[u8]) -> Result<Decoded, DecodeError> {
+/// Bytes given by value become the text without a copy when they are UTF-8 or ASCII.
+pub(crate) fn decode(input: Cow<'_, [u8]>) -> Result<Decoded, DecodeError> {
+    let bytes: &[u8] = &input;
     if bytes.starts_with(&[0xFF, 0xFE]) || bytes.starts_with(&[0xFE, 0xFF]) {
         return Err(DecodeError::Utf16);
     }
@@ -45,7 +47,8 @@ pub(crate) fn decode(bytes: &[u8]) -> Result<Decoded, DecodeError> {
     if bytes.starts_with(&[b'<', 0]) || bytes.starts_with(&[0, b'<']) {
         return Err(DecodeError::Utf16);
     }
-    let body = bytes.strip_prefix(&[0xEF, 0xBB, 0xBF]).unwrap_or(bytes);
+    let bom = bytes.starts_with(&[0xEF, 0xBB, 0xBF]);
+    let body = if bom { bytes.get(3..).unwrap_or_default() } else { bytes };
     let mut diagnostics = Vec::new();
     let label = declared_encoding(body);
     let encoding = match label.as_deref() {
@@ -68,23 +71,28 @@ pub(crate) fn decode(bytes: &[u8]) -> Result<Decoded, DecodeError> {
             }
         }
     };
-    let text = if encoding == encoding_rs::UTF_8 {
-        match String::from_utf8_lossy(body) {
-            Cow::Borrowed(s) => s.to_string(),
-            Cow::Owned(s) => {
-                let bad = std::str::from_utf8(body).err().map(|e| e.valid_up_to()).unwrap_or(0);
-                diagnostics.push(
-                    Diagnostic::warning(
-                        "F203",
-                        format!("the file is not valid UTF-8 (first bad byte at offset {bad})"),
-                    )
-                    .with_note(
-                        "invalid bytes were replaced with U+FFFD; declare the real encoding in \
-                         the XML declaration, e.g. encoding=\"ISO-8859-1\"",
-                    ),
-                );
-                s
+    // ASCII declared as Latin-1 (most such files) is UTF-8 as it stands.
+    let as_is = encoding == encoding_rs::UTF_8
+        || (encoding == encoding_rs::WINDOWS_1252 && body.is_ascii());
+    let text = if as_is {
+        match input {
+            // Bytes given by value: validated in place, no copy.
+            Cow::Owned(mut v) => {
+                if bom {
+                    v.drain(..3);
+                }
+                String::from_utf8(v).unwrap_or_else(|e| {
+                    diagnostics.push(invalid_utf8(e.utf8_error().valid_up_to()));
+                    String::from_utf8_lossy(e.as_bytes()).into_owned()
+                })
             }
+            Cow::Borrowed(_) => match std::str::from_utf8(body) {
+                Ok(s) => s.to_owned(),
+                Err(e) => {
+                    diagnostics.push(invalid_utf8(e.valid_up_to()));
+                    String::from_utf8_lossy(body).into_owned()
+                }
+            },
         }
     } else if encoding == encoding_rs::WINDOWS_1252 {
         latin1(body)
@@ -95,17 +103,23 @@ pub(crate) fn decode(bytes: &[u8]) -> Result<Decoded, DecodeError> {
     Ok(Decoded { text, diagnostics })
 }
 
+fn invalid_utf8(bad: usize) -> Diagnostic {
+    Diagnostic::warning(
+        "F203",
+        format!("the file is not valid UTF-8 (first bad byte at offset {bad})"),
+    )
+    .with_note(
+        "invalid bytes were replaced with U+FFFD; declare the real encoding in the XML \
+         declaration, e.g. encoding=\"ISO-8859-1\"",
+    )
+}
+
 /// Windows-1252 into a string sized for the text (the generic decoder reserves three bytes per
 /// input byte, which for a large file is most of the peak memory).
 fn latin1(body: &[u8]) -> String {
     // 0x80..=0x9F map to characters of up to three UTF-8 bytes, 0xA0..=0xFF to two.
     let extra: usize =
         body.iter().map(|&b| usize::from(b >= 0x80) + usize::from((0x80..0xA0).contains(&b))).sum();
-    if extra == 0
-        && let Ok(s) = std::str::from_utf8(body)
-    {
-        return s.to_owned();
-    }
     let mut out = String::with_capacity(body.len() + extra);
     let mut decoder = encoding_rs::WINDOWS_1252.new_decoder_without_bom_handling();
     let (result, _, _) = decoder.decode_to_string(body, &mut out, true);
@@ -121,10 +135,18 @@ mod tests {
     use super::*;
 
     fn ok(b: &[u8]) -> Decoded {
-        match decode(b) {
+        let owned = match decode(Cow::Owned(b.to_vec())) {
             Ok(d) => d,
             Err(_) => panic!("decode failed"),
-        }
+        };
+        let borrowed = match decode(Cow::Borrowed(b)) {
+            Ok(d) => d,
+            Err(_) => panic!("decode failed"),
+        };
+        // Bytes by value (no copy) and by reference decode alike.
+        assert_eq!(owned.text, borrowed.text);
+        assert_eq!(owned.diagnostics, borrowed.diagnostics);
+        borrowed
     }
 
     #[test]
@@ -140,7 +162,7 @@ mod tests {
     #[test]
     fn bom_dropped_and_utf16_refused() {
         assert_eq!(ok(b"\xEF\xBB\xBF<a/>").text, "<a/>");
-        assert!(matches!(decode(b"\xFF\xFE<\0a\0"), Err(DecodeError::Utf16)));
+        assert!(matches!(decode(Cow::Borrowed(b"\xFF\xFE<\0a\0")), Err(DecodeError::Utf16)));
     }
 
     #[test]
@@ -148,5 +170,9 @@ mod tests {
         let d = ok(b"<a>\xE4</a>");
         assert_eq!(d.diagnostics.len(), 1);
         assert!(d.text.contains('\u{FFFD}'));
+        // The offset counts from after a BOM, by value and by reference.
+        let d = ok(b"\xEF\xBB\xBF<a>\xE4</a>");
+        assert!(d.diagnostics[0].message.contains("offset 3"), "{:?}", d.diagnostics);
+        assert_eq!(d.text, "<a>\u{FFFD}</a>");
     }
 }

@@ -29,6 +29,8 @@ mod lower;
 pub mod num;
 mod xml;
 
+use std::borrow::Cow;
+
 use odc_model::{Device, Diagnostic, FileId, RuleInfo, Severity, Sources, Span};
 
 /// What [`parse`] produced for one file.
@@ -47,6 +49,17 @@ pub const MAX_FILE_SIZE: usize = 256 * 1024 * 1024;
 /// Decodes `bytes`, adds the text to `sources` under `name`, reads and lowers it.
 /// Never panics; every problem is a diagnostic.
 pub fn parse(sources: &mut Sources, name: &str, bytes: &[u8]) -> Parsed {
+    parse_input(sources, name, Cow::Borrowed(bytes))
+}
+
+/// [`parse`] for bytes the caller no longer needs (a file just read): UTF-8 and ASCII files
+/// become the source text in place instead of being copied, so that the file is held in memory
+/// once rather than twice while it is read.
+pub fn parse_vec(sources: &mut Sources, name: &str, bytes: Vec<u8>) -> Parsed {
+    parse_input(sources, name, Cow::Owned(bytes))
+}
+
+fn parse_input(sources: &mut Sources, name: &str, bytes: Cow<'_, [u8]>) -> Parsed {
     if bytes.len() > MAX_FILE_SIZE {
         let file = sources.add(name, String::new());
         let d = Diagnostic::error(
@@ -302,6 +315,8 @@ mod tests {
         let mut s = Sources::new();
         for input in [&b""[..], b"\xFF\xFE", b"<", b"<EtherCATInfo>", b"\x00\x01\x02", b"<a/>"] {
             let p = parse(&mut s, "x.xml", input);
+            assert!(p.devices.is_empty());
+            let p = parse_vec(&mut s, "x.xml", input.to_vec());
             assert!(p.devices.is_empty());
         }
     }

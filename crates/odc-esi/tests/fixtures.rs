@@ -11,6 +11,10 @@ fn fixtures() {
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
         let mut sources = Sources::new();
         let parsed = odc_esi::parse(&mut sources, &name, &bytes);
+        // Bytes by value (decoded in place) give the same result.
+        let by_value = odc_esi::parse_vec(&mut Sources::new(), &name, bytes.clone());
+        assert_eq!(by_value.devices, parsed.devices, "{name}");
+        assert_eq!(by_value.diagnostics, parsed.diagnostics, "{name}");
         if name.starts_with("invalid_") {
             assert!(parsed.diagnostics.iter().any(|d| d.is_error()), "{name}: no error");
             let short = diag::render_short(&sources, &parsed.diagnostics);
