@@ -13,11 +13,11 @@
 //!
 //! The manual gives the layout of RxPDO 1/2 and TxPDO 1 (Control Word, MC Header, MC
 //! parameter bytes; Status Word, State Var, Actual Position) but no objects for these built-in
-//! items, so the device file cannot map them and the generated code has no struct for them:
-//! this program lays them out itself ([`rxpdo1`], [`TxPdo1`]). Nor does it give the bits of
-//! Status Word and State Var (they are in LinMot's motion control software manual): the
-//! simulated drive echoes the control word it runs in Status Word, leaves State Var 0, and
-//! reports Actual Position in the motion command's unit (0.1 mm).
+//! items, so the device file cannot map them; the overlay beside it declares them
+//! (`[[process-data]]`) and the generated module `process` has their structs. The manual does
+//! not give the bits of Status Word and State Var (they are in LinMot's motion control software
+//! manual): the simulated drive echoes the control word it runs in Status Word, leaves State
+//! Var 0, and reports Actual Position in the motion command's unit (0.1 mm).
 
 use std::thread;
 use std::time::Duration;
@@ -35,6 +35,7 @@ use odc_examples::{Error, pdo};
 mod linmot_e1200 {
     odc::include_od!("linmot_e1200");
 }
+use linmot_e1200::process::{RxPdo1, RxPdo2, TxPdo1};
 use linmot_e1200::{od, slave, upid};
 
 /// The node id parameter's default (manual 4.3: 63).
@@ -42,40 +43,6 @@ const NODE: u8 = 63;
 
 /// The motion command "VAI 16Bit Go To Pos" (090xh; x is the count nibble).
 const VAI_GO_TO_POS: u16 = 0x0900;
-
-/// RxPDO 1 (manual 5.1): Control Word, Motion Command Header, MC parameter bytes 0..3.
-fn rxpdo1(control_word: u16, header: u16, par: [u8; 4]) -> [u8; 8] {
-    let (c, h) = (control_word.to_le_bytes(), header.to_le_bytes());
-    [c[0], c[1], h[0], h[1], par[0], par[1], par[2], par[3]]
-}
-
-/// TxPDO 1 (manual 5.1): Status Word, State Var, Actual Position.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct TxPdo1 {
-    status_word: u16,
-    state_var: u16,
-    actual_position: i32,
-}
-
-impl TxPdo1 {
-    fn pack(&self) -> [u8; 8] {
-        let (s, v, p) = (
-            self.status_word.to_le_bytes(),
-            self.state_var.to_le_bytes(),
-            self.actual_position.to_le_bytes(),
-        );
-        [s[0], s[1], v[0], v[1], p[0], p[1], p[2], p[3]]
-    }
-
-    fn unpack(b: &[u8]) -> Option<Self> {
-        let b: &[u8; 8] = b.try_into().ok()?;
-        Some(TxPdo1 {
-            status_word: u16::from_le_bytes([b[0], b[1]]),
-            state_var: u16::from_le_bytes([b[2], b[3]]),
-            actual_position: i32::from_le_bytes([b[4], b[5], b[6], b[7]]),
-        })
-    }
-}
 
 /// TxPDO 4 as the PLC maps it after 9.1.3: the placeholders 4F08h sub 7, 8 (2 bytes) and 9
 /// (4 bytes), typed as the UPIDs behind them.
@@ -94,8 +61,8 @@ struct LinMot {
     od: slave::Dictionary,
     server: Server<64>,
     nmt: NmtState,
-    rx1: [u8; 8],
-    rx2: [u8; 8],
+    rx1: RxPdo1,
+    rx2: RxPdo2,
     control_word: u16,
     count: u16,
     position: i32,
@@ -114,8 +81,8 @@ impl LinMot {
             od,
             server: Server::new(NODE),
             nmt: NmtState::PreOperational,
-            rx1: [0; 8],
-            rx2: [0; 8],
+            rx1: RxPdo1::default(),
+            rx2: RxPdo2::default(),
             control_word: 0,
             count: 0,
             position: 0,
@@ -140,7 +107,6 @@ impl LinMot {
     }
 
     fn handle(&mut self, frame: &CanFrame) -> Vec<CanFrame> {
-        let node = u32::from(NODE);
         match frame.id {
             0x000 => {
                 if let [cs, n] = *frame.bytes()
@@ -158,12 +124,12 @@ impl LinMot {
                 answer.into_iter().collect()
             }
             // RPDOs of the default mapping (transmission type 1): taken at the next SYNC.
-            id if id == 0x200 + node => {
-                self.rx1.copy_from_slice(&frame.data);
+            id if id == RxPdo1::cob_id(NODE) => {
+                self.rx1 = RxPdo1::unpack(frame.bytes()).unwrap_or(self.rx1);
                 Vec::new()
             }
-            id if id == 0x300 + node => {
-                self.rx2.copy_from_slice(&frame.data);
+            id if id == RxPdo2::cob_id(NODE) => {
+                self.rx2 = RxPdo2::unpack(frame.bytes()).unwrap_or(self.rx2);
                 Vec::new()
             }
             _ => Vec::new(),
@@ -194,29 +160,30 @@ impl LinMot {
     /// One SYNC: take the RPDOs, run the control word and a new motion command, move, and
     /// send the TPDOs.
     fn sync(&mut self) -> Vec<CanFrame> {
-        let word = |b: &[u8; 8], i: usize| u16::from_le_bytes([b[i], b[i + 1]]);
-        let control_word = word(&self.rx1, 0);
+        let control_word = self.rx1.control_word;
         if control_word != self.control_word && control_word & 0x0800 != 0 {
             // Homing (7.1: Control Word 083Fh): this simulation's axis is homed at once.
             self.position = 0;
             self.target = 0;
         }
         self.control_word = control_word;
-        let header = word(&self.rx1, 2);
-        // A command runs when its count nibble changes (5.1).
+        let header = self.rx1.mc_header;
+        // A command runs when its count nibble changes (5.1). VAI 16Bit Go To Pos: parameter
+        // bytes 0..1 the position (0.1 mm), 2..3 the maximal velocity (mm/s), 4..7
+        // acceleration and deceleration (not simulated).
         if header & 0xF != self.count && header & 0xFFF0 == VAI_GO_TO_POS {
             self.count = header & 0xF;
-            self.target = i32::from(word(&self.rx1, 4) as i16);
-            // Maximal velocity in mm/s; per 10 ms SYNC period in 0.1 mm.
-            self.speed = i32::from(word(&self.rx1, 6)) / 10;
+            let [p0, p1, v0, v1] = self.rx1.mc_par_bytes_0_3.to_le_bytes();
+            self.target = i32::from(i16::from_le_bytes([p0, p1]));
+            // Per 10 ms SYNC period, in 0.1 mm.
+            self.speed = i32::from(u16::from_le_bytes([v0, v1])) / 10;
         }
         let step = (self.target - self.position).clamp(-self.speed.max(1), self.speed.max(1));
         self.position += step;
         let mut out = Vec::new();
         let tx1 =
             TxPdo1 { status_word: self.control_word, state_var: 0, actual_position: self.position };
-        let node = u32::from(NODE);
-        out.extend(CanFrame::from_slice(0x180 + node, &tx1.pack()));
+        out.extend(CanFrame::from_slice(TxPdo1::cob_id(NODE), &tx1.pack()));
         if let Some(id) = pdo::cob_id(&self.od, 0x1803)
             && let Ok(entries) = pdo::mapping(&self.od, 0x1A03)
         {
@@ -276,28 +243,32 @@ pub fn main() -> Result<(), Error> {
     m.step("NMT start; the control word sequence of manual 7.1");
     m.nmt(NmtCommand::Start)?;
     let tx1 = |f: CanFrame| TxPdo1::unpack(f.bytes()).ok_or("TxPDO 1 has 8 bytes");
-    m.step("homing: Control Word 083Fh");
-    send(&mut m, 0x200 + node, &rxpdo1(0x083F, 0, [0; 4]))?;
-    m.sync()?;
-    let s = tx1(m.expect(0x180 + node)?)?;
-    let _ = m.tpdo::<TxPdo4>(0x480 + node)?;
-    println!("   status word {:04X}h, actual position {}", s.status_word, s.actual_position);
-    m.step("enter operational state: Control Word 003Fh");
-    send(&mut m, 0x200 + node, &rxpdo1(0x003F, 0, [0; 4]))?;
-    m.sync()?;
-    let _ = tx1(m.expect(0x180 + node)?)?;
-    let _ = m.tpdo::<TxPdo4>(0x480 + node)?;
+    for (control_word, what) in [(0x083F, "homing"), (0x003F, "enter operational state")] {
+        m.step(&format!("{what}: Control Word {control_word:04X}h"));
+        send(&mut m, RxPdo1::cob_id(NODE), &RxPdo1 { control_word, ..RxPdo1::default() }.pack())?;
+        m.sync()?;
+        let s = tx1(m.expect(TxPdo1::cob_id(NODE))?)?;
+        let _ = m.tpdo::<TxPdo4>(0x480 + node)?;
+        println!("   status word {:04X}h, actual position {}", s.status_word, s.actual_position);
+    }
     m.step("VAI 16Bit Go To Pos (0901h): 50 mm at 1 m/s, 10 m/s² up and down");
-    let (position, velocity, acceleration, deceleration) = (500i16, 1000u16, 100u16, 100u16);
-    let (p, v) = (position.to_le_bytes(), velocity.to_le_bytes());
-    let (a, d) = (acceleration.to_le_bytes(), deceleration.to_le_bytes());
-    send(&mut m, 0x200 + node, &rxpdo1(0x003F, VAI_GO_TO_POS | 1, [p[0], p[1], v[0], v[1]]))?;
-    send(&mut m, 0x300 + node, &[a[0], a[1], d[0], d[1], 0, 0, 0, 0])?;
+    let (position, velocity, acceleration, deceleration) = (500u16, 1000u16, 100u16, 100u16);
+    let command = RxPdo1 {
+        control_word: 0x003F,
+        mc_header: VAI_GO_TO_POS | 1,
+        mc_par_bytes_0_3: u32::from(position) | u32::from(velocity) << 16,
+    };
+    let ramps = RxPdo2 {
+        mc_par_bytes_4_7: u32::from(acceleration) | u32::from(deceleration) << 16,
+        mc_par_bytes_8_11: 0,
+    };
+    send(&mut m, RxPdo1::cob_id(NODE), &command.pack())?;
+    send(&mut m, RxPdo2::cob_id(NODE), &ramps.pack())?;
     let mut syncs = 0;
     loop {
         m.sync()?;
         syncs += 1;
-        let s = tx1(m.expect(0x180 + node)?)?;
+        let s = tx1(m.expect(TxPdo1::cob_id(NODE))?)?;
         let t4 = m.tpdo::<TxPdo4>(0x480 + node)?;
         println!(
             "   actual position {} (0.1 mm), analog voltage {}, diff {}",

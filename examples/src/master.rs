@@ -15,7 +15,7 @@ use crate::Error;
 use crate::bus::{Closed, Port, describe};
 
 /// How long the master waits for an answer before it gives up.
-pub const TIMEOUT: Duration = Duration::from_secs(2);
+pub const TIMEOUT: Duration = Duration::from_secs(10);
 
 /// The master's end of the bus, as odc's SDO client sees it: frames that are not SDO
 /// responses are kept for the PDO side.

@@ -267,7 +267,7 @@ impl Config {
                 runtime_path: self.runtime_path.clone(),
                 source_name: file_name,
                 source_sha256: sha256_hex(&bytes),
-                schemes: overlay.map(|o| o.codegen.scheme).unwrap_or_default(),
+                overlay: overlay.map(|o| o.codegen).unwrap_or_default(),
             };
             let code =
                 odc_codegen::generate(&device, &opts).map_err(|diags| Error::Diagnostics {
@@ -332,12 +332,12 @@ pub fn overlay_path(file: &Path) -> Option<PathBuf> {
     overlay_candidates(file).into_iter().find(|p| p.is_file())
 }
 
-/// A device's overlay, read: the checker's settings and the code generator's schemes.
+/// A device's overlay, read: the checker's settings and what the code generator adds.
 #[derive(Clone, Debug)]
 pub struct Overlay {
     /// Levels, strictness and per-object allowances.
     pub check: odc_check::Config,
-    /// Vendor parameter schemes.
+    /// Vendor parameter schemes and process-data layouts.
     pub codegen: odc_codegen::Overlay,
 }
 

@@ -53,12 +53,11 @@ pub fn config_for(explicit: Option<&Path>, file: &Path) -> anyhow::Result<odc_ch
         .with_context(|| format!("invalid configuration in {}", path.display()))
 }
 
-/// The vendor parameter schemes of a device file: the `[[scheme]]` tables of its overlay
-/// (found as for [`config_for`]), none without one.
-pub fn schemes_for(file: &Path) -> anyhow::Result<Vec<odc_build::odc_codegen::Scheme>> {
-    let Some(path) = odc_build::overlay_path(file) else { return Ok(Vec::new()) };
-    let overlay = odc_build::read_overlay(&path)?;
-    Ok(overlay.codegen.scheme)
+/// What the overlay of a device file (found as for [`config_for`]) adds to its generated code:
+/// vendor parameter schemes and process-data layouts; nothing without one.
+pub fn codegen_overlay_for(file: &Path) -> anyhow::Result<odc_build::odc_codegen::Overlay> {
+    let Some(path) = odc_build::overlay_path(file) else { return Ok(Default::default()) };
+    Ok(odc_build::read_overlay(&path)?.codegen)
 }
 
 /// Writes `contents` to `path` atomically: into a temporary file beside it, then renamed over

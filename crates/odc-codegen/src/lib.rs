@@ -12,8 +12,11 @@
 //! - `cia402`: the modes of operation the device supports, when it declares the profile;
 //! - `slave` (role slave): a heap-free object dictionary with typed storage and SDO checks;
 //! - `master` (role master): the SDO writes that configure the default PDO mapping;
-//! - one module per vendor parameter scheme of [`Options::schemes`] (see [`Scheme`]): the
-//!   maker's parameter numbers (`lenze::code(11)`, `lenze::C00011`) mapped to typed entries.
+//! - one module per vendor parameter scheme of the overlay (see [`Scheme`]): the maker's
+//!   parameter numbers (`lenze::code(11)`, `lenze::C00011`) mapped to typed entries;
+//! - `process`, when the overlay declares PDO layouts the file cannot map (see
+//!   [`ProcessData`]).
+
 //!
 //! The output is deterministic, starts with an `@generated` line naming the input file and its
 //! hash, and names the runtime by absolute paths (`::odc::…` by default).
@@ -23,12 +26,14 @@ mod master;
 mod names;
 mod od;
 mod pdo;
+mod process;
 mod scheme;
 mod slave;
 mod types;
 
 use odc_model::{Device, Diagnostic, RuleInfo, Severity};
 use proc_macro2::TokenStream;
+pub use process::{ProcessData, ProcessField};
 use quote::quote;
 pub use scheme::{Arg, Element, Overlay, Scheme, Selector, SelectorValue};
 
@@ -64,8 +69,9 @@ pub struct Options {
     pub source_name: String,
     /// The SHA-256 of the input file's bytes, in lower-case hex.
     pub source_sha256: String,
-    /// Vendor parameter schemes (from the overlay beside the device file), one module each.
-    pub schemes: Vec<Scheme>,
+    /// What the overlay beside the device file adds: vendor parameter schemes (one module
+    /// each) and process data the file cannot map (module `process`).
+    pub overlay: Overlay,
 }
 
 impl Default for Options {
@@ -75,7 +81,7 @@ impl Default for Options {
             runtime_path: "::odc".to_string(),
             source_name: String::new(),
             source_sha256: String::new(),
-            schemes: Vec::new(),
+            overlay: Overlay::default(),
         }
     }
 }
@@ -123,6 +129,17 @@ pub static RULES: &[RuleInfo] = &[
                       within 0..=0xFF), and module, function, argument and alias names must be \
                       distinct Rust identifiers. The message says which condition failed.",
     },
+    RuleInfo {
+        code: "G605",
+        name: "invalid-process-data",
+        group: "codegen",
+        default: Severity::Error,
+        summary: "a process-data layout of the device's overlay cannot be generated",
+        explanation: "A `[[process-data]]` of the `<stem>.odc.toml` beside the device file lays \
+                      out PDO content the file cannot map. Its name and field names must be Rust \
+                      identifiers, field types one of u8, u16, u32, i8, i16, i32, the fields \
+                      8 to 64 bits in all, and `cob-id` a CAN-ID base up to 0x780.",
+    },
 ];
 
 /// Shared state of one generation run.
@@ -155,11 +172,12 @@ pub fn generate(device: &Device, opts: &Options) -> Result<String, Vec<Diagnosti
     let cia402 = cia402::generate(&ctx);
     let slave = if opts.role.slave() { slave::generate(&ctx) } else { TokenStream::new() };
     let master = if opts.role.master() { master::generate(&ctx) } else { TokenStream::new() };
-    let schemes = scheme::generate(&ctx, &opts.schemes, &mut errors);
+    let schemes = scheme::generate(&ctx, &opts.overlay.scheme, &mut errors);
+    let process = process::generate(&ctx, &opts.overlay.process_data, &mut errors);
     if !errors.is_empty() {
         return Err(errors);
     }
-    let tokens = quote! { #od #pdo #cia402 #slave #master #schemes };
+    let tokens = quote! { #od #pdo #cia402 #slave #master #schemes #process };
     let file: syn::File = syn::parse2(tokens).map_err(|e| {
         vec![Diagnostic::error("G601", format!("generated code does not parse: {e}"))]
     })?;

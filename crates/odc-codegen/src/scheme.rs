@@ -51,10 +51,15 @@ use crate::{Ctx, doc};
 /// The part of a device's overlay file (`<stem>.odc.toml`) that code generation reads; the
 /// checker's keys (`strict`, `[rules]`, `[allow-object]`) in the same file are ignored here.
 #[derive(Clone, Debug, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "kebab-case")]
 pub struct Overlay {
     /// The vendor parameter schemes, one generated module each.
     #[serde(default)]
     pub scheme: Vec<Scheme>,
+    /// PDO layouts the device file cannot map (`[[process-data]]`, see
+    /// [`ProcessData`](crate::ProcessData)), in a generated module `process`.
+    #[serde(default)]
+    pub process_data: Vec<crate::ProcessData>,
 }
 
 impl Overlay {

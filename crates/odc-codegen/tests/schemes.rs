@@ -8,7 +8,7 @@ use odc_codegen::{Options, Overlay, generate};
 
 fn with_schemes(toml: &str) -> Options {
     let overlay = Overlay::from_toml(toml).expect("overlay parses");
-    Options { source_name: "mini-drive.eds".into(), schemes: overlay.scheme, ..Options::default() }
+    Options { source_name: "mini-drive.eds".into(), overlay, ..Options::default() }
 }
 
 /// The text of `pub mod <name> { ... }` in generated code.
@@ -76,4 +76,42 @@ fn bad_schemes_are_g604_errors() {
     let errors = generate(&common::drive(), &with_schemes(&format!("{twice}{twice}")))
         .expect_err("two modules of one name");
     assert!(errors[0].message.contains("two schemes"), "{}", errors[0].message);
+}
+
+#[test]
+fn process_data_module() {
+    let opts = with_schemes(
+        r#"
+        [[process-data]]
+        name = "RxPdo1"
+        cob-id = "0x200"
+        doc = "RxPDO 1 as the manual lays it out."
+        fields = [
+            { name = "control_word", type = "u16", doc = "Control Word." },
+            { name = "offset", type = "i8" },
+            { name = "position", type = "i32" },
+        ]
+        "#,
+    );
+    let code = generate(&common::drive(), &opts).expect("generates");
+    insta::assert_snapshot!(module(&code, "process"));
+}
+
+#[test]
+fn bad_process_data_is_g605() {
+    let cases = [
+        ("{ name = \"a\", type = \"f32\" }", "not u8..i32"),
+        ("{ name = \"a b\", type = \"u8\" }", "not a Rust identifier"),
+        (
+            "{ name = \"a\", type = \"u32\" }, { name = \"b\", type = \"u32\" }, { name = \"c\", type = \"u8\" }",
+            "72 bits",
+        ),
+    ];
+    for (fields, expected) in cases {
+        let toml =
+            format!("[[process-data]]\nname = \"P\"\ncob-id = \"0x180\"\nfields = [{fields}]\n");
+        let errors = generate(&common::drive(), &with_schemes(&toml)).expect_err(fields);
+        assert_eq!(errors[0].code, "G605");
+        assert!(errors[0].message.contains(expected), "{fields}: {}", errors[0].message);
+    }
 }

@@ -161,7 +161,7 @@ fn generate(name: &str, path: &Path, bytes: &[u8], args: &Args) -> Result<String
         runtime_path: "::odc".to_string(),
         source_name: file_name,
         source_sha256: odc_build::sha256_hex(bytes),
-        schemes: overlay.map(|o| o.codegen.scheme).unwrap_or_default(),
+        overlay: overlay.map(|o| o.codegen).unwrap_or_default(),
     };
     odc_codegen::generate(&device, &opts).map_err(|d| diag::render_human(&sources, &d, false))
 }

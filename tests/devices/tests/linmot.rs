@@ -2,19 +2,18 @@
 //! manual.txt`), rebuilt from the code generated from `eds/linmot-e1200.eds` (and its UPID
 //! scheme) and the odc runtime.
 //!
-//! Count (12 frames or frame templates printed with bytes, 4 of them the motion command
-//! frames of 7.1): 8 reproduced from generated code, 4 not.
+//! Count (12 frames or frame templates printed with bytes): 12 reproduced.
 //! - 6.2.1 UPID commands (8 request templates, `yy yy` = 2000h + UPID, `xx` the value): built
 //!   with odc's client on the scheme's aliases for UPID 1B91h (SInt32) and compared with the
 //!   template's fixed bytes: reproduced. For a 16-bit UPID the template's write command 23h
 //!   ("size depends on the UPID") differs from odc's 2Bh (2 bytes, size indicated, CiA 301);
 //!   the 32-bit UPID is where both agree. The device answers with 42h (no size); odc's server
 //!   indicates the size, and odc's client accepts 42h answers (checked below).
-//! - 7.1 homing and motion command (4 RxPDO frames): not reproduced from generated code. The
-//!   manual gives the content of RxPDO 1/2 (Control Word, MC Header, MC parameter bytes) but no
-//!   object for these built-in items (the file's [Comments] Line5), so the file maps nothing
-//!   and the generated `pdo` module is empty. The test spells out the manual's layout in its
-//!   own code to show what the frames carry; that is the test's code, not generated code.
+//! - 7.1 homing and motion command (4 RxPDO frames): reproduced with the generated `process`
+//!   structs. The manual gives the content of RxPDO 1/2 (Control Word, MC Header, MC parameter
+//!   bytes) but no object for these built-in items (the file's [Comments] Line5), so the file
+//!   maps nothing and the `pdo` module is empty; the layout is declared as `[[process-data]]`
+//!   in the overlay beside the file, from manual 5.1, and generated from there.
 //! - 9.1.3 UPIDs in TxPDO 4: values, no frames. The UPID writes to 4F08h sub 1–3 go through
 //!   the generated descriptors; the device's mapping entries `4F080110h` (printed garbled as
 //!   "ARUSITEn"), `4F080210h`, `4F080320h` are rebuilt from the UPID objects' data types,
@@ -27,7 +26,7 @@ use odc::can::CanFrame;
 use odc::sdo::Client;
 use odc::sdo::frame::{Init, Response};
 use odc::{MappingEntry, ObjectAddr};
-use odc_tests_devices::linmot_e1200::{od, slave, upid};
+use odc_tests_devices::linmot_e1200::{self, od, slave, upid};
 
 const NODE: u8 = 1;
 
@@ -123,29 +122,32 @@ fn upids_in_txpdo4() {
 }
 
 /// 7.1: homing, "Enter Operational State", and the motion command "VAI 16Bit Go To Pos"
-/// (090xh), with the default PDO mapping. The layout is the manual's (5.1: RxPDO 1 = Control
-/// Word 16 + MC Header 16 + MC Par Bytes 0..3; RxPDO 2 = MC Par Bytes 4..7 + 8..11), written
-/// out here because the file cannot map it (see the file's documentation).
+/// (090xh), with the default PDO mapping: RxPDO 1 and 2 as the overlay declares them (manual
+/// 5.1), node 1.
 #[test]
-fn motion_command_interface_layout() {
-    fn rxpdo1(control_word: u16, header: u16, par: [u8; 4]) -> [u8; 8] {
-        let (c, h) = (control_word.to_le_bytes(), header.to_le_bytes());
-        [c[0], c[1], h[0], h[1], par[0], par[1], par[2], par[3]]
+fn motion_command_interface() {
+    use linmot_e1200::process::{RxPdo1, RxPdo2};
+    let mut b = bench();
+    // 1) Homing, 2) Enter Operational State.
+    for control_word in [0x083F, 0x003F] {
+        b.frame(RxPdo1::cob_id(NODE), &RxPdo1 { control_word, ..RxPdo1::default() }.pack());
     }
-    // VAI 16Bit Go To Pos, count nibble 1: position 50 mm (0.1 mm), velocity 1 m/s (mm/s),
-    // acceleration and deceleration 10 m/s² (0.1 m/s²).
+    // 3) VAI 16Bit Go To Pos, count nibble 1: position 50 mm (0.1 mm/LSB), maximal velocity
+    // 1 m/s (mm/s), acceleration and deceleration 10 m/s² (0.1 m/s²): parameter bytes 0..7.
     let (position, velocity, acceleration, deceleration) = (500u16, 1000u16, 100u16, 100u16);
-    let header = 0x0900 | 1;
-    let (p, v) = (position.to_le_bytes(), velocity.to_le_bytes());
-    let (a, d) = (acceleration.to_le_bytes(), deceleration.to_le_bytes());
-    let frames = [
-        CanFrame::new(0x201, rxpdo1(0x083F, 0, [0; 4])),
-        CanFrame::new(0x201, rxpdo1(0x003F, 0, [0; 4])),
-        CanFrame::new(0x201, rxpdo1(0x003F, header, [p[0], p[1], v[0], v[1]])),
-        CanFrame::new(0x301, [a[0], a[1], d[0], d[1], 0, 0, 0, 0]),
-    ];
+    let command = RxPdo1 {
+        control_word: 0x003F,
+        mc_header: 0x0900 | 1,
+        mc_par_bytes_0_3: u32::from(position) | u32::from(velocity) << 16,
+    };
+    b.frame(RxPdo1::cob_id(NODE), &command.pack());
+    let rest = RxPdo2 {
+        mc_par_bytes_4_7: u32::from(acceleration) | u32::from(deceleration) << 16,
+        mc_par_bytes_8_11: 0,
+    };
+    b.frame(RxPdo2::cob_id(NODE), &rest.pack());
     assert_same(
-        &frames,
+        &b.wire.log,
         &[
             printed("201 / 3F 08 00 00 00 00 00 00"),
             printed("201 / 3F 00 00 00 00 00 00 00"),
@@ -153,6 +155,11 @@ fn motion_command_interface_layout() {
             printed("301 / 64 00 64 00 00 00 00 00"),
         ],
     );
-    // What the generated code has for these PDOs: nothing to map.
-    assert!(odc_tests_devices::linmot_e1200::master::plan(NODE).is_empty());
+    assert_eq!(RxPdo1::unpack(&command.pack()), Some(command));
+    // TxPDO 1 (Status Word, State Var, Actual Position) the other way, a negative position.
+    use linmot_e1200::process::TxPdo1;
+    let status = TxPdo1 { status_word: 0x0C37, state_var: 0x0800, actual_position: -500 };
+    assert_eq!(status.pack(), [0x37, 0x0C, 0x00, 0x08, 0x0C, 0xFE, 0xFF, 0xFF]);
+    assert_eq!(TxPdo1::unpack(&status.pack()), Some(status));
+    assert_eq!(TxPdo1::unpack(&[0; 7]), None);
 }

@@ -56,7 +56,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             .map(|n| n.to_string_lossy().into_owned())
             .unwrap_or_default(),
         source_sha256: odc_build::sha256_hex(&bytes),
-        schemes: input::schemes_for(&args.file)?,
+        overlay: input::codegen_overlay_for(&args.file)?,
     };
     let code = match odc_codegen::generate(device, &opts) {
         Ok(code) => code,
