@@ -559,7 +559,7 @@ fn lower_device(d: Element<'_>, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Devic
             objects.extend(objs);
         }
     }
-    ec.object_flags = flags.into_values().collect();
+    ec.object_flags = flags_by_key(flags);
 
     for f in d.children_named("Fmmu") {
         ec.fmmus.push(Fmmu {
@@ -807,8 +807,22 @@ fn pdo_mapping_of(text: &str, span: Span, ctx: &mut Ctx<'_>) -> PdoMapping {
     }
 }
 
-/// The ESI-only flags of a device's sub-objects: the last one given for a sub-object wins.
-type FlagsOut = BTreeMap<(u16, u8), ObjectFlags>;
+/// The ESI-only flags of a device's sub-objects in the order given; see [`flags_by_key`].
+type FlagsOut = Vec<ObjectFlags>;
+
+/// The flags sorted by index and sub-index, the last one given for a sub-object winning.
+fn flags_by_key(mut flags: FlagsOut) -> Vec<ObjectFlags> {
+    // Stable: of equal keys, the last given stays last.
+    flags.sort_by_key(|f| (f.index, f.sub));
+    let mut out: Vec<ObjectFlags> = Vec::with_capacity(flags.len());
+    for f in flags {
+        match out.last_mut() {
+            Some(last) if (last.index, last.sub) == (f.index, f.sub) => *last = f,
+            _ => out.push(f),
+        }
+    }
+    out
+}
 
 /// Applies a `Flags` element to a sub-object; records the ESI-only flags.
 fn apply_flags(
@@ -832,7 +846,7 @@ fn apply_flags(
     f.backup = flags.child("Backup").and_then(|b| ctx.el_bool(b));
     f.setting = flags.child("Setting").and_then(|b| ctx.el_bool(b));
     if f != (ObjectFlags { index, sub: sub.sub_index, ..ObjectFlags::default() }) {
-        out.insert((index, f.sub), f);
+        out.push(f);
     }
 }
 
@@ -1061,15 +1075,19 @@ fn apply_sub_infos(info: Element<'_>, object: &mut Object, ctx: &mut Ctx<'_>) {
     // Where each SubItem goes, found first (the lookups borrow the sub-objects' names): by name
     // (the first sub-object of that name), else by position.
     let targets: Vec<(Element<'_>, &str, Option<u8>, Option<u8>)> = {
-        let mut first_named: HashMap<&str, u8> = HashMap::with_capacity(object.subs.len());
-        for (k, s) in object.subs.iter().rev() {
-            first_named.insert(s.name.as_str(), *k);
-        }
+        // Large objects (arrays of up to 255 elements) get a map; a scan is quicker for few.
+        let first_named: Option<HashMap<&str, u8>> = (object.subs.len() > 16)
+            .then(|| object.subs.iter().rev().map(|(k, s)| (s.name.as_str(), *k)).collect());
+        let subs = &object.subs;
+        let by_name = |name: &str| match &first_named {
+            Some(m) => m.get(name).copied(),
+            None => subs.iter().find(|(_, s)| s.name == name).map(|(k, _)| *k),
+        };
         let mut keys = object.subs.keys();
         info.children_named("SubItem")
             .map(|si| {
                 let name = si.child("Name").map(|n| n.text()).unwrap_or("");
-                (si, name, first_named.get(name).copied(), keys.next().copied())
+                (si, name, by_name(name), keys.next().copied())
             })
             .collect()
     };

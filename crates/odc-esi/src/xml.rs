@@ -187,7 +187,13 @@ impl<'d> Element<'d> {
     /// Whether the element is called `name` (lengths compared first: most are not).
     pub fn is(self, name: &str) -> bool {
         let n = self.node().name;
-        (n.len == name.len() as u32 || n.len == OWNED) && self.doc.str(n) == name
+        if n.len == OWNED {
+            return self.doc.str(n) == name;
+        }
+        // Bytes rather than `str` slicing: no char-boundary checks on this hot path.
+        n.len == name.len() as u32
+            && self.doc.src.as_bytes().get(n.at as usize..(n.at + n.len) as usize)
+                == Some(name.as_bytes())
     }
 
     pub fn child(self, name: &str) -> Option<Element<'d>> {
@@ -216,6 +222,31 @@ impl<'d> Element<'d> {
     pub fn attr(self, name: &str) -> Option<Attr<'d>> {
         self.attrs().find(|a| a.name == name)
     }
+}
+
+/// Whether `s` is only XML white space (space, tab, line feed, carriage return), eight bytes at
+/// a time: runs of indentation between tags are a good part of every file.
+fn xml_blank(s: &[u8]) -> bool {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    const LOW7: u64 = 0x7F7F_7F7F_7F7F_7F7F;
+    /// 0x80 in each byte of `x` that is zero, exactly (no borrow between bytes).
+    fn zero_bytes(x: u64) -> u64 {
+        !(((x & LOW7) + LOW7) | x | LOW7)
+    }
+    let mut chunks = s.chunks_exact(8);
+    for c in &mut chunks {
+        let mut w = [0u8; 8];
+        w.copy_from_slice(c);
+        let x = u64::from_le_bytes(w);
+        let ws = zero_bytes(x ^ (ONES * 0x20))
+            | zero_bytes(x ^ (ONES * 0x09))
+            | zero_bytes(x ^ (ONES * 0x0A))
+            | zero_bytes(x ^ (ONES * 0x0D));
+        if ws != ONES * 0x80 {
+            return false;
+        }
+    }
+    chunks.remainder().iter().all(|c| matches!(c, b' ' | b'\t' | b'\n' | b'\r'))
 }
 
 fn local(name: &str) -> &str {
@@ -527,8 +558,7 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
             Ok(Event::Text(t)) => {
                 // Blank runs between tags (most text events) are dropped unless they continue a
                 // text: no line-end normalisation for them.
-                let blank = t.bytes().all(|c| matches!(c, b' ' | b'\t' | b'\n' | b'\r'))
-                    || t.trim().is_empty();
+                let blank = xml_blank(t.as_bytes()) || t.trim().is_empty();
                 if blank && b.stack.last().is_none_or(|top| top.text.is_empty()) {
                     continue;
                 }
@@ -623,6 +653,29 @@ mod tests {
         assert_eq!(b.text(), "hi & <c>");
         assert_eq!(&src[b.text_span().range()], "hi &amp; <![CDATA[<c>");
         assert!(a.child("e").is_some());
+    }
+
+    #[test]
+    fn blank_runs() {
+        for s in
+            ["", " ", "\r\n\t\t\t\t\t\t\t\t", "        \n", "\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t\t"]
+        {
+            assert!(xml_blank(s.as_bytes()), "{s:?}");
+        }
+        for s in
+            ["x", "\t\t\t\t\t\t\t\tx", "\t\t\t\t\t\t\tx\t", "\u{a0}", "\x0c", "\t\t\t\t\t\t\t\x00"]
+        {
+            assert!(!xml_blank(s.as_bytes()), "{s:?}");
+        }
+        // Every single byte value at every position of a word.
+        for b in 0..=255u8 {
+            for at in 0..9 {
+                let mut v = vec![b' '; 9];
+                v[at] = b;
+                let expected = matches!(b, b' ' | b'\t' | b'\n' | b'\r');
+                assert_eq!(xml_blank(&v), expected, "{b:#x} at {at}");
+            }
+        }
     }
 
     #[test]
