@@ -510,7 +510,7 @@ fn dcf() -> Dev {
             ..Default::default()
         });
         let template = odc_model::SubObject::new(1, "Channel", Unsigned8, Ro);
-        let mut m = odc_model::Module { number: 1, ..Default::default() };
+        let mut m = odc_model::Module { number: 1, has_info: true, ..Default::default() };
         m.sub_extends.insert(
             0x6000,
             odc_model::SubExtend {
@@ -537,6 +537,7 @@ fn dcf() -> Dev {
             },
         );
         d.modules.supported.push(m);
+        d.modules.nr_of_entries = Some(Spanned::synthetic(1));
         d.modules.connected.push(Spanned::synthetic(1));
         if let Some(o) = d.objects.get_mut(&0x1018) {
             o.links.push(Spanned::synthetic(0x1000));
@@ -554,6 +555,31 @@ fn dcf_passes_every_rule() {
         }
     });
     assert_eq!(run(lss), "");
+}
+
+trips!(
+    c509_supported_modules,
+    "C509",
+    dcf().with(|d| {
+        // NrOfEntries=3: module 2 has no sections at all, module 3 only [M3FixedObjects];
+        // module 4 lies beyond the count.
+        d.modules.nr_of_entries = Some(Spanned::synthetic(3));
+        d.modules.supported.push(odc_model::Module { number: 3, ..Default::default() });
+        d.modules.supported.push(odc_model::Module {
+            number: 4,
+            has_info: true,
+            ..Default::default()
+        });
+    })
+);
+
+#[test]
+fn c509_modules_without_supported_modules() {
+    let d = dcf().with(|d| d.modules.nr_of_entries = None);
+    assert_eq!(
+        run(d),
+        "error[C509]: the file describes 1 module(s) but has no [SupportedModules] NrOfEntries\n"
+    );
 }
 
 trips!(

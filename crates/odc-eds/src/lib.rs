@@ -64,8 +64,10 @@
 //!   to `Device.extra_sections` (also orphan sub-sections and malformed object section names),
 //!   and the writer writes them back. Keys that do not fit a fixed-pattern section
 //!   (`[DummyUsage]`, `[Comments]`, object lists) are kept as an extra section of that name.
-//! - Modular devices: `[SupportedModules]`' count is implied by the `[MxModuleInfo]` sections
-//!   present; each module collects its `[Mx...]` sections.
+//! - Modular devices: the modules are the `[MxModuleInfo]` sections present, each collecting
+//!   its `[Mx...]` sections; `[SupportedModules] NrOfEntries` is kept as written
+//!   (`Modules::nr_of_entries`, compared with the modules by odc-check C509) and the writer
+//!   writes the number of modules.
 //!
 //! # CompactPDO
 //!

@@ -661,7 +661,14 @@ impl<'r, 'a> Lower<'r, 'a> {
                 }
                 Kind::Commissioning => self.commissioning(i, &mut dev),
                 Kind::SupportedModules => {
-                    // NrOfEntries is implied by the [MxModuleInfo] sections.
+                    // The modules are the [MxModuleInfo] sections; NrOfEntries is kept for
+                    // odc-check to compare with them.
+                    let count = self
+                        .entries(i)
+                        .filter(|e| e.key.eq_ignore_ascii_case("NrOfEntries"))
+                        .last()
+                        .and_then(|e| self.uint(e, 0xFFFF).ok().flatten());
+                    dev.modules.nr_of_entries = count.map(|v| Spanned::new(v.value as u16, v.span));
                     self.list_section(i, "NrOfEntries", &mut extra);
                 }
                 Kind::ConnectedModules => {
@@ -1460,6 +1467,7 @@ impl<'r, 'a> Lower<'r, 'a> {
         let file = self.file;
         let mut m = Module { number, ..Default::default() };
         if let Some(i) = b.info {
+            m.has_info = true;
             m.span = self.span(self.sec(i).header_pos);
             for e in self.entries(i) {
                 let is = |n: &str| e.key.eq_ignore_ascii_case(n);

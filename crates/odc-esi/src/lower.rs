@@ -649,6 +649,7 @@ fn lower_device(d: Element<'_>, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Devic
             })
             .collect(),
         connected: Vec::new(),
+        nr_of_entries: None,
     };
 
     Device {

@@ -322,6 +322,11 @@ pub struct Modules {
     pub supported: Vec<Module>,
     /// DCF `[ConnectedModules]`: module numbers in slot order.
     pub connected: Vec<Spanned<u16>>,
+    /// `[SupportedModules] NrOfEntries` as written (the writer writes the number of modules),
+    /// kept so that a count that disagrees with the `[MxModuleInfo]` sections can be reported.
+    /// Left out of the serialised model when absent, as for most devices.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nr_of_entries: Option<Spanned<u16>>,
 }
 
 /// One module a modular device supports.
@@ -329,6 +334,9 @@ pub struct Modules {
 pub struct Module {
     /// The module number `x` of `[MxModuleInfo]`.
     pub number: u16,
+    /// Whether the file has the module's `[MxModuleInfo]` section: a module can also be implied
+    /// by its other `[Mx...]` sections alone, which CiA 306 §4.6 does not allow.
+    pub has_info: bool,
     /// `ProductName`.
     pub product_name: Option<Spanned<String>>,
     /// `ProductVersion`.

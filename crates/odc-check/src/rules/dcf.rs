@@ -1,4 +1,4 @@
-//! C501–C508: device configuration files and modular devices (CiA 306 §4.6, §4.7), and the
+//! C501–C509: device configuration files and modular devices (CiA 306 §4.6, §4.7), and the
 //! links between objects.
 
 use odc_model::{Device, Format, Label, Span};
@@ -340,5 +340,71 @@ fn object_link_missing(dev: &Device, ctx: &mut Ctx) {
                 });
             }
         }
+    }
+}
+
+rule!(
+    C509,
+    "C509",
+    "supported-modules",
+    "cia301",
+    Error,
+    Deny,
+    supported_modules,
+    "[SupportedModules] NrOfEntries disagrees with the [MxModuleInfo] sections",
+    "A modular device (CiA 306 §4.6) lists its modules in [SupportedModules]: NrOfEntries=N, \
+     and each module x in 1..=N is described by [MxModuleInfo] (name, version, order code), \
+     with its [MxFixedObjects] and [MxSubExtends]. A count without its module descriptions, \
+     a module section whose [MxModuleInfo] is missing, or a module numbered outside 1..=N \
+     leaves a tool unsure which modules exist: CANopenEditor and EdsDcfNet read N and then \
+     look for exactly those sections, and CANchkEDS reports the \"module description\" as \
+     inconsistent. Fix: set NrOfEntries to the number of modules and give every module x in \
+     1..=N its [MxModuleInfo]."
+);
+
+fn supported_modules(dev: &Device, ctx: &mut Ctx) {
+    if !crate::util::is_canopen(dev) {
+        return;
+    }
+    let modules = &dev.modules;
+    let Some(n) = modules.nr_of_entries.as_ref() else {
+        if let Some(m) = modules.supported.first() {
+            ctx.report_device(
+                m.span,
+                format!(
+                    "the file describes {} module(s) but has no [SupportedModules] NrOfEntries",
+                    modules.supported.len()
+                ),
+            );
+        }
+        return;
+    };
+    for k in 1..=n.value {
+        let m = modules.supported.iter().find(|m| m.number == k);
+        if !m.is_some_and(|m| m.has_info) {
+            let d = ctx.report_device(
+                n.span,
+                format!("NrOfEntries={} but [M{k}ModuleInfo] is missing", n.value),
+            );
+            if m.is_some() {
+                d.notes.push(format!("module {k} has other [M{k}...] sections"));
+            }
+        }
+    }
+    for m in modules.supported.iter().filter(|m| m.number == 0 || m.number > n.value) {
+        let what = if m.has_info {
+            format!("[M{}ModuleInfo]", m.number)
+        } else {
+            format!("[M{}...] sections", m.number)
+        };
+        ctx.report_device(
+            first_span([m.span, n.span]),
+            format!(
+                "module {} has {what} but NrOfEntries={} numbers the modules 1..={}",
+                m.number, n.value, n.value
+            ),
+        )
+        .labels
+        .push(Label { span: n.span, message: "NrOfEntries here".into(), primary: false });
     }
 }

@@ -86,6 +86,7 @@ pub(crate) const ALL: &[Rule] = &[
     dcf::C506,
     dcf::C507,
     dcf::C508,
+    dcf::C509,
     cia402::D501,
     cia402::D502,
     cia402::D503,
