@@ -640,6 +640,7 @@ fn lower_device(d: Element<'_>, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Devic
             .enumerate()
             .map(|(i, m)| Module {
                 number: (i + 1).min(usize::from(u16::MAX)) as u16,
+                has_info: true,
                 product_name: preferred(&m.names).map(|n| Spanned::new(n.text.clone(), n.span)),
                 order_code: (!m.type_name.is_empty())
                     .then(|| Spanned::new(m.type_name.clone(), m.span)),

@@ -334,8 +334,9 @@ pub struct Modules {
 pub struct Module {
     /// The module number `x` of `[MxModuleInfo]`.
     pub number: u16,
-    /// Whether the file has the module's `[MxModuleInfo]` section: a module can also be implied
-    /// by its other `[Mx...]` sections alone, which CiA 306 §4.6 does not allow.
+    /// Whether the file describes the module itself (EDS `[MxModuleInfo]`, ESI `<Module>`): in
+    /// an EDS a module can also be implied by its other `[Mx...]` sections alone, which
+    /// CiA 306 §4.6 does not allow.
     pub has_info: bool,
     /// `ProductName`.
     pub product_name: Option<Spanned<String>>,
