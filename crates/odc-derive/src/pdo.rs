@@ -22,7 +22,13 @@ struct Placed {
 
 /// Natural width of the primitive types the derive knows without asking `PdoValue`.
 fn primitive_bits(ty: &Type) -> Option<(u32, &'static str)> {
-    let Type::Path(p) = ty else { return None };
+    // A type passed through a `macro_rules!` `$t:ty` arrives wrapped in an invisible group.
+    let p = match ty {
+        Type::Path(p) => p,
+        Type::Group(g) => return primitive_bits(&g.elem),
+        Type::Paren(p) => return primitive_bits(&p.elem),
+        _ => return None,
+    };
     if p.qself.is_some() {
         return None;
     }
@@ -298,10 +304,11 @@ fn expand(input: &DeriveInput, krate: &Path, fields: &[Placed], total_bits: u32)
         });
         let needs_check = f.natural.is_none_or(|n| bits < n);
         if needs_check {
+            // Checked even when the type's natural width is the mapped one: a `#[pdo(other)]`
+            // variant of a `#[pdo(bits = 4)]` enum can hold any value of its repr (found by
+            // the `pdo_pack` fuzz target: `Other(173)` was packed as 13).
             raws.push(quote! {
-                if <#ty as #krate::PdoValue>::BITS > #bits_u32
-                    && !#krate::bits::fits(#raw, #bits_u32, <#ty as #krate::PdoValue>::SIGNED)
-                {
+                if !#krate::bits::fits(#raw, #bits_u32, <#ty as #krate::PdoValue>::SIGNED) {
                     return ::core::result::Result::Err(#krate::PackError::OutOfRange { field: #field_name });
                 }
             });

@@ -58,8 +58,9 @@
 //!   out and keeps the `CompactPDO` key.
 //! - **DCF**: `[DeviceComissioning]` (CiA 306 spelling) and `[DeviceCommissioning]` are both
 //!   read (merged if both appear); the writer uses the CiA 306 spelling. `Device.format` is
-//!   `Dcf` when the file has a commissioning section, a `ParameterValue`, a `[IIIIValue]`
-//!   section, or its name ends in `.dcf`; otherwise `Eds`.
+//!   `Dcf` when the file has a commissioning section, a `ParameterValue`, a `Denotation`, a
+//!   `[IIIIValue]` section, a `[ConnectedModules]` entry, or its name ends in `.dcf`;
+//!   otherwise `Eds`.
 //! - **Unknown keys and sections are preserved**: keys go to the `extra` of their node, sections
 //!   to `Device.extra_sections` (also orphan sub-sections and malformed object section names),
 //!   and the writer writes them back. Keys that do not fit a fixed-pattern section

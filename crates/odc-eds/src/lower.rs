@@ -760,12 +760,25 @@ impl<'r, 'a> Lower<'r, 'a> {
 
         let has_pv =
             dev.objects.values().any(|o| o.subs.values().any(|s| s.parameter_value.is_some()));
-        dev.format =
-            Some(if dev.commissioning.is_some() || has_pv || has_value_sections || self.dcf_hint {
+        // Denotations and [ConnectedModules] exist in DCFs only (the EDS writer leaves them
+        // out).
+        let dcf_only = !dev.modules.connected.is_empty()
+            || dev
+                .objects
+                .values()
+                .any(|o| o.denotation.is_some() || o.subs.values().any(|s| s.denotation.is_some()));
+        dev.format = Some(
+            if dev.commissioning.is_some()
+                || has_pv
+                || has_value_sections
+                || dcf_only
+                || self.dcf_hint
+            {
                 Format::Dcf
             } else {
                 Format::Eds
-            });
+            },
+        );
         dev.device_info.baud_rates.sort_unstable();
         dev.device_info.baud_rates.dedup();
         crate::compact_pdo::synthesise(&mut dev);

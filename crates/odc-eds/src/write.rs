@@ -100,9 +100,9 @@ impl W {
             self.kv(&format!("Line{}", i + 1), l);
         }
     }
-    fn index_list(&mut self, name: &str, count_key: &str, count: Option<u16>, items: &[u16]) {
+    fn index_list(&mut self, name: &str, count_key: &str, items: &[u16]) {
         self.header(name);
-        self.kv(count_key, &count.map_or(items.len(), usize::from).to_string());
+        self.kv(count_key, &items.len().to_string());
         for (i, x) in items.iter().enumerate() {
             self.kv(&(i + 1).to_string(), &format!("0x{x:04X}"));
         }
@@ -143,6 +143,8 @@ impl W {
         self.kv("ParameterName", &o.name);
         self.kv("ObjectType", &format!("0x{:X}", o.kind.code()));
         if !o.kind.has_subs() {
+            // A SubNumber on a VAR is wrong (warned about) but kept, so it is written back.
+            self.opt_dec("SubNumber", &o.sub_number);
             if let Some(s0) = o.subs.get(&0) {
                 self.sub_keys(s0, o.obj_flags.as_ref().or(s0.obj_flags.as_ref()));
                 self.extra(&s0.extra);
@@ -182,6 +184,9 @@ impl W {
         let template = template.as_ref();
         if let Some(t) = template {
             self.sub_keys(t, t.obj_flags.as_ref());
+            // Keys kept as written (a DataType that did not read) belong to every implied
+            // sub-object, so they go back into the object's section.
+            self.extra(&t.extra);
         }
         self.extra(&o.extra);
         let implied = |s: &SubObject| -> bool {
@@ -264,7 +269,7 @@ impl W {
             return;
         }
         let items: Vec<u16> = o.links.iter().map(|l| l.value).collect();
-        self.index_list(&format!("{name}ObjectLinks"), "ObjectLinks", None, &items);
+        self.index_list(&format!("{name}ObjectLinks"), "ObjectLinks", &items);
     }
 
     fn module(&mut self, m: &Module) {
@@ -277,14 +282,14 @@ impl W {
         self.extra(&m.extra);
         if !m.fixed_objects.is_empty() {
             let items: Vec<u16> = m.fixed_objects.keys().copied().collect();
-            self.index_list(&format!("{p}FixedObjects"), "NrOfEntries", None, &items);
+            self.index_list(&format!("{p}FixedObjects"), "NrOfEntries", &items);
             for o in m.fixed_objects.values() {
                 self.object(&format!("{p}Fixed"), o);
             }
         }
         if !m.sub_extends.is_empty() {
             let items: Vec<u16> = m.sub_extends.keys().copied().collect();
-            self.index_list(&format!("{p}SubExtends"), "NrOfEntries", None, &items);
+            self.index_list(&format!("{p}SubExtends"), "NrOfEntries", &items);
             for (i, x) in &m.sub_extends {
                 self.header(&format!("{p}SubExt{i:04X}"));
                 self.kv("ParameterName", &x.template.name);
@@ -371,13 +376,28 @@ pub(crate) fn write(dev: &Device, format: Format) -> String {
         ("ManufacturerObjects", &dev.object_lists.manufacturer),
     ] {
         if let Some(l) = list {
-            let items: Vec<u16> = l.entries.iter().map(|e| e.value).collect();
-            w.index_list(
-                name,
-                "SupportedObjects",
-                l.supported_objects.as_ref().map(|s| s.value),
-                &items,
-            );
+            // The count is written only when the file had one, so that a list without it
+            // reads back as the same model (found by the `eds_roundtrip` fuzz target).
+            w.header(name);
+            if let Some(count) = &l.supported_objects {
+                w.kv("SupportedObjects", &count.value.to_string());
+            }
+            // Entries kept as written (a value that did not read) keep their numbers; the
+            // list is numbered around them, else a re-read would let them replace an entry.
+            let taken: Vec<u32> = dev
+                .extra_sections
+                .iter()
+                .filter(|s| s.name.eq_ignore_ascii_case(name))
+                .flat_map(|s| s.entries.iter().filter_map(|e| e.key.trim().parse().ok()))
+                .collect();
+            let mut n = 0u32;
+            for x in &l.entries {
+                n += 1;
+                while taken.contains(&n) {
+                    n += 1;
+                }
+                w.kv(&n.to_string(), &format!("0x{:04X}", x.value));
+            }
         }
     }
     for o in dev.objects.values() {

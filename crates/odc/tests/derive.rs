@@ -144,3 +144,53 @@ fn wide_image_uses_bit_helpers() {
     let too_big = Big { torque: 1 << 23, ..v };
     assert_eq!(too_big.pack_into(&mut buf), Err(PackError::OutOfRange { field: "torque" }));
 }
+
+/// A struct declared by a `macro_rules!` macro: field types arrive as `$t:ty`, wrapped in an
+/// invisible group; their widths are still inferred (found by the `pdo_pack` fuzz target's
+/// harness, which declares its layouts this way).
+macro_rules! declare {
+    ($name:ident { $($f:ident : $t:ty = $index:literal),* }) => {
+        #[derive(Debug, PartialEq, odc::Pdo)]
+        struct $name {
+            $( #[pdo(index = $index)] $f: $t, )*
+        }
+    };
+}
+
+declare!(FromMacro { flag: bool = 0x2001, word: u16 = 0x2002, wide: (i32) = 0x2003 });
+
+#[test]
+fn field_types_from_a_macro_infer_their_width() {
+    assert_eq!(FromMacro::BITS, 1 + 16 + 32);
+    let v = FromMacro { flag: true, word: 0xBEEF, wide: -2 };
+    let bytes = v.pack().unwrap();
+    assert_eq!(FromMacro::unpack(&bytes).unwrap(), v);
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, odc::PdoValue)]
+#[repr(u8)]
+#[pdo(bits = 4)]
+enum Nibble {
+    Nine = 9,
+    #[pdo(other)]
+    Other(u8),
+}
+
+#[derive(Debug, PartialEq, odc::Pdo)]
+struct WithNibble {
+    #[pdo(index = 0x2000, bits = 4)]
+    nibble: Nibble,
+    #[pdo(index = 0x2001, bits = 4)]
+    after: u8,
+}
+
+/// A catch-all variant holding more bits than the enum's declared width is out of range, not
+/// silently truncated into the neighbouring field (found by the `pdo_pack` fuzz target).
+#[test]
+fn catch_all_wider_than_its_bits_is_out_of_range() {
+    let v = WithNibble { nibble: Nibble::Other(173), after: 0 };
+    assert_eq!(v.pack(), Err(PackError::OutOfRange { field: "nibble" }));
+    let v = WithNibble { nibble: Nibble::Other(13), after: 2 };
+    assert_eq!(v.pack(), Ok([0x2D]));
+    assert_eq!(WithNibble::unpack(&[0x29]).unwrap().nibble, Nibble::Nine);
+}

@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Fills fuzz/corpus/<target>/ with seed inputs: the device files under eds/ and esi/, the
+# front-ends' test fixtures and the malformed suite. With --corpus, also the files of
+# $ODC_CORPUS (default ../shared/corpus) smaller than 64 KiB. The corpora are not committed.
+set -euo pipefail
+cd "$(dirname "$0")"
+root=..
+mkdir -p corpus/eds_parse corpus/eds_roundtrip corpus/esi_parse corpus/pdo_pack
+eds_seeds=(
+  "$root"/eds/*.eds
+  "$root"/crates/odc-eds/tests/fixtures/*
+  "$root"/crates/odc-eds/tests/invalid/*
+  "$root"/crates/odc-cli/tests/fixtures/*.eds
+)
+esi_seeds=("$root"/esi/*.xml "$root"/crates/odc-esi/tests/fixtures/*.xml)
+if [ -d "$root/tests/malformed/files" ]; then
+  eds_seeds+=("$root"/tests/malformed/files/eds/*)
+  esi_seeds+=("$root"/tests/malformed/files/esi/*)
+fi
+if [ "${1:-}" = "--corpus" ]; then
+  corpus="${ODC_CORPUS:-$root/../shared/corpus}"
+  while IFS= read -r f; do eds_seeds+=("$f"); done \
+    < <(find "$corpus/eds" -type f \( -iname '*.eds' -o -iname '*.dcf' \) -size -64k)
+  while IFS= read -r f; do esi_seeds+=("$f"); done \
+    < <(find "$corpus/esi" -type f -iname '*.xml' -size -64k)
+fi
+for f in "${eds_seeds[@]}"; do
+  [ -f "$f" ] || continue
+  cp "$f" corpus/eds_parse/ && cp "$f" corpus/eds_roundtrip/
+done
+for f in "${esi_seeds[@]}"; do
+  [ -f "$f" ] && cp "$f" corpus/esi_parse/
+done
+printf '\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00' > corpus/pdo_pack/zeros
+printf '\x01\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff' > corpus/pdo_pack/ones
+for t in corpus/*; do echo "$t: $(ls "$t" | wc -l) files"; done
