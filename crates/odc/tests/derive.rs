@@ -157,7 +157,7 @@ macro_rules! declare {
     };
 }
 
-declare!(FromMacro { flag: bool = 0x2001, word: u16 = 0x2002, wide: (i32) = 0x2003 });
+declare!(FromMacro { flag: bool = 0x2001, word: u16 = 0x2002, wide: i32 = 0x2003 });
 
 #[test]
 fn field_types_from_a_macro_infer_their_width() {
