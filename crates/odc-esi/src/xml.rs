@@ -11,12 +11,13 @@
 //!
 //! Layout: one flat arena of fixed-size nodes in document order (pre-order), so that reading a
 //! file makes a handful of allocations instead of several per element, and the tree stays
-//! about the size of the text (a node is 40 bytes; an ESI element averages ~38 source bytes).
+//! about the size of the text (a node is 32 bytes; an ESI element averages ~38 source bytes).
 //! A node's first child is the node after it and its next sibling is the node after its
 //! subtree (`subtree_end`); its attributes are the run of the attribute arena up to the next
 //! node's. Names, texts and attribute values are offsets into the source; the few that differ
 //! from it (entities resolved, line ends normalised, text broken by child elements) live in a
-//! side table of owned strings. [`Element`] and [`Attr`] are copyable handles onto the arena.
+//! side table of owned strings. A text's span is that of its trimmed slice (the element's span
+//! when it has none); texts whose span is not (CDATA, owned texts) keep theirs in the table. [`Element`] and [`Attr`] are copyable handles onto the arena.
 
 use std::borrow::Cow;
 
@@ -40,7 +41,16 @@ struct Str {
 const OWNED: u32 = u32::MAX;
 
 impl Str {
+    /// No text (a borrowed text is never empty: see [`Builder::close`]).
     const EMPTY: Str = Str { at: 0, len: 0 };
+}
+
+/// An owned string of the document, with the span of what it was read from (texts only).
+#[derive(Debug)]
+struct Owned {
+    text: String,
+    start: u32,
+    end: u32,
 }
 
 /// An element in the arena.
@@ -53,9 +63,6 @@ struct Node {
     end: u32,
     /// Text and CDATA content, entities resolved, leading white space dropped.
     text: Str,
-    /// Span of the text without surrounding white space (the element's span if none).
-    text_start: u32,
-    text_end: u32,
     /// One past the last node of this element's subtree.
     subtree_end: u32,
     /// This element's first attribute in [`Document::attrs`].
@@ -78,14 +85,14 @@ pub struct Document<'s> {
     file: FileId,
     nodes: Vec<Node>,
     attrs: Vec<RawAttr>,
-    strings: Vec<String>,
+    strings: Vec<Owned>,
     pub diagnostics: Vec<Diagnostic>,
 }
 
 impl<'s> Document<'s> {
     fn str(&self, s: Str) -> &str {
         if s.len == OWNED {
-            self.strings.get(s.at as usize).map_or("", String::as_str)
+            self.strings.get(s.at as usize).map_or("", |o| o.text.as_str())
         } else {
             self.src.get(s.at as usize..s.at as usize + s.len as usize).unwrap_or("")
         }
@@ -166,7 +173,16 @@ impl<'d> Element<'d> {
     /// Span of the text without surrounding white space (the element's span if none).
     pub fn text_span(self) -> Span {
         let n = self.node();
-        self.doc.span(n.text_start, n.text_end)
+        let t = n.text;
+        if t.len == OWNED {
+            let (start, end) =
+                self.doc.strings.get(t.at as usize).map_or((0, 0), |o| (o.start, o.end));
+            return self.doc.span(start, end);
+        }
+        if t.len == 0 {
+            return self.doc.span(n.start, n.end);
+        }
+        self.doc.span(t.at, t.at + self.doc.str(t).trim_end().len() as u32)
     }
 
     /// The text and CDATA content, entities resolved, leading white space dropped.
@@ -300,8 +316,8 @@ impl<'s> Builder<'s> {
         self.doc.span(start, end)
     }
 
-    fn own(&mut self, s: String) -> Str {
-        self.doc.strings.push(s);
+    fn own(&mut self, text: String, (start, end): (u32, u32)) -> Str {
+        self.doc.strings.push(Owned { text, start, end });
         Str { at: (self.doc.strings.len() - 1) as u32, len: OWNED }
     }
 
@@ -312,7 +328,7 @@ impl<'s> Builder<'s> {
         {
             return Str { at, len: b.len() as u32 };
         }
-        self.own(s.into_owned())
+        self.own(s.into_owned(), (0, 0))
     }
 
     /// Appends the node of a start tag (or empty-element tag) spanning `start..end`.
@@ -359,8 +375,6 @@ impl<'s> Builder<'s> {
             start,
             end,
             text: Str::EMPTY,
-            text_start: start,
-            text_end: end,
             subtree_end: idx + 1,
             attr_start,
         });
@@ -389,23 +403,49 @@ impl<'s> Builder<'s> {
     fn close(&mut self, end: u32, eof: bool) -> Option<u32> {
         let open = self.stack.pop()?;
         let subtree_end = self.doc.nodes.len() as u32;
-        let text = match open.text {
-            Text::Borrowed(a, b) => Str { at: a, len: b - a },
-            Text::Owned(s) => self.own(s),
+        let start = self.doc.nodes.get(open.idx as usize)?.start;
+        let text = match (open.text, open.bounds) {
+            // No text: the span is the element's (derived).
+            (Text::Borrowed(a, b), None) if a == b && !eof => Str::EMPTY,
+            // A slice of the source whose span is its trimmed extent (derived).
+            (Text::Borrowed(a, b), Some(bounds))
+                if a < b
+                    && bounds
+                        == (
+                            a,
+                            a + self
+                                .doc
+                                .src
+                                .get(a as usize..b as usize)
+                                .unwrap_or("")
+                                .trim_end()
+                                .len() as u32,
+                        ) =>
+            {
+                Str { at: a, len: b - a }
+            }
+            // Anything else keeps its text and span in the table: texts built from pieces,
+            // CDATA with trailing blanks, an element cut off by the end of the file (whose text
+            // span without text is its start tag's).
+            (text, bounds) => {
+                let text = match text {
+                    Text::Borrowed(a, b) => {
+                        self.doc.src.get(a as usize..b as usize).unwrap_or("").to_string()
+                    }
+                    Text::Owned(s) => s,
+                };
+                let span = match bounds {
+                    Some(b) => b,
+                    None if eof => (start, open.tag_end),
+                    None => (start, end),
+                };
+                self.own(text, span)
+            }
         };
         let n = self.doc.nodes.get_mut(open.idx as usize)?;
-        let (t0, t1) = match open.bounds {
-            Some(b) => b,
-            // Without text, the element's span; an element cut off by the end of the file keeps
-            // its start tag's.
-            None if eof => (n.start, open.tag_end),
-            None => (n.start, end),
-        };
         n.end = end;
         n.subtree_end = subtree_end;
         n.text = text;
-        n.text_start = t0;
-        n.text_end = t1;
         Some(open.idx)
     }
 
@@ -655,6 +695,43 @@ mod tests {
         assert_eq!(b.text(), "hi & <c>");
         assert_eq!(&src[b.text_span().range()], "hi &amp; <![CDATA[<c>");
         assert!(a.child("e").is_some());
+    }
+
+    #[test]
+    fn node_is_32_bytes() {
+        // The arena is about the size of the text because of this (see the module docs).
+        assert_eq!(std::mem::size_of::<Node>(), 32);
+    }
+
+    #[test]
+    fn text_spans_of_every_kind() {
+        let src = "<a><b> x </b><c><![CDATA[ y ]]></c><d>p<e/>q</d><f/><g></g><h><![CDATA[]]></h>\
+                   <i>&amp;</i><j>  </j><k>cut";
+        let doc = read(src, FileId(0));
+        let a = doc.roots().next().unwrap();
+        let at = |name: &str| {
+            let e = a.child(name).unwrap();
+            (e.raw_text(), &src[e.text_span().range()], &src[e.span().range()])
+        };
+        assert_eq!(at("b"), (" x ".trim_start(), "x", "<b> x </b>"));
+        // CDATA keeps its blanks in the text; its span is the whole content.
+        assert_eq!(at("c"), (" y ", " y ", "<c><![CDATA[ y ]]></c>"));
+        // Text around a child: pieces joined, span from the first to the last.
+        assert_eq!(at("d"), ("pq", "p<e/>q", "<d>p<e/>q</d>"));
+        // No text: the element's span.
+        assert_eq!(at("f"), ("", "<f/>", "<f/>"));
+        assert_eq!(at("g"), ("", "<g></g>", "<g></g>"));
+        assert_eq!(at("j"), ("", "<j>  </j>", "<j>  </j>"));
+        // Empty CDATA: an empty span where its content would be.
+        let h = a.child("h").unwrap();
+        let content = (src.find("<h>").unwrap() + "<h><![CDATA[".len()) as u32;
+        assert_eq!((h.raw_text(), h.text_span().start, h.text_span().end), ("", content, content));
+        assert_eq!(at("i"), ("&", "&amp;", "<i>&amp;</i>"));
+        // Cut off by the end of the file: the text as read, or without text the start tag.
+        assert_eq!(at("k"), ("cut", "cut", "<k>cut"));
+        let doc = read("<a><b>", FileId(0));
+        let b = doc.roots().next().unwrap().child("b").unwrap();
+        assert_eq!((b.text_span().start, b.text_span().end), (3, 6));
     }
 
     #[test]
