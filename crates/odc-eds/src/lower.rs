@@ -195,11 +195,49 @@ fn classify(name: &str) -> Kind {
 #[derive(Default)]
 struct ObjB {
     main: Option<u32>,
-    subs: BTreeMap<u8, u32>,
+    subs: SubSections,
     name: Option<u32>,
     value: Option<u32>,
     denotation: Option<u32>,
     links: Option<u32>,
+}
+
+/// The sub-object sections of one object: `(sub-index, section)` sorted by sub-index. Files
+/// list sub-objects in order, so adding one is appending (no tree node per object).
+#[derive(Default)]
+struct SubSections(Vec<(u8, u32)>);
+
+impl SubSections {
+    /// Records section `i` for sub-index `sub`; a later section for the same sub-index (spelt
+    /// differently: `sub1`, `sub01`) replaces the earlier.
+    fn insert(&mut self, sub: u8, i: u32) {
+        match self.0.last() {
+            None => self.0.push((sub, i)),
+            Some(&(last, _)) if last < sub => self.0.push((sub, i)),
+            _ => match self.0.binary_search_by_key(&sub, |p| p.0) {
+                Ok(j) => self.0[j].1 = i,
+                Err(j) => self.0.insert(j, (sub, i)),
+            },
+        }
+    }
+
+    fn is_empty(&self) -> bool {
+        self.0.is_empty()
+    }
+
+    fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    /// `(sub-index, section)` in sub-index order.
+    fn iter(&self) -> impl Iterator<Item = (u8, u32)> + '_ {
+        self.0.iter().copied()
+    }
+
+    /// The sections in sub-index order.
+    fn values(&self) -> impl Iterator<Item = &u32> + '_ {
+        self.0.iter().map(|p| &p.1)
+    }
 }
 
 /// The objects being collected, with the one the last section was about kept out of the map:
@@ -367,15 +405,17 @@ impl<'r, 'a> Lower<'r, 'a> {
 
     fn keys(&self, first: u32) -> Keys<'r, 'a> {
         let mut keys = Keys { k: [None; N_KEYS], extra: Vec::new() };
-        let mut add = |e: &'r Entry<'a>| match obj_key(e.key) {
-            Some(k) => keys.k[k as usize] = Some(e),
-            None => keys.extra.push(e),
-        };
-        let s = self.sec(first);
-        if s.next_same.is_none() {
-            self.raw.entries_of(s).iter().for_each(&mut add);
-        } else {
-            self.entries(first).for_each(&mut add);
+        // Plain loops over the section and its repeats (a closure here was not inlined).
+        let mut next = Some(first);
+        while let Some(i) = next {
+            let s = self.sec(i);
+            for e in self.raw.entries_of(s) {
+                match obj_key(e.key) {
+                    Some(k) => keys.k[k as usize] = Some(e),
+                    None => keys.extra.push(e),
+                }
+            }
+            next = s.next_same;
         }
         keys
     }
@@ -508,7 +548,7 @@ impl<'r, 'a> Lower<'r, 'a> {
     fn empty(&mut self, e: &Entry<'_>) {
         self.warn(
             codes::EMPTY_VALUE,
-            format!("`{}=` has no value; treated as absent", e.key),
+            concat(&["`", e.key, "=` has no value; treated as absent"]),
             self.span(e.line_pos),
             "empty value",
         );
@@ -1192,23 +1232,25 @@ impl<'r, 'a> Lower<'r, 'a> {
         sub.low_limit = keys.take(K::LowLimit).and_then(|e| self.value(e, data_type));
         sub.high_limit = keys.take(K::HighLimit).and_then(|e| self.value(e, data_type));
         sub.parameter_value = keys.take(K::ParameterValue).and_then(|e| self.value(e, data_type));
-        sub.denotation = keys.take(K::Denotation).map(|e| self.text(e));
+        sub.denotation = keys.take(K::Denotation).map(|e| Box::new(self.text(e)));
         if let Some(e) = keys.take(K::ObjFlags) {
             match self.uint(e, u64::from(u32::MAX)) {
                 Ok(v) => sub.obj_flags = v.map(|v| Spanned::new(v.value as u32, v.span)),
                 Err(()) => extra_entries.push(e),
             }
         }
-        sub.upload_file = keys.take(K::UploadFile).map(|e| self.text(e));
-        sub.download_file = keys.take(K::DownloadFile).map(|e| self.text(e));
+        sub.upload_file = keys.take(K::UploadFile).map(|e| Box::new(self.text(e)));
+        sub.download_file = keys.take(K::DownloadFile).map(|e| Box::new(self.text(e)));
         for k in [K::SubNumber, K::CompactSubObj, K::Count, K::ObjExtend] {
             keys.move_to_extra(k);
         }
-        sub.extra = extra_entries
-            .into_iter()
-            .chain(keys.extra.drain(..))
-            .map(|e| raw_entry(e, file))
-            .collect();
+        if !(extra_entries.is_empty() && keys.extra.is_empty()) {
+            sub.extra = extra_entries
+                .into_iter()
+                .chain(keys.extra.drain(..))
+                .map(|e| raw_entry(e, file))
+                .collect();
+        }
         sub
     }
 
@@ -1309,7 +1351,7 @@ impl<'r, 'a> Lower<'r, 'a> {
             ] {
                 keys.move_to_extra(k);
             }
-            for (&s, &si) in &b.subs {
+            for (s, si) in b.subs.iter() {
                 let sheader = self.span(self.sec(si).header_pos);
                 let mut skeys = self.keys(si);
                 let sub = self.sub_from_keys(
@@ -1352,7 +1394,7 @@ impl<'r, 'a> Lower<'r, 'a> {
             obj.extra.append(&mut sub.extra);
             obj.subs.reserve_exact(1 + b.subs.len());
             obj.subs.insert(0, sub);
-            for (&s, &si) in &b.subs {
+            for (s, si) in b.subs.iter() {
                 let sec = self.sec(si);
                 self.warn(
                     codes::SUBS_ON_VAR,
@@ -1469,7 +1511,7 @@ impl<'r, 'a> Lower<'r, 'a> {
                     match which {
                         0 => s.name = text.value,
                         1 => s.parameter_value = value,
-                        _ => s.denotation = Some(text),
+                        _ => s.denotation = Some(Box::new(text)),
                     }
                 }
             }
@@ -1553,6 +1595,14 @@ impl<'r, 'a> Lower<'r, 'a> {
         }
         m
     }
+}
+
+/// The pieces joined into one exactly sized string: for the messages of diagnostics that real
+/// files trigger by the thousand (`F112`), cheaper than `format!`.
+fn concat(parts: &[&str]) -> String {
+    let mut s = String::with_capacity(parts.iter().map(|p| p.len()).sum());
+    parts.iter().for_each(|p| s.push_str(p));
+    s
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]

@@ -24,6 +24,9 @@ pub(crate) struct Int {
 /// Reads one integer literal without `$NODEID`: optional sign, `0x` hex, leading-zero octal or
 /// decimal, optional C suffix.
 pub(crate) fn parse_plain(s: &str) -> Option<(i128, u8)> {
+    if let Some(v) = parse_common(s.as_bytes()) {
+        return Some(v);
+    }
     let mut b = s.as_bytes();
     let mut flags = 0u8;
     let mut neg = false;
@@ -84,6 +87,40 @@ pub(crate) fn parse_plain(s: &str) -> Option<(i128, u8)> {
     };
     let v = value as i128;
     Some((if neg { -v } else { v }, flags))
+}
+
+/// The two shapes most numbers in real files have, read in one pass: `0x` and up to 16 hex
+/// digits, or a decimal of up to 19 digits without a leading zero. Anything else (signs,
+/// suffixes, octal, longer) is `None` and left to the general reader, which gives the same
+/// result for these two shapes.
+#[inline]
+fn parse_common(b: &[u8]) -> Option<(i128, u8)> {
+    match b {
+        [b'0', b'x' | b'X', digits @ ..] if !digits.is_empty() && digits.len() <= 16 => {
+            let mut v = 0u64;
+            for &c in digits {
+                let d = match c {
+                    b'0'..=b'9' => c - b'0',
+                    b'a'..=b'f' => c - b'a' + 10,
+                    b'A'..=b'F' => c - b'A' + 10,
+                    _ => return None,
+                };
+                v = (v << 4) | u64::from(d);
+            }
+            Some((i128::from(v), HEX))
+        }
+        [b'1'..=b'9', ..] | [b'0'] if b.len() <= 19 => {
+            let mut v = 0u64;
+            for &c in b {
+                if !c.is_ascii_digit() {
+                    return None;
+                }
+                v = v * 10 + u64::from(c - b'0');
+            }
+            Some((i128::from(v), 0))
+        }
+        _ => None,
+    }
 }
 
 fn find_nodeid(s: &str) -> Option<usize> {
@@ -212,6 +249,53 @@ mod tests {
         assert_eq!(int("12a"), None);
         assert_eq!(int(""), None);
         assert_eq!(int("-"), None);
+    }
+
+    #[test]
+    fn the_common_shapes_read_as_the_general_reader_reads_them() {
+        let cases = [
+            "0",
+            "7",
+            "10",
+            "42",
+            "1234567890123456789",
+            "9999999999999999999",
+            "0x0",
+            "0X1a",
+            "0x0007",
+            "0xFFFFFFFFFFFFFFFF",
+            "0xffffffffffffffff",
+            "0x1FFFFFFFFFFFFFFFF",
+            "0x",
+            "0xG",
+            "12a",
+            "010",
+            "00",
+            "09",
+            "-1",
+            "+1",
+            "1L",
+            "0x1U",
+            "18446744073709551615",
+            "18446744073709551616",
+            "",
+            " 1",
+        ];
+        for c in cases {
+            let fast = parse_common(c.as_bytes());
+            if let Some(f) = fast {
+                // Only numbers the general reader accepts, with the same value and flags.
+                let mut general = c.as_bytes().to_vec();
+                general.insert(0, b'+'); // takes the general path
+                let g = parse_plain(std::str::from_utf8(&general).unwrap_or(""));
+                assert_eq!(Some(f), g, "{c}");
+            }
+            assert!(fast.is_none() || parse_plain(c) == fast, "{c}");
+        }
+        assert_eq!(parse_common(b"0x0007"), Some((7, HEX)));
+        assert_eq!(parse_common(b"42"), Some((42, 0)));
+        assert_eq!(parse_common(b"010"), None);
+        assert_eq!(parse_common(b"1L"), None);
     }
 
     #[test]

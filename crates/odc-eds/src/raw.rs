@@ -252,38 +252,86 @@ impl<'f, 'a> Iterator for SameName<'f, 'a> {
     }
 }
 
-fn trim_pos(text: &str, start: usize, end: usize) -> (usize, usize) {
-    let b = text.as_bytes();
-    let (mut s, mut e) = (start, end);
-    while s < e && matches!(b[s], b' ' | b'\t' | b'\r' | 0x0B | 0x0C) {
-        s += 1;
-    }
-    while e > s && matches!(b[e - 1], b' ' | b'\t' | b'\r' | 0x0B | 0x0C) {
-        e -= 1;
-    }
-    (s, e)
+/// Blanks the scanner trims around lines, keys and values (`\r` too: a lone CR before the
+/// line end is not content).
+#[inline]
+fn is_blank(b: u8) -> bool {
+    matches!(b, b' ' | b'\t' | b'\r' | 0x0B | 0x0C)
 }
 
-/// The first `needle` in `hay[from..]`, 8 bytes at a time. Lines are short (a few tens of
-/// bytes): cheaper than a `memchr` call per line.
+fn trim_pos(text: &str, start: usize, end: usize) -> (usize, usize) {
+    let b = text.as_bytes();
+    let mut s = start;
+    while s < end && is_blank(b[s]) {
+        s += 1;
+    }
+    (s, trim_end(b, s, end))
+}
+
+/// `end` moved back over blanks, not before `start`.
 #[inline]
-fn find_byte(hay: &[u8], from: usize, needle: u8) -> Option<usize> {
-    const LO: u64 = 0x0101_0101_0101_0101;
-    const HI: u64 = 0x8080_8080_8080_8080;
+fn trim_end(b: &[u8], start: usize, mut end: usize) -> usize {
+    while end > start && is_blank(b[end - 1]) {
+        end -= 1;
+    }
+    end
+}
+
+const LO: u64 = 0x0101_0101_0101_0101;
+const HI: u64 = 0x8080_8080_8080_8080;
+
+/// The high bit of each byte of `w` that is zero. The lowest set bit is exact (borrows only
+/// go upwards), which is all the searches below use.
+#[inline]
+fn zero_bytes(w: u64) -> u64 {
+    w.wrapping_sub(LO) & !w & HI
+}
+
+#[inline]
+fn word(hay: &[u8], i: usize) -> u64 {
+    let mut chunk = [0u8; 8];
+    chunk.copy_from_slice(&hay[i..i + 8]);
+    u64::from_le_bytes(chunk)
+}
+
+/// The first `needle` in `hay[from..]`, or `hay.len()`, 8 bytes at a time. Lines are short (16
+/// bytes on average in the corpus): cheaper than a `memchr` call per line.
+#[inline]
+fn find_byte(hay: &[u8], from: usize, needle: u8) -> usize {
     let pat = LO * u64::from(needle);
     let mut i = from;
     while i + 8 <= hay.len() {
-        let mut chunk = [0u8; 8];
-        chunk.copy_from_slice(&hay[i..i + 8]);
-        let w = u64::from_le_bytes(chunk) ^ pat;
-        // The lowest set bit marks the first zero byte exactly (borrows only go upwards).
-        let z = w.wrapping_sub(LO) & !w & HI;
+        let z = zero_bytes(word(hay, i) ^ pat);
         if z != 0 {
-            return Some(i + (z.trailing_zeros() / 8) as usize);
+            return i + (z.trailing_zeros() / 8) as usize;
         }
         i += 8;
     }
-    hay[i..].iter().position(|&b| b == needle).map(|j| i + j)
+    hay[i..].iter().position(|&b| b == needle).map_or(hay.len(), |j| i + j)
+}
+
+/// The first `=` or newline in `hay[from..]`, or `hay.len()`: one pass finds the end of a key
+/// or learns that the line has none.
+#[inline]
+fn find_eq_or_nl(hay: &[u8], from: usize) -> usize {
+    const EQ: u64 = LO * b'=' as u64;
+    const NL: u64 = LO * b'\n' as u64;
+    let mut i = from;
+    while i + 8 <= hay.len() {
+        let w = word(hay, i);
+        let z = zero_bytes(w ^ EQ) | zero_bytes(w ^ NL);
+        if z != 0 {
+            return i + (z.trailing_zeros() / 8) as usize;
+        }
+        i += 8;
+    }
+    hay[i..].iter().position(|&b| b == b'=' || b == b'\n').map_or(hay.len(), |j| i + j)
+}
+
+/// The end of the line that ends at `nl`: before a `\r` there.
+#[inline]
+fn cut_cr(bytes: &[u8], line_start: usize, nl: usize) -> usize {
+    if nl > line_start && bytes[nl - 1] == b'\r' { nl - 1 } else { nl }
 }
 
 fn pos(s: usize, e: usize) -> Pos {
@@ -303,6 +351,7 @@ pub fn scan<'a>(text: &'a str, file: FileId, diags: &mut Vec<Diagnostic>) -> Raw
         text
     };
     let bytes = text.as_bytes();
+    let n = bytes.len();
     let mut preamble = Section::new("", Pos::default(), Pos::default(), 0, 0);
     // Sized from the line count (cheap with memchr): the entries never outgrow it, and with the
     // usual share of blank/comment lines and of headers (about one line in eight in the corpus)
@@ -311,127 +360,125 @@ pub fn scan<'a>(text: &'a str, file: FileId, diags: &mut Vec<Diagnostic>) -> Raw
     let mut entries: Vec<Entry<'a>> = Vec::with_capacity(lines);
     let mut trivia: Vec<Trivia<'a>> = Vec::with_capacity(lines / 4 + 4);
     let mut sections: Vec<Section<'a>> = Vec::with_capacity(lines / 6 + 4);
+    // Where the entries and trivia of the current section (the preamble first) start; its
+    // ranges are written when the next header (or the end) closes it.
+    let (mut cur_entries, mut cur_trivia) = (0u32, 0u32);
+    // Each line is read once, left to right: blanks, then the first character decides; for an
+    // entry, one search finds the `=` (or that there is none), a second the newline.
     let mut line_start = 0usize;
-    while line_start < bytes.len() {
-        let nl = find_byte(bytes, line_start, b'\n').unwrap_or(bytes.len());
-        let mut line_end = nl;
-        if line_end > line_start && bytes[line_end - 1] == b'\r' {
-            line_end -= 1;
+    while line_start < n {
+        let mut s = line_start;
+        while s < n && is_blank(bytes[s]) {
+            s += 1;
         }
-        let (s, e) = trim_pos(text, line_start, line_end);
-        let cur = match sections.last_mut() {
-            Some(c) => c,
-            None => &mut preamble,
-        };
-        let before = cur.entries.end - cur.entries.start;
-        let line_pos = pos(line_start, line_end);
-        if s == e {
-            trivia.push(Trivia {
-                kind: TriviaKind::Blank,
-                text: &text[line_start..line_end],
-                pos: line_pos,
-                before,
-            });
-            cur.trivia.end = trivia.len() as u32;
-        } else {
-            match bytes[s] {
-                b';' | b'#' => {
-                    trivia.push(Trivia {
-                        kind: TriviaKind::Comment,
-                        text: &text[line_start..line_end],
-                        pos: line_pos,
-                        before,
+        let first = bytes.get(s).copied().unwrap_or(b'\n');
+        let (nl, kind) = match first {
+            b'\n' => (s, TriviaKind::Blank),
+            b';' | b'#' => (find_byte(bytes, s, b'\n'), TriviaKind::Comment),
+            b'[' => (find_byte(bytes, s, b'\n'), TriviaKind::Stray),
+            _ => {
+                let eq = find_eq_or_nl(bytes, s);
+                if eq < n && bytes[eq] == b'=' {
+                    // key=value: the value's blanks are skipped before looking for the newline.
+                    let mut vs = eq + 1;
+                    while vs < n && is_blank(bytes[vs]) {
+                        vs += 1;
+                    }
+                    let nl = if bytes.get(vs) == Some(&b'\n') {
+                        vs
+                    } else {
+                        find_byte(bytes, vs, b'\n')
+                    };
+                    let line_end = cut_cr(bytes, line_start, nl);
+                    let vs = vs.min(line_end);
+                    let ve = trim_end(bytes, vs, line_end);
+                    let ke = trim_end(bytes, s, eq);
+                    entries.push(Entry {
+                        key: &text[s..ke],
+                        value: &text[vs..ve],
+                        key_pos: pos(s, ke),
+                        value_pos: if vs == ve { pos(eq + 1, eq + 1) } else { pos(vs, ve) },
+                        line_pos: pos(line_start, line_end),
                     });
-                    cur.trivia.end = trivia.len() as u32;
-                }
-                b'[' => {
-                    let close = memchr::memchr(b']', &bytes[s..e]).map(|i| s + i);
-                    let name_end = close.unwrap_or(e);
-                    let (ns, ne) = trim_pos(text, s + 1, name_end);
-                    let mut sec = Section::new(
-                        &text[ns..ne],
-                        pos(ns, ne),
-                        pos(s, e),
-                        entries.len() as u32,
-                        trivia.len() as u32,
-                    );
-                    match close {
-                        None => diags.push(
-                            Diagnostic::warning(
-                                codes::MALFORMED_HEADER,
-                                "section header without closing `]`",
-                            )
-                            .with_label(pos(s, e).span(file), "expected `]` at the end")
-                            .with_note("the whole rest of the line is taken as the name"),
-                        ),
-                        Some(c) => {
-                            let (ts, te) = trim_pos(text, c + 1, e);
-                            if ts < te {
-                                sec.after_header = Some(pos(ts, te));
-                                diags.push(
-                                    Diagnostic::warning(
-                                        codes::TEXT_AFTER_HEADER,
-                                        format!("text after section header [{}]", sec.name),
-                                    )
-                                    .with_label(pos(ts, te).span(file), "ignored"),
-                                );
-                            }
-                        }
-                    }
-                    if ns == ne {
-                        diags.push(
-                            Diagnostic::warning(codes::MALFORMED_HEADER, "empty section name")
-                                .with_label(pos(s, e).span(file), "no name between brackets"),
-                        );
-                    }
-                    sections.push(sec);
-                    continue_line(&mut line_start, nl);
+                    line_start = nl + 1;
                     continue;
                 }
-                _ => match find_byte(&bytes[..e], s, b'=') {
-                    Some(eq) => {
-                        let (ks, ke) = trim_pos(text, s, eq);
-                        let (vs, ve) = trim_pos(text, eq + 1, e);
-                        let value_pos = if vs == ve { pos(eq + 1, eq + 1) } else { pos(vs, ve) };
-                        entries.push(Entry {
-                            key: &text[ks..ke],
-                            value: &text[vs..ve],
-                            key_pos: pos(ks, ke),
-                            value_pos,
-                            line_pos,
-                        });
-                        cur.entries.end = entries.len() as u32;
-                    }
-                    None => {
-                        let l = &text[s..e];
-                        let mut d = Diagnostic::warning(
-                            codes::STRAY_LINE,
-                            "line is neither `key=value`, a `[section]` nor a comment",
-                        )
-                        .with_label(pos(s, e).span(file), "ignored");
-                        if l.starts_with("<<<<<<<")
-                            || l.starts_with("=======")
-                            || l.starts_with(">>>>>>>")
-                        {
-                            d = d.with_note(
-                                "this is a git merge-conflict marker: the file was committed \
-                                 with an unresolved conflict; later duplicate keys win",
-                            );
-                        }
-                        diags.push(d);
-                        trivia.push(Trivia {
-                            kind: TriviaKind::Stray,
-                            text: &text[line_start..line_end],
-                            pos: line_pos,
-                            before,
-                        });
-                        cur.trivia.end = trivia.len() as u32;
-                    }
-                },
+                (eq, TriviaKind::Stray)
             }
+        };
+        let line_end = cut_cr(bytes, line_start, nl);
+        let line_pos = pos(line_start, line_end);
+        let e = trim_end(bytes, s, line_end);
+        let before = entries.len() as u32 - cur_entries;
+        let line = &text[line_start..line_end];
+        line_start = nl + 1;
+        if first == b'[' {
+            let close = memchr::memchr(b']', &bytes[s..e]).map(|i| s + i);
+            let name_end = close.unwrap_or(e);
+            let (ns, ne) = trim_pos(text, s + 1, name_end);
+            let mut sec = Section::new(
+                &text[ns..ne],
+                pos(ns, ne),
+                pos(s, e),
+                entries.len() as u32,
+                trivia.len() as u32,
+            );
+            match close {
+                None => diags.push(
+                    Diagnostic::warning(
+                        codes::MALFORMED_HEADER,
+                        "section header without closing `]`",
+                    )
+                    .with_label(pos(s, e).span(file), "expected `]` at the end")
+                    .with_note("the whole rest of the line is taken as the name"),
+                ),
+                Some(c) => {
+                    let (ts, te) = trim_pos(text, c + 1, e);
+                    if ts < te {
+                        sec.after_header = Some(pos(ts, te));
+                        diags.push(
+                            Diagnostic::warning(
+                                codes::TEXT_AFTER_HEADER,
+                                format!("text after section header [{}]", sec.name),
+                            )
+                            .with_label(pos(ts, te).span(file), "ignored"),
+                        );
+                    }
+                }
+            }
+            if ns == ne {
+                diags.push(
+                    Diagnostic::warning(codes::MALFORMED_HEADER, "empty section name")
+                        .with_label(pos(s, e).span(file), "no name between brackets"),
+                );
+            }
+            let cur = sections.last_mut().unwrap_or(&mut preamble);
+            cur.entries = cur_entries..entries.len() as u32;
+            cur.trivia = cur_trivia..trivia.len() as u32;
+            (cur_entries, cur_trivia) = (sec.entries.start, sec.trivia.start);
+            sections.push(sec);
+            continue;
         }
-        continue_line(&mut line_start, nl);
+        if kind == TriviaKind::Stray {
+            let l = &text[s..e];
+            let mut d = Diagnostic::warning(
+                codes::STRAY_LINE,
+                "line is neither `key=value`, a `[section]` nor a comment",
+            )
+            .with_label(pos(s, e).span(file), "ignored");
+            if l.starts_with("<<<<<<<") || l.starts_with("=======") || l.starts_with(">>>>>>>") {
+                d = d.with_note(
+                    "this is a git merge-conflict marker: the file was committed \
+                     with an unresolved conflict; later duplicate keys win",
+                );
+            }
+            diags.push(d);
+        }
+        trivia.push(Trivia { kind, text: line, pos: line_pos, before });
     }
+    let cur = sections.last_mut().unwrap_or(&mut preamble);
+    cur.entries = cur_entries..entries.len() as u32;
+    cur.trivia = cur_trivia..trivia.len() as u32;
 
     for e in
         entries.get(preamble.entries.start as usize..preamble.entries.end as usize).unwrap_or(&[])
@@ -476,11 +523,6 @@ pub fn scan<'a>(text: &'a str, file: FileId, diags: &mut Vec<Diagnostic>) -> Raw
     }
 
     RawFile { text, file, preamble, sections, entries, trivia, index }
-}
-
-#[inline]
-fn continue_line(line_start: &mut usize, nl: usize) {
-    *line_start = nl + 1;
 }
 
 fn check_duplicate_keys(
@@ -534,14 +576,47 @@ mod tests {
     }
 
     #[test]
-    fn find_byte_matches_a_plain_search() {
+    fn searches_match_a_plain_search() {
         let hay = b"ab=c\nxxxxxxxxxxxxxxxxxxxxxx=\x80\xff\n==\n0123456789abcdef\n";
         for from in 0..=hay.len() {
             for needle in [b'\n', b'=', b'a', b'f', 0x80, 0xff, b'z'] {
-                let want = hay[from..].iter().position(|&b| b == needle).map(|j| from + j);
+                let want =
+                    hay[from..].iter().position(|&b| b == needle).map_or(hay.len(), |j| from + j);
                 assert_eq!(find_byte(hay, from, needle), want, "{from} {needle}");
+                let want = hay[from..]
+                    .iter()
+                    .position(|&b| b == b'=' || b == b'\n')
+                    .map_or(hay.len(), |j| from + j);
+                assert_eq!(find_eq_or_nl(hay, from), want, "{from}");
             }
         }
+    }
+
+    #[test]
+    fn the_first_equals_sign_of_each_line_splits() {
+        let text = "; a=b\n[A] = c\nk = v=w \r\n  x  \nk2==\n=\n \t\r\n\n[B]\nk3= \r\nlast=1=2";
+        let (r, d) = scan_str(text);
+        let v: Vec<_> = r.entries.iter().map(|e| (e.key, e.value)).collect();
+        assert_eq!(v, [("k", "v=w"), ("k2", "="), ("", ""), ("k3", ""), ("last", "1=2")]);
+        let e = &r.entries[0];
+        assert_eq!(&text[e.line_pos.start as usize..e.line_pos.end as usize], "k = v=w ");
+        assert_eq!(&text[e.value_pos.start as usize..e.value_pos.end as usize], "v=w");
+        let e = &r.entries[3];
+        assert_eq!(&text[e.line_pos.start as usize..e.line_pos.end as usize], "k3= ");
+        assert_eq!((e.value_pos.start, e.value_pos.end), (e.key_pos.end + 1, e.key_pos.end + 1));
+        assert_eq!(r.trivia_of(&r.preamble)[0].text, "; a=b");
+        let a: Vec<_> =
+            r.trivia_of(&r.sections[0]).iter().map(|t| (t.kind, t.text, t.before)).collect();
+        assert_eq!(
+            a,
+            [
+                (TriviaKind::Stray, "  x  ", 1),
+                (TriviaKind::Blank, " \t", 3),
+                (TriviaKind::Blank, "", 3)
+            ]
+        );
+        let codes: Vec<_> = d.iter().map(|d| d.code).collect();
+        assert_eq!(codes, [codes::TEXT_AFTER_HEADER, codes::STRAY_LINE]);
     }
 
     #[test]

@@ -61,6 +61,9 @@ impl W {
         self.out.push('\n');
     }
     fn opt_text(&mut self, k: &str, v: &Option<Spanned<String>>) {
+        self.opt_text_ref(k, v.as_ref());
+    }
+    fn opt_text_ref(&mut self, k: &str, v: Option<&Spanned<String>>) {
         if let Some(v) = v {
             self.kv(k, &v.value);
         }
@@ -120,14 +123,14 @@ impl W {
         self.opt_value("HighLimit", &s.high_limit);
         if self.dcf {
             self.opt_value("ParameterValue", &s.parameter_value);
-            self.opt_text("Denotation", &s.denotation);
+            self.opt_text_ref("Denotation", s.denotation.as_deref());
         }
         self.kv("PDOMapping", if s.pdo_mapping == PdoMapping::No { "0" } else { "1" });
         if let Some(f) = obj_flags {
             self.kv("ObjFlags", &format!("0x{:X}", f.value));
         }
-        self.opt_text("UploadFile", &s.upload_file);
-        self.opt_text("DownloadFile", &s.download_file);
+        self.opt_text_ref("UploadFile", s.upload_file.as_deref());
+        self.opt_text_ref("DownloadFile", s.download_file.as_deref());
     }
 
     fn sub_section(&mut self, name: &str, s: &SubObject) {

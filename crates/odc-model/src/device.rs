@@ -259,14 +259,16 @@ pub struct SubObject {
     pub high_limit: Option<Spanned<Value>>,
     /// DCF `ParameterValue`.
     pub parameter_value: Option<Spanned<Value>>,
-    /// DCF `Denotation`.
-    pub denotation: Option<Spanned<String>>,
+    /// DCF `Denotation`. Boxed, as the two file names below: rare, and a sub-object is moved
+    /// and dropped often enough that its size shows in parse time (the three take 24 bytes
+    /// boxed, 120 inline).
+    pub denotation: Option<Box<Spanned<String>>>,
     /// `ObjFlags` of the sub-object.
     pub obj_flags: Option<Spanned<u32>>,
     /// `UploadFile` (DOMAIN).
-    pub upload_file: Option<Spanned<String>>,
+    pub upload_file: Option<Box<Spanned<String>>>,
     /// `DownloadFile` (DOMAIN).
-    pub download_file: Option<Spanned<String>>,
+    pub download_file: Option<Box<Spanned<String>>>,
     /// Size in bits, when the file states it (ESI `BitSize`); otherwise that of the data type.
     pub bit_size: Option<u32>,
     /// Keys not interpreted.

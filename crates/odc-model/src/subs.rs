@@ -107,6 +107,10 @@ impl SubObjects {
     pub fn insert(&mut self, sub: u8, value: SubObject) -> Option<SubObject> {
         match self.find(sub) {
             Ok(i) => Some(std::mem::replace(&mut self.items[i].1, value)),
+            Err(i) if i == self.items.len() => {
+                self.items.push((sub, value));
+                None
+            }
             Err(i) => {
                 self.items.insert(i, (sub, value));
                 None
