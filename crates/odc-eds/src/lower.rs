@@ -193,88 +193,100 @@ fn classify(name: &str) -> Kind {
 
 /// The sections that make one object.
 #[derive(Default)]
-struct ObjB {
+struct ObjB<'s> {
     main: Option<u32>,
-    subs: SubSections,
+    subs: SubSections<'s>,
     name: Option<u32>,
     value: Option<u32>,
     denotation: Option<u32>,
     links: Option<u32>,
 }
 
-/// The sub-object sections of one object: `(sub-index, section)` sorted by sub-index. Files
-/// list sub-objects in order, so adding one is appending (no tree node per object).
-#[derive(Default)]
-struct SubSections(Vec<(u8, u32)>);
+/// Where an object section belongs: owner (0 the device, m + 1 module m's fixed objects),
+/// object index, role, sub-index, packed so that sorting the sections by it groups each
+/// object's sections, roles in order, sub-objects by sub-index. All object sections of a file
+/// go into one vector that is sorted once (files list them in order, so it usually already
+/// is): no map and no vector per object.
+fn section_key(owner: u32, index: u16, role: u8, sub: u8) -> u64 {
+    (u64::from(owner) << 32) | (u64::from(index) << 16) | (u64::from(role) << 8) | u64::from(sub)
+}
 
-impl SubSections {
-    /// Records section `i` for sub-index `sub`; a later section for the same sub-index (spelt
-    /// differently: `sub1`, `sub01`) replaces the earlier.
-    fn insert(&mut self, sub: u8, i: u32) {
-        match self.0.last() {
-            None => self.0.push((sub, i)),
-            Some(&(last, _)) if last < sub => self.0.push((sub, i)),
-            _ => match self.0.binary_search_by_key(&sub, |p| p.0) {
-                Ok(j) => self.0[j].1 = i,
-                Err(j) => self.0.insert(j, (sub, i)),
-            },
-        }
-    }
+const ROLE_MAIN: u8 = 0;
+const ROLE_SUB: u8 = 1;
+const ROLE_NAME: u8 = 2;
+const ROLE_VALUE: u8 = 3;
+const ROLE_DENOTATION: u8 = 4;
+const ROLE_LINKS: u8 = 5;
 
+/// The sub-object sections of one object: a run of the sorted section vector, `(key,
+/// section)` by sub-index. A sub-index given twice (spelt differently: `sub1`, `sub01`) is
+/// the later section.
+#[derive(Default, Clone, Copy)]
+struct SubSections<'s>(&'s [(u64, u32)]);
+
+impl<'s> SubSections<'s> {
     fn is_empty(&self) -> bool {
         self.0.is_empty()
     }
 
-    fn len(&self) -> usize {
-        self.0.len()
+    /// `(sub-index, section)` in sub-index order, the last of a repeated sub-index only.
+    fn iter(&self) -> impl Iterator<Item = (u8, u32)> + 's {
+        let v = self.0;
+        v.iter()
+            .enumerate()
+            .filter(move |&(j, p)| v.get(j + 1).is_none_or(|q| q.0 != p.0))
+            .map(|(_, &(k, i))| (k as u8, i))
     }
 
-    /// `(sub-index, section)` in sub-index order.
-    fn iter(&self) -> impl Iterator<Item = (u8, u32)> + '_ {
-        self.0.iter().copied()
+    fn len(&self) -> usize {
+        self.iter().count()
     }
 
     /// The sections in sub-index order.
-    fn values(&self) -> impl Iterator<Item = &u32> + '_ {
-        self.0.iter().map(|p| &p.1)
+    fn values(&self) -> impl Iterator<Item = u32> + 's {
+        self.iter().map(|(_, i)| i)
     }
 }
 
-/// The objects being collected, with the one the last section was about kept out of the map:
-/// an object's sections usually follow each other, so most sections need no map look-up.
-#[derive(Default)]
-struct ObjMap {
-    map: BTreeMap<u16, ObjB>,
-    cur: Option<(u16, ObjB)>,
-}
-
-impl ObjMap {
-    fn get(&mut self, index: u16) -> &mut ObjB {
-        if self.cur.as_ref().is_none_or(|c| c.0 != index) {
-            let b = self.map.remove(&index).unwrap_or_default();
-            if let Some((k, old)) = self.cur.replace((index, b)) {
-                self.map.insert(k, old);
+/// Sorts the object sections (stable: among equal keys the later section comes last) and
+/// calls `each(owner, index, sections)` per object, in key order.
+fn group_objects<'s>(secs: &'s mut [(u64, u32)], mut each: impl FnMut(u32, u16, ObjB<'s>)) {
+    if !secs.is_sorted_by_key(|p| p.0) {
+        secs.sort_by_key(|p| p.0);
+    }
+    let secs: &'s [(u64, u32)] = secs;
+    let mut rest = secs;
+    while let Some(&(k, _)) = rest.first() {
+        let n = rest.iter().position(|p| p.0 >> 16 != k >> 16).unwrap_or(rest.len());
+        let (group, tail) = rest.split_at(n);
+        rest = tail;
+        let mut b = ObjB::default();
+        let (mut sub_start, mut sub_end) = (0, 0);
+        for (j, &(key, i)) in group.iter().enumerate() {
+            match (key >> 8) as u8 {
+                ROLE_MAIN => b.main = Some(i),
+                ROLE_SUB => {
+                    if sub_end == 0 {
+                        sub_start = j;
+                    }
+                    sub_end = j + 1;
+                }
+                ROLE_NAME => b.name = Some(i),
+                ROLE_VALUE => b.value = Some(i),
+                ROLE_DENOTATION => b.denotation = Some(i),
+                _ => b.links = Some(i),
             }
         }
-        match &mut self.cur {
-            Some(c) => &mut c.1,
-            None => unreachable!("set just above"),
-        }
-    }
-
-    fn finish(mut self) -> BTreeMap<u16, ObjB> {
-        if let Some((k, b)) = self.cur.take() {
-            self.map.insert(k, b);
-        }
-        self.map
+        b.subs = SubSections(&group[sub_start..sub_end]);
+        each((k >> 32) as u32, (k >> 16) as u16, b);
     }
 }
 
 #[derive(Default)]
-struct ModB {
+struct ModB<'s> {
     info: Option<u32>,
     fixed_list: Option<u32>,
-    fixed: BTreeMap<u16, ObjB>,
+    fixed: BTreeMap<u16, ObjB<'s>>,
     sub_ext_list: Option<u32>,
     sub_ext: BTreeMap<u16, u32>,
     comments: Option<u32>,
@@ -672,8 +684,9 @@ impl<'r, 'a> Lower<'r, 'a> {
         let lname = name.as_bytes();
         self.dcf_hint = lname.len() >= 4 && lname[lname.len() - 4..].eq_ignore_ascii_case(b".dcf");
         let mut dev = Device::default();
-        let mut objects = ObjMap::default();
-        let mut modules: BTreeMap<u16, ModB> = BTreeMap::new();
+        let mut secs: Vec<(u64, u32)> = Vec::with_capacity(self.raw.sections.len());
+        let mut objects = 0usize;
+        let mut modules: BTreeMap<u16, ModB<'_>> = BTreeMap::new();
         let mut extra: Vec<(u32, RawSection)> = Vec::new();
         let mut has_value_sections = false;
 
@@ -719,24 +732,27 @@ impl<'r, 'a> Lower<'r, 'a> {
                         .map(|v| Spanned::new(v.value as u16, v.span))
                         .collect();
                 }
-                Kind::Object(x) => objects.get(x).main = Some(i),
-                Kind::Sub(x, s) => {
-                    objects.get(x).subs.insert(s, i);
+                Kind::Object(x) => {
+                    objects += 1;
+                    secs.push((section_key(0, x, ROLE_MAIN, 0), i));
                 }
-                Kind::Name(x) => objects.get(x).name = Some(i),
+                Kind::Sub(x, s) => secs.push((section_key(0, x, ROLE_SUB, s), i)),
+                Kind::Name(x) => secs.push((section_key(0, x, ROLE_NAME, 0), i)),
                 Kind::Value(x) => {
                     has_value_sections = true;
-                    objects.get(x).value = Some(i);
+                    secs.push((section_key(0, x, ROLE_VALUE, 0), i));
                 }
-                Kind::Denotation(x) => objects.get(x).denotation = Some(i),
-                Kind::Links(x) => objects.get(x).links = Some(i),
+                Kind::Denotation(x) => secs.push((section_key(0, x, ROLE_DENOTATION, 0), i)),
+                Kind::Links(x) => secs.push((section_key(0, x, ROLE_LINKS, 0), i)),
                 Kind::ModInfo(m) => modules.entry(m).or_default().info = Some(i),
                 Kind::ModFixedObjects(m) => modules.entry(m).or_default().fixed_list = Some(i),
                 Kind::ModFixed(m, x) => {
-                    modules.entry(m).or_default().fixed.entry(x).or_default().main = Some(i);
+                    modules.entry(m).or_default();
+                    secs.push((section_key(u32::from(m) + 1, x, ROLE_MAIN, 0), i));
                 }
                 Kind::ModFixedSub(m, x, s) => {
-                    modules.entry(m).or_default().fixed.entry(x).or_default().subs.insert(s, i);
+                    modules.entry(m).or_default();
+                    secs.push((section_key(u32::from(m) + 1, x, ROLE_SUB, s), i));
                 }
                 Kind::ModSubExtends(m) => modules.entry(m).or_default().sub_ext_list = Some(i),
                 Kind::ModSubExt(m, x) => {
@@ -759,21 +775,26 @@ impl<'r, 'a> Lower<'r, 'a> {
             }
         }
 
-        let objects = objects.finish();
-        let mut built: Vec<(u16, Object)> = Vec::with_capacity(objects.len());
-        for (index, b) in &objects {
-            match self.object(*index, b, &mut extra) {
-                Some(o) => built.push((*index, o)),
+        let mut built: Vec<(u16, Object)> = Vec::with_capacity(objects);
+        group_objects(&mut secs, |owner, index, b| {
+            if owner > 0 {
+                // Module fixed objects are read with their module, below.
+                let m = (owner - 1) as u16;
+                modules.entry(m).or_default().fixed.insert(index, b);
+                return;
+            }
+            match self.object(index, &b, &mut extra) {
+                Some(o) => built.push((index, o)),
                 None => {
                     // Orphan companions: kept as unknown sections.
                     let orphans = b
                         .subs
                         .values()
-                        .chain(b.name.iter())
-                        .chain(b.value.iter())
-                        .chain(b.denotation.iter())
-                        .chain(b.links.iter());
-                    for &i in orphans {
+                        .chain(b.name)
+                        .chain(b.value)
+                        .chain(b.denotation)
+                        .chain(b.links);
+                    for i in orphans {
                         let s = self.sec(i);
                         self.warn(
                             codes::ORPHAN_SECTION,
@@ -785,7 +806,7 @@ impl<'r, 'a> Lower<'r, 'a> {
                     }
                 }
             }
-        }
+        });
 
         // In index order: built in bulk.
         dev.objects = built.into_iter().collect();
@@ -1145,9 +1166,26 @@ impl<'r, 'a> Lower<'r, 'a> {
         default_dt: Option<DataType>,
         what: &dyn std::fmt::Display,
     ) -> SubObject {
+        let mut sub = blank_sub(sub_index);
+        self.fill_sub(keys, &mut sub, header, default_dt, what);
+        sub
+    }
+
+    /// Fills `sub` (fresh from [`blank_sub`]) from known keys; leftovers go to its `extra`.
+    /// In place: a sub-object is large, and building it elsewhere to move it into its
+    /// object's vector was a copy per sub-object.
+    fn fill_sub(
+        &mut self,
+        keys: &mut Keys<'r, 'a>,
+        sub: &mut SubObject,
+        header: Span,
+        default_dt: Option<DataType>,
+        what: &dyn std::fmt::Display,
+    ) {
+        let sub_index = sub.sub_index;
         let what_is_null = std::mem::take(&mut self.null_object);
         let file = self.file;
-        let name = match keys.take(K::ParameterName) {
+        sub.name = match keys.take(K::ParameterName) {
             Some(e) => e.value.to_owned(),
             None => {
                 self.warn(
@@ -1219,7 +1257,8 @@ impl<'r, 'a> Lower<'r, 'a> {
             },
             None => PdoMapping::No,
         };
-        let mut sub = SubObject::new(sub_index, name, data_type, access);
+        sub.data_type = data_type;
+        sub.access = access;
         sub.pdo_mapping = pdo_mapping;
         sub.span = header;
         if let Some(e) = keys.take(K::ObjectType) {
@@ -1251,7 +1290,6 @@ impl<'r, 'a> Lower<'r, 'a> {
                 .map(|e| raw_entry(e, file))
                 .collect();
         }
-        sub
     }
 
     fn object_kind(&mut self, e: &Entry<'_>) -> Option<ObjectKind> {
@@ -1354,14 +1392,19 @@ impl<'r, 'a> Lower<'r, 'a> {
             for (s, si) in b.subs.iter() {
                 let sheader = self.span(self.sec(si).header_pos);
                 let mut skeys = self.keys(si);
-                let sub = self.sub_from_keys(
+                let implied = obj.subs.contains_key(&s);
+                let sub = obj.subs.entry(s).or_insert_with(|| blank_sub(s));
+                if implied {
+                    *sub = blank_sub(s);
+                }
+                self.fill_sub(
                     &mut skeys,
-                    s,
+                    sub,
                     sheader,
                     None,
                     &format_args!("sub-object {index:04X}sub{s:X}"),
                 );
-                if obj.subs.insert(s, sub).is_some() {
+                if implied {
                     self.warn(
                         codes::COMPACT_CONFLICT,
                         format!(
@@ -1382,18 +1425,12 @@ impl<'r, 'a> Lower<'r, 'a> {
                 ObjectKind::DefType => Some(DataType::Unsigned32),
                 _ => None,
             };
-            let mut sub = self.sub_from_keys(
-                &mut keys,
-                0,
-                header,
-                default_dt,
-                &format_args!("object {index:04X}"),
-            );
+            obj.subs.reserve_exact(1 + b.subs.len());
+            let sub = obj.subs.entry(0).or_insert_with(|| blank_sub(0));
+            self.fill_sub(&mut keys, sub, header, default_dt, &format_args!("object {index:04X}"));
             sub.kind = None;
             // Unknown keys of a VAR section belong to the object.
             obj.extra.append(&mut sub.extra);
-            obj.subs.reserve_exact(1 + b.subs.len());
-            obj.subs.insert(0, sub);
             for (s, si) in b.subs.iter() {
                 let sec = self.sec(si);
                 self.warn(
@@ -1408,14 +1445,14 @@ impl<'r, 'a> Lower<'r, 'a> {
                 }
                 let sheader = self.span(sec.header_pos);
                 let mut skeys = self.keys(si);
-                let sub = self.sub_from_keys(
+                let sub = obj.subs.entry(s).or_insert_with(|| blank_sub(s));
+                self.fill_sub(
                     &mut skeys,
-                    s,
+                    sub,
                     sheader,
                     None,
                     &format_args!("sub-object {index:04X}sub{s:X}"),
                 );
-                obj.subs.insert(s, sub);
             }
         }
         if let Some(li) = b.links {
@@ -1442,7 +1479,7 @@ impl<'r, 'a> Lower<'r, 'a> {
         n: Spanned<u8>,
         b: &ObjB,
     ) {
-        let what = format!("compact object {:04X}", obj.index);
+        let what = format_args!("compact object {:04X}", obj.index);
         // The template: DataType, AccessType, PDOMapping and values of the object section.
         let mut tkeys = Keys { k: [None; N_KEYS], extra: Vec::new() };
         for k in [
@@ -1472,10 +1509,9 @@ impl<'r, 'a> Lower<'r, 'a> {
         obj.subs.reserve_exact(usize::from(n.value) + 1 + b.subs.len());
         obj.subs.insert(0, sub0);
         for i in 1..=n.value {
-            let mut s = template.clone();
+            let s = obj.subs.entry(i).or_insert_with(|| template.clone());
             s.sub_index = i;
             s.name = compact_sub_name(&obj.name, i);
-            obj.subs.insert(i, s);
         }
     }
 
@@ -1557,7 +1593,7 @@ impl<'r, 'a> Lower<'r, 'a> {
                     std::sync::Arc::make_mut(&mut m.fixed_objects).insert(index, o);
                 }
                 None => {
-                    for &i in ob.subs.values() {
+                    for i in ob.subs.values() {
                         let s = self.sec(i);
                         self.warn(
                             codes::ORPHAN_SECTION,
@@ -1595,6 +1631,11 @@ impl<'r, 'a> Lower<'r, 'a> {
         }
         m
     }
+}
+
+/// A sub-object with nothing read yet, for [`Lower::fill_sub`].
+fn blank_sub(sub_index: u8) -> SubObject {
+    SubObject::new(sub_index, String::new(), DataType::Domain, Access::Ro)
 }
 
 /// The pieces joined into one exactly sized string: for the messages of diagnostics that real

@@ -193,10 +193,16 @@ impl<'a> Entry<'a> {
 
     /// The sub-object there, after putting `make()` there if the slot was empty.
     pub fn or_insert_with(self, make: impl FnOnce() -> SubObject) -> &'a mut SubObject {
-        let i = match self.map.find(self.sub) {
+        let found = self.map.find(self.sub);
+        let items = &mut self.map.items;
+        let i = match found {
             Ok(i) => i,
+            Err(i) if i == items.len() => {
+                items.push((self.sub, make()));
+                i
+            }
             Err(i) => {
-                self.map.items.insert(i, (self.sub, make()));
+                items.insert(i, (self.sub, make()));
                 i
             }
         };
