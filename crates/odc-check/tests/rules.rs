@@ -260,8 +260,8 @@ trips!(c208_limits_on_non_numeric, "C208", base().var(0x2000, "Name", VisibleStr
 fn with_files(d: Dev, index: u16, upload: Option<&str>, download: Option<&str>) -> Dev {
     d.with(|d| {
         if let Some(s) = d.objects.get_mut(&index).and_then(|o| o.subs.get_mut(&0)) {
-            s.upload_file = upload.map(|f| Spanned::synthetic(f.into()));
-            s.download_file = download.map(|f| Spanned::synthetic(f.into()));
+            s.upload_file = upload.map(|f| Box::new(Spanned::synthetic(f.into())));
+            s.download_file = download.map(|f| Box::new(Spanned::synthetic(f.into())));
         }
     })
 }
