@@ -953,6 +953,7 @@ fn lower_objects<'t>(
                 let mut sub = SubObject::new(0, name, ty, Access::Ro);
                 sub.bit_size = bit_size.or(bits);
                 sub.span = o.span();
+                object.subs.reserve_exact(1);
                 if let Some(f) = flags {
                     apply_flags(f, index, &mut sub, ctx, flags_out);
                 }
@@ -963,6 +964,7 @@ fn lower_objects<'t>(
             }
             Some(Resolved::Array(elem, elem_bits, lbound, elements)) => {
                 object.kind = ObjectKind::Array;
+                object.subs.reserve_exact(elements.min(255) as usize + 1);
                 // Arrays of more than 255 elements exist (trace buffers read by complete access);
                 // their count needs a wider sub 0 than CoE's usual UNSIGNED8.
                 let count_ty =
@@ -1020,6 +1022,8 @@ fn lower_struct<'t>(
     let mut next: i64 = 0;
     let mut saw_array = false;
     let mut saw_other = false;
+    // One sub-object per SubItem, unless one is an array.
+    object.subs.reserve_exact(dt.children_named("SubItem").count());
     for si in dt.children_named("SubItem") {
         let name = si.child("Name").map(|n| n.text().to_string()).unwrap_or_default();
         let type_el = si.child("Type");
