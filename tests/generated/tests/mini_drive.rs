@@ -82,6 +82,19 @@ fn slave_reads_and_writes() {
 }
 
 #[test]
+fn dictionaries_compare_field_by_field() {
+    let mut a = slave::Dictionary::new(5);
+    let b = slave::Dictionary::new(5);
+    assert_eq!(a, b);
+    // $NODEID+0x80 differs between nodes.
+    assert_ne!(a, slave::Dictionary::new(6));
+    assert_eq!(a.write(0x607A, 0, &1000i32.to_le_bytes()), Ok(()));
+    assert_ne!(a, b);
+    assert_eq!(a.write(0x607A, 0, &b.target_position.to_le_bytes()), Ok(()));
+    assert_eq!(a, b);
+}
+
+#[test]
 fn write_hook_sees_and_vetoes() {
     struct Hook(Vec<ObjectAddr>);
     impl odc::slave::WriteHook for Hook {
