@@ -1,0 +1,158 @@
+#!/usr/bin/env bash
+# Measures the memory the generated slave dictionary of a device takes in a firmware image:
+# builds a `#![no_std]` program for a 32-bit bare-metal target that holds the dictionary in a
+# static and answers SDO reads and writes, links it (rust-lld, --gc-sections), and prints
+# .text/.rodata/.data/.bss against the same program without a dictionary. See README.md.
+#
+#   tests/slave-size/run.sh [--target TRIPLE] FILE...
+set -euo pipefail
+
+ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+TARGET=thumbv7em-none-eabihf
+FILES=()
+while [ $# -gt 0 ]; do
+    case $1 in
+        --target) TARGET=$2; shift 2 ;;
+        -h|--help) sed -n 2,7p "$0"; exit 0 ;;
+        *) FILES+=("$1"); shift ;;
+    esac
+done
+[ ${#FILES[@]} -gt 0 ] || { echo "usage: $0 [--target TRIPLE] FILE..." >&2; exit 2; }
+rustup target list --installed 2>/dev/null | grep -qx "$TARGET" ||
+    { echo "target $TARGET is not installed (rustup target add $TARGET)" >&2; exit 2; }
+
+WORK=$ROOT/target/slave-size
+ODC=${CARGO_TARGET_DIR:-$ROOT/target}/release/odc
+(cd "$ROOT" && cargo build -q --release -p odc-cli) || { echo "cannot build odc-cli" >&2; exit 2; }
+mkdir -p "$WORK/src"
+cat >"$WORK/Cargo.toml" <<TOML
+[package]
+name = "slave-size"
+version = "0.0.0"
+edition = "2024"
+publish = false
+
+[dependencies]
+odc = { path = "$ROOT/crates/odc", default-features = false, features = ["derive"] }
+
+[features]
+## Without it the program is the baseline: the same SDO entry points, no dictionary.
+device = []
+
+[profile.release]
+opt-level = "s"
+codegen-units = 1
+panic = "abort"
+debug = false
+
+[workspace]
+TOML
+cat >"$WORK/src/main.rs" <<'RS'
+//! A firmware image that holds one generated slave dictionary and answers SDO transfers.
+#![no_std]
+#![no_main]
+
+use core::mem::MaybeUninit;
+use core::panic::PanicInfo;
+
+#[cfg(feature = "device")]
+#[allow(missing_docs, dead_code)]
+mod dev {
+    include!("dev.rs");
+}
+
+#[cfg(feature = "device")]
+type Dict = dev::slave::Dictionary;
+
+/// Stand-in for a device without dictionary: answers every request with an abort.
+#[cfg(not(feature = "device"))]
+struct Dict;
+#[cfg(not(feature = "device"))]
+impl Dict {
+    fn new(_: u8) -> Self {
+        Dict
+    }
+    fn read(&self, _: u16, _: u8, _: &mut [u8]) -> Result<usize, odc::SdoAbort> {
+        Err(odc::SdoAbort::NoSuchObject)
+    }
+    fn write(&mut self, _: u16, _: u8, _: &[u8]) -> Result<(), odc::SdoAbort> {
+        Err(odc::SdoAbort::NoSuchObject)
+    }
+}
+
+/// The dictionary's storage, where firmware keeps it: a static.
+#[unsafe(no_mangle)]
+static mut OD_STORAGE: MaybeUninit<Dict> = MaybeUninit::uninit();
+
+/// Initialises the dictionary for `node_id`.
+#[unsafe(no_mangle)]
+pub extern "C" fn od_init(node_id: u8) {
+    // SAFETY: single-threaded test image; nothing else holds a reference.
+    unsafe { (*(&raw mut OD_STORAGE)).write(Dict::new(node_id)) };
+}
+
+/// SDO upload; returns the length, or the abort code negated.
+#[unsafe(no_mangle)]
+pub extern "C" fn od_read(index: u16, sub: u8, buf: *mut u8, len: usize) -> i64 {
+    // SAFETY: the caller passes a valid buffer; od_init ran before.
+    let (d, b) = unsafe { ((*(&raw const OD_STORAGE)).assume_init_ref(), core::slice::from_raw_parts_mut(buf, len)) };
+    match d.read(index, sub, b) {
+        Ok(n) => n as i64,
+        Err(e) => -i64::from(e.to_u32()),
+    }
+}
+
+/// SDO download; returns 0 or the abort code.
+#[unsafe(no_mangle)]
+pub extern "C" fn od_write(index: u16, sub: u8, data: *const u8, len: usize) -> u32 {
+    // SAFETY: as for od_read.
+    let (d, b) = unsafe { ((*(&raw mut OD_STORAGE)).assume_init_mut(), core::slice::from_raw_parts(data, len)) };
+    match d.write(index, sub, b) {
+        Ok(()) => 0,
+        Err(e) => e.to_u32(),
+    }
+}
+
+#[unsafe(no_mangle)]
+pub extern "C" fn _start() -> ! {
+    od_init(5);
+    let mut buf = [0u8; 64];
+    let n = od_read(0x1000, 0, buf.as_mut_ptr(), buf.len());
+    let _ = od_write(0x1017, 0, buf.as_ptr(), n as usize);
+    loop {}
+}
+
+#[panic_handler]
+fn panic(_: &PanicInfo) -> ! {
+    loop {}
+}
+RS
+
+# `size -A` of the linked image: "section bytes" for the sections that matter.
+sections() {
+    size -A "$1" | awk '$1 ~ /^\.(text|rodata|data|bss)/ { split($1, p, "."); s[p[2]] += $2 }
+        END { printf "%d %d %d %d\n", s["text"], s["rodata"], s["data"], s["bss"] }'
+}
+build() {  # $1: features ("" or "device"); prints the image path
+    local f=()
+    [ -n "$1" ] && f=(--features "$1")
+    (cd "$WORK" && CARGO_TARGET_DIR=$WORK/target RUSTFLAGS="-C link-arg=--entry=_start" \
+        cargo build -q --release --target "$TARGET" "${f[@]}") >&2
+    echo "$WORK/target/$TARGET/release/slave-size"
+}
+printf '%s' "" >"$WORK/src/dev.rs"
+read -r bt br bd bb < <(sections "$(build "")")
+echo "target $TARGET, opt-level s; bytes beyond the image without dictionary (text $bt, rodata $br, data $bd, bss $bb)"
+printf '%-44s %8s %8s %8s %8s %8s %8s %8s\n' device entries text rodata data bss ENTRIES storage
+for file in "${FILES[@]}"; do
+    "$ODC" generate "$file" --role slave -o "$WORK/src/dev.rs"
+    img=$(build device)
+    read -r t r d b < <(sections "$img")
+    # The table and the storage by symbol size.
+    sym_size() { nm -S "$img" | awk -v re="$1" '$4 ~ re && !n++ { print $2 }'; }
+    entries_hex=$(sym_size 'slave7ENTRIES')
+    storage_hex=$(sym_size '^OD_STORAGE$')
+    entries_sym=$((16#${entries_hex:-0})) storage_sym=$((16#${storage_hex:-0}))
+    n=$(grep -oE 'ENTRIES: \[::odc::EntryInfo; [0-9]+\]' "$WORK/src/dev.rs" | grep -oE '[0-9]+\]' | tr -d ']')
+    printf '%-44s %8s %8d %8d %8d %8d %8s %8s\n' "$(basename "$file")" "${n:-0}" $((t - bt)) $((r - br)) $((d - bd)) $((b - bb)) "${entries_sym:-0}" "${storage_sym:-0}"
+done
