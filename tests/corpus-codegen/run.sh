@@ -3,7 +3,7 @@
 # `cargo check` and `cargo clippy -- -D warnings` (RUSTFLAGS=-Dwarnings). See README.md.
 #
 #   tests/corpus-codegen/run.sh [--sample N] [--batch M] [--role both|slave|master]
-#                               [--compile-only]
+#                               [--compile-only | --resume] [--odc PATH]
 set -uo pipefail
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
@@ -12,12 +12,16 @@ SAMPLE=0
 BATCH=100
 ROLE=both
 COMPILE_ONLY=0
+RESUME=0
+ODC=
 while [ $# -gt 0 ]; do
     case $1 in
         --sample) SAMPLE=$2; shift 2 ;;
         --batch) BATCH=$2; shift 2 ;;
         --role) ROLE=$2; shift 2 ;;
         --compile-only) COMPILE_ONLY=1; shift ;;
+        --resume) COMPILE_ONLY=1; RESUME=1; shift ;;
+        --odc) ODC=$2; shift 2 ;;
         -h|--help) sed -n 2,5p "$0"; exit 0 ;;
         *) echo "unknown argument: $1" >&2; exit 2 ;;
     esac
@@ -26,8 +30,12 @@ CORPUS=$(cd "$CORPUS" 2>/dev/null && pwd) || { echo "no corpus at ${ODC_CORPUS:-
 [ -f "$CORPUS/MANIFEST.tsv" ] || { echo "no $CORPUS/MANIFEST.tsv" >&2; exit 2; }
 
 WORK=$ROOT/target/corpus-codegen
-ODC=$ROOT/target/release/odc
-(cd "$ROOT" && cargo build -q --release -p odc-cli) || { echo "cannot build odc-cli" >&2; exit 2; }
+if [ -z "$ODC" ]; then
+    ODC=${CARGO_TARGET_DIR:-$ROOT/target}/release/odc
+    (cd "$ROOT" && cargo build -q --release -p odc-cli) || { echo "cannot build odc-cli" >&2; exit 2; }
+fi
+ODC=$(cd "$(dirname "$ODC")" && pwd)/$(basename "$ODC")
+[ -x "$ODC" ] || { echo "no odc binary at $ODC" >&2; exit 2; }
 n_files=0 n_devices=0 n_lowerable=0 n_generated=0 n_unlowerable_files=0
 LOG=$WORK/failures.tsv          # module, file, device, stage, first error
 ORIGINS=$WORK/batches/origins.tsv  # module, file, device
@@ -151,19 +159,31 @@ fi
 
 # Compile: one shared target directory for every batch, apart from the workspace's (other
 # RUSTFLAGS would rebuild the workspace's dependencies there).
-export CARGO_TARGET_DIR=$WORK/target RUSTFLAGS=-Dwarnings
+# No incremental cache: every crate is compiled once, and the caches of a full run take
+# gigabytes.
+export CARGO_TARGET_DIR=$WORK/target RUSTFLAGS=-Dwarnings CARGO_INCREMENTAL=0
 declare -A BAD
+# Compiles batch $1 at stage $2 (check or clippy) and prints the messages; with --resume, the
+# log of an earlier run instead when there is one.
+compile_stage() {
+    local dir=$1 stage=$2 out cmd
+    if [ "$RESUME" = 1 ] && [ -f "$dir/$stage.log" ]; then
+        cat "$dir/$stage.log"
+        return
+    fi
+    if [ "$stage" = check ]; then cmd=(cargo check -q --message-format short)
+    else cmd=(cargo clippy -q --message-format short -- -D warnings); fi
+    # cargo sometimes fails to start rustc when the machine is loaded: try again.
+    for attempt in 1 2 3; do
+        out=$(cd "$dir" && "${cmd[@]}" 2>&1)
+        grep -q 'failed to run `rustc`' <<<"$out" || break
+        sleep 10
+    done
+    printf '%s\n' "$out" | tee "$dir/$stage.log"
+}
 for dir in "$WORK"/batches/b*/; do
     for stage in check clippy; do
-        if [ "$stage" = check ]; then cmd=(cargo check -q --message-format short)
-        else cmd=(cargo clippy -q --message-format short -- -D warnings); fi
-        # cargo sometimes fails to start rustc when the machine is loaded: try again.
-        for attempt in 1 2 3; do
-            out=$(cd "$dir" && "${cmd[@]}" 2>&1)
-            grep -q 'failed to run `rustc`' <<<"$out" || break
-            sleep 10
-        done
-        printf '%s\n' "$out" >"$dir/$stage.log"
+        out=$(compile_stage "$dir" "$stage")
         # `src/d0001.rs:12:5: error: ...`: the first error of each module not already failed.
         while IFS= read -r line; do
             [[ $line =~ ^src/(d[0-9]+)\.rs:[0-9]+:[0-9]+:\ error ]] || continue
