@@ -30,8 +30,9 @@ fn main() -> Result<(), odc_build::Error> {
 }
 
 /// A made-up CiA 301 device of exactly 500 objects, for the lookup benchmark: 0x1000, 0x1001,
-/// the identity record 0x1018, then 497 manufacturer objects from 0x2000 on, every fifth a
-/// record of four sub-objects and the others variables of seven data types: 900 entries.
+/// 0x1017, the identity record 0x1018, then 496 manufacturer objects from 0x2000 on, every
+/// fifth a record of four sub-objects and the others variables of seven data types: 900
+/// entries.
 fn bench_500_eds() -> String {
     const TYPES: [(u16, &str); 7] = [
         (0x0005, "0"),      // UNSIGNED8
@@ -42,7 +43,7 @@ fn bench_500_eds() -> String {
         (0x0008, "0"),      // REAL32
         (0x0001, "0"),      // BOOLEAN
     ];
-    let manufacturer: Vec<u16> = (0..497).map(|i| 0x2000 + i).collect();
+    let manufacturer: Vec<u16> = (0..496).map(|i| 0x2000 + i).collect();
     let mut s = String::new();
     let mut w = |text: &str| s.push_str(text);
     w("[FileInfo]\nFileName=bench500.eds\nFileVersion=1\nFileRevision=0\nEDSVersion=4.0\n\
@@ -56,7 +57,7 @@ fn bench_500_eds() -> String {
        [DummyUsage]\nDummy0001=0\nDummy0002=0\nDummy0003=0\nDummy0004=0\nDummy0005=0\n\
        Dummy0006=0\nDummy0007=0\n\n\
        [MandatoryObjects]\nSupportedObjects=3\n1=0x1000\n2=0x1001\n3=0x1018\n\n\
-       [OptionalObjects]\nSupportedObjects=0\n\n");
+       [OptionalObjects]\nSupportedObjects=1\n1=0x1017\n\n");
     let mut list = format!("[ManufacturerObjects]\nSupportedObjects={}\n", manufacturer.len());
     for (n, index) in manufacturer.iter().enumerate() {
         let _ = writeln!(list, "{}=0x{index:04X}", n + 1);
@@ -66,6 +67,8 @@ fn bench_500_eds() -> String {
        DefaultValue=0x00000000\nPDOMapping=0\n\n\
        [1001]\nParameterName=Error register\nObjectType=0x7\nDataType=0x0005\nAccessType=ro\n\
        DefaultValue=0\nPDOMapping=1\n\n\
+       [1017]\nParameterName=Producer heartbeat time\nObjectType=0x7\nDataType=0x0006\n\
+       AccessType=rw\nDefaultValue=0\nPDOMapping=0\n\n\
        [1018]\nParameterName=Identity object\nObjectType=0x9\nSubNumber=5\n\n\
        [1018sub0]\nParameterName=Highest sub-index supported\nObjectType=0x7\n\
        DataType=0x0005\nAccessType=const\nDefaultValue=4\nPDOMapping=0\n\n");
@@ -89,7 +92,8 @@ fn bench_500_eds() -> String {
                  [{index:04X}sub0]\nParameterName=Highest sub-index supported\nObjectType=0x7\n\
                  DataType=0x0005\nAccessType=const\nDefaultValue=4\nPDOMapping=0\n\n"
             );
-            for (sub, (ty, default)) in [1, 2, 4, 6].into_iter().map(|t| (t, TYPES[t])) {
+            for (sub, (ty, default)) in [1, 2, 4, 6].into_iter().map(|t| TYPES[t]).enumerate() {
+                let sub = sub + 1;
                 let _ = write!(
                     s,
                     "[{index:04X}sub{sub:X}]\nParameterName=Field {sub}\nObjectType=0x7\n\
