@@ -26,7 +26,7 @@ mod bench500 {
 
 /// Lenze E94AYCCA (`eds/lenze-e94aycca.eds`), slave side.
 #[allow(dead_code)]
-mod lenze {
+mod lenze_e94aycca {
     odc::include_od!("lenze_e94aycca");
 }
 
@@ -102,7 +102,7 @@ macro_rules! dictionary_benches {
 fn bench(c: &mut Criterion) {
     assert_eq!(bench500::slave::ENTRIES.len(), 900);
     dictionary_benches!(c, "bench500", bench500);
-    dictionary_benches!(c, "lenze", lenze);
+    dictionary_benches!(c, "lenze_e94aycca", lenze_e94aycca);
 }
 
 criterion_group!(benches, bench);
