@@ -1,0 +1,191 @@
+#!/usr/bin/env bash
+# odc against the tools a user could pick instead, measured in one run on the same inputs.
+# Prints one table of ratios (see BENCHMARKS.md). Sets up the other tools itself:
+#   - a Python venv with python-canopen and lely's dcf-tools (PyPI);
+#   - the Rust crates canopen-host, ethercat-esi, deku, packed_struct (crates.io, through
+#     bench/Cargo.toml, a workspace of its own: none of them is in the product's graph).
+# Usage: bench/compare.sh [--no-build-cost]     (ODC_CORPUS: the corpus, default ../shared/corpus)
+set -euo pipefail
+cd "$(dirname "$0")"
+BENCH=$PWD
+ROOT=$(cd .. && pwd)
+export ODC_CORPUS="${ODC_CORPUS:-$(cd "$ROOT/.." && pwd)/shared/corpus}"
+WORK="$BENCH/target/compare"
+BUILD_COST=1
+[ "${1:-}" = "--no-build-cost" ] && BUILD_COST=0
+mkdir -p "$WORK"
+export CARGO_TARGET_DIR="$BENCH/target"
+export CARGO_TERM_COLOR=never
+log() { echo "compare.sh: $*" >&2; }
+
+# ---- tools -------------------------------------------------------------------------------
+log "python venv (python-canopen, lely dcf-tools)"
+[ -x "$WORK/venv/bin/python" ] || python3 -m venv "$WORK/venv"
+PY="$WORK/venv/bin/python"
+"$PY" -m pip install -q --disable-pip-version-check canopen dcf-tools >&2
+# lely's C library (liblely-coapp: its C++ EDS/DCF parser) is not on PyPI nor in Debian's
+# packages: only dcf-tools, lely's Python EDS/DCF tools, is installable here.
+LELY_CORE=$("$PY" -m pip install -q --disable-pip-version-check lely-core >/dev/null 2>&1 \
+  && echo installed || echo "not installable (no PyPI distribution)")
+log "lely-core: $LELY_CORE"
+log "building the harness (release)"
+cargo build --release --quiet --locked --manifest-path "$BENCH/Cargo.toml"
+cargo build --release --quiet --manifest-path "$ROOT/Cargo.toml" -p odc-cli
+HARNESS="$CARGO_TARGET_DIR/release/odc-bench"
+ODC="$CARGO_TARGET_DIR/release/odc"
+
+# ---- inputs ------------------------------------------------------------------------------
+list() { awk -F'\t' -v d="$ODC_CORPUS" -v k="$1" 'NR>1 && $2 ~ k {print d "/" $1}' "$ODC_CORPUS/MANIFEST.tsv"; }
+list '^(eds|dcf)$' > "$WORK/eds.list"
+list '^esi$' > "$WORK/esi.list"
+largest() { xargs -d '\n' ls -S < "$1" | sed -n 1p; }
+bytes() { xargs -d '\n' cat < "$1" | wc -c; }
+
+# Which files each tool reads without an error: every ratio is taken on files both tools read.
+mkdir -p "$WORK/acc-eds" "$WORK/acc-esi"
+"$HARNESS" eds "$WORK/eds.list" "$WORK/acc-eds"
+"$HARNESS" esi "$WORK/esi.list" "$WORK/acc-esi"
+"$PY" "$BENCH/py/time_eds.py" accept "$WORK/eds.list" "$WORK/acc-eds"
+all_read() { # the files every tool named reads
+  local first=$1; shift
+  sort "$first" > "$WORK/common"
+  for t in "$@"; do sort "$t" | comm -12 "$WORK/common" - > "$WORK/common.next"; mv "$WORK/common.next" "$WORK/common"; done
+  cat "$WORK/common"
+}
+all_read "$WORK"/acc-eds/{canopen-host,python-canopen,lely-dcf-tools} > "$WORK/eds-common.list"
+largest "$WORK/eds.list" > "$WORK/eds-largest.list"
+largest "$WORK/eds-common.list" > "$WORK/eds-common-largest.list"
+all_read "$WORK"/acc-esi/{ethercat-esi,quick-xml} > "$WORK/esi-common.list"
+largest "$WORK/esi.list" > "$WORK/esi-largest.list"
+largest "$WORK/esi-common.list" > "$WORK/esi-common-largest.list"
+
+# ---- timings -----------------------------------------------------------------------------
+# rust LIST KIND TOOL / py LIST TOOL: CPU seconds per pass of TOOL over the files of LIST.
+# Each harness runs once per input list; its output is kept in $WORK/times-*.
+run_rust() { local o="$WORK/times-rust-$2-$(basename "$1")"; [ -s "$o" ] || "$HARNESS" "$2" "$1" > "$o"; cat "$o"; }
+run_py() { local o="$WORK/times-py-$(basename "$1")"; [ -s "$o" ] || "$PY" "$BENCH/py/time_eds.py" time "$1" > "$o"; cat "$o"; }
+rust() { run_rust "$1" "$2" | awk -F'\t' -v t="$3" '$1==t {print $3}'; }
+py() { run_py "$1" | awk -F'\t' -v t="$2" '$1==t {print $3}'; }
+rm -f "$WORK"/times-*
+
+ROWS="$WORK/rows.tsv"
+: > "$ROWS"
+# row INPUT FILES BYTES TOOL ODC_SECONDS OTHER_SECONDS
+row() { printf '%s\t%s\t%s\t%s\t%s\t%s\n' "$@" >> "$ROWS"; }
+n() { wc -l < "$1" | tr -d ' '; }
+
+log "EDS parse"
+for set in eds eds-largest eds-common eds-common-largest; do
+  L="$WORK/$set.list"
+  odc=$(rust "$L" eds odc)
+  row "$set" "$(n "$L")" "$(bytes "$L")" floor "$odc" "$(rust "$L" eds floor)"
+done
+for tool in canopen-host python-canopen lely-dcf-tools; do
+  sort "$WORK/acc-eds/$tool" > "$WORK/eds-$tool.list"
+  for L in "$WORK/eds-$tool.list" "$WORK/eds-common.list" "$WORK/eds-common-largest.list"; do
+    set=$(basename "$L" .list)
+    odc=$(rust "$L" eds odc)
+    if [ "$tool" = canopen-host ]; then other=$(rust "$L" eds canopen-host); else other=$(py "$L" "$tool"); fi
+    row "$set" "$(n "$L")" "$(bytes "$L")" "$tool" "$odc" "$other"
+  done
+done
+
+log "ESI parse"
+for set in esi esi-largest; do
+  L="$WORK/$set.list"
+  row "$set" "$(n "$L")" "$(bytes "$L")" floor "$(rust "$L" esi odc)" "$(rust "$L" esi floor)"
+done
+# quick-xml stops at the first error, so it is compared on the files it reads to the end.
+sort "$WORK/acc-esi/quick-xml" > "$WORK/esi-quick-xml.list"
+largest "$WORK/esi-quick-xml.list" > "$WORK/esi-quick-xml-largest.list"
+for set in esi-quick-xml esi-quick-xml-largest; do
+  L="$WORK/$set.list"
+  row "$set" "$(n "$L")" "$(bytes "$L")" quick-xml "$(rust "$L" esi odc)" "$(rust "$L" esi quick-xml)"
+done
+for set in esi-common esi-common-largest; do
+  L="$WORK/$set.list"
+  row "$set" "$(n "$L")" "$(bytes "$L")" ethercat-esi "$(rust "$L" esi odc)" "$(rust "$L" esi ethercat-esi)"
+  row "$set" "$(n "$L")" "$(bytes "$L")" quick-xml "$(rust "$L" esi odc)" "$(rust "$L" esi quick-xml)"
+done
+
+log "whole process: odc check vs dcfchk"
+# Wall time of the whole command (interpreter start-up included), median of 5, on the
+# largest EDS both read.
+F=$(cat "$WORK/eds-common-largest.list")
+wall() { local ts=(); for _ in 1 2 3 4 5; do local s; s=$(date +%s%N); "$@" >/dev/null 2>&1 || true; ts+=($(( $(date +%s%N) - s ))); done; printf '%s\n' "${ts[@]}" | sort -n | sed -n 3p | awk '{printf "%.9f", $1/1e9}'; }
+row whole-process 1 "$(wc -c < "$F")" "dcfchk" "$(wall "$ODC" check "$F")" "$(wall "$WORK/venv/bin/dcfchk" "$F")"
+
+log "PDO pack/unpack (criterion)"
+cargo bench --quiet --manifest-path "$BENCH/Cargo.toml" --bench pack -- --noplot > "$WORK/pack.txt" 2>&1
+# criterion prints "group/function" then "time: [low mid high]": take mid, in ns.
+awk '
+  /^(pack|unpack)_/ {name=$1}
+  /time:/ && name != "" {
+    v=$5; u=$6; f=(u=="ps")?1e-3:(u=="ns")?1:(u=="µs"||u=="us")?1e3:(u=="ms")?1e6:1e9;
+    printf "%s\t%.3f\n", name, v*f; name=""
+  }' "$WORK/pack.txt" > "$WORK/pack.tsv"
+pk() { awk -F'\t' -v t="$1" '$1==t {print $2/1e9}' "$WORK/pack.tsv"; }
+for op in pack_rpdo2_x1024 unpack_tpdo2_x1024; do
+  for other in hand deku packed_struct; do
+    row "$op" 1024 "$((1024 * 6))" "$other" "$(pk "$op/odc")" "$(pk "$op/$other")"
+  done
+done
+
+if [ "$BUILD_COST" = 1 ]; then
+  log "build cost (cold builds: a few minutes)"
+  DEV="$ROOT/eds/lenze-e94aycca.eds" # the largest device file of eds/
+  BC="$WORK/buildcost"
+  rm -rf "$BC"
+  mkdir -p "$BC/with-odc/src" "$BC/checked-in/src"
+  for c in with-odc checked-in; do
+    cat > "$BC/$c/Cargo.toml" <<EOF
+[package]
+name = "device-$c"
+version = "0.1.0"
+edition = "2024"
+[workspace]
+[dependencies]
+odc = { path = "$ROOT/crates/odc" }
+EOF
+    cp "$ROOT/Cargo.lock" "$BC/$c/Cargo.lock"
+  done
+  cat >> "$BC/with-odc/Cargo.toml" <<EOF
+[build-dependencies]
+odc-build = { path = "$ROOT/crates/odc-build" }
+EOF
+  cp "$DEV" "$BC/with-odc/device.eds"
+  cat > "$BC/with-odc/build.rs" <<'EOF'
+fn main() -> Result<(), odc_build::Error> {
+    odc_build::Config::new().device("device.eds").compile()
+}
+EOF
+  echo 'pub mod device { include!(concat!(env!("OUT_DIR"), "/device.rs")); }' > "$BC/with-odc/src/lib.rs"
+  "$ODC" generate "$DEV" -o "$BC/checked-in/src/device.rs" 2>/dev/null
+  echo 'pub mod device { include!("device.rs"); }' > "$BC/checked-in/src/lib.rs"
+  secs() { local s; s=$(date +%s%N); "$@" >/dev/null 2>&1; awk -v d=$(( $(date +%s%N) - s )) 'BEGIN {printf "%.3f", d/1e9}'; }
+  b1=$(CARGO_TARGET_DIR="$BC/with-odc/target" secs cargo build --manifest-path "$BC/with-odc/Cargo.toml")
+  b2=$(CARGO_TARGET_DIR="$BC/checked-in/target" secs cargo build --manifest-path "$BC/checked-in/Cargo.toml")
+  touch "$BC/with-odc/device.eds"
+  c1=$(CARGO_TARGET_DIR="$BC/with-odc/target" secs cargo check --manifest-path "$BC/with-odc/Cargo.toml")
+  touch "$BC/checked-in/src/device.rs"
+  c2=$(CARGO_TARGET_DIR="$BC/checked-in/target" secs cargo check --manifest-path "$BC/checked-in/Cargo.toml")
+  row build-cold 1 "$(wc -c < "$DEV")" "checked-in file" "$b1" "$b2"
+  row check-after-touch 1 "$(wc -c < "$DEV")" "checked-in file" "$c1" "$c2"
+fi
+
+# ---- the table ---------------------------------------------------------------------------
+echo
+echo "odc compare: $(date -u +%Y-%m-%dT%H:%MZ), $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), load $(cut -d' ' -f1-3 /proc/loadavg)"
+echo "odc $(git -C "$ROOT" rev-parse --short HEAD); python-canopen $("$PY" -c 'import canopen; print(canopen.__version__)'); dcf-tools $("$PY" -m pip show dcf-tools 2>/dev/null | awk '/^Version/ {print $2}'); lely-core: $LELY_CORE"
+echo "Times: CPU seconds of one in-process pass (parse, pack), wall seconds (whole process, build)."
+echo "ratio = other / odc (how many times faster odc is); for the floor, odc / floor."
+echo
+awk -F'\t' '
+  BEGIN {
+    printf "| %-22s | %5s | %9s | %-16s | %12s | %12s | %9s |\n", "input", "files", "bytes", "vs", "odc s", "other s", "ratio"
+    printf "|%s|%s|%s|%s|%s|%s|%s|\n", "------------------------", "-------", "-----------", "------------------", "--------------", "--------------", "-----------"
+  }
+  {
+    r = ($4 == "floor") ? (($6 > 0) ? $5 / $6 : 0) : (($5 > 0) ? $6 / $5 : 0)
+    printf "| %-22s | %5s | %9s | %-16s | %12.6f | %12.6f | %8.2fx |\n", $1, $2, $3, $4, $5, $6, r
+  }' "$ROWS"
