@@ -417,8 +417,8 @@ pub fn sha256_hex(bytes: &[u8]) -> String {
     Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
 }
 
-/// Writes `contents` to `path` unless it already holds exactly that; atomically (a temporary
-/// file beside it, then a rename).
+/// Writes `contents` to `path` unless it already holds exactly that; atomically (see
+/// [`write_atomic`]).
 ///
 /// # Errors
 ///
@@ -427,15 +427,62 @@ pub fn write_if_changed(path: &Path, contents: &[u8]) -> Result<(), Error> {
     if std::fs::read(path).is_ok_and(|old| old == contents) {
         return Ok(());
     }
-    let io = |source| Error::Io { path: path.to_path_buf(), source };
-    let mut tmp_name = path.file_name().map(|n| n.to_os_string()).unwrap_or_default();
-    tmp_name.push(format!(".{}.tmp", std::process::id()));
+    write_atomic(path, |w| w.write_all(contents))
+        .map_err(|source| Error::Io { path: path.to_path_buf(), source })
+}
+
+/// Writes a file so that readers only ever see the old content or the complete new one.
+///
+/// `write` fills a temporary file created beside `path` (same directory, so the rename cannot
+/// cross file systems; named `.<name>.<pid>.<n>.tmp`); the file is flushed and synced, then
+/// renamed over `path`. If `write`, the flush or the rename fails, the temporary file is
+/// removed and `path` is left as it was: a generation that fails halfway, a full disk or a
+/// killed process never leaves a truncated output for the next build to pick up.
+///
+/// A symbolic link is followed: the file it points to is replaced and the link stays. A target
+/// that exists and is not a regular file (`/dev/null`, `/dev/stdout`, a FIFO) is written into
+/// directly, since a rename would replace the device itself.
+///
+/// # Errors
+///
+/// The first I/O error (from `write`, creating, syncing or renaming the file).
+pub fn write_atomic(
+    path: &Path,
+    write: impl FnOnce(&mut dyn std::io::Write) -> std::io::Result<()>,
+) -> std::io::Result<()> {
+    use std::io::Write as _;
+    use std::sync::atomic::{AtomicU32, Ordering};
+    /// Distinguishes temporary files of threads of one process writing beside each other.
+    static NEXT: AtomicU32 = AtomicU32::new(0);
+
+    if std::fs::metadata(path).is_ok_and(|meta| !meta.is_file() && !meta.is_dir()) {
+        let mut out = std::io::BufWriter::new(std::fs::OpenOptions::new().write(true).open(path)?);
+        write(&mut out)?;
+        return out.flush();
+    }
+    let resolved = std::fs::canonicalize(path).ok();
+    let path = resolved.as_deref().unwrap_or(path);
+    let file_name = path.file_name().ok_or_else(|| {
+        std::io::Error::new(std::io::ErrorKind::InvalidInput, "output path has no file name")
+    })?;
+    let mut tmp_name = std::ffi::OsString::from(".");
+    tmp_name.push(file_name);
+    tmp_name.push(format!(".{}.{}.tmp", std::process::id(), NEXT.fetch_add(1, Ordering::Relaxed)));
     let tmp = path.with_file_name(tmp_name);
-    std::fs::write(&tmp, contents).map_err(io)?;
-    std::fs::rename(&tmp, path).map_err(|e| {
+    let file = std::fs::OpenOptions::new().write(true).create_new(true).open(&tmp)?;
+    let result = (|| {
+        let mut out = std::io::BufWriter::new(file);
+        write(&mut out)?;
+        out.flush()?;
+        let file = out.into_inner().map_err(std::io::IntoInnerError::into_error)?;
+        file.sync_all()?;
+        drop(file);
+        std::fs::rename(&tmp, path)
+    })();
+    if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
-        io(e)
-    })
+    }
+    result
 }
 
 #[cfg(test)]

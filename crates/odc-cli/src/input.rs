@@ -60,30 +60,12 @@ pub fn codegen_overlay_for(file: &Path) -> anyhow::Result<odc_build::odc_codegen
     Ok(odc_build::read_overlay(&path)?.codegen)
 }
 
-/// Writes `contents` to `path` atomically: into a temporary file beside it, then renamed over
-/// it, so an interrupted or failed run never leaves a half-written file.
-///
-/// A target that is not a regular file (`-o /dev/null`, `-o /dev/stdout`, a FIFO) is written
-/// into directly: a rename would replace the device itself. A symbolic link is followed, so the
-/// rename replaces the file it points to and the link stays.
+/// Writes `contents` to `path` atomically ([`odc_build::write_atomic`]): into a temporary file
+/// beside it, then renamed over it, so an interrupted or failed run never leaves a half-written
+/// file.
 pub fn write_atomic(path: &Path, contents: &[u8]) -> anyhow::Result<()> {
-    if std::fs::metadata(path).is_ok_and(|meta| !meta.is_file()) {
-        return std::fs::write(path, contents)
-            .with_context(|| format!("cannot write {}", path.display()));
-    }
-    let resolved = std::fs::canonicalize(path).ok();
-    let path = resolved.as_deref().unwrap_or(path);
-    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let file_name = path.file_name().context("output path has no file name")?;
-    let mut tmp_name = std::ffi::OsString::from(".");
-    tmp_name.push(file_name);
-    tmp_name.push(format!(".{}.tmp", std::process::id()));
-    let tmp = dir.join(tmp_name);
-    std::fs::write(&tmp, contents).with_context(|| format!("cannot write {}", tmp.display()))?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        anyhow::Error::new(e).context(format!("cannot write {}", path.display()))
-    })
+    odc_build::write_atomic(path, |w| w.write_all(contents))
+        .with_context(|| format!("cannot write {}", path.display()))
 }
 
 /// Picks the device a command works on. A file with one device needs no `spec`; otherwise

@@ -9,12 +9,30 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+/// The exit codes, shown by `odc --help` (README.md says the same).
+const EXIT_STATUS: &str = "\
+Exit status:
+  0  no diagnostic at error level (warnings allowed)
+  1  at least one error-level diagnostic (check), or a file with errors where a command needs a
+     usable model (dump, convert, info, generate)
+  2  usage error (bad arguments, unknown device or rule) or I/O error (unreadable input,
+     unwritable output); nothing is written
+
+Output files (-o) are written to a temporary file beside the target and renamed into place:
+a failed run leaves the previous file untouched.";
+
 /// Object-dictionary compiler for CANopen EDS/DCF and EtherCAT ESI device files.
 ///
 /// Reads a vendor's device file, checks it against CiA 306/301/402 and ETG rules with
 /// compiler-style diagnostics, converts between formats, and dumps the object dictionary.
 #[derive(Parser)]
-#[command(name = "odc", version, propagate_version = true, max_term_width = 100)]
+#[command(
+    name = "odc",
+    version,
+    propagate_version = true,
+    max_term_width = 100,
+    after_help = EXIT_STATUS
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -46,7 +64,11 @@ fn main() -> ExitCode {
         Ok(code) => code,
         Err(err) => {
             eprintln!("error: {err:#}");
-            ExitCode::from(2)
+            if err.downcast_ref::<commands::HasErrors>().is_some() {
+                ExitCode::from(1)
+            } else {
+                ExitCode::from(2)
+            }
         }
     }
 }

@@ -238,3 +238,107 @@ fn check_json_form_is_stable() {
     assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
     insta::assert_snapshot!(String::from_utf8(out.stdout).unwrap());
 }
+
+// ----- exit codes: 0 clean, 1 error-level diagnostics, 2 usage or I/O error -------------------
+
+/// A file whose only problem is a warning (`AccessType=r`) once the CiA 301 rules are allowed.
+fn warnings_only(dir: &Path) -> String {
+    let path = dir.join("warn.eds");
+    std::fs::write(&path, "[1000]\nParameterName=x\nDataType=0x0007\nAccessType=r\n").unwrap();
+    path.display().to_string()
+}
+
+#[test]
+fn exit_0_with_warnings_only() {
+    let dir = tempdir();
+    let out = odc(&["check", "--format", "short", "-A", "cia301", &warnings_only(&dir)]);
+    assert!(stderr(&out).contains("warning[F114]"), "{}", stderr(&out));
+    assert_eq!(out.status.code(), Some(0));
+    // --strict makes the same warning an error.
+    let out = odc(&["check", "--strict", "-A", "cia301", &warnings_only(&dir)]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+}
+
+#[test]
+fn exit_1_when_a_command_needs_a_model_and_the_file_has_errors() {
+    let bad = fixture("bad-value.eds");
+    let dir = tempdir();
+    let target = dir.join("out.eds").display().to_string();
+    for args in [
+        vec!["dump", &bad],
+        vec!["info", &bad],
+        vec!["convert", &bad, "-o", &target],
+        vec!["generate", &bad, "-o", &target],
+    ] {
+        let out = odc(&args);
+        assert_eq!(out.status.code(), Some(1), "{args:?}: {}", stderr(&out));
+        assert!(stderr(&out).contains("error[F108]"), "{args:?}: {}", stderr(&out));
+        assert!(out.stdout.is_empty(), "{args:?}");
+    }
+    assert!(!dir.join("out.eds").exists());
+}
+
+#[test]
+fn exit_0_for_commands_on_a_clean_file() {
+    let lxm = repo_file("eds/lxm23a.eds");
+    for args in [vec!["dump", "--format", "json", &lxm], vec!["info", &lxm], vec!["lints"]] {
+        let out = odc(&args);
+        assert_eq!(out.status.code(), Some(0), "{args:?}: {}", stderr(&out));
+        assert!(!out.stdout.is_empty(), "{args:?}");
+    }
+}
+
+#[test]
+fn exit_2_for_usage_errors() {
+    let lxm = repo_file("eds/lxm23a.eds");
+    for args in [
+        vec!["check", "--no-such-flag", &lxm],
+        vec!["check", "--deny", "no-such-rule", &lxm],
+        vec!["generate", &lxm, "--role", "neither"],
+        vec!["convert", &lxm, "--to", "xdd"],
+        vec!["explain"],
+    ] {
+        let out = odc(&args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {}", stderr(&out));
+        assert!(!stderr(&out).is_empty(), "{args:?}: says why");
+    }
+}
+
+#[test]
+fn exit_2_for_io_errors_and_nothing_written() {
+    let dir = tempdir();
+    let lxm = repo_file("eds/lxm23a.eds");
+    // Output into a directory that does not exist.
+    let target = dir.join("no/such/dir/out.dcf").display().to_string();
+    let out = odc(&["convert", &lxm, "-o", &target]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("cannot write"), "{}", stderr(&out));
+    // A directory as input.
+    let out = odc(&["check", &dir.display().to_string()]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("cannot read"), "{}", stderr(&out));
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0, "nothing written");
+}
+
+#[test]
+fn help_documents_the_exit_codes() {
+    let out = odc(&["--help"]);
+    assert_eq!(out.status.code(), Some(0));
+    let text = String::from_utf8(out.stdout).unwrap();
+    for line in
+        ["Exit status:", "  0  no diagnostic at error level", "  1  at least one", "  2  usage"]
+    {
+        assert!(text.contains(line), "{line}\n{text}");
+    }
+}
+
+#[test]
+fn failed_generate_leaves_the_previous_output_untouched() {
+    let dir = tempdir();
+    let out_path = dir.join("out.rs");
+    std::fs::write(&out_path, "previous module").unwrap();
+    let out = odc(&["generate", &fixture("bad-value.eds"), "-o", &out_path.display().to_string()]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert_eq!(std::fs::read_to_string(&out_path).unwrap(), "previous module");
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "no temporary file left behind");
+}

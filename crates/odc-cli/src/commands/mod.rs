@@ -66,13 +66,26 @@ pub fn print_diagnostics(
     Ok(())
 }
 
-/// Prints front-end diagnostics and fails when any is an error: for commands that need a
-/// usable model (dump, convert, info).
+/// A command stopped because the device file has error-level diagnostics (already printed):
+/// exit code 1, as for `odc check`, not 2 (usage or I/O).
+#[derive(Debug)]
+pub struct HasErrors(pub usize);
+
+impl std::fmt::Display for HasErrors {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "the file has {} error(s); run `odc check` for all diagnostics", self.0)
+    }
+}
+
+impl std::error::Error for HasErrors {}
+
+/// Prints front-end diagnostics and fails with [`HasErrors`] when any is an error: for
+/// commands that need a usable model (dump, convert, info, generate).
 pub fn require_clean(sources: &Sources, diags: &[Diagnostic]) -> anyhow::Result<()> {
     let errors: Vec<Diagnostic> = diags.iter().filter(|d| d.is_error()).cloned().collect();
     if errors.is_empty() {
         return Ok(());
     }
     print_diagnostics(sources, &errors, DiagFormat::Human, Color::Auto)?;
-    anyhow::bail!("the file has {} error(s); run `odc check` for all diagnostics", errors.len())
+    Err(HasErrors(errors.len()).into())
 }
