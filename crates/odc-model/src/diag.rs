@@ -69,13 +69,30 @@ pub struct Diagnostic {
     pub object: Option<(u16, Option<u8>)>,
 }
 
+/// Longest message, label or note kept (bytes); longer ones are cut with `…`.
+pub const MAX_MESSAGE: usize = 300;
+
+/// Cuts `s` to [`MAX_MESSAGE`] bytes (at a character boundary) plus `…`: messages quote values
+/// from the file, and a hostile file's value can be megabytes long.
+fn clip(mut s: String) -> String {
+    if s.len() > MAX_MESSAGE {
+        let mut at = MAX_MESSAGE;
+        while !s.is_char_boundary(at) {
+            at -= 1;
+        }
+        s.truncate(at);
+        s.push('…');
+    }
+    s
+}
+
 impl Diagnostic {
     /// A diagnostic of `severity` with `code` and `message`, no labels yet.
     pub fn new(severity: Severity, code: &'static str, message: impl Into<String>) -> Self {
         Diagnostic {
             severity,
             code,
-            message: message.into(),
+            message: clip(message.into()),
             labels: Vec::new(),
             notes: Vec::new(),
             object: None,
@@ -94,19 +111,19 @@ impl Diagnostic {
 
     /// Adds the primary label.
     pub fn with_label(mut self, span: Span, message: impl Into<String>) -> Self {
-        self.labels.push(Label { span, message: message.into(), primary: true });
+        self.labels.push(Label { span, message: clip(message.into()), primary: true });
         self
     }
 
     /// Adds a secondary label.
     pub fn with_secondary(mut self, span: Span, message: impl Into<String>) -> Self {
-        self.labels.push(Label { span, message: message.into(), primary: false });
+        self.labels.push(Label { span, message: clip(message.into()), primary: false });
         self
     }
 
     /// Adds a note.
     pub fn with_note(mut self, note: impl Into<String>) -> Self {
-        self.notes.push(note.into());
+        self.notes.push(clip(note.into()));
         self
     }
 
@@ -141,6 +158,83 @@ pub fn sort(diags: &mut [Diagnostic]) {
     }
 }
 
+/// Most diagnostics of one code a front-end keeps for one file (see [`Capped`]). The real
+/// file with the most of one code has about 2,100 (empty values, F112).
+pub const MAX_PER_CODE: usize = 5000;
+
+/// Diagnostics as a front-end collects them: at most [`MAX_PER_CODE`] of each code.
+///
+/// Hostile input can have a problem on every line, and a diagnostic costs a few hundred bytes:
+/// a 32 MiB file of two-byte stray lines would otherwise make 16 million of them (gigabytes,
+/// and a report nobody reads). The first ones of each code (in the order found, which is file
+/// order for the scanners) are kept and the rest only counted; [`Capped::finish`] adds one note
+/// per capped code, under that code, saying how many were left out. Read access (`iter`,
+/// `len`, indexing) goes through `Deref` to the kept ones.
+#[derive(Debug, Default)]
+pub struct Capped {
+    list: Vec<Diagnostic>,
+    /// Per code seen: how many were pushed, and the span of the first one left out.
+    counts: Vec<(&'static str, usize, Span)>,
+}
+
+impl Capped {
+    /// An empty list.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds `d`, or only counts it when [`MAX_PER_CODE`] of its code are kept already.
+    pub fn push(&mut self, d: Diagnostic) {
+        let i = match self.counts.iter().position(|c| c.0 == d.code) {
+            Some(i) => i,
+            None => {
+                self.counts.push((d.code, 0, Span::DUMMY));
+                self.counts.len() - 1
+            }
+        };
+        let count = &mut self.counts[i];
+        count.1 += 1;
+        if count.1 <= MAX_PER_CODE {
+            self.list.push(d);
+        } else if count.1 == MAX_PER_CODE + 1 {
+            count.2 = d.primary_span().unwrap_or(Span::DUMMY);
+        }
+    }
+
+    /// Adds each of `diags` as [`Capped::push`] does.
+    pub fn extend(&mut self, diags: impl IntoIterator<Item = Diagnostic>) {
+        for d in diags {
+            self.push(d);
+        }
+    }
+
+    /// The kept diagnostics, plus one note per code that had more than [`MAX_PER_CODE`].
+    pub fn finish(self) -> Vec<Diagnostic> {
+        let mut list = self.list;
+        for (code, n, span) in self.counts {
+            if n > MAX_PER_CODE {
+                let d = Diagnostic::new(
+                    Severity::Note,
+                    code,
+                    format!(
+                        "{} more [{code}] diagnostics not shown (at most {MAX_PER_CODE} per code)",
+                        n - MAX_PER_CODE
+                    ),
+                );
+                list.push(if span.is_dummy() { d } else { d.with_label(span, "the next one") });
+            }
+        }
+        list
+    }
+}
+
+impl std::ops::Deref for Capped {
+    type Target = [Diagnostic];
+    fn deref(&self) -> &[Diagnostic] {
+        &self.list
+    }
+}
+
 /// A rule's description, for the registry and `odc explain`.
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct RuleInfo {
@@ -171,9 +265,40 @@ struct SourceFile {
     name: String,
     text: String,
     line_starts: OnceLock<Vec<usize>>,
+    /// Characters before each [`CHAR_MARK`]-byte block, for columns on long lines.
+    char_marks: OnceLock<Vec<usize>>,
+}
+
+/// Block size of [`SourceFile::chars_before`]'s table.
+const CHAR_MARK: usize = 4096;
+
+/// Whether `b` starts a character (is not a UTF-8 continuation byte).
+fn starts_char(b: u8) -> bool {
+    b & 0xC0 != 0x80
 }
 
 impl SourceFile {
+    /// The number of characters before byte `at`: a table lookup and at most one block
+    /// counted, so that resolving the column of each of thousands of diagnostics on one
+    /// 10 MB line does not count the line each time.
+    fn chars_before(&self, at: usize) -> usize {
+        let bytes = self.text.as_bytes();
+        let at = at.min(bytes.len());
+        let marks = self.char_marks.get_or_init(|| {
+            let mut marks = Vec::with_capacity(bytes.len() / CHAR_MARK + 1);
+            let mut n = 0;
+            for block in bytes.chunks(CHAR_MARK) {
+                marks.push(n);
+                n += block.iter().filter(|&&b| starts_char(b)).count();
+            }
+            marks.push(n);
+            marks
+        });
+        let block = at / CHAR_MARK;
+        let base = marks.get(block).copied().unwrap_or(0);
+        base + bytes[block * CHAR_MARK..at].iter().filter(|&&b| starts_char(b)).count()
+    }
+
     fn line_starts(&self) -> &[usize] {
         self.line_starts.get_or_init(|| {
             let bytes = self.text.as_bytes();
@@ -219,6 +344,18 @@ impl<'a> Files<'a> for Sources {
         let f = self.files.get(id).ok_or(FilesError::FileMissing)?;
         Ok(f.line_start(line_index)?..f.line_start(line_index + 1)?)
     }
+
+    fn column_number(
+        &'a self,
+        id: usize,
+        line_index: usize,
+        byte_index: usize,
+    ) -> Result<usize, FilesError> {
+        let f = self.files.get(id).ok_or(FilesError::FileMissing)?;
+        let start = f.line_start(line_index)?;
+        let end = byte_index.min(f.line_start(line_index + 1)?).max(start);
+        Ok(f.chars_before(end) - f.chars_before(start) + 1)
+    }
 }
 
 /// A 1-based line and column (column counted in characters).
@@ -242,6 +379,7 @@ impl Sources {
             name: name.into(),
             text: text.into(),
             line_starts: OnceLock::new(),
+            char_marks: OnceLock::new(),
         });
         FileId(self.files.len() as u32 - 1)
     }
@@ -268,10 +406,24 @@ impl Sources {
             Severity::Warning => cs::Severity::Warning,
             Severity::Note => cs::Severity::Note,
         };
+        let mut notes = Vec::new();
         let labels = d
             .labels
             .iter()
             .filter(|l| !l.span.is_dummy() && self.text(l.span.file).is_some())
+            .filter(|l| {
+                let Some(long) = self.long_line(l.span) else { return true };
+                let at = match (self.name(l.span.file), self.line_col(l.span)) {
+                    (Some(name), Some(lc)) => format!("{name}:{}:{}", lc.line, lc.column),
+                    _ => String::new(),
+                };
+                let what = if l.message.is_empty() { "" } else { ": " };
+                notes.push(format!(
+                    "at {at}{what}{} (a line of {long} bytes, not shown)",
+                    l.message
+                ));
+                false
+            })
             .map(|l| {
                 let style =
                     if l.primary { cs::LabelStyle::Primary } else { cs::LabelStyle::Secondary };
@@ -279,11 +431,29 @@ impl Sources {
                     .with_message(&l.message)
             })
             .collect();
+        notes.extend(d.notes.iter().cloned());
         cs::Diagnostic::new(severity)
             .with_code(d.code)
             .with_message(&d.message)
             .with_labels(labels)
-            .with_notes(d.notes.clone())
+            .with_notes(notes)
+    }
+
+    /// The length of the longest line `span` touches, when it is longer than
+    /// [`MAX_SNIPPET_LINE`]: such lines (a minified XML file, a hostile 10 MB line) are not
+    /// quoted, else every diagnostic on them would print the whole line.
+    fn long_line(&self, span: Span) -> Option<usize> {
+        let f = self.files.get(span.file.0 as usize)?;
+        let starts = f.line_starts();
+        let line_of = |at: usize| starts.binary_search(&at).unwrap_or_else(|next| next - 1);
+        let (first, last) = (line_of(span.start as usize), line_of(span.end as usize));
+        // codespan quotes the first and the last line of a multi-line label.
+        let len = |l: usize| {
+            let end = starts.get(l + 1).copied().unwrap_or(f.text.len());
+            end - starts.get(l).copied().unwrap_or(end)
+        };
+        let longest = len(first).max(len(last));
+        (longest > MAX_SNIPPET_LINE).then_some(longest)
     }
 
     fn emit(&self, d: &Diagnostic, config: &term::Config, color: bool) -> String {
@@ -297,6 +467,10 @@ impl Sources {
         }
     }
 }
+
+/// Longest source line quoted in a snippet by [`render_human`] (bytes); a label on a longer line
+/// becomes a note with its position.
+pub const MAX_SNIPPET_LINE: usize = 1000;
 
 /// Renders diagnostics the way rustc does: header, source snippet, underlined span, notes.
 pub fn render_human(sources: &Sources, diags: &[Diagnostic], color: bool) -> String {
@@ -373,6 +547,59 @@ pub fn render_json(sources: &Sources, diags: &[Diagnostic]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn columns_count_characters_on_long_lines() {
+        let mut sources = Sources::new();
+        let line = format!("{}é{}x", "a".repeat(5000), "ü".repeat(3000));
+        let f = sources.add("f", format!("first\n{line}\n"));
+        let at = |byte: usize| sources.line_col(Span::new(f, byte as u32, byte as u32));
+        assert_eq!(at(0), Some(LineCol { line: 1, column: 1 }));
+        let x = 6 + line.len() - 1;
+        assert_eq!(at(x), Some(LineCol { line: 2, column: 5000 + 1 + 3000 + 1 }));
+        assert_eq!(at(6 + 5000 + 2), Some(LineCol { line: 2, column: 5002 }));
+        let text = sources.text(f).unwrap_or_default().to_owned();
+        for byte in (0..text.len()).filter(|&b| text.is_char_boundary(b)).step_by(97) {
+            let lc = at(byte).unwrap();
+            let line_start = text[..byte].rfind('\n').map_or(0, |i| i + 1);
+            assert_eq!(lc.column, text[line_start..byte].chars().count() + 1, "byte {byte}");
+        }
+    }
+
+    #[test]
+    fn long_messages_are_clipped() {
+        let value = "é".repeat(1000);
+        let d = Diagnostic::error("F107", format!("`{value}` is not a number"))
+            .with_label(Span::DUMMY, value.clone())
+            .with_note(value);
+        assert!(d.message.len() <= MAX_MESSAGE + 3 && d.message.ends_with('…'));
+        assert!(d.message.starts_with("`éé"));
+        assert!(d.labels[0].message.len() <= MAX_MESSAGE + 3);
+        assert!(d.notes[0].len() <= MAX_MESSAGE + 3);
+        let short = Diagnostic::error("F107", "short");
+        assert_eq!(short.message, "short");
+    }
+
+    #[test]
+    fn capped_keeps_the_first_of_each_code_and_counts_the_rest() {
+        let mut c = Capped::new();
+        for i in 0..(MAX_PER_CODE as u32 + 50) {
+            c.push(
+                Diagnostic::warning("F101", "stray").with_label(Span::new(FileId(0), i, i + 1), ""),
+            );
+        }
+        c.push(Diagnostic::error("F107", "bad"));
+        assert_eq!(c.len(), MAX_PER_CODE + 1);
+        let all = c.finish();
+        assert_eq!(all.len(), MAX_PER_CODE + 2);
+        let note = &all[MAX_PER_CODE + 1];
+        assert_eq!((note.severity, note.code), (Severity::Note, "F101"));
+        assert_eq!(
+            note.message,
+            format!("50 more [F101] diagnostics not shown (at most {MAX_PER_CODE} per code)")
+        );
+        assert_eq!(note.primary_span().map(|s| s.start), Some(MAX_PER_CODE as u32));
+    }
 
     fn sample() -> (Sources, Vec<Diagnostic>) {
         let mut sources = Sources::new();

@@ -10,6 +10,9 @@
 //! - `$NODEID` stays symbolic ([`Value::NodeIdPlus`]);
 //! - `rwr` and `rww` stay distinct ([`Access`]); PDO direction follows from them ([`PdoMapping::allows`]);
 //! - spans compare equal ([`Span`]), so round trips compare content with `==`.
+// Bad input is a diagnostic, never a panic: no unwrap, expect or panic outside tests. A
+// proven invariant may opt out with an `#[allow]` and a comment saying why.
+#![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used, clippy::panic))]
 
 mod device;
 pub mod diag;
@@ -24,7 +27,7 @@ pub use device::{
     Commissioning, Device, DeviceInfo, FileInfo, Format, Module, Modules, Object, ObjectList,
     ObjectLists, Origin, RawEntry, RawSection, SubExtend, SubObject,
 };
-pub use diag::{Diagnostic, Label, RuleInfo, Severity, Sources};
+pub use diag::{Capped, Diagnostic, Label, RuleInfo, Severity, Sources};
 pub use pdo::{Pdo, PdoEntry};
 pub use span::{FileId, Span, Spanned};
 pub use subs::SubObjects;
