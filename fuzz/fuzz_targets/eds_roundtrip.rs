@@ -1,9 +1,11 @@
 //! The EDS writer: parse → write → parse gives the same model, and the writer is stable.
 //!
-//! "The same" ignores spans (`Span`'s equality ignores positions) and the order of
-//! `extra_sections`: INI sections are unordered, and the writer puts the sections it knows
+//! "The same" ignores spans (`Span`'s equality ignores positions), the order of
+//! `extra_sections` (INI sections are unordered, and the writer puts the sections it knows
 //! first and the kept unknown ones after them, so a file with an unknown section before a known
-//! one reads back with the sections in another order. Everything else must be equal.
+//! one reads back with the sections in another order), and the two normalisations the odc-eds
+//! docs promise for modular devices: the writer writes `[SupportedModules] NrOfEntries` as the
+//! number of modules and an `[MxModuleInfo]` for every module. Everything else must be equal.
 //! The text written is re-read under the name a user would give it (`.dcf` for a DCF): a DCF
 //! whose only DCF feature was, say, an empty `[1000Value]` section is a DCF by its name.
 //! Stability: writing the re-read model gives the same text.
@@ -14,7 +16,16 @@ use odc_model::{Device, Format, Sources};
 
 fn canonical(d: &Device) -> Device {
     let mut d = d.clone();
-    d.extra_sections.sort_by_key(|s| s.name.to_ascii_lowercase());
+    // Section names compare case-insensitively: a kept section merged with a known one on
+    // re-reading takes the known one's spelling.
+    for s in &mut d.extra_sections {
+        s.name.make_ascii_lowercase();
+    }
+    d.extra_sections.sort_by(|a, b| a.name.cmp(&b.name));
+    d.modules.nr_of_entries = None;
+    for m in &mut d.modules.supported {
+        m.has_info = true;
+    }
     d
 }
 

@@ -17,7 +17,8 @@
 //!   see [`RULES`]) and a label on the exact key or value; parsing never panics and never stops
 //!   at the first problem. Real-file mess is a warning; errors are for what makes the model
 //!   wrong (a value that does not read, an unknown access or object type, a missing DataType).
-//! - **Encoding.** UTF-8 (a BOM is stripped); otherwise Windows-1252 (note `F125`).
+//! - **Encoding.** UTF-8 (a BOM is stripped); UTF-16 with a byte-order mark or recognisably
+//!   ASCII-in-UTF-16; otherwise Windows-1252 (both with note `F125`).
 //! - **Keys and sections are case-insensitive**; the original spelling is kept in the raw
 //!   layer and in the `extra` entries the writer writes back. Sub-object sections may be
 //!   `[1018sub1]`, `[1018Sub1]`, `[1a00sub01]`.
@@ -77,6 +78,9 @@
 //! which communication sub-objects exist (bit 0 COB-ID, 1 transmission type, 2 inhibit time,
 //! 3 reserved, 4 event timer, 5 SYNC start value); the first four PDOs get the predefined
 //! COB-IDs `$NODEID+0x200`.. (RPDO) and `$NODEID+0x180`.. (TPDO).
+// Bad input is a diagnostic, never a panic: no unwrap, expect or panic outside tests. A
+// proven invariant may opt out with an `#[allow]` and a comment saying why.
+#![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used, clippy::panic))]
 
 mod compact_pdo;
 mod lower;
@@ -99,37 +103,145 @@ pub struct Parsed {
     pub file: odc_model::FileId,
 }
 
-/// Decodes bytes: UTF-8 (BOM stripped), else Windows-1252. Returns whether the fallback was
-/// used.
+/// Decodes bytes: UTF-8 (BOM stripped), UTF-16 (by its byte-order mark, or ASCII text with
+/// every other byte NUL), else Windows-1252. Returns whether it was not UTF-8.
 pub fn decode(bytes: &[u8]) -> (String, bool) {
+    let (text, encoding) = decode_as(bytes);
+    (text, encoding.is_some())
+}
+
+/// [`decode`], naming the encoding used when it was not UTF-8.
+fn decode_as(bytes: &[u8]) -> (String, Option<&'static str>) {
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    if let Some(utf16) = utf16(bytes) {
+        let (text, _, _) = utf16.decode(bytes);
+        return (text.into_owned(), Some(utf16.name()));
+    }
     match std::str::from_utf8(bytes) {
-        Ok(s) => (s.to_owned(), false),
+        Ok(s) => (s.to_owned(), None),
         Err(_) => {
             let (text, _, _) = encoding_rs::WINDOWS_1252.decode(bytes);
-            (text.into_owned(), true)
+            (text.into_owned(), Some("Windows-1252"))
         }
     }
 }
 
+/// UTF-16 by its byte-order mark, or by its look: the first (up to) 64 bytes are ASCII
+/// characters each followed (LE) or preceded (BE) by a NUL byte.
+fn utf16(bytes: &[u8]) -> Option<&'static encoding_rs::Encoding> {
+    if bytes.starts_with(b"\xFF\xFE") {
+        return Some(encoding_rs::UTF_16LE);
+    }
+    if bytes.starts_with(b"\xFE\xFF") {
+        return Some(encoding_rs::UTF_16BE);
+    }
+    let head = &bytes[..bytes.len().min(64) & !1];
+    let looks = |text: usize, nul: usize| {
+        head.len() >= 4
+            && head.chunks_exact(2).all(|p| p[nul] == 0 && p[text] != 0 && p[text].is_ascii())
+    };
+    if looks(0, 1) {
+        Some(encoding_rs::UTF_16LE)
+    } else if looks(1, 0) {
+        Some(encoding_rs::UTF_16BE)
+    } else {
+        None
+    }
+}
+
+/// Largest file read (bytes); larger ones get error `F127` and an empty device.
+pub const MAX_FILE_SIZE: usize = 32 * 1024 * 1024;
+
+/// Most lines read (error `F132` past it); the largest real files have about 15,000.
+pub const MAX_LINES: usize = 262_144;
+
+/// Most sub-objects `CompactSubObj` implies in one file (error `F128` past it).
+pub const MAX_IMPLIED_SUB_OBJECTS: usize = 65_536;
+
 /// Decodes (UTF-8, else Windows-1252; BOM stripped), adds the text to `sources`, scans and
 /// lowers. Never panics, never stops at the first problem.
+///
+/// Resource use is bounded: files above [`MAX_FILE_SIZE`] are not read, lines past
+/// [`MAX_LINES`] are not read, `CompactSubObj` expands to at most [`MAX_IMPLIED_SUB_OBJECTS`]
+/// sub-objects, and at most [`odc_model::diag::MAX_PER_CODE`] diagnostics of one code are kept.
 pub fn parse(sources: &mut odc_model::Sources, name: &str, bytes: &[u8]) -> Parsed {
-    let (text, fallback) = decode(bytes);
+    if bytes.len() > MAX_FILE_SIZE {
+        let file = sources.add(name, String::new());
+        let d = Diagnostic::error(
+            codes::SIZE_LIMIT,
+            format!("the file is larger than {MAX_FILE_SIZE} bytes, the limit"),
+        )
+        .with_label(odc_model::Span::new(file, 0, 0), "not read");
+        return Parsed { device: odc_model::Device::default(), diagnostics: vec![d], file };
+    }
+    let (text, encoding) = decode_as(bytes);
+    // Classic Mac OS line ends (CR alone) are read as line ends: one byte for one byte, so
+    // the spans stay those of the file.
+    let cr_only = !text.contains('\n') && text.contains('\r');
+    let text = if cr_only { text.replace('\r', "\n") } else { text };
     let file = sources.add(name, text);
     let text = sources.text(file).unwrap_or("");
-    let mut diagnostics = Vec::new();
-    if fallback {
+    let span = |at: usize| odc_model::Span::new(file, at as u32, at as u32 + 1);
+    let mut diagnostics = odc_model::Capped::new();
+    if cr_only {
+        diagnostics.push(
+            Diagnostic::new(
+                odc_model::Severity::Note,
+                codes::CR_LINE_ENDS,
+                "lines end with CR alone (classic Mac OS); read as line ends",
+            )
+            .with_label(span(text.find('\n').unwrap_or(0)), "the first one"),
+        );
+    }
+    if let Some(at) = text.find('\0') {
+        let n = text.bytes().filter(|&b| b == 0).count();
+        diagnostics.push(
+            Diagnostic::warning(
+                codes::NUL_BYTES,
+                format!("the file contains {n} NUL byte(s): a binary file, or damaged"),
+            )
+            .with_label(span(at), "the first one"),
+        );
+    }
+    if let Some(encoding) = encoding {
         diagnostics.push(
             Diagnostic::new(
                 odc_model::Severity::Note,
                 codes::NOT_UTF8,
-                "file is not UTF-8; decoded as Windows-1252",
+                format!("file is not UTF-8; decoded as {encoding}"),
             )
             .with_label(odc_model::Span::new(file, 0, 0), ""),
         );
     }
+    // Memory grows with the number of lines (a few hundred bytes each, raw layer and model):
+    // lines past MAX_LINES are not read. Only a text of more than MAX_LINES bytes can have
+    // that many.
+    let text = match text.len() > MAX_LINES {
+        true => match memchr::memchr_iter(b'\n', text.as_bytes()).nth(MAX_LINES - 1) {
+            Some(at) => {
+                diagnostics.push(
+                    Diagnostic::error(
+                        codes::LINE_LIMIT,
+                        format!("the file has more than {MAX_LINES} lines; the rest is not read"),
+                    )
+                    .with_label(span(at + 1), "reading stopped here"),
+                );
+                &text[..=at]
+            }
+            None => text,
+        },
+        false => text,
+    };
     let raw = raw::scan(text, file, &mut diagnostics);
+    if raw.sections.iter().all(|s| s.name.is_empty()) {
+        diagnostics.push(
+            Diagnostic::warning(codes::NO_SECTIONS, "the file has no `[section]`")
+                .with_label(odc_model::Span::new(file, 0, 0), "")
+                .with_note(
+                    "an EDS or DCF file is made of sections such as [DeviceInfo] and [1000]",
+                ),
+        );
+    }
     let lower = lower::Lower::new(&raw, diagnostics);
     let (device, mut diagnostics) = lower.run(name);
     odc_model::diag::sort(&mut diagnostics);

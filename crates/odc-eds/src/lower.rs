@@ -387,12 +387,14 @@ impl<'e, 'a> Keys<'e, 'a> {
 pub(crate) struct Lower<'r, 'a> {
     raw: &'r RawFile<'a>,
     file: FileId,
-    pub(crate) diags: Vec<Diagnostic>,
+    pub(crate) diags: odc_model::Capped,
     dcf_hint: bool,
     /// Report unreadable header numbers as warnings ([FileInfo]: metadata only).
     soft: bool,
     /// The next sub-object read is that of a NULL object (no AccessType needed).
     null_object: bool,
+    /// Sub-objects implied by CompactSubObj so far (see [`crate::MAX_IMPLIED_SUB_OBJECTS`]).
+    implied_subs: usize,
 }
 
 fn raw_entry(e: &Entry<'_>, file: FileId) -> RawEntry {
@@ -400,8 +402,16 @@ fn raw_entry(e: &Entry<'_>, file: FileId) -> RawEntry {
 }
 
 impl<'r, 'a> Lower<'r, 'a> {
-    pub(crate) fn new(raw: &'r RawFile<'a>, diags: Vec<Diagnostic>) -> Self {
-        Lower { raw, file: raw.file, diags, dcf_hint: false, soft: false, null_object: false }
+    pub(crate) fn new(raw: &'r RawFile<'a>, diags: odc_model::Capped) -> Self {
+        Lower {
+            raw,
+            file: raw.file,
+            diags,
+            dcf_hint: false,
+            soft: false,
+            null_object: false,
+            implied_subs: 0,
+        }
     }
 
     fn sec(&self, i: u32) -> &'r Section<'a> {
@@ -634,7 +644,19 @@ impl<'r, 'a> Lower<'r, 'a> {
     }
 
     fn data_type(&mut self, e: &Entry<'_>) -> Result<Option<DataType>, ()> {
-        Ok(self.uint(e, 0xFFFF)?.map(|v| DataType::from_code(v.value as u16)))
+        let Some(v) = self.uint(e, 0xFFFF)? else { return Ok(None) };
+        // CiA 301 §7.4.7: data types are the objects 0x0001..=0x025F.
+        if v.value == 0 || v.value > 0x025F {
+            self.diags.push(
+                Diagnostic::error(
+                    codes::OUT_OF_RANGE,
+                    format!("`{}` is not a data type index (0x0001..=0x025F)", e.value),
+                )
+                .with_label(v.span, "kept as written"),
+            );
+            return Err(());
+        }
+        Ok(Some(DataType::from_code(v.value as u16)))
     }
 
     fn access(&mut self, e: &Entry<'_>) -> Option<Access> {
@@ -771,7 +793,26 @@ impl<'r, 'a> Lower<'r, 'a> {
                     );
                     extra.push((i, self.raw_section(i)));
                 }
-                Kind::Unknown => extra.push((i, self.raw_section(i))),
+                Kind::Unknown => {
+                    // `[$NODEID+0x2000]`, `[Obj 2000]`: object keys under a name that is no
+                    // object index.
+                    let object_like = self.entries(i).any(|e| {
+                        e.key.eq_ignore_ascii_case("ParameterName")
+                            || e.key.eq_ignore_ascii_case("ObjectType")
+                    });
+                    if object_like {
+                        self.warn(
+                            codes::MALFORMED_OBJECT_SECTION,
+                            format!(
+                                "section [{}] has object keys but its name is not an object index",
+                                s.name
+                            ),
+                            self.span(s.name_pos),
+                            "kept as an unknown section",
+                        );
+                    }
+                    extra.push((i, self.raw_section(i)));
+                }
             }
         }
 
@@ -819,15 +860,17 @@ impl<'r, 'a> Lower<'r, 'a> {
         extra.sort_by_key(|(i, _)| *i);
         dev.extra_sections = extra.into_iter().map(|(_, s)| s).collect();
 
-        let has_pv =
-            dev.objects.values().any(|o| o.subs.values().any(|s| s.parameter_value.is_some()));
-        // Denotations and [ConnectedModules] exist in DCFs only (the EDS writer leaves them
-        // out).
-        let dcf_only = !dev.modules.connected.is_empty()
-            || dev
-                .objects
-                .values()
-                .any(|o| o.denotation.is_some() || o.subs.values().any(|s| s.denotation.is_some()));
+        // ParameterValue, Denotation and [ConnectedModules] exist in DCFs only (the EDS writer
+        // leaves them out), in the objects and in the modules' objects.
+        let dcf_sub =
+            |s: &odc_model::SubObject| s.parameter_value.is_some() || s.denotation.is_some();
+        let dcf_object = |o: &Object| o.denotation.is_some() || o.subs.values().any(dcf_sub);
+        let has_pv = dev.objects.values().any(dcf_object)
+            || dev.modules.supported.iter().any(|m| {
+                m.fixed_objects.values().any(dcf_object)
+                    || m.sub_extends.values().any(|x| dcf_sub(&x.template))
+            });
+        let dcf_only = !dev.modules.connected.is_empty();
         dev.format = Some(
             if dev.commissioning.is_some()
                 || has_pv
@@ -844,7 +887,7 @@ impl<'r, 'a> Lower<'r, 'a> {
         dev.device_info.baud_rates.dedup();
         crate::compact_pdo::synthesise(&mut dev);
         dev.pdos = odc_model::pdo::resolve_canopen_pdos(&dev);
-        (dev, self.diags)
+        (dev, self.diags.finish())
     }
 
     fn file_info(&mut self, first: u32, dev: &mut Device) {
@@ -1368,6 +1411,27 @@ impl<'r, 'a> Lower<'r, 'a> {
                 None => None,
             };
             obj.compact_sub_obj = compact.clone();
+            let compact = compact.filter(|n| {
+                self.implied_subs += usize::from(n.value);
+                let over = self.implied_subs > crate::MAX_IMPLIED_SUB_OBJECTS;
+                // Reported at the first object past the limit.
+                if over
+                    && self.implied_subs - usize::from(n.value) <= crate::MAX_IMPLIED_SUB_OBJECTS
+                {
+                    self.diags.push(
+                        Diagnostic::error(
+                            codes::COMPACT_LIMIT,
+                            format!(
+                                "more than {} sub-objects implied by CompactSubObj in this file; \
+                                 this object and the later ones are not expanded",
+                                crate::MAX_IMPLIED_SUB_OBJECTS
+                            ),
+                        )
+                        .with_label(n.span, "the limit is crossed here"),
+                    );
+                }
+                !over
+            });
             match compact.filter(|n| n.value > 0) {
                 Some(n) => self.compact_subs(&mut obj, &mut keys, n, b),
                 None => obj.subs.reserve_exact(b.subs.len()),

@@ -164,7 +164,8 @@ pub(crate) fn parse_int(s: &str) -> Option<Int> {
     }
 }
 
-/// Reads a boolean: `0`, `1`, `true`, `false` (any case), or any integer (non-zero is true).
+/// Reads a boolean: `0`, `1` (in any number notation), `true`, `false` (any case). Other
+/// numbers do not fit BOOLEAN.
 pub(crate) fn parse_bool(s: &str) -> Option<bool> {
     let s = s.trim();
     if s.eq_ignore_ascii_case("true") {
@@ -173,17 +174,28 @@ pub(crate) fn parse_bool(s: &str) -> Option<bool> {
     if s.eq_ignore_ascii_case("false") {
         return Some(false);
     }
-    parse_plain(s).map(|(v, _)| v != 0)
+    match parse_plain(s) {
+        Some((0, _)) => Some(false),
+        Some((1, _)) => Some(true),
+        _ => None,
+    }
 }
 
-/// Reads a float in decimal notation (Rust syntax: `1`, `-1.5`, `1e-3`, `inf`, `NaN`).
+/// Reads a float in decimal notation (Rust syntax: `1`, `-1.5`, `1e-3`, `inf`, `NaN`). A
+/// finite number too large for the type (`1e309`) does not read: Rust would make it infinite.
 pub(crate) fn parse_f64(s: &str) -> Option<f64> {
-    s.trim().parse::<f64>().ok()
+    let f = s.trim().parse::<f64>().ok()?;
+    (f.is_finite() || names_infinity(s)).then_some(f)
 }
 
-/// Reads a float in decimal notation as `f32`.
+/// Reads a float in decimal notation as `f32` (`1e39` does not read, as for [`parse_f64`]).
 pub(crate) fn parse_f32(s: &str) -> Option<f32> {
-    s.trim().parse::<f32>().ok()
+    let f = s.trim().parse::<f32>().ok()?;
+    (f.is_finite() || names_infinity(s)).then_some(f)
+}
+
+fn names_infinity(s: &str) -> bool {
+    s.to_ascii_lowercase().contains("inf")
 }
 
 /// Reads hex bytes: contiguous (`0A1B`) or separated by blanks (`0A 1B`), an optional `0x`

@@ -340,7 +340,7 @@ fn pos(s: usize, e: usize) -> Pos {
 
 /// Scans `text` (at most 4 GiB; longer text is cut there) into sections and entries, pushing
 /// problems to `diags`. Never fails.
-pub fn scan<'a>(text: &'a str, file: FileId, diags: &mut Vec<Diagnostic>) -> RawFile<'a> {
+pub fn scan<'a>(text: &'a str, file: FileId, diags: &mut odc_model::Capped) -> RawFile<'a> {
     let text = if text.len() > u32::MAX as usize {
         let mut cut = u32::MAX as usize;
         while !text.is_char_boundary(cut) {
@@ -529,10 +529,10 @@ fn check_duplicate_keys(
     sec: &Section<'_>,
     entries: &[Entry<'_>],
     file: FileId,
-    diags: &mut Vec<Diagnostic>,
+    diags: &mut odc_model::Capped,
 ) {
     let n = entries.len();
-    let report = |first: &Entry<'_>, later: &Entry<'_>, diags: &mut Vec<Diagnostic>| {
+    let report = |first: &Entry<'_>, later: &Entry<'_>, diags: &mut odc_model::Capped| {
         diags.push(
             Diagnostic::warning(
                 codes::DUPLICATE_KEY,
@@ -570,9 +570,9 @@ mod tests {
     use super::*;
 
     fn scan_str(text: &str) -> (RawFile<'_>, Vec<Diagnostic>) {
-        let mut d = Vec::new();
+        let mut d = odc_model::Capped::new();
         let r = scan(text, FileId(0), &mut d);
-        (r, d)
+        (r, d.finish())
     }
 
     #[test]

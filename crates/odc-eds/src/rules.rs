@@ -56,6 +56,18 @@ pub mod codes {
     pub const NOT_UTF8: &str = "F125";
     /// See [`super::RULES`].
     pub const UNEXPECTED_KEY: &str = "F126";
+    /// See [`super::RULES`].
+    pub const SIZE_LIMIT: &str = "F127";
+    /// See [`super::RULES`].
+    pub const COMPACT_LIMIT: &str = "F128";
+    /// See [`super::RULES`].
+    pub const NUL_BYTES: &str = "F129";
+    /// See [`super::RULES`].
+    pub const CR_LINE_ENDS: &str = "F130";
+    /// See [`super::RULES`].
+    pub const NO_SECTIONS: &str = "F131";
+    /// See [`super::RULES`].
+    pub const LINE_LIMIT: &str = "F132";
 }
 
 macro_rules! rule {
@@ -297,10 +309,12 @@ pub static RULES: &[RuleInfo] = &[
         codes::NOT_UTF8,
         "not-utf8",
         Note,
-        "the file is not UTF-8 and was decoded as Windows-1252",
-        "CiA 306 does not name an encoding. Files that are not valid UTF-8 are decoded as \
-         Windows-1252 (a superset of Latin-1 for printable characters), which is what \
-         Windows-based editors write. Spans refer to the decoded text. The writer emits UTF-8."
+        "the file is not UTF-8 and was decoded as UTF-16 or Windows-1252",
+        "CiA 306 does not name an encoding. Files with a UTF-16 byte-order mark (or ASCII text \
+         with every other byte NUL, as Windows \"Unicode\" editors save it) are decoded as \
+         UTF-16; other files that are not valid UTF-8 are decoded as Windows-1252 (a superset \
+         of Latin-1 for printable characters), which is what Windows-based editors write. Spans \
+         refer to the decoded text. The writer emits UTF-8."
     ),
     rule!(
         codes::UNEXPECTED_KEY,
@@ -310,5 +324,63 @@ pub static RULES: &[RuleInfo] = &[
         "Sections such as [DummyUsage], [Comments], the object lists and the module lists have \
          fixed key patterns (`DummyIIII`, `LineN`, `N=0xIIII`). Other keys are kept (the writer \
          writes them back) but not interpreted. Fix the key."
+    ),
+    rule!(
+        codes::SIZE_LIMIT,
+        "eds-size-limit",
+        Error,
+        "the EDS/DCF file is too large",
+        "Files above 32 MiB (`odc_eds::MAX_FILE_SIZE`) are not read: the largest real EDS and DCF \
+         files are a few hundred KiB, and the limit bounds the memory a hostile file can make \
+         odc use. Nothing of the file is interpreted."
+    ),
+    rule!(
+        codes::COMPACT_LIMIT,
+        "compact-sub-object-limit",
+        Error,
+        "CompactSubObj implies more sub-objects than odc expands for one file",
+        "Each `CompactSubObj=N` implies N sub-objects that the file does not spell out; a few \
+         kilobytes of `CompactSubObj=255` objects would otherwise make millions. odc expands at \
+         most 65536 implied sub-objects per file (`odc_eds::MAX_IMPLIED_SUB_OBJECTS`; real files \
+         imply a few hundred); objects past the limit keep their CompactSubObj value but get no \
+         implied sub-objects."
+    ),
+    rule!(
+        codes::NUL_BYTES,
+        "nul-bytes",
+        Warning,
+        "the text contains NUL bytes",
+        "EDS and DCF files are text; a NUL byte means a binary file, a damaged one, or UTF-16 \
+         that was not recognised. Keys and section names with a NUL in them are not recognised \
+         (an object section becomes an unknown one). Fix: find the first one (the label points \
+         at it) and delete or replace them."
+    ),
+    rule!(
+        codes::CR_LINE_ENDS,
+        "cr-line-ends",
+        Note,
+        "lines end with CR alone",
+        "Classic Mac OS ended lines with a carriage return alone. A file with CRs and no line \
+         feed is read with each CR as a line end; spans and line numbers are those of the file. \
+         Fix: convert the line ends to LF or CR LF."
+    ),
+    rule!(
+        codes::NO_SECTIONS,
+        "no-sections",
+        Warning,
+        "the file has no section header",
+        "Every EDS or DCF has `[FileInfo]`, `[DeviceInfo]` and one section per object. A file \
+         without any `[section]` is empty, not an EDS (a binary file, a file of another \
+         format), or lost its headers; the device read from it has no object."
+    ),
+    rule!(
+        codes::LINE_LIMIT,
+        "eds-line-limit",
+        Error,
+        "the file has too many lines",
+        "odc reads at most 262,144 lines of an EDS or DCF (`odc_eds::MAX_LINES`; the largest real \
+         files have about 15,000): every line costs memory in the lossless raw layer and the \
+         model, and the limit bounds what a hostile file can make odc use. Lines past it are \
+         not read, as if the file ended there."
     ),
 ];

@@ -8,6 +8,21 @@ use odc_model::{
 
 use crate::lower::{COMPACT_SUB0_NAME, compact_sub_name};
 
+/// The keys of a CompactSubObj object's section that apply to every implied sub-object (as
+/// the lowering reads them).
+const COMPACT_TEMPLATE_KEYS: [&str; 10] = [
+    "DataType",
+    "AccessType",
+    "PDOMapping",
+    "DefaultValue",
+    "LowLimit",
+    "HighLimit",
+    "ParameterValue",
+    "ObjFlags",
+    "UploadFile",
+    "DownloadFile",
+];
+
 /// Writes a value in its canonical form.
 pub(crate) fn value_text(v: &Value) -> String {
     match v {
@@ -172,13 +187,18 @@ impl W {
         if let Some(c) = &o.compact_sub_obj {
             self.kv("CompactSubObj", &c.value.to_string());
         }
-        // The template of the implied sub-objects: sub 1 without what is per sub-object.
+        // The template of the implied sub-objects: sub 1 without what is per sub-object. Of
+        // its kept-as-written keys only those of the template (a DataType that did not read)
+        // are the object's; a sub 1 with other unknown keys is an explicit section.
         let template = if n > 0 {
             o.subs.get(&1).map(|t| {
                 let mut t = t.clone();
                 t.kind = None;
                 t.parameter_value = None;
                 t.denotation = None;
+                t.extra.retain(|e| {
+                    COMPACT_TEMPLATE_KEYS.iter().any(|k| e.key.eq_ignore_ascii_case(k))
+                });
                 t
             })
         } else {

@@ -23,6 +23,9 @@
 //! - every problem is a [`Diagnostic`] with a stable code (see [`RULES`]); reading never stops
 //!   at the first one, except at XML that is not well-formed, where what was read before the
 //!   error is still lowered.
+// Bad input is a diagnostic, never a panic: no unwrap, expect or panic outside tests. A
+// proven invariant may opt out with an `#[allow]` and a comment saying why.
+#![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used, clippy::panic))]
 
 mod decode;
 mod lower;
@@ -43,8 +46,19 @@ pub struct Parsed {
     pub file: FileId,
 }
 
-/// Largest file read (bytes).
-pub const MAX_FILE_SIZE: usize = 256 * 1024 * 1024;
+/// Largest file read (bytes); larger ones get error `F205` and no device. The largest real
+/// ESI files are about 4 MiB.
+pub const MAX_FILE_SIZE: usize = 64 * 1024 * 1024;
+
+/// Deepest element nesting read (`F204` past it).
+pub const MAX_DEPTH: usize = xml::MAX_DEPTH;
+
+/// Most elements read (`F221` past it).
+pub const MAX_ELEMENTS: usize = xml::MAX_ELEMENTS;
+
+/// Most sub-objects the dictionaries of one file make, data types expanded (`F220` past it).
+/// The largest real file makes about 16,000.
+pub const MAX_SUB_OBJECTS: usize = 262_144;
 
 /// Decodes `bytes`, adds the text to `sources` under `name`, reads and lowers it.
 /// Never panics; every problem is a diagnostic.
@@ -64,7 +78,7 @@ fn parse_input(sources: &mut Sources, name: &str, bytes: Cow<'_, [u8]>) -> Parse
         let file = sources.add(name, String::new());
         let d = Diagnostic::error(
             "F205",
-            format!("the file is {} bytes; the limit is {MAX_FILE_SIZE}", bytes.len()),
+            format!("the file is larger than {MAX_FILE_SIZE} bytes, the limit"),
         )
         .with_label(Span::new(file, 0, 0), "not read");
         return Parsed { devices: Vec::new(), diagnostics: vec![d], file };
@@ -104,9 +118,20 @@ fn parse_input(sources: &mut Sources, name: &str, bytes: Cow<'_, [u8]>) -> Parse
         }
     }
     let text = sources.text(file).unwrap_or("");
+    if let Some(at) = text.find('\0') {
+        // quick-xml reads NUL as a name character; XML 1.0 §2.2 allows it nowhere.
+        let at = at as u32;
+        diagnostics.push(
+            Diagnostic::error("F202", "the file contains a NUL byte, which XML does not allow")
+                .with_label(Span::new(file, at, at + 1), "the first one"),
+        );
+    }
     let mut doc = xml::read(text, file);
-    diagnostics.append(&mut doc.diagnostics);
-    let devices = lower::lower(text, file, &doc, &mut diagnostics);
+    // One capped list from reading through lowering (at most MAX_PER_CODE per code).
+    let mut capped = std::mem::take(&mut doc.diagnostics);
+    capped.extend(diagnostics);
+    let devices = lower::lower(text, file, &doc, &mut capped);
+    let mut diagnostics = capped.finish();
     odc_model::diag::sort(&mut diagnostics);
     Parsed { devices, diagnostics, file }
 }
@@ -167,7 +192,8 @@ pub static RULES: &[RuleInfo] = &[
         "esi-size-limit",
         Error,
         "the ESI file is too large",
-        "Files above 256 MiB are not read. The largest real ESI files are a few MiB."
+        "Files above 64 MiB (`odc_esi::MAX_FILE_SIZE`) are not read: the largest real ESI files \
+         are about 4 MiB, and the limit bounds the memory a hostile file can make odc use."
     ),
     rule!(
         "F206",
@@ -291,6 +317,44 @@ pub static RULES: &[RuleInfo] = &[
         "Real files contain `#x0x6041` (two hex prefixes) and hexBinary with an odd number of \
          digits (`2` for `02`). They are read (the second with a leading zero) and reported so \
          that the file can be fixed."
+    ),
+    rule!(
+        "F220",
+        "esi-sub-object-limit",
+        Error,
+        "the file's dictionaries make too many sub-objects",
+        "Data types expand: every object of a 255-element array type, or of a structure with \
+         255 SubItems, gets 256 sub-objects, so a few MiB of objects naming such types would \
+         make millions. odc makes at most 262,144 sub-objects per file \
+         (`odc_esi::MAX_SUB_OBJECTS`; the largest real files make about 16,000); the object \
+         that crosses the limit and the rest of its dictionary are dropped."
+    ),
+    rule!(
+        "F221",
+        "esi-element-limit",
+        Error,
+        "the file has too many XML elements",
+        "odc reads at most 2,000,000 elements (`odc_esi::MAX_ELEMENTS`; the largest real ESI \
+         files have about 100,000). Reading stops at the limit and what was read before is \
+         lowered, as after a well-formedness error."
+    ),
+    rule!(
+        "F222",
+        "esi-structured-sub-item",
+        Warning,
+        "a sub-item whose type is itself structured",
+        "CoE sub-objects hold simple values or arrays; a SubItem of a structured DataType is read \
+         as a DOMAIN and not expanded. Usually the type contains itself, directly or through \
+         another type (which odc never follows). Fix the SubItem's Type."
+    ),
+    rule!(
+        "F223",
+        "esi-duplicate-module",
+        Warning,
+        "two modules with the same ModuleIdent",
+        "Slots name the modules they accept by ModuleIdent, so each Module's ident must be unique \
+         in the file. Both modules are kept; a configuration tool cannot tell them apart. Fix \
+         the ident of one of them."
     ),
 ];
 

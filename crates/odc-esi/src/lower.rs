@@ -36,7 +36,9 @@ const DEVICE_KNOWN: &[&str] = &[
 
 struct Ctx<'a> {
     src: &'a str,
-    diags: &'a mut Vec<Diagnostic>,
+    diags: &'a mut odc_model::Capped,
+    /// Sub-objects made so far in this file (see [`crate::MAX_SUB_OBJECTS`]).
+    subs: usize,
 }
 
 /// A data type name resolved.
@@ -335,9 +337,9 @@ pub(crate) fn lower(
     src: &str,
     _file: FileId,
     doc: &crate::xml::Document<'_>,
-    diags: &mut Vec<Diagnostic>,
+    diags: &mut odc_model::Capped,
 ) -> Vec<Device> {
-    let mut ctx = Ctx { src, diags };
+    let mut ctx = Ctx { src, diags, subs: 0 };
     let Some(root) = doc.roots().next() else {
         if !ctx.diags.iter().any(|d| d.is_error()) {
             ctx.push(Diagnostic::error("F202", "the file has no root element"));
@@ -455,6 +457,16 @@ fn lower_modules<'t>(
         module.depend_on_slot.dedup();
         if let Some(coe) = m.child("Mailbox").and_then(|mb| mb.child("CoE")) {
             module.init_cmds = coe.children_named("InitCmd").map(|c| init_cmd(c, ctx)).collect();
+        }
+        // A slot names its modules by ident: two modules with one ident are ambiguous.
+        if let Some(ident) = module.module_ident
+            && let Some(first) = out.iter().find(|o: &&EsiModule| o.module_ident == Some(ident))
+        {
+            ctx.push(
+                Diagnostic::warning("F223", format!("module ident 0x{ident:X} used twice"))
+                    .with_label(module.span, "this module")
+                    .with_secondary(first.span, "the first module with it"),
+            );
         }
         out.push(module);
     }
@@ -581,9 +593,10 @@ fn lower_device(d: Element<'_>, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Devic
         ec.sync_managers.push(SyncManager {
             number: i.min(255) as u8,
             usage: SmUsage::parse(s.text()),
-            min_size: ctx.attr_u32(s, "MinSize"),
-            max_size: ctx.attr_u32(s, "MaxSize"),
-            default_size: ctx.attr_u32(s, "DefaultSize"),
+            min_size: ctx.attr_num::<u16>(s, "MinSize").map(u32::from),
+            max_size: ctx.attr_num::<u16>(s, "MaxSize").map(u32::from),
+            // A sync manager's length register is 16 bits.
+            default_size: ctx.attr_num::<u16>(s, "DefaultSize").map(u32::from),
             start_address,
             control_byte,
             enable: ctx.attr_bool(s, "Enable").unwrap_or(false),
@@ -998,6 +1011,22 @@ fn lower_objects<'t>(
                 }
             }
         }
+        // Types expand: one object of a 255-element array type makes 256 sub-objects, so a
+        // few MiB of objects naming such a type would make millions.
+        ctx.subs += object.subs.len();
+        if ctx.subs > crate::MAX_SUB_OBJECTS {
+            ctx.push(
+                Diagnostic::error(
+                    "F220",
+                    format!(
+                        "the file's dictionaries have more than {} sub-objects",
+                        crate::MAX_SUB_OBJECTS
+                    ),
+                )
+                .with_label(o.span(), "this object and the rest of the dictionary dropped"),
+            );
+            break;
+        }
         if objects.insert(index, object).is_some() {
             ctx.push(
                 Diagnostic::warning("F214", format!("object 0x{index:04X} defined twice"))
@@ -1056,7 +1085,19 @@ fn lower_struct<'t>(
             other => {
                 let (ty, tbits) = match other {
                     Some(Resolved::Simple(t, b)) => (t, b),
-                    Some(Resolved::Struct(_, b)) => (DataType::Domain, b),
+                    Some(Resolved::Struct(_, b)) => {
+                        // CoE sub-objects are not structured; a structure here is usually a
+                        // type that contains itself (directly or through another).
+                        let span = type_el.map(|t| t.text_span()).unwrap_or(si.span());
+                        ctx.push(
+                            Diagnostic::warning(
+                                "F222",
+                                format!("sub-item of the structured type `{type_name}`"),
+                            )
+                            .with_label(span, "read as DOMAIN; not expanded"),
+                        );
+                        (DataType::Domain, b)
+                    }
                     _ => {
                         let span = type_el.map(|t| t.text_span()).unwrap_or(si.span());
                         unknown_type(type_name, span, ctx, true);

@@ -29,6 +29,10 @@ use quick_xml::{Error, Reader};
 /// Deepest element nesting read; deeper content is skipped with a diagnostic.
 pub const MAX_DEPTH: usize = 256;
 
+/// Most elements read; reading stops there with a diagnostic (`F221`). The largest real ESI
+/// files have about 100,000.
+pub const MAX_ELEMENTS: usize = 2_000_000;
+
 /// A string of the tree: `len` bytes of the source at `at`, or (`len == OWNED`) the owned
 /// string number `at` of the document.
 #[derive(Clone, Copy, Debug)]
@@ -86,7 +90,7 @@ pub struct Document<'s> {
     nodes: Vec<Node>,
     attrs: Vec<RawAttr>,
     strings: Vec<Owned>,
-    pub diagnostics: Vec<Diagnostic>,
+    pub diagnostics: odc_model::Capped,
 }
 
 impl<'s> Document<'s> {
@@ -538,7 +542,7 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
             nodes: Vec::with_capacity(nodes),
             attrs: Vec::with_capacity(attrs),
             strings: Vec::new(),
-            diagnostics: Vec::new(),
+            diagnostics: odc_model::Capped::new(),
         },
         stack: Vec::new(),
         first_root: None,
@@ -561,6 +565,14 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
                 _ => {}
             }
             continue;
+        }
+        if matches!(ev, Ok(Event::Start(_) | Event::Empty(_))) && b.doc.nodes.len() >= MAX_ELEMENTS
+        {
+            let d = Diagnostic::error("F221", format!("more than {MAX_ELEMENTS} elements"))
+                .with_label(b.span(before, after), "reading stopped here")
+                .with_note("what was read before this point is still used");
+            b.doc.diagnostics.push(d);
+            break;
         }
         match ev {
             Ok(Event::Start(e)) => {
@@ -624,11 +636,13 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
                 let text = match resolved {
                     Some(t) => t,
                     None => {
-                        let d = Diagnostic::warning(
-                            "F216",
-                            format!("unknown entity `&{name};` (entities are never resolved)"),
-                        )
-                        .with_label(b.span(before, after), "kept as written");
+                        let message = if r.is_char_ref() {
+                            format!("`&{name};` is not a character XML allows")
+                        } else {
+                            format!("unknown entity `&{name};` (entities are never resolved)")
+                        };
+                        let d = Diagnostic::warning("F216", message)
+                            .with_label(b.span(before, after), "kept as written");
                         b.doc.diagnostics.push(d);
                         format!("&{name};")
                     }
@@ -641,7 +655,19 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
                     .with_note("ESI files are described by an XML schema; a DTD has no meaning");
                 b.doc.diagnostics.push(d);
             }
-            Ok(Event::Decl(_) | Event::PI(_) | Event::Comment(_)) => {}
+            Ok(Event::Decl(_)) => {
+                // Only a byte-order mark may come before the XML declaration (XML 1.0 §2.8).
+                let bom = if src.starts_with('\u{FEFF}') { 3 } else { 0 };
+                if before as usize != bom {
+                    let d = Diagnostic::error(
+                        "F202",
+                        "the XML declaration is not at the start of the file",
+                    )
+                    .with_label(b.span(before, after), "XML allows nothing before it");
+                    b.doc.diagnostics.push(d);
+                }
+            }
+            Ok(Event::PI(_) | Event::Comment(_)) => {}
             Ok(Event::Eof) => break,
             Err(e) => {
                 report(&mut b, &reader, e);
@@ -652,7 +678,7 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
     // Close elements left open (error or truncated file).
     let end = src.len() as u32;
     if let Some(top) = b.stack.last()
-        && !b.doc.diagnostics.iter().any(|d| d.code == "F202" && d.is_error())
+        && !b.doc.diagnostics.iter().any(|d| (d.code == "F202" || d.code == "F221") && d.is_error())
         && let Some(n) = b.doc.nodes.get(top.idx as usize)
     {
         let open = b.doc.str(n.name).to_string();
