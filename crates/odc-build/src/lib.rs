@@ -27,6 +27,9 @@
 //! device's quirk allowances) apply unless [`Config::check_config`] was called, and its
 //! `[[scheme]]` tables (vendor parameter numbering, see [`odc_codegen::Scheme`]) become modules
 //! of the generated code.
+// Bad input is a diagnostic, never a panic: no unwrap, expect or panic outside tests. A
+// proven invariant may opt out with an `#[allow]` and a comment saying why.
+#![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used, clippy::panic))]
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -224,7 +227,7 @@ impl Config {
     pub fn generate(&self) -> Result<Output, Error> {
         let mut out = Output::default();
         for input in &self.inputs {
-            let bytes = std::fs::read(&input.path)
+            let bytes = read_device_file(&input.path)
                 .map_err(|source| Error::Io { path: input.path.clone(), source })?;
             out.read.push(input.path.clone());
             let overlay = match overlay_path(&input.path) {
@@ -353,6 +356,22 @@ pub fn read_overlay(path: &Path) -> Result<Overlay, Error> {
     let check = odc_check::Config::from_toml(&text).map_err(|e| bad(e.to_string()))?;
     let codegen = odc_codegen::Overlay::from_toml(&text).map_err(|e| bad(e.to_string()))?;
     Ok(Overlay { check, codegen })
+}
+
+/// Reads a device file, but never more than one byte past the larger front-end limit
+/// ([`odc_eds::MAX_FILE_SIZE`], [`odc_esi::MAX_FILE_SIZE`]): the front-end then reports the
+/// file as too large, and a huge or endless input (`/dev/zero`, a FIFO) costs no more memory
+/// than that.
+///
+/// # Errors
+///
+/// When the file cannot be opened or read.
+pub fn read_device_file(path: &Path) -> std::io::Result<Vec<u8>> {
+    use std::io::Read as _;
+    let limit = odc_eds::MAX_FILE_SIZE.max(odc_esi::MAX_FILE_SIZE) as u64 + 1;
+    let mut bytes = Vec::new();
+    std::fs::File::open(path)?.take(limit).read_to_end(&mut bytes)?;
+    Ok(bytes)
 }
 
 /// The directive that makes cargo re-run the build script when `path` changes.

@@ -2,7 +2,6 @@
 //! output exactly as it was, and no temporary file behind.
 #![allow(clippy::unwrap_used, clippy::expect_used)] // test code: a panic is a failure report
 
-use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 fn tempdir(tag: &str) -> PathBuf {

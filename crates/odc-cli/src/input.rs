@@ -27,14 +27,18 @@ fn is_xml(path: &Path, bytes: &[u8]) -> bool {
 
 /// Reads and lowers one file. I/O problems are errors; problems in the content are diagnostics.
 pub fn load(sources: &mut Sources, path: &Path) -> anyhow::Result<Loaded> {
-    let bytes = std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let bytes = odc_build::read_device_file(path)
+        .with_context(|| format!("cannot read {}", path.display()))?;
     let name = path.display().to_string();
     let (devices, diagnostics) = if is_xml(path, &bytes) {
         let parsed = odc_esi::parse_vec(sources, &name, bytes);
         (parsed.devices, parsed.diagnostics)
     } else {
         let parsed = odc_eds::parse(sources, &name, &bytes);
-        (vec![parsed.device], parsed.diagnostics)
+        // A file too large to read describes no device (as an unreadable ESI): checking the
+        // empty model would only add noise.
+        let read = !parsed.diagnostics.iter().any(|d| d.code == odc_eds::codes::SIZE_LIMIT);
+        (if read { vec![parsed.device] } else { Vec::new() }, parsed.diagnostics)
     };
     Ok(Loaded { devices, diagnostics })
 }

@@ -76,7 +76,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     print_diagnostics(&sources, &all, args.format, args.color)?;
     let errors = all.iter().filter(|d| d.is_error()).count();
     if !matches!(args.format, DiagFormat::Json) {
-        let warnings = all.len() - errors;
+        let warnings = all.iter().filter(|d| d.severity == odc_model::Severity::Warning).count();
         if errors + warnings > 0 {
             eprintln!("{errors} error(s), {warnings} warning(s)");
         }

@@ -37,7 +37,7 @@ enum RoleArg {
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let bytes = std::fs::read(&args.file)
+    let bytes = odc_build::read_device_file(&args.file)
         .with_context(|| format!("cannot read {}", args.file.display()))?;
     let mut sources = Sources::new();
     let loaded = input::load(&mut sources, &args.file)?;
