@@ -60,6 +60,9 @@
 //!   their element) are not range-checked;
 //! - a diagnostic names the object it is about ([`Diagnostic::object`]); for front-end
 //!   diagnostics that do not, [`Config::apply`] finds the EDS section the primary span lies in.
+// Bad input is a diagnostic, never a panic: no unwrap, expect or panic outside tests. A
+// proven invariant may opt out with an `#[allow]` and a comment saying why.
+#![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used, clippy::panic))]
 
 mod config;
 mod rules;

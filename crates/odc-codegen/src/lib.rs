@@ -16,6 +16,9 @@
 //!   parameter numbers (`lenze::code(11)`, `lenze::C00011`) mapped to typed entries;
 //! - `process`, when the overlay declares PDO layouts the file cannot map (see
 //!   [`ProcessData`]).
+// Bad input is a diagnostic, never a panic: no unwrap, expect or panic outside tests. A
+// proven invariant may opt out with an `#[allow]` and a comment saying why.
+#![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used, clippy::panic))]
 
 //!
 //! The output is deterministic, starts with an `@generated` line naming the input file and its

@@ -68,6 +68,9 @@
 //! For enums with `#[repr(u8 | u16 | u32 | u64 | i8 | i16 | i32 | i64)]`. One tuple variant
 //! marked `#[pdo(other)]` catches every other value; without it, unknown values fail to unpack.
 //! `#[pdo(bits = N)]` on the enum sets its natural width (for sub-byte enums).
+// Bad input is a diagnostic, never a panic: no unwrap, expect or panic outside tests. A
+// proven invariant may opt out with an `#[allow]` and a comment saying why.
+#![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used, clippy::panic))]
 
 mod attr;
 mod pdo;

@@ -12,6 +12,9 @@
 //!
 //! The crate is `no_std` and allocation-free: callers pass the output slice.
 #![no_std]
+// Bad input is a diagnostic, never a panic: no unwrap, expect or panic outside tests. A
+// proven invariant may opt out with an `#[allow]` and a comment saying why.
+#![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used, clippy::panic))]
 
 use core::fmt;
 

@@ -24,6 +24,9 @@
 //! Errors of the device file (and checker errors) become a `compile_error!` holding the
 //! rendered diagnostics; warnings are not reported (a build script can show them, a stable
 //! procedural macro cannot).
+// Bad input is a diagnostic, never a panic: no unwrap, expect or panic outside tests. A
+// proven invariant may opt out with an `#[allow]` and a comment saying why.
+#![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used, clippy::panic))]
 
 use std::path::{Path, PathBuf};
 

@@ -42,6 +42,9 @@
 //! Features: `derive` (default) re-exports `#[derive(Pdo)]` and `#[derive(PdoValue)]`; `std`
 //! links std; `serde` and `defmt` add derives on the plain data types.
 #![no_std]
+// Bad input is a diagnostic, never a panic: no unwrap, expect or panic outside tests. A
+// proven invariant may opt out with an `#[allow]` and a comment saying why.
+#![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used, clippy::panic))]
 
 #[cfg(feature = "std")]
 extern crate std;
