@@ -149,18 +149,7 @@ impl<T: ObjValue> Entry<T> {
     where
         T: PartialOrd,
     {
-        if let (Some(lo), Some(hi)) = (&self.low, &self.high)
-            && hi < lo
-        {
-            return Err(SdoAbort::MaxLessThanMin);
-        }
-        if self.high.as_ref().is_some_and(|hi| v > hi) {
-            return Err(SdoAbort::ValueTooHigh);
-        }
-        if self.low.as_ref().is_some_and(|lo| v < lo) {
-            return Err(SdoAbort::ValueTooLow);
-        }
-        Ok(())
+        check_range(v, self.low.as_ref(), self.high.as_ref())
     }
 
     /// Check that an SDO download may write the entry, then decode and limit-check the bytes.
@@ -183,6 +172,32 @@ impl<T: ObjValue> Entry<T> {
         }
         Ok(v.encode(buf)?)
     }
+}
+
+/// Checks `v` against optional limits, with the abort code a server answers:
+/// [`SdoAbort::MaxLessThanMin`] when the limits contradict each other, else
+/// [`SdoAbort::ValueTooHigh`] or [`SdoAbort::ValueTooLow`].
+///
+/// # Errors
+///
+/// As above.
+pub fn check_range<T: PartialOrd>(
+    v: &T,
+    low: Option<&T>,
+    high: Option<&T>,
+) -> Result<(), SdoAbort> {
+    if let (Some(lo), Some(hi)) = (low, high)
+        && hi < lo
+    {
+        return Err(SdoAbort::MaxLessThanMin);
+    }
+    if high.is_some_and(|hi| v > hi) {
+        return Err(SdoAbort::ValueTooHigh);
+    }
+    if low.is_some_and(|lo| v < lo) {
+        return Err(SdoAbort::ValueTooLow);
+    }
+    Ok(())
 }
 
 /// Untyped description of an entry, for `const` tables indexed at run time.

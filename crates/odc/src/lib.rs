@@ -64,7 +64,7 @@ pub mod slave;
 mod types;
 mod value;
 
-pub use entry::{DefaultValue, Entry, EntryInfo};
+pub use entry::{DefaultValue, Entry, EntryInfo, check_range};
 pub use pdo::{MappingEntry, PackError, Pdo, PdoValue, UnpackError};
 pub use sdo::SdoAbort;
 pub use types::{Access, DataType, ObjectAddr};
