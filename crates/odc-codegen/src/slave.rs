@@ -1,78 +1,166 @@
 //! `slave`: a heap-free object dictionary with typed storage, for the device's own firmware.
+//!
+//! The code is laid out for small flash: the lookup reads a table of 4-byte keys and a table
+//! of 1-byte access rights (the names of `ENTRIES` stay out of the image unless the firmware
+//! uses them), the initial values are one `const` struct copied by `new` (the
+//! `$NODEID`-relative ones patched after), and each read or write arm is a call of the one
+//! `upload`/`download` of its value type; arms that the access check rules out are left out.
 
+use odc_model::Value;
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
+use crate::od::EntryName;
+use crate::types::hex_literal;
 use crate::{Ctx, doc};
+
+/// What the slave code needs to know of one entry beyond its name.
+struct Slot<'a> {
+    name: &'a EntryName,
+    key: u32,
+    readable: bool,
+    writable: bool,
+    /// Whether the descriptor has a low or high limit (the write arm passes them).
+    limited: bool,
+    /// Whether `new` computes the initial value at run time (`odc::slave::initial`): a
+    /// `$NODEID`-relative default, or no usable default but limits that zero may be outside
+    /// of; the others start as in `DEFAULTS`.
+    patched: bool,
+}
+
+fn slots<'a>(ctx: &'a Ctx<'_>) -> Vec<Slot<'a>> {
+    let rt = &ctx.rt;
+    ctx.names
+        .entries
+        .iter()
+        .filter_map(|(&(index, sub), name)| {
+            let s = ctx.device.objects.get(&index)?.subs.get(&sub)?;
+            let limit = |v: Option<&odc_model::Spanned<Value>>| {
+                v.and_then(|v| name.ty.option_expr(&v.value, rt)).is_some()
+            };
+            let limited = limit(s.low_limit.as_ref()) || limit(s.high_limit.as_ref());
+            let default =
+                s.initial_value().filter(|v| name.ty.default_expr(&v.value, rt).is_some());
+            let patched = match default {
+                Some(v) => matches!(v.value, Value::NodeIdPlus(_)),
+                None => limited,
+            };
+            Some(Slot {
+                name,
+                key: u32::from(index) << 8 | u32::from(sub),
+                readable: s.access.readable(),
+                writable: s.access.writable(),
+                limited,
+                patched,
+            })
+        })
+        .collect()
+}
 
 /// The `slave` module.
 pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
     let rt = &ctx.rt;
-    let entries: Vec<_> = ctx.names.entries.values().collect();
-    let n = Literal::usize_unsuffixed(entries.len());
-    let infos = entries.iter().map(|e| {
-        let p = e.path();
+    let slots = slots(ctx);
+    let n = Literal::usize_unsuffixed(slots.len());
+    let infos = slots.iter().map(|s| {
+        let p = s.name.path();
         quote!(#p.info())
     });
-    let fields = entries.iter().map(|e| {
-        let (f, ty, p) = (&e.field, e.ty.tokens(rt), e.path());
+    let keys = slots.iter().map(|s| hex_literal(u64::from(s.key), 6));
+    let access = slots.iter().map(|s| {
+        let p = s.name.path();
+        quote!(#p.access)
+    });
+    let fields = slots.iter().map(|s| {
+        let (f, ty, p) = (&s.name.field, s.name.ty.tokens(rt), s.name.path());
         let text = format!(" The value of [`{}`].", p.to_string().replace(' ', ""));
         quote! {
             #[doc = #text]
             pub #f: #ty,
         }
     });
-    let inits = entries.iter().map(|e| {
-        let (f, p, zero) = (&e.field, e.path(), e.ty.zero_expr(rt));
+    let defaults = slots.iter().map(|s| {
+        let (f, p, zero) = (&s.name.field, s.name.path(), s.name.ty.zero_expr(rt));
+        quote!(#f: #rt::slave::fixed_default(&#p, #zero),)
+    });
+    let patched: Vec<_> = slots.iter().filter(|s| s.patched).collect();
+    let patches = patched.iter().map(|s| {
+        let (f, p, zero) = (&s.name.field, s.name.path(), s.name.ty.zero_expr(rt));
         quote!(#f: #rt::slave::initial(&#p, node_id, #zero),)
     });
-    let reads = entries.iter().enumerate().map(|(i, e)| {
-        let (f, p) = (&e.field, e.path());
-        let i = Literal::usize_unsuffixed(i);
-        quote!(#i => #p.encode_upload(&self.#f, buf),)
-    });
-    let writes = entries.iter().enumerate().map(|(i, e)| {
-        let (f, p) = (&e.field, e.path());
-        let i = Literal::usize_unsuffixed(i);
+    let reads: Vec<_> = slots
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.readable)
+        .map(|(i, s)| {
+            let f = &s.name.field;
+            let i = Literal::usize_unsuffixed(i);
+            quote!(#i => #rt::slave::upload(&self.#f, buf),)
+        })
+        .collect();
+    let writes: Vec<_> = slots
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.writable)
+        .map(|(i, s)| {
+            let (f, p) = (&s.name.field, s.name.path());
+            let i = Literal::usize_unsuffixed(i);
+            let limits = if s.limited { quote!(#p.low, #p.high) } else { quote!(None, None) };
+            quote!(#i => #rt::slave::download(&mut self.#f, data, #limits, addr, hook),)
+        })
+        .collect();
+    // The access check has answered every request for which no arm exists; with no arm at
+    // all, the match would be a lint and the arguments unused.
+    let read_match = if reads.is_empty() {
         quote! {
-            #i => {
-                let value = #p.decode_download(data)?;
-                hook.before_write(#p.addr, data)?;
-                self.#f = value;
-                hook.after_write(#p.addr);
+            let _ = (pos, buf);
+            Err(#rt::SdoAbort::ReadOfWriteOnly)
+        }
+    } else {
+        quote! {
+            match pos {
+                #(#reads)*
+                _ => Err(#rt::SdoAbort::NoSuchObject),
             }
         }
-    });
+    };
+    let write_match = if writes.is_empty() {
+        quote! {
+            let _ = (pos, data, hook);
+            Err(#rt::SdoAbort::WriteOfReadOnly)
+        }
+    } else {
+        quote! {
+            let addr = #rt::ObjectAddr::new(index, sub);
+            match pos {
+                #(#writes)*
+                _ => Err(#rt::SdoAbort::NoSuchObject),
+            }
+        }
+    };
     // One statement per field: `#[derive(PartialEq)]` joins the comparisons with `&&` into
     // one expression nested as deep as the struct has fields, and rustc's recursive passes
     // overflow their stack on it for big dictionaries (Beckhoff ELM37xx: 9,246 entries).
-    let eq_body = if entries.is_empty() {
+    let compares = slots.iter().map(|s| {
+        let f = &s.name.field;
         quote! {
-            let _ = other;
-            true
-        }
-    } else {
-        let stmts = entries.iter().map(|e| {
-            let f = &e.field;
-            quote! {
-                if self.#f != other.#f {
-                    return false;
-                }
+            if self.#f != other.#f {
+                return false;
             }
-        });
-        quote! {
-            #(#stmts)*
-            true
         }
-    };
+    });
     // A device without typed entries (an EtherCAT coupler, say) answers every request with
     // "no such object"; the match-based bodies would leave `node_id` unused and `Ok(())`
     // unreachable.
-    let (new_body, read_body, write_body) = if entries.is_empty() {
+    let (eq_body, new_body, read_body, write_body) = if slots.is_empty() {
         (
             quote! {
+                let _ = other;
+                true
+            },
+            quote! {
                 let _ = node_id;
-                Dictionary {}
+                DEFAULTS
             },
             quote! {
                 let _ = (index, sub, buf);
@@ -84,24 +172,31 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
             },
         )
     } else {
+        let new_body = if patched.is_empty() {
+            quote! {
+                let _ = node_id;
+                DEFAULTS
+            }
+        } else if patched.len() == slots.len() {
+            quote!(Dictionary { #(#patches)* })
+        } else {
+            quote!(Dictionary { #(#patches)* ..DEFAULTS })
+        };
         (
             quote! {
-                Dictionary {
-                    #(#inits)*
-                }
+                #(#compares)*
+                true
+            },
+            new_body,
+            quote! {
+                let pos = #rt::slave::find(&KEYS, index, sub)?;
+                #rt::slave::check_read(&ACCESS, pos)?;
+                #read_match
             },
             quote! {
-                match #rt::slave::locate(&ENTRIES, index, sub)? {
-                    #(#reads)*
-                    _ => Err(#rt::SdoAbort::NoSuchObject),
-                }
-            },
-            quote! {
-                match #rt::slave::locate(&ENTRIES, index, sub)? {
-                    #(#writes)*
-                    _ => return Err(#rt::SdoAbort::NoSuchObject),
-                }
-                Ok(())
+                let pos = #rt::slave::find(&KEYS, index, sub)?;
+                #rt::slave::check_write(&ACCESS, pos)?;
+                #write_match
             },
         )
     };
@@ -115,8 +210,17 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
     quote! {
         #docs
         pub mod slave {
-            /// Every entry of the dictionary, sorted by (index, sub-index).
+            /// Every entry of the dictionary, sorted by (index, sub-index), with its name, data
+            /// type and access. `Dictionary` does not read it: a firmware that does not use it
+            /// does not link it.
             pub static ENTRIES: [#rt::EntryInfo; #n] = [#(#infos),*];
+
+            /// The search key (`index << 8 | sub`, see `odc::slave::key`) of each entry, in the
+            /// order of `ENTRIES`.
+            pub static KEYS: [u32; #n] = [#(#keys),*];
+
+            /// The access right of each entry, in the order of `ENTRIES`.
+            pub static ACCESS: [#rt::Access; #n] = [#(#access),*];
 
             /// The values of the dictionary, one field per entry.
             #[derive(Clone, Debug)]
@@ -129,6 +233,12 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
                     #eq_body
                 }
             }
+
+            /// Every entry at its default, those relative to the node id (and those without
+            /// default) at zero.
+            const DEFAULTS: Dictionary = Dictionary {
+                #(#defaults)*
+            };
 
             impl Dictionary {
                 /// The dictionary of node `node_id`, every entry at its default (`$NODEID`

@@ -239,19 +239,23 @@ impl RustTy {
         })
     }
 
-    /// An expression of the type's zero value, for storage of sub-objects without default.
+    /// A `const` expression of the type's zero value, for storage of sub-objects without default.
     pub fn zero_expr(self, rt: &TokenStream) -> TokenStream {
         let ty = self.tokens(rt);
         match self {
             RustTy::Bool => quote!(false),
             RustTy::F32 | RustTy::F64 => quote!(0.0),
             RustTy::Unsigned(_) | RustTy::Signed(_) if self.is_native_int() => quote!(0),
-            RustTy::Text(_) => quote!(#rt::slave::empty_string()),
+            RustTy::Text(_) => {
+                let path = self.expr_path(rt);
+                quote!(#path::EMPTY)
+            }
             RustTy::Bytes(n) => {
                 let n = Literal::usize_unsuffixed(n);
                 quote!(#rt::OctetString([0; #n]))
             }
-            _ => quote!(<#ty as ::core::default::Default>::default()),
+            // U24..U56, I24..I56, TimeOfDay, TimeDifference.
+            _ => quote!(#ty::ZERO),
         }
     }
 }

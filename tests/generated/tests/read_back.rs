@@ -1,0 +1,74 @@
+//! Every entry of a fresh generated dictionary reads back, and every writable one accepts the
+//! value it starts with: a dictionary never starts with a value it would refuse by SDO (a
+//! master that saves and restores the parameters must not get an abort), whatever mix of
+//! fixed defaults, `$NODEID` defaults, missing defaults and limits its device file has.
+
+use odc::{SdoAbort, slave::ObjectDictionary};
+use odc_tests_generated::{lexium_mdrive, lxm23a, mini_drive, servoone};
+
+/// `eds/lenze-e94aycca.eds`, slave side (generated for the benchmark): entries without default
+/// whose limits exclude zero (0x27F1, 0x2BD9).
+#[allow(dead_code)]
+mod lenze_e94aycca {
+    odc::include_od!("lenze_e94aycca");
+}
+
+fn read_back_all(name: &str, table: &[odc::EntryInfo], dict: &mut impl ObjectDictionary) {
+    let mut buf = [0u8; 1024];
+    let mut written = 0;
+    for e in table {
+        let (i, s) = (e.addr.index, e.addr.sub);
+        match dict.read(i, s, &mut buf) {
+            Ok(n) => {
+                if e.access.writable() {
+                    let value = buf[..n].to_vec();
+                    assert_eq!(dict.write(i, s, &value), Ok(()), "{name} {i:04X}:{s:02X}");
+                    written += 1;
+                }
+            }
+            Err(abort) => {
+                assert_eq!(abort, SdoAbort::ReadOfWriteOnly, "{name} {i:04X}:{s:02X}");
+                assert!(!e.access.readable());
+            }
+        }
+    }
+    assert!(written > 0, "{name}: no writable entry");
+}
+
+#[test]
+fn initial_values_are_accepted_back() {
+    for node in [1, 5, 127] {
+        read_back_all(
+            "mini_drive",
+            &mini_drive::slave::ENTRIES,
+            &mut mini_drive::slave::Dictionary::new(node),
+        );
+        read_back_all("lxm23a", &lxm23a::slave::ENTRIES, &mut lxm23a::slave::Dictionary::new(node));
+        read_back_all(
+            "lexium_mdrive",
+            &lexium_mdrive::slave::ENTRIES,
+            &mut lexium_mdrive::slave::Dictionary::new(node),
+        );
+        read_back_all(
+            "servoone",
+            &servoone::slave::ENTRIES,
+            &mut servoone::slave::Dictionary::new(node),
+        );
+        read_back_all(
+            "lenze_e94aycca",
+            &lenze_e94aycca::slave::ENTRIES,
+            &mut lenze_e94aycca::slave::Dictionary::new(node),
+        );
+    }
+}
+
+#[test]
+fn keys_and_access_follow_entries() {
+    for (e, (&k, &a)) in
+        lxm23a::slave::ENTRIES.iter().zip(lxm23a::slave::KEYS.iter().zip(&lxm23a::slave::ACCESS))
+    {
+        assert_eq!(k, odc::slave::key(e.addr.index, e.addr.sub));
+        assert_eq!(a, e.access);
+    }
+    assert!(lxm23a::slave::KEYS.windows(2).all(|w| w[0] < w[1]));
+}
