@@ -142,17 +142,20 @@ build() {  # $1: features ("" or "device"); prints the image path
 }
 printf '%s' "" >"$WORK/src/dev.rs"
 read -r bt br bd bb < <(sections "$(build "")")
-echo "target $TARGET, opt-level s; bytes beyond the image without dictionary (text $bt, rodata $br, data $bd, bss $bb)"
-printf '%-44s %8s %8s %8s %8s %8s %8s %8s\n' device entries text rodata data bss ENTRIES storage
+echo "target $TARGET, opt-level s. Baseline image without dictionary: text $bt, rodata $br, data $bd, bss $bb bytes."
+echo "Sections: bytes beyond the baseline. Symbols: the tables (ENTRIES 0 = not linked) and the storage."
+printf '%-36s %7s | %7s %7s %7s %7s | %6s %6s %7s %7s\n' device entries text rodata data bss KEYS ACCESS ENTRIES storage
 for file in "${FILES[@]}"; do
     "$ODC" generate "$file" --role slave -o "$WORK/src/dev.rs"
     img=$(build device)
     read -r t r d b < <(sections "$img")
-    # The table and the storage by symbol size.
-    sym_size() { nm -S "$img" | awk -v re="$1" '$4 ~ re && !n++ { print $2 }'; }
-    entries_hex=$(sym_size 'slave7ENTRIES')
-    storage_hex=$(sym_size '^OD_STORAGE$')
-    entries_sym=$((16#${entries_hex:-0})) storage_sym=$((16#${storage_hex:-0}))
-    n=$(grep -oE 'ENTRIES: \[::odc::EntryInfo; [0-9]+\]' "$WORK/src/dev.rs" | grep -oE '[0-9]+\]' | tr -d ']')
-    printf '%-44s %8s %8d %8d %8d %8d %8s %8s\n' "$(basename "$file")" "${n:-0}" $((t - bt)) $((r - br)) $((d - bd)) $((b - bb)) "${entries_sym:-0}" "${storage_sym:-0}"
+    sym() {  # the size of the first symbol matching $1, in decimal
+        local hex
+        hex=$(nm -S "$img" | awk -v re="$1" '$4 ~ re && !n++ { print $2 }')
+        echo $((16#${hex:-0}))
+    }
+    n=$(grep -m1 -oE 'pub static KEYS: \[u32; [0-9]+\]' "$WORK/src/dev.rs" | grep -oE '[0-9]+\]' | tr -d ']')
+    printf '%-36s %7s | %7d %7d %7d %7d | %6d %6d %7d %7d\n' "$(basename "$file")" "${n:-0}" \
+        $((t - bt)) $((r - br)) $((d - bd)) $((b - bb)) \
+        "$(sym 'slave4KEYS')" "$(sym 'slave6ACCESS')" "$(sym 'slave7ENTRIES')" "$(sym '^OD_STORAGE$')"
 done
