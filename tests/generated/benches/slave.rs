@@ -6,8 +6,8 @@
 //! second, and 1,000 / (Melem/s) is the time of one lookup in ns. The goal is ≤ 20 ns per
 //! lookup in a 500-object dictionary.
 //!
-//! - `locate`: the binary search of `ENTRIES` alone (`odc::slave::locate`), which every read
-//!   and write starts with;
+//! - `find`: the binary search of the dictionary's `KEYS` alone (`odc::slave::find`), which
+//!   every read and write starts with;
 //! - `read`: a whole SDO upload (`Dictionary::read`: lookup, access check, encode into a
 //!   buffer);
 //! - `read_missing`: uploads of addresses that do not exist (the abort path).
@@ -49,10 +49,11 @@ fn addresses(table: &[odc::EntryInfo]) -> Vec<(u16, u8)> {
 macro_rules! dictionary_benches {
     ($c:expr, $name:literal, $m:ident) => {{
         let table: &[odc::EntryInfo] = &$m::slave::ENTRIES;
+        let keys: &[u32] = &$m::slave::KEYS;
         let addrs = addresses(table);
         // Every address is found, at its own position.
         for &(i, s) in &addrs {
-            let pos = odc::slave::locate(table, i, s).unwrap();
+            let pos = odc::slave::find(keys, i, s).unwrap();
             assert_eq!((table[pos].addr.index, table[pos].addr.sub), (i, s));
         }
         // Misses: sub-indexes past the end of existing objects, and indexes nobody uses.
@@ -64,11 +65,11 @@ macro_rules! dictionary_benches {
         let dict = $m::slave::Dictionary::new(5);
         let mut g = $c.benchmark_group(concat!("slave_", $name, "_x1024"));
         g.throughput(Throughput::Elements(N as u64));
-        g.bench_function("locate", |b| {
+        g.bench_function("find", |b| {
             b.iter(|| {
                 let mut acc = 0usize;
                 for &(i, s) in black_box(&addrs) {
-                    acc = acc.wrapping_add(odc::slave::locate(table, i, s).unwrap_or(0));
+                    acc = acc.wrapping_add(odc::slave::find(keys, i, s).unwrap_or(0));
                 }
                 black_box(acc)
             })
