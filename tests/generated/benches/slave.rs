@@ -11,6 +11,12 @@
 //! - `read`: a whole SDO upload (`Dictionary::read`: lookup, access check, encode into a
 //!   buffer);
 //! - `read_missing`: uploads of addresses that do not exist (the abort path).
+//!
+//! Measured 21 November 2026 (x86-64, rustc 1.95, 2 shared cores at load 3–4;
+//! `cargo bench -p odc-tests-generated --bench slave`): `find` 7.5 ns, `read` 7.3 ns,
+//! `read_missing` 7.6 ns per lookup in the 500-object dictionary; 7.9, 11.4 and 8.5 ns in
+//! lenze's 787 entries. The generator before the `KEYS` table (binary search of `ENTRIES`,
+//! 24-byte entries) took 30 and 33 ns.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // bench code: a panic is a failure report
 #![allow(missing_docs)] // criterion's macros generate undocumented items
 
