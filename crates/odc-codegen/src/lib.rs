@@ -10,7 +10,9 @@
 //!   index, mapping values, COB-ID rule and transmission type (CANopen) or sync-manager
 //!   placement (EtherCAT);
 //! - `cia402`: the modes of operation the device supports, when it declares the profile;
-//! - `slave` (role slave): a heap-free object dictionary with typed storage and SDO checks;
+//! - `slave` (role slave): a heap-free object dictionary with typed storage and SDO checks,
+//!   laid out for small flash (4-byte search keys, 1-byte access rights, one `const` initial
+//!   dictionary, one call per entry in `read` and `write`);
 //! - `master` (role master): the SDO writes that configure the default PDO mapping;
 //! - one module per vendor parameter scheme of the overlay (see [`Scheme`]): the maker's
 //!   parameter numbers (`lenze::code(11)`, `lenze::C00011`) mapped to typed entries;
