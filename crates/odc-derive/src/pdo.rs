@@ -268,7 +268,16 @@ fn expand(input: &DeriveInput, krate: &Path, fields: &[Placed], total_bits: u32)
     let len = odc_layout::bytes_for_bits(total_bits);
     let len_lit = usize_lit(len);
     let bits_lit = usize_lit(total_bits);
-    let word = len <= 8;
+    // Three ways to move the bits: one little-endian word for an image of exactly 8 bytes (or
+    // fewer, when a field does not sit on byte boundaries); one load or store per field when
+    // every field does (a 6-byte PDO of a u16 and an i32 becomes two plain moves, where the
+    // word would be assembled from and split into pieces); bit by bit otherwise.
+    let aligned = len != 8
+        && fields
+            .iter()
+            .all(|f| f.range.offset % 8 == 0 && f.range.bits % 8 == 0 && f.range.bits <= 64);
+    let word = len <= 8 && !aligned;
+    let covered: u32 = fields.iter().map(|f| f.range.bits).sum();
 
     let mut mapping = Vec::new();
     let dummy = |gap: u32, mapping: &mut Vec<TokenStream>| {
@@ -313,7 +322,19 @@ fn expand(input: &DeriveInput, krate: &Path, fields: &[Placed], total_bits: u32)
                 }
             });
         }
-        if word {
+        if aligned {
+            let at = usize_lit(f.range.offset / 8);
+            let n = usize_lit(bits / 8);
+            puts.push(quote!(#krate::bits::put_le(buf, #at, #n, #raw);));
+            gets.push(quote! {
+                #ident: match <#ty as #krate::PdoValue>::from_raw(#krate::bits::get_le(buf, #at, #n), #bits_u32) {
+                    ::core::option::Option::Some(v) => v,
+                    ::core::option::Option::None => {
+                        return ::core::result::Result::Err(#krate::UnpackError::InvalidValue { field: #field_name })
+                    }
+                },
+            });
+        } else if word {
             puts.push(quote!(| ((#raw & #mask) << #off)));
             gets.push(quote! {
                 #ident: match <#ty as #krate::PdoValue>::from_raw((__w >> #off) & #mask, #bits_u32) {
@@ -336,7 +357,14 @@ fn expand(input: &DeriveInput, krate: &Path, fields: &[Placed], total_bits: u32)
         }
     }
 
-    let pack_body = if word {
+    let pack_body = if aligned {
+        // Gaps and padding are zero on the wire; fields that tile the image need no clearing.
+        let clear = (covered < total_bits).then(|| quote!(buf.fill(0);));
+        quote! {
+            #clear
+            #(#puts)*
+        }
+    } else if word {
         quote! {
             let __w: u64 = 0u64 #(#puts)*;
             #krate::bits::store_le_u64(buf, __w);

@@ -54,6 +54,30 @@ pub fn store_le_u64(buf: &mut [u8], word: u64) {
     }
 }
 
+/// The `n` (≤ 8) bytes at byte `at` as a little-endian word, zero-extended; zero when they are
+/// not all in `buf`.
+///
+/// The path of PDOs whose fields all start and end on byte boundaries (and are not exactly
+/// 8 bytes, which [`load_le_u64`] serves): one load per field, of the field's own width.
+#[inline(always)]
+pub fn get_le(buf: &[u8], at: usize, n: usize) -> u64 {
+    let mut b = [0u8; 8];
+    if let (Some(dst), Some(src)) = (b.get_mut(..n), buf.get(at..at.saturating_add(n))) {
+        dst.copy_from_slice(src);
+    }
+    u64::from_le_bytes(b)
+}
+
+/// Store the low `n` (≤ 8) bytes of `value` at byte `at`, little-endian; nothing when they
+/// are not all in `buf`. The store of [`get_le`]'s path.
+#[inline(always)]
+pub fn put_le(buf: &mut [u8], at: usize, n: usize, value: u64) {
+    let b = value.to_le_bytes();
+    if let (Some(dst), Some(src)) = (buf.get_mut(at..at.saturating_add(n)), b.get(..n)) {
+        dst.copy_from_slice(src);
+    }
+}
+
 /// Read `len` bits (≤ 64) starting at bit `offset`.
 #[inline(always)]
 pub fn read_bits(buf: &[u8], offset: usize, len: u32) -> u64 {

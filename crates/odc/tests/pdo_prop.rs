@@ -126,6 +126,30 @@ impl Wide {
     }
 }
 
+/// Byte-aligned fields in a 6-byte image: the one-move-per-field path.
+#[derive(Debug, Clone, Copy, PartialEq, odc::Pdo)]
+struct Aligned6 {
+    #[pdo(index = 0x6041)]
+    statusword: u16,
+    #[pdo(index = 0x6064)]
+    position: i32,
+}
+
+/// Byte-aligned fields over 8 bytes with a padding byte and 24-bit fields: still one move per
+/// field, the gap cleared.
+#[derive(Debug, Clone, Copy, PartialEq, odc::Pdo)]
+#[pdo(max_bits = 128)]
+struct Aligned14 {
+    #[pdo(index = 0x2100, sub = 1)]
+    a: u8,
+    #[pdo(index = 0x2100, sub = 2, bits = 24, pad_bits = 8)]
+    b: odc::I24,
+    #[pdo(index = 0x2100, sub = 3)]
+    c: i64,
+    #[pdo(index = 0x2100, sub = 4, bits = 8)]
+    d: i16,
+}
+
 fn narrow() -> impl Strategy<Value = Narrow> {
     (0u8..8, signed_in(11), any::<bool>(), 0u32..(1 << 29), signed_in(7), 0u8..16).prop_map(
         |(a, b, c, d, e, f)| Narrow {
@@ -200,6 +224,27 @@ proptest! {
         prop_assert!(same_wide(&back, &v));
     }
 
+    #[test]
+    fn aligned_round_trip_and_reference(statusword: u16, position: i32) {
+        let v = Aligned6 { statusword, position };
+        let packed = v.pack().unwrap();
+        let reference = ref_pack::<Aligned6>(&[v.statusword.to_raw(), v.position.to_raw()]);
+        prop_assert_eq!(packed.as_slice(), reference.as_slice());
+        prop_assert_eq!(Aligned6::unpack(&packed).unwrap(), v);
+        prop_assert_eq!(Aligned6::unpack(&reference).unwrap(), v);
+    }
+
+    #[test]
+    fn aligned_with_gap_round_trip_and_reference(a: u8, b in signed_in(24), c: i64, d in signed_in(8)) {
+        let v = Aligned14 { a, b: odc::I24::new(b as i32).unwrap(), c, d: d as i16 };
+        // Garbage in the buffer must not survive in the gap.
+        let mut packed = [0xA5u8; 14];
+        v.pack_into(&mut packed).unwrap();
+        let reference = ref_pack::<Aligned14>(&[v.a.to_raw(), v.b.to_raw(), v.c.to_raw(), v.d.to_raw()]);
+        prop_assert_eq!(packed.as_slice(), reference.as_slice());
+        prop_assert_eq!(Aligned14::unpack(&packed).unwrap(), v);
+    }
+
     /// Any byte pattern unpacks (no enum without catch-all here) and re-packs to itself with
     /// the gap and tail bits cleared.
     #[test]
@@ -219,6 +264,11 @@ fn layouts_are_what_the_mapping_says() {
     assert_eq!(Narrow::LEN, 8);
     assert_eq!(Wide::BITS, 320);
     assert_eq!(Wide::MAPPING.iter().map(|e| usize::from(e.bits)).sum::<usize>(), Wide::BITS);
+    assert_eq!((Aligned6::BITS, Aligned6::LEN), (48, 6));
+    assert_eq!((Aligned14::BITS, Aligned14::LEN), (112, 14));
+    // An i16 mapped into 8 bits refuses values it cannot carry.
+    let too_big = Aligned14 { a: 0, b: odc::I24::ZERO, c: 0, d: 200 };
+    assert!(too_big.pack().is_err());
 }
 
 /// One derived struct per generated case, and a property over its values: raw bits drawn at
