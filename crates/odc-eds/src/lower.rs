@@ -1367,7 +1367,13 @@ impl<'r, 'a> Lower<'r, 'a> {
         let kind = match keys.take(K::ObjectType) {
             Some(e) => self.object_kind(e).unwrap_or_else(|| {
                 obj_extra.push(e);
-                if b.subs.is_empty() { ObjectKind::Var } else { ObjectKind::Record }
+                // Sub-objects, explicit or implied by CompactSubObj, make it a RECORD (the writer
+                // may turn explicit ones into implied ones).
+                if b.subs.is_empty() && keys.get(K::CompactSubObj).is_none() {
+                    ObjectKind::Var
+                } else {
+                    ObjectKind::Record
+                }
             }),
             None => ObjectKind::Var,
         };

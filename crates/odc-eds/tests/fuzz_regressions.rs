@@ -130,3 +130,14 @@ fn module_denotation_makes_a_dcf() {
 fn kept_section_in_another_spelling() {
     round_trip(b"[DeviceComissioning]\nNodeID=1\n[ConnectEdModules]\nNrOfEntries=1\n1=1\nX=y\n");
 }
+
+/// An object whose ObjectType does not read is a RECORD when it has sub-objects; the writer
+/// turned its explicit sub 1 into an implied (CompactSubObj) one, and the re-read object, with
+/// no sub section left, became a VAR.
+#[test]
+fn unreadable_object_type_with_compact_sub_objects() {
+    round_trip(
+        b"[1003]\nObjectType=bad\nCompactSubObj=3\nDataType=0x0007\nAccessType=ro\n\n\
+          [1003sub1]\nParameterName=orphan\nDataType=0x0007\nAccessType=ro\n",
+    );
+}
