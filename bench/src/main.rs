@@ -112,8 +112,12 @@ fn main() {
         }
         return;
     }
+    // ODC_BENCH_ONLY=TOOL times that tool alone (for profiling one parser).
+    let only = std::env::var("ODC_BENCH_ONLY").ok();
     for (tool, f) in &mut tools {
-        report(tool, time(&files, f));
+        if only.as_deref().is_none_or(|o| o == *tool) {
+            report(tool, time(&files, f));
+        }
     }
 }
 
