@@ -550,9 +550,19 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
     let mut skip = 0usize;
     let mut depth_reported = false;
     loop {
-        let before = reader.buffer_position() as u32;
+        // Blank runs before a text are dropped (see `Builder::text`) unless they continue one:
+        // then quick-xml may skip them itself, and a run of indentation before a tag makes no
+        // event at all. In the prolog and epilog they are read, so that nothing but a BOM may
+        // precede the XML declaration.
+        let trim = skip > 0 || b.stack.last().is_some_and(|top| top.text.is_empty());
+        if reader.config().trim_text_start != trim {
+            reader.config_mut().trim_text_start = trim;
+        }
+        let read_from = reader.buffer_position() as u32;
         let ev = reader.read_event();
         let after = reader.buffer_position() as u32;
+        // Where the event starts: skipped blanks may precede it.
+        let before = event_start(src, &ev).unwrap_or(read_from);
         if skip > 0 {
             match ev {
                 Ok(Event::Start(_)) => skip += 1,
@@ -692,6 +702,27 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
         b.attached(idx);
     }
     b.doc
+}
+
+/// Where the markup or text of `ev` starts in `src` (its content is a slice of it: the reader
+/// reads a `&str`); `None` for the events whose position is the reader's before the call.
+fn event_start(src: &str, ev: &Result<Event<'_>, Error>) -> Option<u32> {
+    let at = |content: &str, open: u32| {
+        let base = src.as_ptr() as usize;
+        let p = content.as_ptr() as usize;
+        (p >= base + open as usize && p + content.len() <= base + src.len())
+            .then(|| (p - base) as u32 - open)
+    };
+    match ev {
+        // `<` before the name.
+        Ok(Event::Start(e) | Event::Empty(e)) => at(e.as_ref(), 1),
+        Ok(Event::Text(t)) => at(t.as_ref(), 0),
+        // `<![CDATA[` before the content.
+        Ok(Event::CData(t)) => at(t.as_ref(), 9),
+        // `&` before the name.
+        Ok(Event::GeneralRef(r)) => at(r.as_ref(), 1),
+        _ => None,
+    }
 }
 
 fn report(b: &mut Builder<'_>, reader: &Reader<&[u8]>, e: Error) {
