@@ -419,6 +419,7 @@ pub(crate) fn lower(
     let data = FileData { pdo_refs, raw, vendor_id, vendor_names, groups, modules };
     let mut devices = Vec::new();
     if let Some(devs) = descriptions.child("Devices") {
+        devices.reserve_exact(devs.children_named("Device").count());
         for d in devs.children_named("Device") {
             devices.push(lower_device(d, &data, &mut ctx));
         }
@@ -711,6 +712,7 @@ fn collect_types<'t>(
                 elements: ctx.child_u32(a, "Elements").unwrap_or(0),
             });
         }
+        m.sub_items.reserve_exact(dt.children_named("SubItem").count());
         for s in dt.children_named("SubItem") {
             let flags = s.child("Flags");
             m.sub_items.push(EsiSubItem {
@@ -839,29 +841,52 @@ fn flags_by_key(mut flags: FlagsOut) -> Vec<ObjectFlags> {
     out
 }
 
-/// Applies a `Flags` element to a sub-object; records the ESI-only flags.
-fn apply_flags(
-    flags: Element<'_>,
-    index: u16,
-    sub: &mut SubObject,
-    ctx: &mut Ctx<'_>,
-    out: &mut FlagsOut,
-) {
-    let mut f = ObjectFlags { index, sub: sub.sub_index, ..ObjectFlags::default() };
-    if let Some(a) = flags.child("Access") {
-        sub.access = access_of(a.text(), a.text_span(), ctx);
-        f.read_restrictions = a.attr("ReadRestrictions").map(|x| x.value.to_string());
-        f.write_restrictions = a.attr("WriteRestrictions").map(|x| x.value.to_string());
+/// A `Flags` element read once and applied to every sub-object it covers (an array's elements
+/// share their object's, or their SubItem's): reading it again per element cost more than the
+/// sub-objects themselves. The problems found are reported again for each sub-object, as they
+/// were when each read the element.
+struct ReadFlags {
+    access: Option<Access>,
+    pdo_mapping: Option<PdoMapping>,
+    /// The ESI-only flags, index and sub-index 0.
+    esi: ObjectFlags,
+    diagnostics: Vec<Diagnostic>,
+}
+
+impl ReadFlags {
+    fn read(flags: Element<'_>, src: &str) -> ReadFlags {
+        let mut diags = odc_model::Capped::new();
+        let ctx = &mut Ctx { src, diags: &mut diags, subs: 0 };
+        let mut esi = ObjectFlags::default();
+        let mut access = None;
+        if let Some(a) = flags.child("Access") {
+            access = Some(access_of(a.text(), a.text_span(), ctx));
+            esi.read_restrictions = a.attr("ReadRestrictions").map(|x| x.value.to_string());
+            esi.write_restrictions = a.attr("WriteRestrictions").map(|x| x.value.to_string());
+        }
+        let pdo_mapping =
+            flags.child("PdoMapping").map(|p| pdo_mapping_of(p.text(), p.text_span(), ctx));
+        esi.category = flags.child("Category").map(|c| c.text().to_string());
+        esi.transition = flags.child("Transition").map(|c| c.text().to_string());
+        esi.backup = flags.child("Backup").and_then(|b| ctx.el_bool(b));
+        esi.setting = flags.child("Setting").and_then(|b| ctx.el_bool(b));
+        ReadFlags { access, pdo_mapping, esi, diagnostics: diags.finish() }
     }
-    if let Some(p) = flags.child("PdoMapping") {
-        sub.pdo_mapping = pdo_mapping_of(p.text(), p.text_span(), ctx);
-    }
-    f.category = flags.child("Category").map(|c| c.text().to_string());
-    f.transition = flags.child("Transition").map(|c| c.text().to_string());
-    f.backup = flags.child("Backup").and_then(|b| ctx.el_bool(b));
-    f.setting = flags.child("Setting").and_then(|b| ctx.el_bool(b));
-    if f != (ObjectFlags { index, sub: sub.sub_index, ..ObjectFlags::default() }) {
-        out.push(f);
+
+    /// Applies the flags to a sub-object of object `index`; records the ESI-only flags.
+    fn apply(&self, index: u16, sub: &mut SubObject, ctx: &mut Ctx<'_>, out: &mut FlagsOut) {
+        if let Some(a) = self.access {
+            sub.access = a;
+        }
+        if let Some(p) = self.pdo_mapping {
+            sub.pdo_mapping = p;
+        }
+        for d in &self.diagnostics {
+            ctx.push(d.clone());
+        }
+        if self.esi != ObjectFlags::default() {
+            out.push(ObjectFlags { index, sub: sub.sub_index, ..self.esi.clone() });
+        }
     }
 }
 
@@ -870,7 +895,7 @@ fn value_of(el: Element<'_>, ty: DataType, ctx: &mut Ctx<'_>) -> Spanned<Value> 
     let text = el.text();
     let is_data = el.name().ends_with("Data");
     let v = if is_data {
-        num::parse_hex_bytes_lenient(text).and_then(|(b, padded)| {
+        num::with_hex_bytes_lenient(text, |b| num::decode_data(b, ty)).and_then(|(v, padded)| {
             if padded {
                 ctx.push(
                     Diagnostic::warning(
@@ -880,7 +905,7 @@ fn value_of(el: Element<'_>, ty: DataType, ctx: &mut Ctx<'_>) -> Spanned<Value> 
                     .with_label(el.text_span(), "read with a leading zero"),
                 );
             }
-            num::decode_data(&b, ty)
+            v
         })
     } else if el.name() == "DefaultString" {
         Some(Value::Text(el.raw_text().to_string()))
@@ -968,7 +993,7 @@ fn lower_objects<'t>(
                 sub.span = o.span();
                 object.subs.reserve_exact(1);
                 if let Some(f) = flags {
-                    apply_flags(f, index, &mut sub, ctx, flags_out);
+                    ReadFlags::read(f, ctx.src).apply(index, &mut sub, ctx, flags_out);
                 }
                 if let Some(i) = info {
                     apply_info(i, &mut sub, ctx);
@@ -995,9 +1020,9 @@ fn lower_objects<'t>(
                     s.span = o.span();
                     object.subs.insert(si, s);
                 }
-                for s in object.subs.values_mut() {
-                    if let Some(f) = flags {
-                        apply_flags(f, index, s, ctx, flags_out);
+                if let Some(f) = flags.map(|f| ReadFlags::read(f, ctx.src)) {
+                    for s in object.subs.values_mut() {
+                        f.apply(index, s, ctx, flags_out);
                     }
                 }
                 if let Some(i) = info {
@@ -1060,15 +1085,15 @@ fn lower_struct<'t>(
         let bits = si.child("BitSize").and_then(|b| num::parse_int(b.text()));
         let bits = bits.and_then(|b| u32::try_from(b).ok());
         let sub_idx = si.child("SubIdx").and_then(|x| ctx.el_num::<u8>(x, "SubIdx"));
-        let flags = si.child("Flags").or(obj_flags);
+        let flags = si.child("Flags").or(obj_flags).map(|f| ReadFlags::read(f, ctx.src));
         let resolved = types.resolve(type_name);
         let mut make =
             |si_no: u8, name: String, ty: DataType, bits: Option<u32>, ctx: &mut Ctx<'_>| {
                 let mut s = SubObject::new(si_no, name, ty, Access::Ro);
                 s.bit_size = bits;
                 s.span = object_span;
-                if let Some(f) = flags {
-                    apply_flags(f, index, &mut s, ctx, flags_out);
+                if let Some(f) = &flags {
+                    f.apply(index, &mut s, ctx, flags_out);
                 }
                 object.subs.insert(si_no, s);
             };
@@ -1209,7 +1234,8 @@ fn lower_pdos<'t>(
             continue;
         };
         let Some(mapping_index) = ctx.el_num::<u16>(index_el, "PDO index") else { continue };
-        let mut entries = Vec::new();
+        // Entries are rarely skipped: sized to the elements, no regrowth copies.
+        let mut entries = Vec::with_capacity(c.children_named("Entry").count());
         for e in c.children_named("Entry") {
             let Some(ie) = e.child("Index") else {
                 ctx.missing(e, "Index");

@@ -56,30 +56,55 @@ pub fn parse_int_lenient(text: &str) -> Option<(i128, bool)> {
 /// Parses `xs:hexBinary` as [`parse_hex_bytes`] does; an odd number of digits gets a leading
 /// zero (real files write `2` for `02`). The flag says whether that was needed.
 pub fn parse_hex_bytes_lenient(text: &str) -> Option<(Vec<u8>, bool)> {
-    if let Some(b) = parse_hex_bytes(text) {
-        return Some((b, false));
+    with_hex_bytes_lenient(text, <[u8]>::to_vec)
+}
+
+/// [`parse_hex_bytes_lenient`], the bytes handed to `f` rather than returned.
+pub fn with_hex_bytes_lenient<R>(text: &str, f: impl FnOnce(&[u8]) -> R) -> Option<(R, bool)> {
+    // `f` is called at most once: by the first decoding that succeeds.
+    let mut f = Some(f);
+    if let Some(r) = with_hex_bytes(text, |b| f.take().map(|f| f(b))) {
+        return r.map(|r| (r, false));
     }
     let t = text.trim();
     if !t.len().is_multiple_of(2) && !t.bytes().any(|b| b.is_ascii_whitespace()) {
-        return Some((parse_hex_bytes(&format!("0{t}"))?, true));
+        let r = with_hex_bytes(&format!("0{t}"), |b| f.take().map(|f| f(b)))??;
+        return Some((r, true));
     }
     None
 }
 
 /// Parses `xs:hexBinary`: pairs of hex digits, white space allowed between them.
 pub fn parse_hex_bytes(text: &str) -> Option<Vec<u8>> {
-    let digits: Vec<u8> = text.bytes().filter(|b| !b.is_ascii_whitespace()).collect();
-    if !digits.len().is_multiple_of(2) {
+    with_hex_bytes(text, <[u8]>::to_vec)
+}
+
+/// [`parse_hex_bytes`], the bytes handed to `f` rather than returned: most are a number's few
+/// bytes, decoded on the stack instead of into two vectors.
+pub fn with_hex_bytes<R>(text: &str, f: impl FnOnce(&[u8]) -> R) -> Option<R> {
+    let digits = text.bytes().filter(|b| !b.is_ascii_whitespace()).count();
+    if !digits.is_multiple_of(2) {
         return None;
     }
-    digits
-        .chunks(2)
-        .map(|pair| {
-            let hi = (pair[0] as char).to_digit(16)?;
-            let lo = (pair[1] as char).to_digit(16)?;
-            Some((hi * 16 + lo) as u8)
-        })
-        .collect()
+    let mut stack = [0u8; 32];
+    let mut heap = Vec::new();
+    let out: &mut [u8] = match stack.get_mut(..digits / 2) {
+        Some(s) => s,
+        None => {
+            heap.resize(digits / 2, 0);
+            &mut heap
+        }
+    };
+    let mut high = None;
+    let mut slots = out.iter_mut();
+    for b in text.bytes().filter(|b| !b.is_ascii_whitespace()) {
+        let d = (b as char).to_digit(16)? as u8;
+        match high.take() {
+            None => high = Some(d),
+            Some(h) => *slots.next()? = h * 16 + d,
+        }
+    }
+    Some(f(out))
 }
 
 /// Decodes `DefaultData`/`MinData`/`MaxData` (little-endian bytes) into a value of `ty`.
@@ -219,6 +244,13 @@ mod tests {
         assert_eq!(parse_hex_bytes(""), Some(vec![]));
         assert_eq!(parse_hex_bytes("0"), None);
         assert_eq!(parse_hex_bytes("zz"), None);
+        // Past the 32 bytes decoded on the stack, with blanks between the pairs.
+        let long: String = (0..=255u8).map(|b| format!("{b:02X} ")).collect();
+        assert_eq!(parse_hex_bytes(&long), Some((0..=255u8).collect::<Vec<u8>>()));
+        assert_eq!(parse_hex_bytes(&format!("{long}z0")), None);
+        assert_eq!(parse_hex_bytes(&format!("{long}0")), None);
+        assert_eq!(with_hex_bytes_lenient("102", <[u8]>::len), Some((2, true)));
+        assert_eq!(with_hex_bytes_lenient("1 02", <[u8]>::len), None);
     }
 
     #[test]
