@@ -875,6 +875,20 @@ impl ReadFlags {
 
     /// Applies the flags to a sub-object of object `index`; records the ESI-only flags.
     fn apply(&self, index: u16, sub: &mut SubObject, ctx: &mut Ctx<'_>, out: &mut FlagsOut) {
+        if let Some(f) = self.apply_but_esi(sub, ctx) {
+            out.push(ObjectFlags { index, sub: sub.sub_index, ..f.clone() });
+        }
+    }
+
+    /// [`Self::apply`] for the only sub-object the flags cover: nothing copied.
+    fn apply_once(self, index: u16, sub: &mut SubObject, ctx: &mut Ctx<'_>, out: &mut FlagsOut) {
+        if self.apply_but_esi(sub, ctx).is_some() {
+            out.push(ObjectFlags { index, sub: sub.sub_index, ..self.esi });
+        }
+    }
+
+    /// Applies all but the ESI-only flags; returns those unless they are all absent.
+    fn apply_but_esi(&self, sub: &mut SubObject, ctx: &mut Ctx<'_>) -> Option<&ObjectFlags> {
         if let Some(a) = self.access {
             sub.access = a;
         }
@@ -884,9 +898,7 @@ impl ReadFlags {
         for d in &self.diagnostics {
             ctx.push(d.clone());
         }
-        if self.esi != ObjectFlags::default() {
-            out.push(ObjectFlags { index, sub: sub.sub_index, ..self.esi.clone() });
-        }
+        (self.esi != ObjectFlags::default()).then_some(&self.esi)
     }
 }
 
@@ -993,7 +1005,7 @@ fn lower_objects<'t>(
                 sub.span = o.span();
                 object.subs.reserve_exact(1);
                 if let Some(f) = flags {
-                    ReadFlags::read(f, ctx.src).apply(index, &mut sub, ctx, flags_out);
+                    ReadFlags::read(f, ctx.src).apply_once(index, &mut sub, ctx, flags_out);
                 }
                 if let Some(i) = info {
                     apply_info(i, &mut sub, ctx);
