@@ -162,7 +162,8 @@ EOF
   echo 'pub mod device { include!(concat!(env!("OUT_DIR"), "/device.rs")); }' > "$BC/with-odc/src/lib.rs"
   "$ODC" generate "$DEV" -o "$BC/checked-in/src/device.rs" 2>/dev/null
   echo 'pub mod device { include!("device.rs"); }' > "$BC/checked-in/src/lib.rs"
-  secs() { local s; s=$(date +%s%N); "$@" >/dev/null 2>&1; awk -v d=$(( $(date +%s%N) - s )) 'BEGIN {printf "%.3f", d/1e9}'; }
+  # A build that fails stops the script: its time would mean nothing.
+  secs() { local s; s=$(date +%s%N); "$@" >/dev/null 2>&1 || { log "failed: $*"; return 1; }; awk -v d=$(( $(date +%s%N) - s )) 'BEGIN {printf "%.3f", d/1e9}'; }
   b1=$(CARGO_TARGET_DIR="$BC/with-odc/target" secs cargo build --manifest-path "$BC/with-odc/Cargo.toml")
   b2=$(CARGO_TARGET_DIR="$BC/checked-in/target" secs cargo build --manifest-path "$BC/checked-in/Cargo.toml")
   touch "$BC/with-odc/device.eds"
