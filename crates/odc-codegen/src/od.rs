@@ -163,7 +163,7 @@ fn entry_doc(ctx: &Ctx<'_>, index: u16, sub: &SubObject, ty: RustTy) -> String {
     let limit = |v: Option<&odc_model::Spanned<Value>>| {
         v.map(|v| (value_text(&v.value), ty.option_expr(&v.value, &rt).is_some()))
     };
-    match (limit(sub.low_limit.as_ref()), limit(sub.high_limit.as_ref())) {
+    match (limit(sub.low_limit.as_deref()), limit(sub.high_limit.as_deref())) {
         (None, None) => {}
         (lo, hi) => {
             let lo_t = lo.as_ref().map(|l| l.0.clone()).unwrap_or_default();

@@ -38,7 +38,7 @@ fn slots<'a>(ctx: &'a Ctx<'_>) -> Vec<Slot<'a>> {
             let limit = |v: Option<&odc_model::Spanned<Value>>| {
                 v.and_then(|v| name.ty.option_expr(&v.value, rt)).is_some()
             };
-            let limited = limit(s.low_limit.as_ref()) || limit(s.high_limit.as_ref());
+            let limited = limit(s.low_limit.as_deref()) || limit(s.high_limit.as_deref());
             let default =
                 s.initial_value().filter(|v| name.ty.default_expr(&v.value, rt).is_some());
             let patched = match default {

@@ -586,9 +586,9 @@ impl<'r, 'a> Lower<'r, 'a> {
         let class = dt.class();
         if e.value.is_empty() {
             return match class {
-                ValueClass::Text => Some(Spanned::new(Value::Text(String::new()), span)),
-                ValueClass::Bytes => Some(Spanned::new(Value::Bytes(Vec::new()), span)),
-                ValueClass::Unicode => Some(Spanned::new(Value::Unicode(Vec::new()), span)),
+                ValueClass::Text => Some(Spanned::new(Value::Text(Box::default()), span)),
+                ValueClass::Bytes => Some(Spanned::new(Value::Bytes(Box::default()), span)),
+                ValueClass::Unicode => Some(Spanned::new(Value::Unicode(Box::default()), span)),
                 _ => {
                     self.empty(e);
                     None
@@ -638,7 +638,7 @@ impl<'r, 'a> Lower<'r, 'a> {
                     .with_label(span, format!("expected {}", expected(class))),
                 };
                 self.diags.push(d.with_note("the text is kept as written"));
-                Some(Spanned::new(Value::Invalid(e.value.to_owned()), span))
+                Some(Spanned::new(Value::Invalid(e.value.into()), span))
             }
         }
     }
@@ -1311,8 +1311,9 @@ impl<'r, 'a> Lower<'r, 'a> {
             }
         }
         sub.default = keys.take(K::DefaultValue).and_then(|e| self.value(e, data_type));
-        sub.low_limit = keys.take(K::LowLimit).and_then(|e| self.value(e, data_type));
-        sub.high_limit = keys.take(K::HighLimit).and_then(|e| self.value(e, data_type));
+        sub.low_limit = keys.take(K::LowLimit).and_then(|e| self.value(e, data_type)).map(Box::new);
+        sub.high_limit =
+            keys.take(K::HighLimit).and_then(|e| self.value(e, data_type)).map(Box::new);
         sub.parameter_value = keys.take(K::ParameterValue).and_then(|e| self.value(e, data_type));
         sub.denotation = keys.take(K::Denotation).map(|e| Box::new(self.text(e)));
         if let Some(e) = keys.take(K::ObjFlags) {
@@ -1799,8 +1800,10 @@ fn read_value(s: &str, dt: DataType, problem: &mut Problem) -> Option<(Value, u8
                 num::parse_f64(s).map(|f| (Value::Real64(f.to_bits()), flags))
             }
         }
-        ValueClass::Text => Some((Value::Text(s.to_owned()), 0)),
-        ValueClass::Bytes => num::parse_hex_bytes(s).map(|b| (Value::Bytes(b), 0)),
+        ValueClass::Text => Some((Value::Text(s.into()), 0)),
+        ValueClass::Bytes => {
+            num::parse_hex_bytes(s).map(|b| (Value::Bytes(b.into_boxed_slice()), 0))
+        }
         ValueClass::Unicode => Some((Value::Unicode(s.encode_utf16().collect()), 0)),
         ValueClass::Time => {
             let mut it = s.split_ascii_whitespace();
@@ -1831,7 +1834,7 @@ fn read_value(s: &str, dt: DataType, problem: &mut Problem) -> Option<(Value, u8
             }
             Some(n) if n.value >= 0 => Some((Value::Unsigned(n.value as u64), n.flags & !num::HEX)),
             Some(n) => Some((Value::Signed(i64::try_from(n.value).ok()?), n.flags & !num::HEX)),
-            None => Some((Value::Text(s.to_owned()), 0)),
+            None => Some((Value::Text(s.into()), 0)),
         },
     }
 }

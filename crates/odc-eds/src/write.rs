@@ -37,7 +37,7 @@ pub(crate) fn value_text(v: &Value) -> String {
             let f = f64::from_bits(*bits);
             if f.is_nan() { format!("0x{bits:016X}") } else { format!("{f}") }
         }
-        Value::Text(s) | Value::Invalid(s) => s.clone(),
+        Value::Text(s) | Value::Invalid(s) => s.to_string(),
         Value::Bytes(b) => {
             let mut s = String::with_capacity(b.len() * 2);
             for x in b {
@@ -98,7 +98,7 @@ impl W {
             self.kv(k, if v.value { "1" } else { "0" });
         }
     }
-    fn opt_value(&mut self, k: &str, v: &Option<Spanned<Value>>) {
+    fn opt_value(&mut self, k: &str, v: Option<&Spanned<Value>>) {
         if let Some(v) = v {
             self.kv(k, &value_text(&v.value));
         }
@@ -133,11 +133,11 @@ impl W {
         }
         self.kv("DataType", &format!("0x{:04X}", s.data_type.code()));
         self.kv("AccessType", s.access.as_str());
-        self.opt_value("DefaultValue", &s.default);
-        self.opt_value("LowLimit", &s.low_limit);
-        self.opt_value("HighLimit", &s.high_limit);
+        self.opt_value("DefaultValue", s.default.as_ref());
+        self.opt_value("LowLimit", s.low_limit.as_deref());
+        self.opt_value("HighLimit", s.high_limit.as_deref());
         if self.dcf {
-            self.opt_value("ParameterValue", &s.parameter_value);
+            self.opt_value("ParameterValue", s.parameter_value.as_ref());
             self.opt_text_ref("Denotation", s.denotation.as_deref());
         }
         self.kv("PDOMapping", if s.pdo_mapping == PdoMapping::No { "0" } else { "1" });

@@ -920,7 +920,7 @@ fn value_of(el: Element<'_>, ty: DataType, ctx: &mut Ctx<'_>) -> Spanned<Value> 
             v
         })
     } else if el.name() == "DefaultString" {
-        Some(Value::Text(el.raw_text().to_string()))
+        Some(Value::Text(el.raw_text().into()))
     } else {
         num::parse_value_text(text, ty)
     };
@@ -931,7 +931,7 @@ fn value_of(el: Element<'_>, ty: DataType, ctx: &mut Ctx<'_>) -> Spanned<Value> 
                 Diagnostic::error("F218", format!("`{text}` does not fit {}", ty.name()))
                     .with_label(el.text_span(), format!("in `{}`", el.name())),
             );
-            Value::Invalid(text.to_string())
+            Value::Invalid(text.into())
         }
         None => {
             let what = if is_data { "little-endian hex bytes" } else { "a value" };
@@ -942,7 +942,7 @@ fn value_of(el: Element<'_>, ty: DataType, ctx: &mut Ctx<'_>) -> Spanned<Value> 
                 )
                 .with_label(el.text_span(), format!("in `{}`", el.name())),
             );
-            Value::Invalid(text.to_string())
+            Value::Invalid(text.into())
         }
     };
     Spanned::new(v, el.text_span())
@@ -955,8 +955,12 @@ fn apply_info(info: Element<'_>, sub: &mut SubObject, ctx: &mut Ctx<'_>) {
             "DefaultData" | "DefaultValue" | "DefaultString" => {
                 sub.default = Some(value_of(c, sub.data_type, ctx));
             }
-            "MinData" | "MinValue" => sub.low_limit = Some(value_of(c, sub.data_type, ctx)),
-            "MaxData" | "MaxValue" => sub.high_limit = Some(value_of(c, sub.data_type, ctx)),
+            "MinData" | "MinValue" => {
+                sub.low_limit = Some(Box::new(value_of(c, sub.data_type, ctx)))
+            }
+            "MaxData" | "MaxValue" => {
+                sub.high_limit = Some(Box::new(value_of(c, sub.data_type, ctx)))
+            }
             _ => {}
         }
     }

@@ -139,9 +139,7 @@ pub fn decode_data(bytes: &[u8], ty: DataType) -> Option<Value> {
         ValueClass::Unicode => Value::Unicode(
             bytes.chunks(2).map(|c| u16::from_le_bytes([c[0], *c.get(1).unwrap_or(&0)])).collect(),
         ),
-        ValueClass::Time | ValueClass::Bytes | ValueClass::Structured => {
-            Value::Bytes(bytes.to_vec())
-        }
+        ValueClass::Time | ValueClass::Bytes | ValueClass::Structured => Value::Bytes(bytes.into()),
     })
 }
 
@@ -199,9 +197,9 @@ pub fn parse_value_text(text: &str, ty: DataType) -> Option<Value> {
             }
             _ => Value::Real64(t.parse::<f64>().ok()?.to_bits()),
         },
-        ValueClass::Text => Value::Text(text.to_string()),
+        ValueClass::Text => Value::Text(text.into()),
         ValueClass::Bytes | ValueClass::Time | ValueClass::Structured => {
-            Value::Bytes(parse_hex_bytes(t)?)
+            Value::Bytes(parse_hex_bytes(t)?.into_boxed_slice())
         }
         ValueClass::Unicode => Value::Unicode(text.encode_utf16().collect()),
     })
@@ -268,7 +266,10 @@ mod tests {
             decode_data(b"EL3102\0\0", DataType::VisibleString),
             Some(Value::Text("EL3102".into()))
         );
-        assert_eq!(decode_data(&[1, 2], DataType::OctetString), Some(Value::Bytes(vec![1, 2])));
+        assert_eq!(
+            decode_data(&[1, 2], DataType::OctetString),
+            Some(Value::Bytes(Box::new([1, 2])))
+        );
         assert_eq!(decode_data(&[0; 9], DataType::Unsigned64), None);
     }
 

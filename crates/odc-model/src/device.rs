@@ -253,10 +253,15 @@ pub struct SubObject {
     pub pdo_mapping: PdoMapping,
     /// `DefaultValue`.
     pub default: Option<Spanned<Value>>,
-    /// `LowLimit`.
-    pub low_limit: Option<Spanned<Value>>,
-    /// `HighLimit`.
-    pub high_limit: Option<Spanned<Value>>,
+    /// `LowLimit`. Boxed, as `high_limit`: a sub-object is moved and dropped often enough that
+    /// its size shows in parse time (a lely master DCF implies ~2,500 per file through
+    /// `CompactSubObj`), and limits are absent from most of them, while the default and the
+    /// DCF parameter value are present on most (the two limits take 16 bytes boxed, 80 inline;
+    /// the extra allocation of a device EDS that states limits costs less than moving the 64
+    /// bytes everywhere else).
+    pub low_limit: Option<Box<Spanned<Value>>>,
+    /// `HighLimit`. Boxed: see `low_limit`.
+    pub high_limit: Option<Box<Spanned<Value>>>,
     /// DCF `ParameterValue`.
     pub parameter_value: Option<Spanned<Value>>,
     /// DCF `Denotation`. Boxed, as the two file names below: rare, and a sub-object is moved

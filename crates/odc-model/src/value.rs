@@ -7,6 +7,11 @@ use serde::Serialize;
 /// `$NODEID` stays symbolic ([`Value::NodeIdPlus`]) until a node-ID is known (a DCF's
 /// commissioning data, or run time). Reals are kept as bit patterns so that the model has a total
 /// equality and a value read as a hex pattern writes back to the same bits.
+///
+/// The variants that own text or bytes hold boxed slices, not `String`/`Vec`: a value is never
+/// grown after it is read, and without the capacity word the enum is 24 bytes instead of 32.
+/// A sub-object holds four optional values, and a CANopen master's DCF implies thousands of
+/// sub-objects, so those bytes are moved and dropped often enough to show in parse time.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Value {
@@ -21,11 +26,11 @@ pub enum Value {
     /// REAL64, as its IEEE 754 bit pattern.
     Real64(u64),
     /// VISIBLE_STRING.
-    Text(String),
+    Text(Box<str>),
     /// OCTET_STRING, DOMAIN.
-    Bytes(Vec<u8>),
+    Bytes(Box<[u8]>),
     /// UNICODE_STRING as UTF-16 code units.
-    Unicode(Vec<u16>),
+    Unicode(Box<[u16]>),
     /// TIME_OF_DAY / TIME_DIFFERENCE: milliseconds after midnight, days since 1984-01-01.
     Time {
         /// Milliseconds (28 bits used).
@@ -37,7 +42,7 @@ pub enum Value {
     NodeIdPlus(i64),
     /// Text that does not read as a value of the type. A diagnostic said so; the text is kept so
     /// that nothing is lost when the file is written back.
-    Invalid(String),
+    Invalid(Box<str>),
 }
 
 impl Value {

@@ -14,8 +14,8 @@ use crate::util::{
 fn values(s: &SubObject) -> [(&'static str, Option<&Spanned<Value>>); 4] {
     [
         ("DefaultValue", s.default.as_ref()),
-        ("LowLimit", s.low_limit.as_ref()),
-        ("HighLimit", s.high_limit.as_ref()),
+        ("LowLimit", s.low_limit.as_deref()),
+        ("HighLimit", s.high_limit.as_deref()),
         ("ParameterValue", s.parameter_value.as_ref()),
     ]
 }
@@ -152,7 +152,7 @@ fn value_outside_limits(dev: &Device, ctx: &mut Ctx) {
         }
         for (key, v) in [("DefaultValue", &s.default), ("ParameterValue", &s.parameter_value)] {
             let Some(v) = v else { continue };
-            let relative = [Some(v), s.low_limit.as_ref(), s.high_limit.as_ref()]
+            let relative = [Some(v), s.low_limit.as_deref(), s.high_limit.as_deref()]
                 .into_iter()
                 .flatten()
                 .any(|x| x.value.is_node_relative());

@@ -140,11 +140,11 @@ impl Dev {
         self
     }
     pub fn low(mut self, v: Value) -> Dev {
-        self.last_sub().low_limit = Some(Spanned::synthetic(v));
+        self.last_sub().low_limit = Some(Box::new(Spanned::synthetic(v)));
         self
     }
     pub fn high(mut self, v: Value) -> Dev {
-        self.last_sub().high_limit = Some(Spanned::synthetic(v));
+        self.last_sub().high_limit = Some(Box::new(Spanned::synthetic(v)));
         self
     }
     pub fn param(mut self, v: Value) -> Dev {

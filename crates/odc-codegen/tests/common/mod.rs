@@ -134,8 +134,8 @@ pub fn drive() -> Device {
     let mut target =
         mappable(var(0x607A, "Target position", Integer32, Rww, Some(Value::Signed(0))));
     if let Some(s) = target.subs.get_mut(&0) {
-        s.low_limit = Some(Spanned::synthetic(Value::Signed(-100_000)));
-        s.high_limit = Some(Spanned::synthetic(Value::Signed(100_000)));
+        s.low_limit = Some(Box::new(Spanned::synthetic(Value::Signed(-100_000))));
+        s.high_limit = Some(Box::new(Spanned::synthetic(Value::Signed(100_000))));
     }
     insert(&mut dev, target);
     insert(&mut dev, var(0x6502, "Supported drive modes", Unsigned32, Ro, u(0x0000_0085)));
