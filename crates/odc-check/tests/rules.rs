@@ -147,7 +147,7 @@ trips!(
             o.obj_flags = Some(Spanned::synthetic(0x4));
         }
         if let Some(s) = d.objects.get_mut(&0x1018).and_then(|o| o.subs.get_mut(&1)) {
-            s.obj_flags = Some(Spanned::synthetic(0x11));
+            s.rare_mut().obj_flags = Some(Spanned::synthetic(0x11));
         }
     })
 );
@@ -260,8 +260,8 @@ trips!(c208_limits_on_non_numeric, "C208", base().var(0x2000, "Name", VisibleStr
 fn with_files(d: Dev, index: u16, upload: Option<&str>, download: Option<&str>) -> Dev {
     d.with(|d| {
         if let Some(s) = d.objects.get_mut(&index).and_then(|o| o.subs.get_mut(&0)) {
-            s.upload_file = upload.map(|f| Box::new(Spanned::synthetic(f.into())));
-            s.download_file = download.map(|f| Box::new(Spanned::synthetic(f.into())));
+            s.rare_mut().upload_file = upload.map(|f| Spanned::synthetic(f.into()));
+            s.rare_mut().download_file = download.map(|f| Spanned::synthetic(f.into()));
         }
     })
 }

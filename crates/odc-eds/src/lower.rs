@@ -863,7 +863,7 @@ impl<'r, 'a> Lower<'r, 'a> {
         // ParameterValue, Denotation and [ConnectedModules] exist in DCFs only (the EDS writer
         // leaves them out), in the objects and in the modules' objects.
         let dcf_sub =
-            |s: &odc_model::SubObject| s.parameter_value.is_some() || s.denotation.is_some();
+            |s: &odc_model::SubObject| s.parameter_value.is_some() || s.rare().denotation.is_some();
         let dcf_object = |o: &Object| o.denotation.is_some() || o.subs.values().any(dcf_sub);
         let has_pv = dev.objects.values().any(dcf_object)
             || dev.modules.supported.iter().any(|m| {
@@ -1315,24 +1315,39 @@ impl<'r, 'a> Lower<'r, 'a> {
         sub.high_limit =
             keys.take(K::HighLimit).and_then(|e| self.value(e, data_type)).map(Box::new);
         sub.parameter_value = keys.take(K::ParameterValue).and_then(|e| self.value(e, data_type));
-        sub.denotation = keys.take(K::Denotation).map(|e| Box::new(self.text(e)));
+        let denotation = keys.take(K::Denotation).map(|e| self.text(e));
+        let mut obj_flags = None;
         if let Some(e) = keys.take(K::ObjFlags) {
             match self.uint(e, u64::from(u32::MAX)) {
-                Ok(v) => sub.obj_flags = v.map(|v| Spanned::new(v.value as u32, v.span)),
+                Ok(v) => obj_flags = v.map(|v| Spanned::new(v.value as u32, v.span)),
                 Err(()) => extra_entries.push(e),
             }
         }
-        sub.upload_file = keys.take(K::UploadFile).map(|e| Box::new(self.text(e)));
-        sub.download_file = keys.take(K::DownloadFile).map(|e| Box::new(self.text(e)));
+        let upload_file = keys.take(K::UploadFile).map(|e| self.text(e));
+        let download_file = keys.take(K::DownloadFile).map(|e| self.text(e));
         for k in [K::SubNumber, K::CompactSubObj, K::Count, K::ObjExtend] {
             keys.move_to_extra(k);
         }
-        if !(extra_entries.is_empty() && keys.extra.is_empty()) {
-            sub.extra = extra_entries
-                .into_iter()
-                .chain(keys.extra.drain(..))
-                .map(|e| raw_entry(e, file))
-                .collect();
+        let has_extra = !(extra_entries.is_empty() && keys.extra.is_empty());
+        let has_rare = denotation.is_some()
+            || obj_flags.is_some()
+            || upload_file.is_some()
+            || download_file.is_some()
+            || has_extra;
+        // Most sub-objects have none of these: no box is made for them.
+        if has_rare || !sub.rare().is_empty() {
+            let r = sub.rare_mut();
+            r.denotation = denotation;
+            r.obj_flags = obj_flags;
+            r.upload_file = upload_file;
+            r.download_file = download_file;
+            if has_extra {
+                r.extra = extra_entries
+                    .into_iter()
+                    .chain(keys.extra.drain(..))
+                    .map(|e| raw_entry(e, file))
+                    .collect();
+            }
         }
     }
 
@@ -1501,7 +1516,9 @@ impl<'r, 'a> Lower<'r, 'a> {
             self.fill_sub(&mut keys, sub, header, default_dt, &format_args!("object {index:04X}"));
             sub.kind = None;
             // Unknown keys of a VAR section belong to the object.
-            obj.extra.append(&mut sub.extra);
+            if !sub.rare().extra.is_empty() {
+                obj.extra.append(&mut sub.rare_mut().extra);
+            }
             for (s, si) in b.subs.iter() {
                 let sec = self.sec(si);
                 self.warn(
@@ -1618,7 +1635,7 @@ impl<'r, 'a> Lower<'r, 'a> {
                     match which {
                         0 => s.name = text.value,
                         1 => s.parameter_value = value,
-                        _ => s.denotation = Some(Box::new(text)),
+                        _ => s.rare_mut().denotation = Some(text),
                     }
                 }
             }

@@ -138,21 +138,21 @@ impl W {
         self.opt_value("HighLimit", s.high_limit.as_deref());
         if self.dcf {
             self.opt_value("ParameterValue", s.parameter_value.as_ref());
-            self.opt_text_ref("Denotation", s.denotation.as_deref());
+            self.opt_text_ref("Denotation", s.rare().denotation.as_ref());
         }
         self.kv("PDOMapping", if s.pdo_mapping == PdoMapping::No { "0" } else { "1" });
         if let Some(f) = obj_flags {
             self.kv("ObjFlags", &format!("0x{:X}", f.value));
         }
-        self.opt_text_ref("UploadFile", s.upload_file.as_deref());
-        self.opt_text_ref("DownloadFile", s.download_file.as_deref());
+        self.opt_text_ref("UploadFile", s.rare().upload_file.as_ref());
+        self.opt_text_ref("DownloadFile", s.rare().download_file.as_ref());
     }
 
     fn sub_section(&mut self, name: &str, s: &SubObject) {
         self.header(name);
         self.kv("ParameterName", &s.name);
-        self.sub_keys(s, s.obj_flags.as_ref());
-        self.extra(&s.extra);
+        self.sub_keys(s, s.rare().obj_flags.as_ref());
+        self.extra(&s.rare().extra);
     }
 
     fn object(&mut self, prefix: &str, o: &Object) {
@@ -164,8 +164,8 @@ impl W {
             // A SubNumber on a VAR is wrong (warned about) but kept, so it is written back.
             self.opt_dec("SubNumber", &o.sub_number);
             if let Some(s0) = o.subs.get(&0) {
-                self.sub_keys(s0, o.obj_flags.as_ref().or(s0.obj_flags.as_ref()));
-                self.extra(&s0.extra);
+                self.sub_keys(s0, o.obj_flags.as_ref().or(s0.rare().obj_flags.as_ref()));
+                self.extra(&s0.rare().extra);
             } else if let Some(f) = &o.obj_flags {
                 self.kv("ObjFlags", &format!("0x{:X}", f.value));
             }
@@ -195,8 +195,9 @@ impl W {
                 let mut t = t.clone();
                 t.kind = None;
                 t.parameter_value = None;
-                t.denotation = None;
-                t.extra.retain(|e| {
+                let r = t.rare_mut();
+                r.denotation = None;
+                r.extra.retain(|e| {
                     COMPACT_TEMPLATE_KEYS.iter().any(|k| e.key.eq_ignore_ascii_case(k))
                 });
                 t
@@ -206,10 +207,10 @@ impl W {
         };
         let template = template.as_ref();
         if let Some(t) = template {
-            self.sub_keys(t, t.obj_flags.as_ref());
+            self.sub_keys(t, t.rare().obj_flags.as_ref());
             // Keys kept as written (a DataType that did not read) belong to every implied
             // sub-object, so they go back into the object's section.
-            self.extra(&t.extra);
+            self.extra(&t.rare().extra);
         }
         self.extra(&o.extra);
         let implied = |s: &SubObject| -> bool {
@@ -223,7 +224,7 @@ impl W {
                 );
                 e.default = Some(Spanned::synthetic(Value::Unsigned(u64::from(n))));
                 e.parameter_value = s.parameter_value.clone();
-                e.denotation = s.denotation.clone();
+                e.rare_mut().denotation = s.rare().denotation.clone();
                 return *s == e;
             }
             if s.sub_index > n {
@@ -233,7 +234,7 @@ impl W {
             c.sub_index = t.sub_index;
             c.name = t.name.clone();
             c.parameter_value = t.parameter_value.clone();
-            c.denotation = t.denotation.clone();
+            c.rare_mut().denotation = t.rare().denotation.clone();
             c == *t
         };
         for (i, s) in &o.subs {
@@ -273,7 +274,7 @@ impl W {
                     .subs
                     .range(..=n)
                     .filter(|(_, s)| implied(s))
-                    .filter_map(|(i, s)| Some((*i, s.denotation.as_ref()?.value.as_str())))
+                    .filter_map(|(i, s)| Some((*i, s.rare().denotation.as_ref()?.value.as_str())))
                     .collect();
                 if !dens.is_empty() {
                     self.header(&format!("{name}Denotation"));
@@ -316,10 +317,10 @@ impl W {
             for (i, x) in &m.sub_extends {
                 self.header(&format!("{p}SubExt{i:04X}"));
                 self.kv("ParameterName", &x.template.name);
-                self.sub_keys(&x.template, x.template.obj_flags.as_ref());
+                self.sub_keys(&x.template, x.template.rare().obj_flags.as_ref());
                 self.opt_text("Count", &x.count);
                 self.opt_hex("ObjExtend", &x.obj_extend);
-                self.extra(&x.template.extra);
+                self.extra(&x.template.rare().extra);
             }
         }
         self.lines(&format!("{p}Comments"), &m.comments);

@@ -237,7 +237,17 @@ impl Object {
 }
 
 /// A sub-object: the unit that has a type, an access and a value.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+///
+/// Its layout is chosen for parse time: a lely master DCF implies ~2,500 sub-objects per file
+/// through `CompactSubObj`, each a copy of a template, and an ESI device has thousands, so a
+/// sub-object is moved, cloned and dropped often enough that its size shows. What most
+/// sub-objects have (name, type, access, default, DCF parameter value) is inline; the limits
+/// are boxed one by one (present on many device EDS sub-objects, absent from most others);
+/// what only a few have (denotation, `ObjFlags`, DOMAIN file names, keys kept as written) is in
+/// one [`SubRare`] behind one box, [`SubObject::rare`] and [`SubObject::rare_mut`]. `Debug`,
+/// `Serialize` and `PartialEq` see those fields as the sub-object's own, in their place, and an
+/// empty box as no box: the layout does not show.
+#[derive(Clone)]
 pub struct SubObject {
     /// The 8-bit sub-index.
     pub sub_index: u8,
@@ -253,33 +263,49 @@ pub struct SubObject {
     pub pdo_mapping: PdoMapping,
     /// `DefaultValue`.
     pub default: Option<Spanned<Value>>,
-    /// `LowLimit`. Boxed, as `high_limit`: a sub-object is moved and dropped often enough that
-    /// its size shows in parse time (a lely master DCF implies ~2,500 per file through
-    /// `CompactSubObj`), and limits are absent from most of them, while the default and the
-    /// DCF parameter value are present on most (the two limits take 16 bytes boxed, 80 inline;
-    /// the extra allocation of a device EDS that states limits costs less than moving the 64
-    /// bytes everywhere else).
+    /// `LowLimit` (boxed: 8 bytes instead of 40 where absent).
     pub low_limit: Option<Box<Spanned<Value>>>,
-    /// `HighLimit`. Boxed: see `low_limit`.
+    /// `HighLimit` (boxed: see `low_limit`).
     pub high_limit: Option<Box<Spanned<Value>>>,
     /// DCF `ParameterValue`.
     pub parameter_value: Option<Spanned<Value>>,
-    /// DCF `Denotation`. Boxed, as the two file names below: rare, and a sub-object is moved
-    /// and dropped often enough that its size shows in parse time (the three take 24 bytes
-    /// boxed, 120 inline).
-    pub denotation: Option<Box<Spanned<String>>>,
+    /// Size in bits, when the file states it (ESI `BitSize`); otherwise that of the data type.
+    pub bit_size: Option<u32>,
+    /// Span of the section header (or of the line that implied the sub-object).
+    pub span: Span,
+    /// The fields few sub-objects have; `None` when all are absent.
+    rare: Option<Box<SubRare>>,
+}
+
+/// The fields of a [`SubObject`] that few sub-objects have, kept together behind one box.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct SubRare {
+    /// DCF `Denotation`.
+    pub denotation: Option<Spanned<String>>,
     /// `ObjFlags` of the sub-object.
     pub obj_flags: Option<Spanned<u32>>,
     /// `UploadFile` (DOMAIN).
-    pub upload_file: Option<Box<Spanned<String>>>,
+    pub upload_file: Option<Spanned<String>>,
     /// `DownloadFile` (DOMAIN).
-    pub download_file: Option<Box<Spanned<String>>>,
-    /// Size in bits, when the file states it (ESI `BitSize`); otherwise that of the data type.
-    pub bit_size: Option<u32>,
+    pub download_file: Option<Spanned<String>>,
     /// Keys not interpreted.
     pub extra: Vec<RawEntry>,
-    /// Span of the section header (or of the line that implied the sub-object).
-    pub span: Span,
+}
+
+impl SubRare {
+    /// All absent: what [`SubObject::rare`] shows for a sub-object without the box.
+    pub const EMPTY: SubRare = SubRare {
+        denotation: None,
+        obj_flags: None,
+        upload_file: None,
+        download_file: None,
+        extra: Vec::new(),
+    };
+
+    /// Whether all are absent.
+    pub fn is_empty(&self) -> bool {
+        *self == SubRare::EMPTY
+    }
 }
 
 impl SubObject {
@@ -301,14 +327,22 @@ impl SubObject {
             low_limit: None,
             high_limit: None,
             parameter_value: None,
-            denotation: None,
-            obj_flags: None,
-            upload_file: None,
-            download_file: None,
             bit_size: None,
-            extra: Vec::new(),
             span: Span::DUMMY,
+            rare: None,
         }
+    }
+
+    /// Denotation, `ObjFlags`, file names and keys kept as written (all absent for most).
+    pub fn rare(&self) -> &SubRare {
+        // A static, not the const: a const with a `Vec` is not promoted to a `'static` borrow.
+        static EMPTY: SubRare = SubRare::EMPTY;
+        self.rare.as_deref().unwrap_or(&EMPTY)
+    }
+
+    /// [`SubObject::rare`], to set: makes the box on first use.
+    pub fn rare_mut(&mut self) -> &mut SubRare {
+        self.rare.get_or_insert_with(Box::default)
     }
 
     /// The size in bits: stated, else that of the data type.
@@ -319,6 +353,77 @@ impl SubObject {
     /// The value the device starts with: ParameterValue (DCF) over DefaultValue.
     pub fn initial_value(&self) -> Option<&Spanned<Value>> {
         self.parameter_value.as_ref().or(self.default.as_ref())
+    }
+}
+
+// Debug, Serialize and PartialEq by hand, so that the fields of `SubRare` show as the
+// sub-object's own, in the order they had as fields of it (snapshots and JSON output).
+impl std::fmt::Debug for SubObject {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let r = self.rare();
+        f.debug_struct("SubObject")
+            .field("sub_index", &self.sub_index)
+            .field("name", &self.name)
+            .field("kind", &self.kind)
+            .field("data_type", &self.data_type)
+            .field("access", &self.access)
+            .field("pdo_mapping", &self.pdo_mapping)
+            .field("default", &self.default)
+            .field("low_limit", &self.low_limit)
+            .field("high_limit", &self.high_limit)
+            .field("parameter_value", &self.parameter_value)
+            .field("denotation", &r.denotation)
+            .field("obj_flags", &r.obj_flags)
+            .field("upload_file", &r.upload_file)
+            .field("download_file", &r.download_file)
+            .field("bit_size", &self.bit_size)
+            .field("extra", &r.extra)
+            .field("span", &self.span)
+            .finish()
+    }
+}
+
+impl Serialize for SubObject {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let r = self.rare();
+        let mut st = s.serialize_struct("SubObject", 17)?;
+        st.serialize_field("sub_index", &self.sub_index)?;
+        st.serialize_field("name", &self.name)?;
+        st.serialize_field("kind", &self.kind)?;
+        st.serialize_field("data_type", &self.data_type)?;
+        st.serialize_field("access", &self.access)?;
+        st.serialize_field("pdo_mapping", &self.pdo_mapping)?;
+        st.serialize_field("default", &self.default)?;
+        st.serialize_field("low_limit", &self.low_limit)?;
+        st.serialize_field("high_limit", &self.high_limit)?;
+        st.serialize_field("parameter_value", &self.parameter_value)?;
+        st.serialize_field("denotation", &r.denotation)?;
+        st.serialize_field("obj_flags", &r.obj_flags)?;
+        st.serialize_field("upload_file", &r.upload_file)?;
+        st.serialize_field("download_file", &r.download_file)?;
+        st.serialize_field("bit_size", &self.bit_size)?;
+        st.serialize_field("extra", &r.extra)?;
+        st.serialize_field("span", &self.span)?;
+        st.end()
+    }
+}
+
+impl PartialEq for SubObject {
+    fn eq(&self, o: &SubObject) -> bool {
+        self.sub_index == o.sub_index
+            && self.name == o.name
+            && self.kind == o.kind
+            && self.data_type == o.data_type
+            && self.access == o.access
+            && self.pdo_mapping == o.pdo_mapping
+            && self.default == o.default
+            && self.low_limit == o.low_limit
+            && self.high_limit == o.high_limit
+            && self.parameter_value == o.parameter_value
+            && self.bit_size == o.bit_size
+            && self.span == o.span
+            && self.rare() == o.rare()
     }
 }
 

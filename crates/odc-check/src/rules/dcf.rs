@@ -42,7 +42,7 @@ fn dcf_content(dev: &Device) -> Option<(u16, Option<u8>, Span, String)> {
         return Some((o.index, None, span, format!("a Denotation in {}", idx(o.index))));
     }
     all_subs(dev).find_map(|(o, s)| {
-        let (what, v) = match (&s.parameter_value, &s.denotation) {
+        let (what, v) = match (&s.parameter_value, &s.rare().denotation) {
             (Some(v), _) => ("a ParameterValue", v.span),
             (None, Some(d)) => ("a Denotation", d.span),
             (None, None) => return None,

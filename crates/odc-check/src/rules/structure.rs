@@ -335,10 +335,9 @@ fn obj_flags_reserved(dev: &Device, ctx: &mut Ctx) {
     }
     for o in objects(dev) {
         let object_flags = o.obj_flags.as_ref().map(|f| (None, f, o.span));
-        let sub_flags = o
-            .subs
-            .values()
-            .filter_map(|s| s.obj_flags.as_ref().map(|f| (sub_of(o, s.sub_index), f, s.span)));
+        let sub_flags = o.subs.values().filter_map(|s| {
+            s.rare().obj_flags.as_ref().map(|f| (sub_of(o, s.sub_index), f, s.span))
+        });
         for (sub, f, fallback) in object_flags.into_iter().chain(sub_flags) {
             let reserved = f.value & !OBJ_FLAGS_DEFINED;
             if reserved != 0 {

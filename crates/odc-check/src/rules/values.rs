@@ -463,11 +463,11 @@ fn upload_download_file(dev: &Device, ctx: &mut Ctx) {
         let keys = [
             (
                 "UploadFile",
-                s.upload_file.as_ref(),
+                s.rare().upload_file.as_ref(),
                 matches!(s.access, Access::Ro | Access::Const),
                 "ro or const",
             ),
-            ("DownloadFile", s.download_file.as_ref(), s.access == Access::Wo, "wo"),
+            ("DownloadFile", s.rare().download_file.as_ref(), s.access == Access::Wo, "wo"),
         ];
         for (key, file, access_ok, wanted) in keys {
             let Some(file) = file else { continue };
