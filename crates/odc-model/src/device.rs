@@ -502,3 +502,25 @@ pub struct Commissioning {
     /// Span of the section header.
     pub span: Span,
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The layout of `SubObject` is chosen for parse time (see its docs): a field added inline
+    /// shows in every DCF's thousands of implied sub-objects, so growing it is a decision, not
+    /// an accident.
+    #[test]
+    #[cfg(target_pointer_width = "64")]
+    fn sub_object_stays_small() {
+        assert_eq!(std::mem::size_of::<Value>(), 24);
+        assert_eq!(std::mem::size_of::<SubObject>(), 160);
+        // Empty rare fields compare, print and serialise as absent ones.
+        let a = SubObject::new(1, "x", DataType::Unsigned8, Access::Ro);
+        let mut b = a.clone();
+        b.rare_mut().denotation = None;
+        assert_eq!(a, b);
+        assert_eq!(format!("{a:?}"), format!("{b:?}"));
+        assert!(format!("{a:?}").contains("denotation: None, obj_flags: None"));
+    }
+}
