@@ -157,7 +157,7 @@ fn entry_doc(ctx: &Ctx<'_>, index: u16, sub: &SubObject, ty: RustTy) -> String {
     if sub.pdo_mapping.is_mappable() {
         facts.push("PDO-mappable".to_string());
     }
-    let mut lines = vec![sub.name.clone(), String::new(), facts.join(", ") + "."];
+    let mut lines = vec![sub.name.to_string(), String::new(), facts.join(", ") + "."];
     let rt = quote!(::odc);
     let mut notes = Vec::new();
     let limit = |v: Option<&odc_model::Spanned<Value>>| {
@@ -199,7 +199,7 @@ fn descriptor(ctx: &Ctx<'_>, index: u16, sub: &SubObject, name: &EntryName) -> T
     let konst = &name.konst;
     let idx = index_literal(index);
     let sidx = sub_literal(sub.sub_index);
-    let pname = &sub.name;
+    let pname = sub.name.as_str();
     let access = access_tokens(sub.access, rt);
     let mappable = sub.pdo_mapping.is_mappable();
     let none = quote!(None);

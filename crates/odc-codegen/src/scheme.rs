@@ -559,7 +559,7 @@ fn aliases(ctx: &Ctx<'_>, c: &Checked<'_>) -> Result<Vec<Alias>, String> {
             let what = if object.kind.has_subs() {
                 format!("{} / {}", object.name, sub.name)
             } else {
-                sub.name.clone()
+                sub.name.to_string()
             };
             out.push(Alias { name, index, sub: si, what });
         }

@@ -3,7 +3,7 @@
 use std::collections::BTreeMap;
 
 use odc_model::{
-    Access, Commissioning, DataType, Device, Diagnostic, FileId, Format, Module, Object,
+    Access, Commissioning, DataType, Device, Diagnostic, FileId, Format, Module, Name, Object,
     ObjectKind, ObjectList, PdoMapping, RawEntry, RawSection, Severity, Span, Spanned, SubExtend,
     SubObject, Value, ValueClass,
 };
@@ -16,17 +16,27 @@ use crate::rules::codes;
 pub(crate) const COMPACT_SUB0_NAME: &str = "NrOfObjects";
 
 /// The name of an implied sub-object `n` of a compact object named `object`.
-pub(crate) fn compact_sub_name(object: &str, n: u8) -> String {
-    let mut s = String::with_capacity(object.len() + 3);
+pub(crate) fn compact_sub_name(object: &str, n: u8) -> Name {
+    // The decimal digits of `n`, without leading zeros.
+    let all = [b'0' + n / 100, b'0' + n / 10 % 10, b'0' + n % 10];
+    let skip = usize::from(n < 100) + usize::from(n < 10);
+    let digits = &all[skip..];
+    // Put together on the stack and made in one go: inline (no allocation) when it fits in
+    // 24 bytes, as most do.
+    let len = object.len() + digits.len();
+    let mut buf = [0u8; 24];
+    if let Some(b) = buf.get_mut(..len) {
+        let (head, tail) = b.split_at_mut(object.len());
+        head.copy_from_slice(object.as_bytes());
+        tail.copy_from_slice(digits);
+        if let Ok(s) = std::str::from_utf8(b) {
+            return Name::new(s);
+        }
+    }
+    let mut s = String::with_capacity(len);
     s.push_str(object);
-    if n >= 100 {
-        s.push(char::from(b'0' + n / 100));
-    }
-    if n >= 10 {
-        s.push(char::from(b'0' + n / 10 % 10));
-    }
-    s.push(char::from(b'0' + n % 10));
-    s
+    s.extend(digits.iter().map(|&d| char::from(d)));
+    Name::from(s)
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -1229,7 +1239,7 @@ impl<'r, 'a> Lower<'r, 'a> {
         let what_is_null = std::mem::take(&mut self.null_object);
         let file = self.file;
         sub.name = match keys.take(K::ParameterName) {
-            Some(e) => e.value.to_owned(),
+            Some(e) => Name::from(e.value),
             None => {
                 self.warn(
                     codes::MISSING_NAME,
@@ -1237,7 +1247,7 @@ impl<'r, 'a> Lower<'r, 'a> {
                     header,
                     "here",
                 );
-                String::new()
+                Name::default()
             }
         };
         let mut extra_entries: Vec<&Entry<'_>> = Vec::new();
@@ -1587,7 +1597,7 @@ impl<'r, 'a> Lower<'r, 'a> {
         tkeys.k[K::ParameterName as usize] = keys.get(K::ParameterName);
         let mut template = self.sub_from_keys(&mut tkeys, 1, obj.span, None, &what);
         // Every implied sub-object gets its own name: do not clone the template's.
-        template.name = String::new();
+        template.name = Name::default();
         template.span = n.span;
         let mut sub0 = SubObject::new(0, COMPACT_SUB0_NAME, DataType::Unsigned8, Access::Ro);
         sub0.default = Some(Spanned::new(Value::Unsigned(u64::from(n.value)), n.span));
@@ -1633,7 +1643,7 @@ impl<'r, 'a> Lower<'r, 'a> {
                 let text = self.text(e);
                 if let Some(s) = obj.subs.get_mut(&sub) {
                     match which {
-                        0 => s.name = text.value,
+                        0 => s.name = Name::from(text.value),
                         1 => s.parameter_value = value,
                         _ => s.rare_mut().denotation = Some(text),
                     }

@@ -10,8 +10,8 @@ use odc_model::ethercat::{
     SmUsage, SoE, SyncManager, XmlAttribute,
 };
 use odc_model::{
-    Access, DataType, Device, DeviceInfo, Diagnostic, Direction, FileId, Format, Module, Object,
-    ObjectKind, Origin, Pdo, PdoEntry, PdoMapping, Span, Spanned, SubObject, Value,
+    Access, DataType, Device, DeviceInfo, Diagnostic, Direction, FileId, Format, Module, Name,
+    Object, ObjectKind, Origin, Pdo, PdoEntry, PdoMapping, Span, Spanned, SubObject, Value,
 };
 
 use crate::num;
@@ -1031,7 +1031,7 @@ fn lower_objects<'t>(
                 for k in 0..elements.min(255) {
                     let si = first + i64::from(k);
                     let Ok(si) = u8::try_from(si) else { break };
-                    let mut s = SubObject::new(si, format!("SubIndex {si:03}"), elem, Access::Ro);
+                    let mut s = SubObject::new(si, sub_index_name(si), elem, Access::Ro);
                     s.bit_size = elem_bits;
                     s.span = o.span();
                     object.subs.insert(si, s);
@@ -1095,7 +1095,7 @@ fn lower_struct<'t>(
     // One sub-object per SubItem, unless one is an array.
     object.subs.reserve_exact(dt.children_named("SubItem").count());
     for si in dt.children_named("SubItem") {
-        let name = si.child("Name").map(|n| n.text().to_string()).unwrap_or_default();
+        let name = si.child("Name").map(|n| Name::from(n.text())).unwrap_or_default();
         let type_el = si.child("Type");
         let type_name = type_el.map(|t| t.text()).unwrap_or("");
         let bits = si.child("BitSize").and_then(|b| num::parse_int(b.text()));
@@ -1104,7 +1104,7 @@ fn lower_struct<'t>(
         let flags = si.child("Flags").or(obj_flags).map(|f| ReadFlags::read(f, ctx.src));
         let resolved = types.resolve(type_name);
         let mut make =
-            |si_no: u8, name: String, ty: DataType, bits: Option<u32>, ctx: &mut Ctx<'_>| {
+            |si_no: u8, name: Name, ty: DataType, bits: Option<u32>, ctx: &mut Ctx<'_>| {
                 let mut s = SubObject::new(si_no, name, ty, Access::Ro);
                 s.bit_size = bits;
                 s.span = object_span;
@@ -1119,7 +1119,7 @@ fn lower_struct<'t>(
                 let first = sub_idx.map(i64::from).unwrap_or(lbound.max(next)).max(0);
                 for k in 0..elements.min(256) {
                     let Ok(n) = u8::try_from(first + i64::from(k)) else { break };
-                    make(n, format!("SubIndex {n:03}"), elem, elem_bits, ctx);
+                    make(n, sub_index_name(n), elem, elem_bits, ctx);
                     next = i64::from(n) + 1;
                 }
             }
@@ -1407,6 +1407,15 @@ fn lower_slots(s: Element<'_>, ctx: &mut Ctx<'_>) -> Slots {
         out.slots.push(sl);
     }
     out
+}
+
+/// `SubIndex 001`, the name ESI gives an array element: made inline, with no allocation.
+fn sub_index_name(n: u8) -> Name {
+    let mut b = *b"SubIndex 000";
+    b[9] += n / 100;
+    b[10] += n / 10 % 10;
+    b[11] += n % 10;
+    Name::new(std::str::from_utf8(&b).unwrap_or_default())
 }
 
 /// A device without a dictionary: objects for its PDO entries, mapping objects and the

@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use serde::Serialize;
 
+use crate::Name;
 use crate::ethercat::EtherCat;
 use crate::pdo::Pdo;
 use crate::span::{Span, Spanned};
@@ -252,7 +253,7 @@ pub struct SubObject {
     /// The 8-bit sub-index.
     pub sub_index: u8,
     /// `ParameterName` (or the name a `[xxxxName]` section gave it).
-    pub name: String,
+    pub name: Name,
     /// `ObjectType` of the sub section, when it says one (usually VAR).
     pub kind: Option<ObjectKind>,
     /// `DataType`.
@@ -310,12 +311,7 @@ impl SubRare {
 
 impl SubObject {
     /// A sub-object with the given name and type, read-only, not mappable, no values.
-    pub fn new(
-        sub_index: u8,
-        name: impl Into<String>,
-        data_type: DataType,
-        access: Access,
-    ) -> Self {
+    pub fn new(sub_index: u8, name: impl Into<Name>, data_type: DataType, access: Access) -> Self {
         SubObject {
             sub_index,
             name: name.into(),

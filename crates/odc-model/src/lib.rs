@@ -33,3 +33,9 @@ pub use span::{FileId, Span, Spanned};
 pub use subs::SubObjects;
 pub use types::{Access, DataType, Direction, ObjectKind, PdoMapping, ValueClass};
 pub use value::Value;
+
+/// The name of a sub-object: a string stored inline up to 24 bytes (`compact_str`), so that
+/// the thousands of sub-objects a DCF implies through `CompactSubObj` (`<object name><n>`)
+/// mostly cost no allocation. It derefs to `str`; `Debug` and `Serialize` are those of a
+/// `String`.
+pub type Name = compact_str::CompactString;
