@@ -117,11 +117,13 @@ row whole-process 1 "$(wc -c < "$F")" "dcfchk" "$(wall "$ODC" check "$F")" "$(wa
 
 log "PDO pack/unpack (criterion)"
 cargo bench --quiet --manifest-path "$BENCH/Cargo.toml" --bench pack -- --noplot > "$WORK/pack.txt" 2>&1
-# criterion prints "group/function" then "time: [low mid high]": take mid, in ns.
+# criterion prints "group/function  time: [low mid high]", the name on a line of its own when it
+# is long: take mid, in ns.
 awk '
   /^(pack|unpack)_/ {name=$1}
   /time:/ && name != "" {
-    v=$5; u=$6; f=(u=="ps")?1e-3:(u=="ns")?1:(u=="µs"||u=="us")?1e3:(u=="ms")?1e6:1e9;
+    for (i = 1; i <= NF; i++) if ($i == "time:") break
+    v=$(i+3); u=$(i+4); f=(u=="ps")?1e-3:(u=="ns")?1:(u=="µs"||u=="us")?1e3:(u=="ms")?1e6:1e9;
     printf "%s\t%.3f\n", name, v*f; name=""
   }' "$WORK/pack.txt" > "$WORK/pack.tsv"
 pk() { awk -F'\t' -v t="$1" '$1==t {print $2/1e9}' "$WORK/pack.tsv"; }
@@ -178,15 +180,22 @@ fi
 echo
 echo "odc compare: $(date -u +%Y-%m-%dT%H:%MZ), $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //'), load $(cut -d' ' -f1-3 /proc/loadavg)"
 echo "odc $(git -C "$ROOT" rev-parse --short HEAD); python-canopen $("$PY" -c 'import canopen; print(canopen.__version__)'); dcf-tools $("$PY" -m pip show dcf-tools 2>/dev/null | awk '/^Version/ {print $2}'); lely-core: $LELY_CORE"
-echo "Times: CPU seconds of one in-process pass (parse, pack), wall seconds (whole process, build)."
-echo "ratio = other / odc (how many times faster odc is); for the floor, odc / floor."
+echo "Times: CPU time of one in-process pass (parse), criterion wall time of 1024 values (pack), wall time (whole process, build)."
+echo "ratio = other / odc (how many times faster odc is); for floor and quick-xml (ceilings), odc / other."
 echo
 awk -F'\t' '
+  function t(x) {
+    if (x >= 1) return sprintf("%.3f s", x)
+    if (x >= 1e-3) return sprintf("%.3f ms", x * 1e3)
+    if (x >= 1e-6) return sprintf("%.3f us", x * 1e6)
+    return sprintf("%.1f ns", x * 1e9)
+  }
   BEGIN {
-    printf "| %-22s | %5s | %9s | %-16s | %12s | %12s | %9s |\n", "input", "files", "bytes", "vs", "odc s", "other s", "ratio"
-    printf "|%s|%s|%s|%s|%s|%s|%s|\n", "------------------------", "-------", "-----------", "------------------", "--------------", "--------------", "-----------"
+    printf "| %-22s | %5s | %9s | %-16s | %12s | %12s | %9s |\n", "input", "files", "bytes", "vs", "odc", "other", "ratio"
+    printf "|%s|%s|%s|%s|%s|%s|%s|\n", "------------------------", "------:", "----------:", "------------------", "-------------:", "-------------:", "----------:"
   }
   {
-    r = ($4 == "floor") ? (($6 > 0) ? $5 / $6 : 0) : (($5 > 0) ? $6 / $5 : 0)
-    printf "| %-22s | %5s | %9s | %-16s | %12.6f | %12.6f | %8.2fx |\n", $1, $2, $3, $4, $5, $6, r
+    ceiling = ($4 == "floor" || $4 == "quick-xml")
+    r = ceiling ? (($6 > 0) ? $5 / $6 : 0) : (($5 > 0) ? $6 / $5 : 0)
+    printf "| %-22s | %5s | %9s | %-16s | %12s | %12s | %8.2fx |\n", $1, $2, $3, $4, t($5), t($6), r
   }' "$ROWS"
