@@ -1621,9 +1621,11 @@ impl<'r, 'a> Lower<'r, 'a> {
                 if e.key.eq_ignore_ascii_case("NrOfEntries") {
                     continue;
                 }
+                // Companions name and set sub-objects of an ARRAY or RECORD: a VAR's sub-index 0
+                // is the object itself, whose name is its own `ParameterName`.
                 let sub = dec_u16(e.key.as_bytes())
                     .and_then(|n| u8::try_from(n).ok())
-                    .filter(|n| obj.subs.contains_key(n));
+                    .filter(|n| obj.kind.has_subs() && obj.subs.contains_key(n));
                 let Some(sub) = sub else {
                     self.warn(
                         codes::BAD_COMPACT_ENTRY,

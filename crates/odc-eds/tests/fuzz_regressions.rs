@@ -141,3 +141,9 @@ fn unreadable_object_type_with_compact_sub_objects() {
           [1003sub1]\nParameterName=orphan\nDataType=0x0007\nAccessType=ro\n",
     );
 }
+
+/// A `[xxxxName]` companion of an object whose own header lacks its `]`.
+#[test]
+fn name_companion_of_an_unclosed_object_header() {
+    round_trip(b"[1003\n[1003Name\n0=0");
+}
