@@ -1,39 +1,12 @@
 //! Inputs the `eds_roundtrip` and `eds_parse` fuzz targets (fuzz/) found, minimised: each one
 //! broke parse → write → parse or the parser once. The property checked is the fuzz target's:
 //! the re-read model equals the first one (spans, the order of unknown sections and the
-//! documented module normalisations aside; see fuzz/fuzz_targets/eds_roundtrip.rs), and the
+//! documented module normalisations aside; see tests/round_trip/mod.rs), and the
 //! writer is stable.
 
-use odc_model::{Device, Format, Sources};
-
-fn canonical(d: &Device) -> Device {
-    let mut d = d.clone();
-    // Section names compare case-insensitively: a kept section merged with a known one on
-    // re-reading takes the known one's spelling.
-    for s in &mut d.extra_sections {
-        s.name.make_ascii_lowercase();
-    }
-    d.extra_sections.sort_by(|a, b| a.name.cmp(&b.name));
-    d.modules.nr_of_entries = None;
-    for m in &mut d.modules.supported {
-        m.has_info = true;
-    }
-    d
-}
-
-fn round_trip(input: &[u8]) -> String {
-    let mut sources = Sources::new();
-    let first = odc_eds::parse(&mut sources, "fuzz.eds", input);
-    let format = first.device.format.unwrap_or(Format::Eds);
-    let text = odc_eds::write(&first.device, format);
-    let name = if format == Format::Dcf { "fuzz.dcf" } else { "fuzz.eds" };
-    let second = odc_eds::parse(&mut sources, name, text.as_bytes());
-    assert_eq!(canonical(&first.device), canonical(&second.device), "written:\n{text}");
-    let again = odc_eds::write(&second.device, format);
-    let third = odc_eds::parse(&mut sources, name, again.as_bytes());
-    assert_eq!(odc_eds::write(&third.device, format), again, "writer not stable");
-    text
-}
+mod round_trip;
+use odc_model::{Format, Sources};
+use round_trip::round_trip;
 
 /// An object list without `SupportedObjects` was written with one (`SupportedObjects=0`).
 #[test]
