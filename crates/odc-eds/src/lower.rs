@@ -326,6 +326,25 @@ enum K {
 
 const N_KEYS: usize = 17;
 
+/// The keys of a CompactSubObj object's section that every implied sub-object takes.
+const COMPACT_TEMPLATE: [K; 10] = [
+    K::DataType,
+    K::AccessType,
+    K::PdoMapping,
+    K::DefaultValue,
+    K::LowLimit,
+    K::HighLimit,
+    K::ParameterValue,
+    K::ObjFlags,
+    K::UploadFile,
+    K::DownloadFile,
+];
+
+/// Whether `key` is one of [`COMPACT_TEMPLATE`]'s (the writer keeps those on the template).
+pub(crate) fn is_compact_template_key(key: &str) -> bool {
+    obj_key(key).is_some_and(|k| COMPACT_TEMPLATE.contains(&k))
+}
+
 fn obj_key(key: &str) -> Option<K> {
     let b = key.as_bytes();
     if b.len() < 5 {
@@ -1580,18 +1599,7 @@ impl<'r, 'a> Lower<'r, 'a> {
         let what = format_args!("compact object {:04X}", obj.index);
         // The template: DataType, AccessType, PDOMapping and values of the object section.
         let mut tkeys = Keys { k: [None; N_KEYS], extra: Vec::new() };
-        for k in [
-            K::DataType,
-            K::AccessType,
-            K::PdoMapping,
-            K::DefaultValue,
-            K::LowLimit,
-            K::HighLimit,
-            K::ParameterValue,
-            K::ObjFlags,
-            K::UploadFile,
-            K::DownloadFile,
-        ] {
+        for k in COMPACT_TEMPLATE {
             tkeys.k[k as usize] = keys.take(k);
         }
         tkeys.k[K::ParameterName as usize] = keys.get(K::ParameterName);

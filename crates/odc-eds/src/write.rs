@@ -6,22 +6,7 @@ use odc_model::{
     Device, Format, Module, Object, Origin, PdoMapping, RawEntry, Spanned, SubObject, Value,
 };
 
-use crate::lower::{COMPACT_SUB0_NAME, compact_sub_name};
-
-/// The keys of a CompactSubObj object's section that apply to every implied sub-object (as
-/// the lowering reads them).
-const COMPACT_TEMPLATE_KEYS: [&str; 10] = [
-    "DataType",
-    "AccessType",
-    "PDOMapping",
-    "DefaultValue",
-    "LowLimit",
-    "HighLimit",
-    "ParameterValue",
-    "ObjFlags",
-    "UploadFile",
-    "DownloadFile",
-];
+use crate::lower::{COMPACT_SUB0_NAME, compact_sub_name, is_compact_template_key};
 
 /// Writes a value in its canonical form.
 pub(crate) fn value_text(v: &Value) -> String {
@@ -197,9 +182,7 @@ impl W {
                 t.parameter_value = None;
                 let r = t.rare_mut();
                 r.denotation = None;
-                r.extra.retain(|e| {
-                    COMPACT_TEMPLATE_KEYS.iter().any(|k| e.key.eq_ignore_ascii_case(k))
-                });
+                r.extra.retain(|e| is_compact_template_key(&e.key));
                 t
             })
         } else {
