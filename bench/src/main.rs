@@ -71,18 +71,18 @@ fn main() {
             (
                 "quick-xml",
                 Box::new(|_, b| {
-                    // The ceiling for any XML parser: every event of the document, nothing built.
+                    // The ceiling for any XML parser: every event of the document, nothing built,
+                    // nothing copied (events borrow the input; `read_event_into` would copy each
+                    // into a buffer and take about 12% longer).
                     let mut reader = Reader::from_reader(b);
-                    let mut buf = Vec::new();
                     loop {
-                        match reader.read_event_into(&mut buf) {
+                        match reader.read_event() {
                             Ok(Event::Eof) => break true,
                             Err(_) => break false,
                             Ok(e) => {
                                 black_box(e);
                             }
                         }
-                        buf.clear();
                     }
                 }),
             ),
