@@ -82,7 +82,8 @@ for set in eds eds-largest eds-common eds-common-largest; do
 done
 for tool in canopen-host python-canopen lely-dcf-tools; do
   sort "$WORK/acc-eds/$tool" > "$WORK/eds-$tool.list"
-  for L in "$WORK/eds-$tool.list" "$WORK/eds-common.list" "$WORK/eds-common-largest.list"; do
+  largest "$WORK/eds-$tool.list" > "$WORK/eds-$tool-largest.list"
+  for L in "$WORK/eds-$tool.list" "$WORK/eds-$tool-largest.list" "$WORK/eds-common.list" "$WORK/eds-common-largest.list"; do
     set=$(basename "$L" .list)
     odc=$(rust "$L" eds odc)
     if [ "$tool" = canopen-host ]; then other=$(rust "$L" eds canopen-host); else other=$(py "$L" "$tool"); fi
