@@ -129,6 +129,8 @@ fn bench(c: &mut Criterion) {
             (a, d, PackedStruct::pack(&ps_r[i]).unwrap()),
             (frames[i], frames[i], frames[i])
         );
+        // The hand-written reference itself reads back what it wrote.
+        assert_eq!(HandRpdo2::unpack(&frames[i]), Some(hand_r[i]));
         let t = Tpdo2::unpack(&frames[i]).unwrap();
         let h = HandTpdo2::unpack(&frames[i]).unwrap();
         let (_, dk) = DekuTpdo2::from_bytes((&frames[i], 0)).unwrap();
