@@ -699,9 +699,9 @@ fn collect_types<'t>(
             out.retain(|t| t.name != name_text);
         }
         let mut m = EsiDataType {
-            name: name_text.to_string(),
+            name: name_text.into(),
             index: ctx.child_u32(dt, "Index"),
-            base_type: dt.child("BaseType").map(|b| b.text().to_string()),
+            base_type: dt.child("BaseType").map(|b| Name::from(b.text())),
             bit_size: ctx.child_u32(dt, "BitSize"),
             span: dt.span(),
             ..EsiDataType::default()
@@ -717,14 +717,14 @@ fn collect_types<'t>(
             let flags = s.child("Flags");
             m.sub_items.push(EsiSubItem {
                 sub_idx: ctx.child_u32(s, "SubIdx"),
-                name: s.child("Name").map(|n| n.text().to_string()).unwrap_or_default(),
-                type_name: s.child("Type").map(|n| n.text().to_string()).unwrap_or_default(),
+                name: s.child("Name").map(|n| Name::from(n.text())).unwrap_or_default(),
+                type_name: s.child("Type").map(|n| Name::from(n.text())).unwrap_or_default(),
                 bit_size: ctx.child_u32(s, "BitSize"),
                 bit_offset: ctx.child_u32(s, "BitOffs"),
-                access: flags.and_then(|f| f.child("Access")).map(|a| a.text().to_string()),
+                access: flags.and_then(|f| f.child("Access")).map(|a| Name::from(a.text())),
                 pdo_mapping: flags
                     .and_then(|f| f.child("PdoMapping"))
-                    .map(|a| a.text().to_string()),
+                    .map(|a| Name::from(a.text())),
             });
         }
         for e in dt.children_named("EnumInfo") {
@@ -861,13 +861,13 @@ impl ReadFlags {
         let mut access = None;
         if let Some(a) = flags.child("Access") {
             access = Some(access_of(a.text(), a.text_span(), ctx));
-            esi.read_restrictions = a.attr("ReadRestrictions").map(|x| x.value.to_string());
-            esi.write_restrictions = a.attr("WriteRestrictions").map(|x| x.value.to_string());
+            esi.read_restrictions = a.attr("ReadRestrictions").map(|x| Name::from(x.value));
+            esi.write_restrictions = a.attr("WriteRestrictions").map(|x| Name::from(x.value));
         }
         let pdo_mapping =
             flags.child("PdoMapping").map(|p| pdo_mapping_of(p.text(), p.text_span(), ctx));
-        esi.category = flags.child("Category").map(|c| c.text().to_string());
-        esi.transition = flags.child("Transition").map(|c| c.text().to_string());
+        esi.category = flags.child("Category").map(|c| Name::from(c.text()));
+        esi.transition = flags.child("Transition").map(|c| Name::from(c.text()));
         esi.backup = flags.child("Backup").and_then(|b| ctx.el_bool(b));
         esi.setting = flags.child("Setting").and_then(|b| ctx.el_bool(b));
         ReadFlags { access, pdo_mapping, esi, diagnostics: diags.finish() }

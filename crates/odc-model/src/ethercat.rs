@@ -11,6 +11,7 @@ use std::sync::Arc;
 
 use serde::Serialize;
 
+use crate::Name;
 use crate::device::Object;
 use crate::pdo::Pdo;
 use crate::span::{Span, Spanned};
@@ -139,14 +140,18 @@ pub struct Profile {
 }
 
 /// A dictionary `DataType`.
+///
+/// Its texts, and those of [`EsiSubItem`] and [`ObjectFlags`], are [`Name`]s: short (type names,
+/// `ro`, `m`), made by the thousand per file, and kept inline up to 24 bytes where a `String`
+/// would cost an allocation each.
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct EsiDataType {
     /// `Name`, the key objects and sub-items refer to.
-    pub name: String,
+    pub name: Name,
     /// `Index`, when given.
     pub index: Option<u32>,
     /// `BaseType`.
-    pub base_type: Option<String>,
+    pub base_type: Option<Name>,
     /// `BitSize`.
     pub bit_size: Option<u32>,
     /// `ArrayInfo` (one per dimension).
@@ -174,17 +179,17 @@ pub struct EsiSubItem {
     /// `SubIdx`.
     pub sub_idx: Option<u32>,
     /// `Name`.
-    pub name: String,
+    pub name: Name,
     /// `Type`.
-    pub type_name: String,
+    pub type_name: Name,
     /// `BitSize`.
     pub bit_size: Option<u32>,
     /// `BitOffs`.
     pub bit_offset: Option<u32>,
     /// `Flags/Access` text.
-    pub access: Option<String>,
+    pub access: Option<Name>,
     /// `Flags/PdoMapping` text.
-    pub pdo_mapping: Option<String>,
+    pub pdo_mapping: Option<Name>,
 }
 
 /// One `EnumInfo`.
@@ -204,17 +209,17 @@ pub struct ObjectFlags {
     /// Sub-index.
     pub sub: u8,
     /// `Access@ReadRestrictions` (PreOP, PreOP_SafeOP, PreOP_OP, SafeOP, SafeOP_OP, OP).
-    pub read_restrictions: Option<String>,
+    pub read_restrictions: Option<Name>,
     /// `Access@WriteRestrictions`.
-    pub write_restrictions: Option<String>,
+    pub write_restrictions: Option<Name>,
     /// `Category`: m (mandatory), o (optional), c (conditional).
-    pub category: Option<String>,
+    pub category: Option<Name>,
     /// `Backup`.
     pub backup: Option<bool>,
     /// `Setting`.
     pub setting: Option<bool>,
     /// `Transition` (IP, PS, SO).
-    pub transition: Option<String>,
+    pub transition: Option<Name>,
 }
 
 /// What a sync manager or FMMU is used for.
