@@ -30,6 +30,7 @@
 mod decode;
 mod lower;
 pub mod num;
+mod trim;
 mod xml;
 
 use std::borrow::Cow;

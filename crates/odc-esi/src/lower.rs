@@ -15,6 +15,7 @@ use odc_model::{
 };
 
 use crate::num;
+use crate::trim::trim;
 use crate::xml::{Attr, Element};
 
 /// Device children the lowering interprets; the others are kept raw.
@@ -63,7 +64,7 @@ struct Types<'t> {
 
 fn builtin(name: &str) -> Option<DataType> {
     use DataType::*;
-    let name = name.trim();
+    let name = trim(name);
     // Upper-cased on the stack: called for every type name a dictionary mentions.
     let mut buf = [0u8; 32];
     let heap;
@@ -131,7 +132,7 @@ fn builtin(name: &str) -> Option<DataType> {
 
 /// The size in bits a type name says (`STRING(10)` → 80).
 fn builtin_bits(name: &str) -> Option<u32> {
-    let n = name.trim();
+    let n = trim(name);
     let open = n.find('(')?;
     let close = n.rfind(')')?;
     let count: u32 = n.get(open + 1..close)?.trim().parse().ok()?;
@@ -305,7 +306,7 @@ fn preferred(names: &[LocalizedText]) -> Option<&LocalizedText> {
 fn first_name(el: Element<'_>) -> String {
     let mut best: Option<Element<'_>> = None;
     for n in el.children_named("Name") {
-        let english = n.attr("LcId").is_some_and(|a| a.value.trim() == "1033");
+        let english = n.attr("LcId").is_some_and(|a| trim(a.value) == "1033");
         if english {
             best = Some(n);
             break;
@@ -392,7 +393,7 @@ pub(crate) fn lower(
     if let Some(pdos) = descriptions.child("Pdos") {
         for p in pdos.children_named("Pdo") {
             if let Some(r) = p.attr("RefName") {
-                pdo_refs.insert(r.value.trim(), p);
+                pdo_refs.insert(trim(r.value), p);
             }
         }
     }
@@ -749,7 +750,7 @@ impl<'t> Types<'t> {
     }
 
     fn resolve_at(&self, name: &str, depth: u32) -> Option<Resolved<'t>> {
-        let name = name.trim();
+        let name = trim(name);
         if depth > 16 {
             return None;
         }
@@ -780,7 +781,7 @@ impl<'t> Types<'t> {
                 return Some(Resolved::Array(elem_ty, elem_bits, lbound as i64, elements));
             }
             if let Some(base) = base
-                && base.trim() != name
+                && trim(base) != name
             {
                 return match self.resolve_at(base, depth + 1)? {
                     Resolved::Simple(t, b) => Some(Resolved::Simple(t, bits.or(b))),
@@ -808,12 +809,13 @@ fn access_of(text: &str, span: Span, ctx: &mut Ctx<'_>) -> Access {
 }
 
 fn pdo_mapping_of(text: &str, span: Span, ctx: &mut Ctx<'_>) -> PdoMapping {
-    let t = text.trim().to_ascii_uppercase();
-    match t.as_str() {
+    let t = trim(text);
+    let is = |s: &str| t.eq_ignore_ascii_case(s);
+    match t {
         "" => PdoMapping::No,
-        "R" => PdoMapping::Rx,
-        "T" => PdoMapping::Tx,
-        "RT" | "TR" => PdoMapping::Both,
+        _ if is("R") => PdoMapping::Rx,
+        _ if is("T") => PdoMapping::Tx,
+        _ if is("RT") || is("TR") => PdoMapping::Both,
         _ => {
             ctx.push(
                 Diagnostic::warning("F213", format!("unknown PdoMapping `{text}`"))
@@ -1233,7 +1235,7 @@ fn lower_pdos<'t>(
         };
         // The definition: the element itself, or the `Pdo` its `Ref` names (old files).
         let c = match pdo_el.attr("Ref") {
-            Some(r) if pdo_el.child("Index").is_none() => match refs.get(r.value.trim()) {
+            Some(r) if pdo_el.child("Index").is_none() => match refs.get(trim(r.value)) {
                 Some(def) => *def,
                 None => {
                     ctx.push(

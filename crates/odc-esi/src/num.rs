@@ -2,37 +2,45 @@
 
 use odc_model::{DataType, Value, ValueClass};
 
+use crate::trim::trim;
+
 /// Parses an ETG `HexDecValue`: `#x1A` (the schema's form), `0x1A` (common, not conformant),
 /// decimal, optionally signed. Surrounding white space is ignored.
 pub fn parse_int(text: &str) -> Option<i128> {
-    let t = text.trim();
-    let (neg, t) = match t.as_bytes().first() {
-        Some(b'-') => (true, &t[1..]),
-        Some(b'+') => (false, &t[1..]),
-        _ => (false, t),
+    let (neg, t) = match trim(text).as_bytes() {
+        [b'-', rest @ ..] => (true, rest),
+        [b'+', rest @ ..] => (false, rest),
+        t => (false, t),
     };
-    let hex = t
-        .strip_prefix("#x")
-        .or_else(|| t.strip_prefix("#X"))
-        .or_else(|| t.strip_prefix("0x"))
-        .or_else(|| t.strip_prefix("0X"));
-    let magnitude = match hex {
-        Some(h) if !h.is_empty() && h.len() <= 32 && h.bytes().all(|b| b.is_ascii_hexdigit()) => {
-            u128::from_str_radix(h, 16).ok()?
+    // One pass over the digits (called for most elements). At most 32 hex or 38 decimal
+    // digits: the magnitude cannot overflow a u128.
+    let magnitude = match t {
+        [b'#' | b'0', b'x' | b'X', h @ ..] if !h.is_empty() && h.len() <= 32 => {
+            h.iter().try_fold(0u128, |v, &b| Some(v << 4 | u128::from(hex_digit(b)?)))?
         }
-        Some(_) => return None,
-        None if !t.is_empty() && t.len() <= 38 && t.bytes().all(|b| b.is_ascii_digit()) => {
-            t.parse::<u128>().ok()?
-        }
-        None => return None,
+        [b'#' | b'0', b'x' | b'X', ..] => return None,
+        d if !d.is_empty() && d.len() <= 38 => d
+            .iter()
+            .try_fold(0u128, |v, &b| b.is_ascii_digit().then(|| v * 10 + u128::from(b - b'0')))?,
+        _ => return None,
     };
     let v = i128::try_from(magnitude).ok()?;
     Some(if neg { -v } else { v })
 }
 
+/// The value of a hex digit.
+fn hex_digit(b: u8) -> Option<u8> {
+    match b {
+        b'0'..=b'9' => Some(b - b'0'),
+        b'a'..=b'f' => Some(b - b'a' + 10),
+        b'A'..=b'F' => Some(b - b'A' + 10),
+        _ => None,
+    }
+}
+
 /// Parses an `xs:boolean`: `1`, `0`, `true`, `false` (any case, surrounding white space ignored).
 pub fn parse_bool(text: &str) -> Option<bool> {
-    let t = text.trim();
+    let t = trim(text);
     if t == "1" || t.eq_ignore_ascii_case("true") {
         Some(true)
     } else if t == "0" || t.eq_ignore_ascii_case("false") {
@@ -48,7 +56,7 @@ pub fn parse_int_lenient(text: &str) -> Option<(i128, bool)> {
     if let Some(v) = parse_int(text) {
         return Some((v, false));
     }
-    let t = text.trim();
+    let t = trim(text);
     let rest = t.strip_prefix("#x0x").or_else(|| t.strip_prefix("#x0X"))?;
     Some((parse_int(&format!("#x{rest}"))?, true))
 }
@@ -66,7 +74,7 @@ pub fn with_hex_bytes_lenient<R>(text: &str, f: impl FnOnce(&[u8]) -> R) -> Opti
     if let Some(r) = with_hex_bytes(text, |b| f.take().map(|f| f(b))) {
         return r.map(|r| (r, false));
     }
-    let t = text.trim();
+    let t = trim(text);
     if !t.len().is_multiple_of(2) && !t.bytes().any(|b| b.is_ascii_whitespace()) {
         let r = with_hex_bytes(&format!("0{t}"), |b| f.take().map(|f| f(b)))??;
         return Some((r, true));
@@ -166,7 +174,7 @@ pub fn fit(value: Value, ty: DataType) -> Option<Value> {
 
 /// Reads a `DefaultValue`/`MinValue`/`MaxValue` text (CODESYS-style files) as a value of `ty`.
 pub fn parse_value_text(text: &str, ty: DataType) -> Option<Value> {
-    let t = text.trim();
+    let t = trim(text);
     Some(match ty.class() {
         ValueClass::Bool => match parse_bool(t) {
             Some(b) => Value::Bool(b),

@@ -26,6 +26,8 @@ use quick_xml::XmlVersion;
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::{Error, Reader};
 
+use crate::trim::{trim, trim_end, trim_start};
+
 /// Deepest element nesting read; deeper content is skipped with a diagnostic.
 pub const MAX_DEPTH: usize = 256;
 
@@ -104,6 +106,10 @@ impl<'s> Document<'s> {
 
     fn span(&self, start: u32, end: u32) -> Span {
         Span::new(self.file, start, end)
+    }
+
+    fn attr(&self, a: &RawAttr) -> Attr<'_> {
+        Attr { name: self.str(a.name), value: self.str(a.value), span: self.span(a.start, a.end) }
     }
 
     /// The top-level elements (more than one only in a malformed file).
@@ -186,7 +192,7 @@ impl<'d> Element<'d> {
         if t.len == 0 {
             return self.doc.span(n.start, n.end);
         }
-        self.doc.span(t.at, t.at + self.doc.str(t).trim_end().len() as u32)
+        self.doc.span(t.at, t.at + trim_end(self.doc.str(t)).len() as u32)
     }
 
     /// The text and CDATA content, entities resolved, leading white space dropped.
@@ -196,7 +202,7 @@ impl<'d> Element<'d> {
 
     /// The text, trimmed.
     pub fn text(self) -> &'d str {
-        self.raw_text().trim_end()
+        trim_end(self.raw_text())
     }
 
     pub fn children(self) -> Children<'d> {
@@ -227,20 +233,25 @@ impl<'d> Element<'d> {
         self.children().filter(move |c| c.is(name))
     }
 
-    pub fn attrs(self) -> impl Iterator<Item = Attr<'d>> {
+    /// This element's run of the attribute arena.
+    fn raw_attrs(self) -> &'d [RawAttr] {
         let doc = self.doc;
         let from = self.node().attr_start as usize;
         let to =
             doc.nodes.get(self.idx as usize + 1).map_or(doc.attrs.len(), |n| n.attr_start as usize);
-        doc.attrs.get(from..to).unwrap_or_default().iter().map(move |a| Attr {
-            name: doc.str(a.name),
-            value: doc.str(a.value),
-            span: doc.span(a.start, a.end),
-        })
+        doc.attrs.get(from..to).unwrap_or_default()
+    }
+
+    pub fn attrs(self) -> impl Iterator<Item = Attr<'d>> {
+        let doc = self.doc;
+        self.raw_attrs().iter().map(move |a| doc.attr(a))
     }
 
     pub fn attr(self, name: &str) -> Option<Attr<'d>> {
-        self.attrs().find(|a| a.name == name)
+        // Names compared before the value and span of each are looked up.
+        let doc = self.doc;
+        let a = self.raw_attrs().iter().find(|a| doc.str(a.name) == name)?;
+        Some(doc.attr(a))
     }
 }
 
@@ -417,12 +428,7 @@ impl<'s> Builder<'s> {
                     && bounds
                         == (
                             a,
-                            a + self
-                                .doc
-                                .src
-                                .get(a as usize..b as usize)
-                                .unwrap_or("")
-                                .trim_end()
+                            a + trim_end(self.doc.src.get(a as usize..b as usize).unwrap_or(""))
                                 .len() as u32,
                         ) =>
             {
@@ -487,24 +493,24 @@ impl<'s> Builder<'s> {
 
     fn text(&mut self, s: Cow<'_, str>, start: u32, end: u32) {
         if self.stack.is_empty() {
-            if !s.trim().is_empty() {
-                let lead = (s.len() - s.trim_start().len()) as u32;
+            if !trim(&s).is_empty() {
+                let lead = (s.len() - trim_start(&s).len()) as u32;
                 let d = Diagnostic::error("F202", "text outside the root element")
                     .with_label(self.span(start + lead, end.min(start + lead + 20)), "here");
                 self.doc.diagnostics.push(d);
             }
             return;
         }
-        let tlen = s.trim().len() as u32;
-        let lead = (s.len() - s.trim_start().len()) as u32;
+        let tlen = trim(&s).len() as u32;
+        let lead = (s.len() - trim_start(&s).len()) as u32;
         let top_empty = self.stack.last().is_some_and(|t| t.text.is_empty());
         if top_empty {
             if tlen == 0 {
                 return;
             }
             let trimmed = match s {
-                Cow::Borrowed(b) => Cow::Borrowed(b.trim_start()),
-                Cow::Owned(o) => Cow::Owned(o.trim_start().to_owned()),
+                Cow::Borrowed(b) => Cow::Borrowed(trim_start(b)),
+                Cow::Owned(o) => Cow::Owned(trim_start(&o).to_owned()),
             };
             self.append(trimmed, (start + lead, start + lead + tlen), true);
         } else {
@@ -554,9 +560,9 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
         // then quick-xml may skip them itself, and a run of indentation before a tag makes no
         // event at all. In the prolog and epilog they are read, so that nothing but a BOM may
         // precede the XML declaration.
-        let trim = skip > 0 || b.stack.last().is_some_and(|top| top.text.is_empty());
-        if reader.config().trim_text_start != trim {
-            reader.config_mut().trim_text_start = trim;
+        let skip_blanks = skip > 0 || b.stack.last().is_some_and(|top| top.text.is_empty());
+        if reader.config().trim_text_start != skip_blanks {
+            reader.config_mut().trim_text_start = skip_blanks;
         }
         let read_from = reader.buffer_position() as u32;
         let ev = reader.read_event();
@@ -622,7 +628,7 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
             Ok(Event::Text(t)) => {
                 // Blank runs between tags (most text events) are dropped unless they continue a
                 // text: no line-end normalisation for them.
-                let blank = xml_blank(t.as_bytes()) || t.trim().is_empty();
+                let blank = xml_blank(t.as_bytes()) || trim(&t).is_empty();
                 if blank && b.stack.last().is_none_or(|top| top.text.is_empty()) {
                     continue;
                 }
