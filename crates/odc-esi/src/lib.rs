@@ -119,7 +119,8 @@ fn parse_input(sources: &mut Sources, name: &str, bytes: Cow<'_, [u8]>) -> Parse
         }
     }
     let text = sources.text(file).unwrap_or("");
-    if let Some(at) = text.find('\0') {
+    // memchr's vector search: the whole file is scanned, and `str::find` is several times slower.
+    if let Some(at) = memchr::memchr(0, text.as_bytes()) {
         // quick-xml reads NUL as a name character; XML 1.0 §2.2 allows it nowhere.
         let at = at as u32;
         diagnostics.push(

@@ -1423,7 +1423,9 @@ fn sub_index_name(n: u8) -> Name {
 /// A device without a dictionary: objects for its PDO entries, mapping objects and the
 /// sync-manager assignment objects, all marked [`Origin::PdoEntry`].
 fn synthesise(objects: &mut BTreeMap<u16, Object>, pdos: &[Pdo]) {
-    let new_object = |index: u16, name: String, kind: ObjectKind, span: Span| Object {
+    // Names borrowed until an object or sub-object is made: most entries add a sub-object to
+    // an object made already, and sub-object names are inline `Name`s.
+    let new_object = |index: u16, name: &str, kind: ObjectKind, span: Span| Object {
         origin: Origin::PdoEntry,
         ..Object::new(index, name, kind, span)
     };
@@ -1436,11 +1438,11 @@ fn synthesise(objects: &mut BTreeMap<u16, Object>, pdos: &[Pdo]) {
             if e.is_gap() {
                 continue;
             }
-            let name = e.name.clone().unwrap_or_else(|| pdo.name.clone());
+            let name = e.name.as_deref().unwrap_or(&pdo.name);
             let ty = e.data_type.unwrap_or_else(|| type_for_bits(u32::from(e.bits)));
             let object = objects.entry(e.index).or_insert_with(|| {
                 let kind = if e.sub == 0 { ObjectKind::Var } else { ObjectKind::Record };
-                new_object(e.index, name.clone(), kind, e.span)
+                new_object(e.index, name, kind, e.span)
             });
             if e.sub != 0 && object.kind == ObjectKind::Var {
                 object.kind = ObjectKind::Record;
@@ -1465,15 +1467,14 @@ fn synthesise(objects: &mut BTreeMap<u16, Object>, pdos: &[Pdo]) {
         if objects.contains_key(&pdo.mapping_index) {
             continue;
         }
-        let mut o = new_object(pdo.mapping_index, pdo.name.clone(), ObjectKind::Record, pdo.span);
+        let mut o = new_object(pdo.mapping_index, &pdo.name, ObjectKind::Record, pdo.span);
         let mut s0 = SubObject::new(0, "SubIndex 000", DataType::Unsigned8, Access::Ro);
         s0.default = Some(Spanned::synthetic(Value::Unsigned(pdo.entries.len() as u64)));
         s0.span = pdo.span;
         o.subs.insert(0, s0);
         for (i, e) in pdo.entries.iter().enumerate().take(254) {
             let n = (i + 1) as u8;
-            let mut s =
-                SubObject::new(n, format!("SubIndex {n:03}"), DataType::Unsigned32, Access::Ro);
+            let mut s = SubObject::new(n, sub_index_name(n), DataType::Unsigned32, Access::Ro);
             s.default = Some(Spanned::synthetic(Value::Unsigned(u64::from(e.mapping_value()))));
             s.span = e.span;
             o.subs.insert(n, s);
@@ -1491,14 +1492,13 @@ fn synthesise(objects: &mut BTreeMap<u16, Object>, pdos: &[Pdo]) {
             .filter(|p| p.direction == dir && (p.sync_manager.is_some() || p.mandatory))
             .map(|p| p.mapping_index)
             .collect();
-        let mut o = new_object(index, name.to_string(), ObjectKind::Array, Span::DUMMY);
+        let mut o = new_object(index, name, ObjectKind::Array, Span::DUMMY);
         let mut s0 = SubObject::new(0, "SubIndex 000", DataType::Unsigned8, Access::Ro);
         s0.default = Some(Spanned::synthetic(Value::Unsigned(assigned.len() as u64)));
         o.subs.insert(0, s0);
         for (i, pdo_index) in assigned.iter().enumerate().take(254) {
             let n = (i + 1) as u8;
-            let mut s =
-                SubObject::new(n, format!("SubIndex {n:03}"), DataType::Unsigned16, Access::Ro);
+            let mut s = SubObject::new(n, sub_index_name(n), DataType::Unsigned16, Access::Ro);
             s.default = Some(Spanned::synthetic(Value::Unsigned(u64::from(*pdo_index))));
             o.subs.insert(n, s);
         }
