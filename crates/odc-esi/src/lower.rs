@@ -212,13 +212,21 @@ impl<'a> Ctx<'a> {
     }
 
     fn child_num<T: TryFrom<i128>>(&mut self, el: Element<'_>, name: &str) -> Option<T> {
-        let c = el.child(name)?;
-        self.el_num(c, name)
+        self.opt_num(el.child(name), name)
     }
 
     fn child_u32(&mut self, el: Element<'_>, name: &str) -> Option<u32> {
-        let c = el.child(name)?;
-        self.el_u32(c, name)
+        self.opt_u32(el.child(name), name)
+    }
+
+    /// [`Self::el_num`] of a child found already (see [`Element::pick`]).
+    fn opt_num<T: TryFrom<i128>>(&mut self, el: Option<Element<'_>>, what: &str) -> Option<T> {
+        self.el_num(el?, what)
+    }
+
+    /// [`Self::el_u32`] of a child found already (see [`Element::pick`]).
+    fn opt_u32(&mut self, el: Option<Element<'_>>, what: &str) -> Option<u32> {
+        self.el_u32(el?, what)
     }
 
     fn attr_num<T: TryFrom<i128>>(&mut self, el: Element<'_>, name: &str) -> Option<T> {
@@ -689,7 +697,8 @@ fn collect_types<'t>(
     // New declarations may change what a name resolves to.
     types.resolved.get_mut().clear();
     for dt in dts.children_named("DataType") {
-        let Some(name) = dt.child("Name") else {
+        let [name, index, base_type, bit_size] = dt.pick(["Name", "Index", "BaseType", "BitSize"]);
+        let Some(name) = name else {
             ctx.missing(dt, "Name");
             continue;
         };
@@ -701,9 +710,9 @@ fn collect_types<'t>(
         }
         let mut m = EsiDataType {
             name: name_text.into(),
-            index: ctx.child_u32(dt, "Index"),
-            base_type: dt.child("BaseType").map(|b| Name::from(b.text())),
-            bit_size: ctx.child_u32(dt, "BitSize"),
+            index: ctx.opt_u32(index, "Index"),
+            base_type: base_type.map(|b| Name::from(b.text())),
+            bit_size: ctx.opt_u32(bit_size, "BitSize"),
             span: dt.span(),
             ..EsiDataType::default()
         };
@@ -715,17 +724,19 @@ fn collect_types<'t>(
         }
         m.sub_items.reserve_exact(dt.children_named("SubItem").count());
         for s in dt.children_named("SubItem") {
-            let flags = s.child("Flags");
+            let [sub_idx, name, type_name, bit_size, bit_offset, flags] =
+                s.pick(["SubIdx", "Name", "Type", "BitSize", "BitOffs", "Flags"]);
+            let [access, pdo_mapping] =
+                flags.map_or([None; 2], |f| f.pick(["Access", "PdoMapping"]));
+            let text = |e: Option<Element<'_>>| e.map(|e| Name::from(e.text()));
             m.sub_items.push(EsiSubItem {
-                sub_idx: ctx.child_u32(s, "SubIdx"),
-                name: s.child("Name").map(|n| Name::from(n.text())).unwrap_or_default(),
-                type_name: s.child("Type").map(|n| Name::from(n.text())).unwrap_or_default(),
-                bit_size: ctx.child_u32(s, "BitSize"),
-                bit_offset: ctx.child_u32(s, "BitOffs"),
-                access: flags.and_then(|f| f.child("Access")).map(|a| Name::from(a.text())),
-                pdo_mapping: flags
-                    .and_then(|f| f.child("PdoMapping"))
-                    .map(|a| Name::from(a.text())),
+                sub_idx: ctx.opt_u32(sub_idx, "SubIdx"),
+                name: text(name).unwrap_or_default(),
+                type_name: text(type_name).unwrap_or_default(),
+                bit_size: ctx.opt_u32(bit_size, "BitSize"),
+                bit_offset: ctx.opt_u32(bit_offset, "BitOffs"),
+                access: text(access),
+                pdo_mapping: text(pdo_mapping),
             });
         }
         for e in dt.children_named("EnumInfo") {
@@ -861,17 +872,18 @@ impl ReadFlags {
         let ctx = &mut Ctx { src, diags: &mut diags, subs: 0 };
         let mut esi = ObjectFlags::default();
         let mut access = None;
-        if let Some(a) = flags.child("Access") {
+        let [access_el, pdo_mapping, category, transition, backup, setting] =
+            flags.pick(["Access", "PdoMapping", "Category", "Transition", "Backup", "Setting"]);
+        if let Some(a) = access_el {
             access = Some(access_of(a.text(), a.text_span(), ctx));
             esi.read_restrictions = a.attr("ReadRestrictions").map(|x| Name::from(x.value));
             esi.write_restrictions = a.attr("WriteRestrictions").map(|x| Name::from(x.value));
         }
-        let pdo_mapping =
-            flags.child("PdoMapping").map(|p| pdo_mapping_of(p.text(), p.text_span(), ctx));
-        esi.category = flags.child("Category").map(|c| Name::from(c.text()));
-        esi.transition = flags.child("Transition").map(|c| Name::from(c.text()));
-        esi.backup = flags.child("Backup").and_then(|b| ctx.el_bool(b));
-        esi.setting = flags.child("Setting").and_then(|b| ctx.el_bool(b));
+        let pdo_mapping = pdo_mapping.map(|p| pdo_mapping_of(p.text(), p.text_span(), ctx));
+        esi.category = category.map(|c| Name::from(c.text()));
+        esi.transition = transition.map(|c| Name::from(c.text()));
+        esi.backup = backup.and_then(|b| ctx.el_bool(b));
+        esi.setting = setting.and_then(|b| ctx.el_bool(b));
         ReadFlags { access, pdo_mapping, esi, diagnostics: diags.finish() }
     }
 
@@ -983,17 +995,16 @@ fn lower_objects<'t>(
     let mut objects = BTreeMap::new();
     let Some(objs) = dict.child("Objects") else { return objects };
     for o in objs.children_named("Object") {
-        let Some(index_el) = o.child("Index") else {
+        let [index_el, type_el, bit_size, flags, info] =
+            o.pick(["Index", "Type", "BitSize", "Flags", "Info"]);
+        let Some(index_el) = index_el else {
             ctx.missing(o, "Index");
             continue;
         };
         let Some(index) = ctx.el_num::<u16>(index_el, "object index") else { continue };
         let name = first_name(o);
-        let type_el = o.child("Type");
         let type_name = type_el.map(|t| t.text()).unwrap_or("");
-        let bit_size = ctx.child_u32(o, "BitSize");
-        let flags = o.child("Flags");
-        let info = o.child("Info");
+        let bit_size = ctx.opt_u32(bit_size, "BitSize");
         let resolved = types.resolve(type_name);
         if resolved.is_none() {
             let span = type_el.map(|t| t.text_span()).unwrap_or(o.span());
@@ -1097,13 +1108,14 @@ fn lower_struct<'t>(
     // One sub-object per SubItem, unless one is an array.
     object.subs.reserve_exact(dt.children_named("SubItem").count());
     for si in dt.children_named("SubItem") {
-        let name = si.child("Name").map(|n| Name::from(n.text())).unwrap_or_default();
-        let type_el = si.child("Type");
+        let [name, type_el, bits, sub_idx, flags] =
+            si.pick(["Name", "Type", "BitSize", "SubIdx", "Flags"]);
+        let name = name.map(|n| Name::from(n.text())).unwrap_or_default();
         let type_name = type_el.map(|t| t.text()).unwrap_or("");
-        let bits = si.child("BitSize").and_then(|b| num::parse_int(b.text()));
+        let bits = bits.and_then(|b| num::parse_int(b.text()));
         let bits = bits.and_then(|b| u32::try_from(b).ok());
-        let sub_idx = si.child("SubIdx").and_then(|x| ctx.el_num::<u8>(x, "SubIdx"));
-        let flags = si.child("Flags").or(obj_flags).map(|f| ReadFlags::read(f, ctx.src));
+        let sub_idx = ctx.opt_num::<u8>(sub_idx, "SubIdx");
+        let flags = flags.or(obj_flags).map(|f| ReadFlags::read(f, ctx.src));
         let resolved = types.resolve(type_name);
         let mut make =
             |si_no: u8, name: Name, ty: DataType, bits: Option<u32>, ctx: &mut Ctx<'_>| {
@@ -1255,18 +1267,20 @@ fn lower_pdos<'t>(
         // Entries are rarely skipped: sized to the elements, no regrowth copies.
         let mut entries = Vec::with_capacity(c.children_named("Entry").count());
         for e in c.children_named("Entry") {
-            let Some(ie) = e.child("Index") else {
+            let [ie, sub, bl, dt_el, name] =
+                e.pick(["Index", "SubIndex", "BitLen", "DataType", "Name"]);
+            let Some(ie) = ie else {
                 ctx.missing(e, "Index");
                 continue;
             };
             let Some(index) = ctx.el_num::<u16>(ie, "entry index") else { continue };
-            let sub = e.child("SubIndex").and_then(|s| ctx.el_num::<u8>(s, "entry sub-index"));
-            let Some(bl) = e.child("BitLen") else {
+            let sub = ctx.opt_num::<u8>(sub, "entry sub-index");
+            let Some(bl) = bl else {
                 ctx.missing(e, "BitLen");
                 continue;
             };
             let Some(bits) = ctx.el_num::<u16>(bl, "BitLen") else { continue };
-            let dt_el = e.child("DataType").filter(|t| !t.text().is_empty());
+            let dt_el = dt_el.filter(|t| !t.text().is_empty());
             let data_type = dt_el.and_then(|t| match types.resolve(t.text()) {
                 Some(Resolved::Simple(ty, _)) => Some(ty),
                 Some(Resolved::Array(..) | Resolved::Struct(..)) => Some(DataType::Domain),
@@ -1279,7 +1293,7 @@ fn lower_pdos<'t>(
                 index,
                 sub: sub.unwrap_or(0),
                 bits,
-                name: e.child("Name").map(|n| n.text().to_string()).filter(|n| !n.is_empty()),
+                name: name.map(|n| n.text().to_string()).filter(|n| !n.is_empty()),
                 data_type,
                 span: e.span(),
             });

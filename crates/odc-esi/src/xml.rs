@@ -226,6 +226,30 @@ impl<'d> Element<'d> {
         self.children().find(|c| c.is(name))
     }
 
+    /// The first child called each of `names` (as [`Self::child`] would find it), in one pass
+    /// over the children: the lowering reads several children of every object, sub-item and
+    /// PDO entry, and one scan per name (most of them over all children, for the absent ones)
+    /// cost more than building the model.
+    pub fn pick<const N: usize>(self, names: [&str; N]) -> [Option<Element<'d>>; N] {
+        let mut found = [None; N];
+        let mut missing = N;
+        for c in self.children() {
+            let name = c.name().as_bytes();
+            // A byte loop, not `==`: for names this short, a call to `memcmp` costs more.
+            let same =
+                |n: &&str| n.len() == name.len() && n.bytes().zip(name).all(|(a, &b)| a == b);
+            let Some(i) = names.iter().position(same) else { continue };
+            if let Some(slot @ None) = found.get_mut(i) {
+                *slot = Some(c);
+                missing -= 1;
+                if missing == 0 {
+                    break;
+                }
+            }
+        }
+        found
+    }
+
     pub fn children_named<'a>(self, name: &'a str) -> impl Iterator<Item = Element<'d>> + 'a
     where
         'd: 'a,
@@ -278,6 +302,13 @@ fn xml_blank(s: &[u8]) -> bool {
         }
     }
     chunks.remainder().iter().all(|c| matches!(c, b' ' | b'\t' | b'\n' | b'\r'))
+}
+
+/// Whether `s` holds a carriage return, the only byte XML 1.0 line-end normalisation changes.
+/// quick-xml's normalisation calls the `memchr` crate for every text, whose set-up costs more
+/// than the whole search in the short texts most are; `contains` loops over those.
+fn has_cr(s: &[u8]) -> bool {
+    s.contains(&b'\r')
 }
 
 fn local(name: &str) -> &str {
@@ -346,9 +377,8 @@ impl<'s> Builder<'s> {
         self.own(s.into_owned(), (0, 0))
     }
 
-    /// Appends the node of a start tag (or empty-element tag) spanning `start..end`.
-    fn element(&mut self, e: &BytesStart<'_>, start: u32, end: u32) -> u32 {
-        let attr_start = self.doc.attrs.len() as u32;
+    /// Appends the attributes of the tag spanning `start..end` to the arena.
+    fn attributes(&mut self, e: &BytesStart<'_>, start: u32, end: u32) {
         for a in e.attributes() {
             match a {
                 Ok(a) => {
@@ -382,6 +412,15 @@ impl<'s> Builder<'s> {
                     );
                 }
             }
+        }
+    }
+
+    /// Appends the node of a start tag (or empty-element tag) spanning `start..end`.
+    fn element(&mut self, e: &BytesStart<'_>, start: u32, end: u32) -> u32 {
+        let attr_start = self.doc.attrs.len() as u32;
+        // Most tags have no attributes: nothing after the name, no iterator to set up.
+        if !e.attributes_raw().is_empty() {
+            self.attributes(e, start, end);
         }
         let name = self.store(Cow::Borrowed(local(e.name().as_ref())));
         let idx = self.doc.nodes.len() as u32;
@@ -632,7 +671,8 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
                 if blank && b.stack.last().is_none_or(|top| top.text.is_empty()) {
                     continue;
                 }
-                let s = t.xml10_content();
+                // Line ends are normalised only where there is a carriage return to normalise.
+                let s = if has_cr(t.as_bytes()) { t.xml10_content() } else { t.into_inner() };
                 b.text(s, before, after);
             }
             Ok(Event::CData(t)) => {
