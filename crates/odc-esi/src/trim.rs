@@ -10,10 +10,16 @@ fn solid(b: Option<&u8>) -> bool {
     b.is_some_and(u8::is_ascii_graphic)
 }
 
+/// Whether `s.trim()` is `s` for certain (a `false` may still be wrong: see [`trim`]).
+#[inline]
+pub fn is_trimmed(s: &str) -> bool {
+    solid(s.as_bytes().first()) && solid(s.as_bytes().last())
+}
+
 /// `s.trim()`.
 #[inline]
 pub fn trim(s: &str) -> &str {
-    if solid(s.as_bytes().first()) && solid(s.as_bytes().last()) { s } else { s.trim() }
+    if is_trimmed(s) { s } else { s.trim() }
 }
 
 /// `s.trim_start()`.

@@ -26,7 +26,7 @@ use quick_xml::XmlVersion;
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::{Error, Reader};
 
-use crate::trim::{trim, trim_end, trim_start};
+use crate::trim::{is_trimmed, trim, trim_end, trim_start};
 
 /// Deepest element nesting read; deeper content is skipped with a diagnostic.
 pub const MAX_DEPTH: usize = 256;
@@ -531,6 +531,22 @@ impl<'s> Builder<'s> {
     }
 
     fn text(&mut self, s: Cow<'_, str>, start: u32, end: u32) {
+        // The usual text, first of its element, a slice of the source with nothing to trim: what
+        // the general path below does for it, without its trims and copies of the `Cow`.
+        if let Cow::Borrowed(t) = &s
+            && is_trimmed(t)
+            && let Some(at) = offset_in(self.doc.src, t)
+            && let Some(top) = self.stack.last_mut()
+            && top.text.is_empty()
+        {
+            let len = t.len() as u32;
+            top.text = Text::Borrowed(at, at + len);
+            top.bounds = Some(match top.bounds {
+                Some((a, _)) => (a, start + len),
+                None => (start, start + len),
+            });
+            return;
+        }
         if self.stack.is_empty() {
             if !trim(&s).is_empty() {
                 let lead = (s.len() - trim_start(&s).len()) as u32;
