@@ -194,14 +194,16 @@ impl<'a> Ctx<'a> {
 
     /// An element's text as a number of type `T`.
     fn el_num<T: TryFrom<i128>>(&mut self, el: Element<'_>, what: &str) -> Option<T> {
-        let v = self.number(el.text(), el.text_span(), what)?;
-        self.ranged(v, el.text_span(), what)
+        let span = el.text_span();
+        let v = self.number(el.text(), span, what)?;
+        self.ranged(v, span, what)
     }
 
     /// An element's text as a u32; negative values in i32 range wrap (two's complement).
     fn el_u32(&mut self, el: Element<'_>, what: &str) -> Option<u32> {
-        let v = self.number(el.text(), el.text_span(), what)?;
-        self.wrap_u32(v, el.text_span(), what)
+        let span = el.text_span();
+        let v = self.number(el.text(), span, what)?;
+        self.wrap_u32(v, span, what)
     }
 
     fn wrap_u32(&mut self, v: i128, span: Span, what: &str) -> Option<u32> {
@@ -511,7 +513,10 @@ fn lower_device(d: Element<'_>, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Devic
         vendor_name: preferred(&file.vendor_names).map(|n| Spanned::new(n.text.clone(), n.span)),
         ..DeviceInfo::default()
     };
-    match d.child("Type") {
+    // A device has many children (every PDO is one): the single ones found in one pass.
+    let [type_el, group_type, mailbox_el, dc_el, eeprom_el, slots_el, modules_el] =
+        d.pick(["Type", "GroupType", "Mailbox", "Dc", "Eeprom", "Slots", "Modules"]);
+    match type_el {
         Some(t) => {
             for a in t.attrs() {
                 match a.name {
@@ -546,7 +551,7 @@ fn lower_device(d: Element<'_>, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Devic
     }
     ec.names = names(d, ctx);
     info.product_name = preferred(&ec.names).map(|n| Spanned::new(n.text.clone(), n.span));
-    if let Some(g) = d.child("GroupType") {
+    if let Some(g) = group_type {
         let type_name = g.text().to_string();
         let names = file.groups.get(&type_name).cloned().unwrap_or_default();
         ec.group = Some(Group { type_name, names, span: g.text_span() });
@@ -555,14 +560,15 @@ fn lower_device(d: Element<'_>, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Devic
     // Dictionary: data types first (all profiles), then objects.
     let mut types = Types::default();
     let mut objects = BTreeMap::new();
-    let profiles: Vec<Element<'_>> = d.children_named("Profile").collect();
-    for &p in &profiles {
-        if let Some(dict) = p.child("Dictionary") {
+    let profiles: Vec<(Element<'_>, Option<Element<'_>>)> =
+        d.children_named("Profile").map(|p| (p, p.child("Dictionary"))).collect();
+    for &(_, dict) in &profiles {
+        if let Some(dict) = dict {
             collect_types(dict, &mut types, &mut ec.data_types, ctx);
         }
     }
     let mut flags = FlagsOut::new();
-    for &p in &profiles {
+    for &(p, dict) in &profiles {
         ec.profiles.push(Profile {
             channel: ctx.attr_u32(p, "Channel"),
             profile_no: ctx.child_u32(p, "ProfileNo"),
@@ -573,10 +579,10 @@ fn lower_device(d: Element<'_>, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Devic
                 .map(|c| ctx.child_u32(c, "ProfileNo"))
                 .collect(),
             dictionary_file: p.child("DictionaryFile").map(|f| f.text().to_string()),
-            has_dictionary: p.child("Dictionary").is_some(),
+            has_dictionary: dict.is_some(),
             span: p.span(),
         });
-        if let Some(dict) = p.child("Dictionary") {
+        if let Some(dict) = dict {
             let objs = lower_objects(dict, ctx, &types, &mut flags);
             objects.extend(objs);
         }
@@ -616,13 +622,13 @@ fn lower_device(d: Element<'_>, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Devic
         });
     }
     let pdos = lower_pdos(d, ctx, &types, &file.pdo_refs);
-    if let Some(mb) = d.child("Mailbox") {
+    if let Some(mb) = mailbox_el {
         ec.mailbox = Some(mailbox(mb, ctx));
     }
-    if let Some(dc) = d.child("Dc") {
+    if let Some(dc) = dc_el {
         ec.dc = Some(lower_dc(dc, ctx));
     }
-    if let Some(e) = d.child("Eeprom") {
+    if let Some(e) = eeprom_el {
         let mut ee = Eeprom { span: e.span(), ..Eeprom::default() };
         ee.byte_size = ctx.child_u32(e, "ByteSize");
         if let Some(c) = e.child("ConfigData") {
@@ -637,11 +643,11 @@ fn lower_device(d: Element<'_>, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Devic
         ee.categories = e.children_named("Category").map(|c| ctx.raw("Eeprom", c)).collect();
         ec.eeprom = Some(ee);
     }
-    if let Some(s) = d.child("Slots") {
+    if let Some(s) = slots_el {
         ec.slots = Some(lower_slots(s, ctx));
     }
     ec.modules = file.modules.clone();
-    if let Some(m) = d.child("Modules") {
+    if let Some(m) = modules_el {
         ec.modules.extend(lower_modules(m, ctx, &types, &file.pdo_refs));
     }
     ec.raw.extend(file.raw.iter().cloned());

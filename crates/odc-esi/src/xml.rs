@@ -211,6 +211,11 @@ impl<'d> Element<'d> {
     }
 
     /// Whether the element is called `name` (lengths compared first: most are not).
+    ///
+    /// This and the lookups by name are always inlined: the lowering calls them with literal
+    /// names, and a comparison with a known name is a length test and a load or two, where
+    /// one with an unknown name is a call to `memcmp`.
+    #[inline(always)]
     pub fn is(self, name: &str) -> bool {
         let n = self.node().name;
         if n.len == OWNED {
@@ -222,6 +227,7 @@ impl<'d> Element<'d> {
                 == Some(name.as_bytes())
     }
 
+    #[inline(always)]
     pub fn child(self, name: &str) -> Option<Element<'d>> {
         self.children().find(|c| c.is(name))
     }
@@ -230,15 +236,14 @@ impl<'d> Element<'d> {
     /// over the children: the lowering reads several children of every object, sub-item and
     /// PDO entry, and one scan per name (most of them over all children, for the absent ones)
     /// cost more than building the model.
+    #[inline(always)]
     pub fn pick<const N: usize>(self, names: [&str; N]) -> [Option<Element<'d>>; N] {
         let mut found = [None; N];
         let mut missing = N;
         for c in self.children() {
             let name = c.name().as_bytes();
-            // A byte loop, not `==`: for names this short, a call to `memcmp` costs more.
-            let same =
-                |n: &&str| n.len() == name.len() && n.bytes().zip(name).all(|(a, &b)| a == b);
-            let Some(i) = names.iter().position(same) else { continue };
+            // Names known (inlined): each comparison is a length test and a load or two.
+            let Some(i) = names.iter().position(|n| n.as_bytes() == name) else { continue };
             if let Some(slot @ None) = found.get_mut(i) {
                 *slot = Some(c);
                 missing -= 1;
@@ -250,6 +255,7 @@ impl<'d> Element<'d> {
         found
     }
 
+    #[inline(always)]
     pub fn children_named<'a>(self, name: &'a str) -> impl Iterator<Item = Element<'d>> + 'a
     where
         'd: 'a,
