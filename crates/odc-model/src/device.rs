@@ -248,7 +248,6 @@ impl Object {
 /// one [`SubRare`] behind one box, [`SubObject::rare`] and [`SubObject::rare_mut`]. `Debug`,
 /// `Serialize` and `PartialEq` see those fields as the sub-object's own, in their place, and an
 /// empty box as no box: the layout does not show.
-#[derive(Clone)]
 pub struct SubObject {
     /// The 8-bit sub-index.
     pub sub_index: u8,
@@ -349,6 +348,31 @@ impl SubObject {
     /// The value the device starts with: ParameterValue (DCF) over DefaultValue.
     pub fn initial_value(&self) -> Option<&Spanned<Value>> {
         self.parameter_value.as_ref().or(self.default.as_ref())
+    }
+}
+
+/// By hand only to be inlined where it is called: a compact object's implied sub-objects are
+/// clones of one template, thousands in a master's DCF, and a clone that is a call returns the
+/// whole sub-object through a stack copy before it reaches its vector. Field for field what
+/// `#[derive(Clone)]` does (the struct literal names every field, so none can be missed).
+impl Clone for SubObject {
+    #[inline(always)]
+    fn clone(&self) -> Self {
+        SubObject {
+            sub_index: self.sub_index,
+            name: self.name.clone(),
+            kind: self.kind,
+            data_type: self.data_type,
+            access: self.access,
+            pdo_mapping: self.pdo_mapping,
+            default: self.default.clone(),
+            low_limit: self.low_limit.clone(),
+            high_limit: self.high_limit.clone(),
+            parameter_value: self.parameter_value.clone(),
+            bit_size: self.bit_size,
+            span: self.span,
+            rare: self.rare.clone(),
+        }
     }
 }
 

@@ -221,30 +221,45 @@ impl Index<&u8> for SubObjects {
 }
 
 impl Extend<(u8, SubObject)> for SubObjects {
+    /// As for a map: each pair is inserted in turn, a repeated sub-index replaces.
     fn extend<I: IntoIterator<Item = (u8, SubObject)>>(&mut self, iter: I) {
-        for (k, v) in iter {
-            self.insert(k, v);
-        }
+        // Appended as they come (written straight into the vector: a sub-object is large, and
+        // a compact object's implied ones are thousands in a master's DCF), then put in order
+        // only when they did not come in order.
+        let old = self.items.len();
+        self.items.extend(iter);
+        self.normalize_from(old.saturating_sub(1));
     }
 }
 
 impl FromIterator<(u8, SubObject)> for SubObjects {
     /// As for a map: sorted by sub-index, and for a repeated sub-index the last value wins.
     fn from_iter<I: IntoIterator<Item = (u8, SubObject)>>(iter: I) -> Self {
-        let mut items: Vec<Pair> = iter.into_iter().collect();
-        if !items.is_sorted_by(|a, b| a.0 < b.0) {
-            // Stable: equal keys keep their order, so the last of them is the one kept.
-            items.sort_by_key(|p| p.0);
-            let mut out: Vec<Pair> = Vec::with_capacity(items.len());
-            for p in items {
-                match out.last_mut() {
-                    Some(last) if last.0 == p.0 => *last = p,
-                    _ => out.push(p),
-                }
-            }
-            items = out;
+        let mut m = SubObjects { items: iter.into_iter().collect() };
+        m.normalize_from(0);
+        m
+    }
+}
+
+impl SubObjects {
+    /// Restores "sorted by key, keys unique" when only `items[from..]` may break it, keeping
+    /// the last of equal keys (the later insert, as a map would).
+    fn normalize_from(&mut self, from: usize) {
+        let tail = self.items.get(from..).unwrap_or_default();
+        if tail.is_sorted_by(|a, b| a.0 < b.0) {
+            return;
         }
-        SubObjects { items }
+        // Stable: equal keys keep their order, so the last of them is the one kept.
+        self.items.sort_by_key(|p| p.0);
+        let items = std::mem::take(&mut self.items);
+        let mut out: Vec<Pair> = Vec::with_capacity(items.len());
+        for p in items {
+            match out.last_mut() {
+                Some(last) if last.0 == p.0 => *last = p,
+                _ => out.push(p),
+            }
+        }
+        self.items = out;
     }
 }
 
@@ -339,6 +354,20 @@ mod tests {
                 .collect();
         let names: Vec<_> = m.iter().map(|(k, s)| (*k, s.name.as_str())).collect();
         assert_eq!(names, [(0, "a"), (1, "b"), (2, "y")]);
+    }
+
+    /// `extend` inserts in turn, as the map's does: in order, out of order, repeated keys.
+    #[test]
+    fn extend_behaves_as_a_btreemap() {
+        let batches: &[&[(u8, &str)]] =
+            &[&[(1, "a"), (2, "b")], &[(3, "c"), (9, "d")], &[(5, "e"), (3, "f"), (5, "g")], &[]];
+        let mut m = SubObjects::new();
+        let mut b = BTreeMap::new();
+        for batch in batches {
+            m.extend(batch.iter().map(|&(k, n)| (k, sub(k, n))));
+            b.extend(batch.iter().map(|&(k, n)| (k, sub(k, n))));
+            assert!(m.iter().eq(b.iter()));
+        }
     }
 
     #[test]
