@@ -193,8 +193,10 @@ pub fn parse(sources: &mut odc_model::Sources, name: &str, bytes: &[u8]) -> Pars
             .with_label(span(text.find('\n').unwrap_or(0)), "the first one"),
         );
     }
-    if let Some(at) = text.find('\0') {
-        let n = text.bytes().filter(|&b| b == 0).count();
+    // `memchr`, not `str::find`: every file is searched to its end, and the crate's vector
+    // search is several times faster than the standard library's word-at-a-time one.
+    if let Some(at) = memchr::memchr(0, text.as_bytes()) {
+        let n = memchr::memchr_iter(0, text.as_bytes()).count();
         diagnostics.push(
             Diagnostic::warning(
                 codes::NUL_BYTES,
