@@ -140,24 +140,33 @@ impl Eq for Caseless<'_> {}
 impl Hash for Caseless<'_> {
     fn hash<H: Hasher>(&self, state: &mut H) {
         // Eight bytes at a time. `| 0x20` folds ASCII case (names equal ignoring ASCII case hash
-        // alike; other bytes may collide, which `eq` sorts out).
+        // alike; other bytes may collide, which `eq` sorts out). Each word is mixed by a folded
+        // multiply (the high and low halves of the 128-bit product xored): every input bit
+        // reaches every output bit. A plain 64-bit multiply only carries bits upwards, so the
+        // low bits hashbrown picks the bucket from ignored the last bytes of a word, and names
+        // such as `1A00sub1`..`1A00sub8` all probed from one bucket.
         const K: u64 = 0x9E37_79B9_7F4A_7C15;
         const CASE: u64 = 0x2020_2020_2020_2020;
+        #[inline(always)]
+        fn mix(h: u64, w: u64) -> u64 {
+            let m = u128::from(h ^ w) * u128::from(K);
+            (m as u64) ^ ((m >> 64) as u64)
+        }
         let b = self.0.as_bytes();
         let mut h = b.len() as u64;
         let mut chunks = b.chunks_exact(8);
         for c in &mut chunks {
             let mut w = [0u8; 8];
             w.copy_from_slice(c);
-            h = (h.rotate_left(23) ^ (u64::from_le_bytes(w) | CASE)).wrapping_mul(K);
+            h = mix(h, u64::from_le_bytes(w) | CASE);
         }
         let r = chunks.remainder();
         if !r.is_empty() {
             let mut w = [0u8; 8];
             w[..r.len()].copy_from_slice(r);
-            h = (h.rotate_left(23) ^ (u64::from_le_bytes(w) | CASE)).wrapping_mul(K);
+            h = mix(h, u64::from_le_bytes(w) | CASE);
         }
-        state.write_u64(h ^ (h >> 29));
+        state.write_u64(h);
     }
 }
 
@@ -525,6 +534,13 @@ pub fn scan<'a>(text: &'a str, file: FileId, diags: &mut odc_model::Capped) -> R
     RawFile { text, file, preamble, sections, entries, trivia, index }
 }
 
+/// The first byte of `key` with ASCII case folded by `| 0x20` (0 for an empty key): equal keys
+/// ignoring ASCII case have equal values.
+#[inline(always)]
+fn fold_first(key: &str) -> u8 {
+    key.as_bytes().first().map_or(0, |b| b | 0x20)
+}
+
 fn check_duplicate_keys(
     sec: &Section<'_>,
     entries: &[Entry<'_>],
@@ -545,10 +561,13 @@ fn check_duplicate_keys(
     if n <= 24 {
         for j in 1..n {
             let k = &entries[j];
-            if let Some(first) = entries[..j]
-                .iter()
-                .find(|e| e.key.len() == k.key.len() && e.key.eq_ignore_ascii_case(k.key))
-            {
+            // Length and folded first byte first: most keys of a section differ there
+            // (`ObjectType`, `AccessType` and `PDOMapping` share their length), which spares
+            // the byte-wise comparison of nearly every pair.
+            let (len, lead) = (k.key.len(), fold_first(k.key));
+            if let Some(first) = entries[..j].iter().find(|e| {
+                e.key.len() == len && fold_first(e.key) == lead && e.key.eq_ignore_ascii_case(k.key)
+            }) {
                 report(first, k, diags);
             }
         }
