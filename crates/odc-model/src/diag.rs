@@ -111,13 +111,24 @@ impl Diagnostic {
 
     /// Adds the primary label.
     pub fn with_label(mut self, span: Span, message: impl Into<String>) -> Self {
-        self.labels.push(Label { span, message: clip(message.into()), primary: true });
+        self.push_label(Label { span, message: clip(message.into()), primary: true });
         self
+    }
+
+    /// Appends `label`. The first one allocates room for two (a diagnostic rarely has more):
+    /// `push` on an empty vector takes the general growth path, which costs a front-end that
+    /// reports thousands of diagnostics more than the allocation itself.
+    #[inline]
+    fn push_label(&mut self, label: Label) {
+        if self.labels.capacity() == 0 {
+            self.labels = Vec::with_capacity(2);
+        }
+        self.labels.push(label);
     }
 
     /// Adds a secondary label.
     pub fn with_secondary(mut self, span: Span, message: impl Into<String>) -> Self {
-        self.labels.push(Label { span, message: clip(message.into()), primary: false });
+        self.push_label(Label { span, message: clip(message.into()), primary: false });
         self
     }
 
