@@ -1811,7 +1811,7 @@ fn expected(class: ValueClass) -> &'static str {
 
 /// Reads `s` as a value of `dt`. `flags` are [`num`] warning flags.
 fn read_value(s: &str, dt: DataType, problem: &mut Problem) -> Option<(Value, u8)> {
-    let s = s.trim();
+    let s = num::trim(s);
     match dt.class() {
         ValueClass::Bool => num::parse_bool(s).map(|b| (Value::Bool(b), 0)),
         ValueClass::Unsigned(bits) => {

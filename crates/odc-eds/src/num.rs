@@ -123,6 +123,18 @@ fn parse_common(b: &[u8]) -> Option<(i128, u8)> {
     }
 }
 
+/// `s.trim()`, returning `s` at once when it starts and ends with a printable ASCII character
+/// (never white space). The scanner has trimmed blanks already, so that is nearly always the
+/// case, and the general trim decodes characters from both ends.
+#[inline]
+pub(crate) fn trim(s: &str) -> &str {
+    match s.as_bytes() {
+        [a, .., z] if a.is_ascii_graphic() && z.is_ascii_graphic() => s,
+        [a] if a.is_ascii_graphic() => s,
+        _ => s.trim(),
+    }
+}
+
 fn find_nodeid(s: &str) -> Option<usize> {
     let b = s.as_bytes();
     let mut i = memchr::memchr(b'$', b)?;
@@ -137,7 +149,12 @@ fn find_nodeid(s: &str) -> Option<usize> {
 /// Reads an integer literal, possibly `$NODEID`-relative: `$NODEID`, `$NODEID+n`, `$NODEID-n`,
 /// `n+$NODEID` (any case, blanks allowed around `+`).
 pub(crate) fn parse_int(s: &str) -> Option<Int> {
-    let s = s.trim();
+    // Most values are a plain hex or decimal number: nothing to trim, no `$NODEID` to look for
+    // (what `parse_common` reads is digits only, and the general path reads it alike).
+    if let Some((value, flags)) = parse_common(s.as_bytes()) {
+        return Some(Int { value, node_id: false, flags });
+    }
+    let s = trim(s);
     let Some(at) = find_nodeid(s) else {
         let (value, flags) = parse_plain(s)?;
         return Some(Int { value, node_id: false, flags });
@@ -167,7 +184,15 @@ pub(crate) fn parse_int(s: &str) -> Option<Int> {
 /// Reads a boolean: `0`, `1` (in any number notation), `true`, `false` (any case). Other
 /// numbers do not fit BOOLEAN.
 pub(crate) fn parse_bool(s: &str) -> Option<bool> {
-    let s = s.trim();
+    // `0` and `1` first, as for `parse_int`.
+    if let Some((v, _)) = parse_common(s.as_bytes()) {
+        return match v {
+            0 => Some(false),
+            1 => Some(true),
+            _ => None,
+        };
+    }
+    let s = trim(s);
     if s.eq_ignore_ascii_case("true") {
         return Some(true);
     }
@@ -184,13 +209,13 @@ pub(crate) fn parse_bool(s: &str) -> Option<bool> {
 /// Reads a float in decimal notation (Rust syntax: `1`, `-1.5`, `1e-3`, `inf`, `NaN`). A
 /// finite number too large for the type (`1e309`) does not read: Rust would make it infinite.
 pub(crate) fn parse_f64(s: &str) -> Option<f64> {
-    let f = s.trim().parse::<f64>().ok()?;
+    let f = trim(s).parse::<f64>().ok()?;
     (f.is_finite() || names_infinity(s)).then_some(f)
 }
 
 /// Reads a float in decimal notation as `f32` (`1e39` does not read, as for [`parse_f64`]).
 pub(crate) fn parse_f32(s: &str) -> Option<f32> {
-    let f = s.trim().parse::<f32>().ok()?;
+    let f = trim(s).parse::<f32>().ok()?;
     (f.is_finite() || names_infinity(s)).then_some(f)
 }
 
@@ -240,6 +265,30 @@ pub(crate) fn strip_inline_comment(s: &str) -> Option<&str> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn trim_matches_str_trim() {
+        for s in
+            ["", " ", "a", " a", "a ", "\u{a0}1\u{a0}", "0x1F", "\t$NODEID+1 ", "é", "1\u{3000}"]
+        {
+            assert_eq!(trim(s), s.trim(), "{s:?}");
+        }
+    }
+
+    #[test]
+    fn fast_paths_read_as_the_general_path() {
+        for s in ["0", "1", "2", "0x1", "0X0a", "123", "01", " 1", "1 ", "true", "0x"] {
+            let general = parse_plain(s.trim());
+            assert_eq!(parse_int(s).map(|n| (n.value, n.flags)), general, "{s:?}");
+            let b = match general {
+                Some((0, _)) => Some(false),
+                Some((1, _)) => Some(true),
+                _ if s.trim().eq_ignore_ascii_case("true") => Some(true),
+                _ => None,
+            };
+            assert_eq!(parse_bool(s), b, "{s:?}");
+        }
+    }
 
     fn int(s: &str) -> Option<(i128, bool, u8)> {
         parse_int(s).map(|i| (i.value, i.node_id, i.flags))
