@@ -104,12 +104,7 @@ fn hex4(b: &[u8]) -> Option<u16> {
     }
     let mut v = 0u16;
     for &c in b {
-        let d = match c {
-            b'0'..=b'9' => c - b'0',
-            b'a'..=b'f' => c - b'a' + 10,
-            b'A'..=b'F' => c - b'A' + 10,
-            _ => return None,
-        };
+        let d = num::hex_digit(c)?;
         v = (v << 4) | u16::from(d);
     }
     Some(v)
@@ -121,12 +116,7 @@ fn hex_u8(b: &[u8]) -> Option<u8> {
     }
     let mut v = 0u32;
     for &c in b {
-        let d = match c {
-            b'0'..=b'9' => c - b'0',
-            b'a'..=b'f' => c - b'a' + 10,
-            b'A'..=b'F' => c - b'A' + 10,
-            _ => return None,
-        };
+        let d = num::hex_digit(c)?;
         v = (v << 4) | u32::from(d);
     }
     u8::try_from(v).ok()
@@ -522,7 +512,16 @@ impl<'r, 'a> Lower<'r, 'a> {
         self.diags.push(Diagnostic::warning(code, msg).with_label(span, label));
     }
 
+    /// Warns about how an integer was written, if [`num::WARN_FLAGS`] says there is anything
+    /// to say (rarely: the check is inlined, the warnings are not).
+    #[inline(always)]
     fn int_flags(&mut self, flags: u8, e: &Entry<'_>) {
+        if flags & num::WARN_FLAGS != 0 {
+            self.int_flag_warnings(flags, e);
+        }
+    }
+
+    fn int_flag_warnings(&mut self, flags: u8, e: &Entry<'_>) {
         let span = self.span(e.value_pos);
         if flags & num::OCTAL != 0 {
             self.warn(
