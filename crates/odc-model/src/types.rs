@@ -296,22 +296,33 @@ pub enum Access {
 
 impl Access {
     /// Parses a CiA 306 spelling, case-insensitively.
+    ///
+    /// By length, then the bytes with ASCII case folded by `| 0x20` (exact for letters: only
+    /// a letter's two cases fold to it): every EDS sub-object has an AccessType, and comparing
+    /// against each spelling in turn cost more than the rest of reading it.
     pub fn parse(s: &str) -> Option<Access> {
-        let s = s.trim();
-        Some(if s.eq_ignore_ascii_case("ro") {
-            Access::Ro
-        } else if s.eq_ignore_ascii_case("wo") {
-            Access::Wo
-        } else if s.eq_ignore_ascii_case("rw") {
-            Access::Rw
-        } else if s.eq_ignore_ascii_case("rwr") {
-            Access::Rwr
-        } else if s.eq_ignore_ascii_case("rww") {
-            Access::Rww
-        } else if s.eq_ignore_ascii_case("const") {
-            Access::Const
-        } else {
-            return None;
+        let s = match s.as_bytes() {
+            [a, .., z] if a.is_ascii_graphic() && z.is_ascii_graphic() => s,
+            _ => s.trim(),
+        };
+        let fold = |c: &u8| c | 0x20;
+        Some(match s.as_bytes() {
+            [a, b] => match [fold(a), fold(b)] {
+                [b'r', b'o'] => Access::Ro,
+                [b'w', b'o'] => Access::Wo,
+                [b'r', b'w'] => Access::Rw,
+                _ => return None,
+            },
+            [a, b, c] => match [fold(a), fold(b), fold(c)] {
+                [b'r', b'w', b'r'] => Access::Rwr,
+                [b'r', b'w', b'w'] => Access::Rww,
+                _ => return None,
+            },
+            [a, b, c, d, e] => match [fold(a), fold(b), fold(c), fold(d), fold(e)] {
+                [b'c', b'o', b'n', b's', b't'] => Access::Const,
+                _ => return None,
+            },
+            _ => return None,
         })
     }
 
@@ -389,5 +400,31 @@ impl PdoMapping {
     /// Whether it is mappable at all.
     pub fn is_mappable(self) -> bool {
         self != PdoMapping::No
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn access_parse_is_trimmed_and_case_insensitive() {
+        let all = [Access::Ro, Access::Wo, Access::Rw, Access::Rwr, Access::Rww, Access::Const];
+        for a in all {
+            let name = a.as_str();
+            for s in [
+                name.to_owned(),
+                name.to_ascii_uppercase(),
+                format!(" {name}\t"),
+                format!("\u{a0}{}\u{3000}", name.to_ascii_uppercase()),
+            ] {
+                assert_eq!(Access::parse(&s), Some(a), "{s:?}");
+            }
+        }
+        for s in ["", "r", "w", "rr", "ow", "r0", "rwx", "rwro", "cons", "constant", "2o", "RO!"] {
+            assert_eq!(Access::parse(s), None, "{s:?}");
+        }
+        // `| 0x20` maps only a letter's two cases to it: `R` folds to `r`, `2` does not to `R`.
+        assert_eq!(Access::parse("\u{0012}o"), None);
     }
 }
