@@ -50,10 +50,19 @@ pub(crate) struct Int {
 
 /// Reads one integer literal without `$NODEID`: optional sign, `0x` hex, leading-zero octal or
 /// decimal, optional C suffix.
+///
+/// Inlined, so that callers read the common shapes ([`parse_common`]) without a call; the
+/// general reader stays out of line.
+#[inline]
 pub(crate) fn parse_plain(s: &str) -> Option<(i128, u8)> {
-    if let Some(v) = parse_common(s.as_bytes()) {
-        return Some(v);
+    match parse_common(s.as_bytes()) {
+        Some(v) => Some(v),
+        None => parse_general(s),
     }
+}
+
+/// [`parse_plain`] for what [`parse_common`] does not read.
+fn parse_general(s: &str) -> Option<(i128, u8)> {
     let mut b = s.as_bytes();
     let mut flags = 0u8;
     let mut neg = false;
