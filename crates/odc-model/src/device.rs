@@ -302,9 +302,15 @@ impl SubRare {
         extra: Vec::new(),
     };
 
-    /// Whether all are absent.
+    /// Whether all are absent (field by field: comparing with [`SubRare::EMPTY`] compared every
+    /// field through `PartialEq`, and the EDS reader asks this of every sub-object).
     pub fn is_empty(&self) -> bool {
-        *self == SubRare::EMPTY
+        let SubRare { denotation, obj_flags, upload_file, download_file, extra } = self;
+        denotation.is_none()
+            && obj_flags.is_none()
+            && upload_file.is_none()
+            && download_file.is_none()
+            && extra.is_empty()
     }
 }
 

@@ -196,7 +196,11 @@ impl Capped {
 
     /// Adds `d`, or only counts it when [`MAX_PER_CODE`] of its code are kept already.
     pub fn push(&mut self, d: Diagnostic) {
-        let i = match self.counts.iter().position(|c| c.0 == d.code) {
+        // Codes are `&'static str` constants: the same address nearly always, so that is
+        // looked for first (comparing the text calls `memcmp` for every code seen). Codes in
+        // `counts` are distinct, so both searches find the same entry.
+        let found = self.counts.iter().position(|c| std::ptr::eq(c.0, d.code));
+        let i = match found.or_else(|| self.counts.iter().position(|c| c.0 == d.code)) {
             Some(i) => i,
             None => {
                 self.counts.push((d.code, 0, Span::DUMMY));
