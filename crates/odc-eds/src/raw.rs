@@ -152,19 +152,27 @@ impl Hash for Caseless<'_> {
             let m = u128::from(h ^ w) * u128::from(K);
             (m as u64) ^ ((m >> 64) as u64)
         }
+        // The bytes past the last whole word are read with fixed-size loads (overlapping ones;
+        // which bytes land where depends only on the length, so equal names still hash alike):
+        // copying a variable-length tail into a zeroed word called `memcpy` and then stalled
+        // on reading the word back (the hottest instruction of the section index).
         let b = self.0.as_bytes();
-        let mut h = b.len() as u64;
-        let mut chunks = b.chunks_exact(8);
-        for c in &mut chunks {
-            let mut w = [0u8; 8];
-            w.copy_from_slice(c);
-            h = mix(h, u64::from_le_bytes(w) | CASE);
+        let n = b.len();
+        let mut h = n as u64;
+        let mut i = 0;
+        while i + 8 <= n {
+            h = mix(h, word(b, i) | CASE);
+            i += 8;
         }
-        let r = chunks.remainder();
-        if !r.is_empty() {
-            let mut w = [0u8; 8];
-            w[..r.len()].copy_from_slice(r);
-            h = mix(h, u64::from_le_bytes(w) | CASE);
+        if i < n {
+            let w = if n >= 8 {
+                word(b, n - 8)
+            } else if n >= 4 {
+                u64::from(word32(b, 0)) | (u64::from(word32(b, n - 4)) << 32)
+            } else {
+                u64::from(b[0]) | (u64::from(b[n / 2]) << 8) | (u64::from(b[n - 1]) << 16)
+            };
+            h = mix(h, w | CASE);
         }
         state.write_u64(h);
     }
@@ -301,6 +309,13 @@ fn word(hay: &[u8], i: usize) -> u64 {
     let mut chunk = [0u8; 8];
     chunk.copy_from_slice(&hay[i..i + 8]);
     u64::from_le_bytes(chunk)
+}
+
+#[inline]
+fn word32(hay: &[u8], i: usize) -> u32 {
+    let mut chunk = [0u8; 4];
+    chunk.copy_from_slice(&hay[i..i + 4]);
+    u32::from_le_bytes(chunk)
 }
 
 /// The first `needle` in `hay[from..]`, or `hay.len()`, 8 bytes at a time. Lines are short (16
@@ -587,6 +602,22 @@ fn check_duplicate_keys(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn names_equal_ignoring_case_hash_alike() {
+        use std::hash::BuildHasher;
+        let build = BuildHasherDefault::<PassHasher>::default();
+        let name = "1A00sub1ManufacturerStatus";
+        let mut seen = std::collections::HashSet::new();
+        for n in 1..=name.len() {
+            let lower = name[..n].to_ascii_lowercase();
+            let upper = name[..n].to_ascii_uppercase();
+            let h = build.hash_one(Caseless(&lower));
+            assert_eq!(h, build.hash_one(Caseless(&upper)), "{lower}");
+            seen.insert(h);
+        }
+        assert_eq!(seen.len(), name.len(), "prefixes of different lengths hash apart");
+    }
 
     fn scan_str(text: &str) -> (RawFile<'_>, Vec<Diagnostic>) {
         let mut d = odc_model::Capped::new();
