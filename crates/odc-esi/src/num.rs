@@ -15,9 +15,9 @@ pub fn parse_int(text: &str) -> Option<i128> {
     // One pass over the digits (called for most elements). At most 32 hex or 38 decimal
     // digits: the magnitude cannot overflow a u128.
     let magnitude = match t {
-        [b'#' | b'0', b'x' | b'X', h @ ..] if !h.is_empty() && h.len() <= 32 => {
-            h.iter().try_fold(0u128, |v, &b| Some(v << 4 | u128::from(hex_digit(b)?)))?
-        }
+        [b'#' | b'0', b'x' | b'X', h @ ..] if !h.is_empty() && h.len() <= 32 => h
+            .iter()
+            .try_fold(0u128, |v, &b| Some(v << 4 | u128::from(char::from(b).to_digit(16)?)))?,
         [b'#' | b'0', b'x' | b'X', ..] => return None,
         d if !d.is_empty() && d.len() <= 38 => d
             .iter()
@@ -26,16 +26,6 @@ pub fn parse_int(text: &str) -> Option<i128> {
     };
     let v = i128::try_from(magnitude).ok()?;
     Some(if neg { -v } else { v })
-}
-
-/// The value of a hex digit.
-fn hex_digit(b: u8) -> Option<u8> {
-    match b {
-        b'0'..=b'9' => Some(b - b'0'),
-        b'a'..=b'f' => Some(b - b'a' + 10),
-        b'A'..=b'F' => Some(b - b'A' + 10),
-        _ => None,
-    }
 }
 
 /// Parses an `xs:boolean`: `1`, `0`, `true`, `false` (any case, surrounding white space ignored).
