@@ -60,6 +60,13 @@ largest "$WORK/esi.list" > "$WORK/esi-largest.list"
 largest "$WORK/esi-common.list" > "$WORK/esi-common-largest.list"
 
 # ---- timings -----------------------------------------------------------------------------
+# glibc's malloc returns freed memory at the top of the heap to the OS once it passes a
+# threshold it keeps adjusting, and takes it back with fresh page faults on the next pass.
+# Whether a tool's pass crosses it depends on the heap's exact layout: the same odc binary took
+# 0.44 or 0.84 ms per pass on the largest EDS depending on the length of a command-line
+# argument. Fixed thresholds make every tool of a run (Rust and Python alike) reuse its memory
+# from pass to pass, so the figures measure parsing, not that accident.
+export MALLOC_TRIM_THRESHOLD_=268435456 MALLOC_MMAP_THRESHOLD_=268435456
 # rust LIST KIND TOOL / py LIST TOOL: CPU seconds per pass of TOOL over the files of LIST.
 # Each harness runs once per input list; its output is kept in $WORK/times-*.
 run_rust() { local o="$WORK/times-rust-$2-$(basename "$1")"; [ -s "$o" ] || "$HARNESS" "$2" "$1" > "$o"; cat "$o"; }
