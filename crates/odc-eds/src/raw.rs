@@ -29,7 +29,7 @@
 //!   [`RawFile::trivia`]); a [`Section`] holds ranges into them (no allocation per section).
 
 use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hash, Hasher};
+use std::hash::{Hash, Hasher};
 
 use odc_model::{Diagnostic, FileId, Span};
 
@@ -139,29 +139,20 @@ impl PartialEq for Caseless<'_> {
 impl Eq for Caseless<'_> {}
 impl Hash for Caseless<'_> {
     fn hash<H: Hasher>(&self, state: &mut H) {
-        // Eight bytes at a time. `| 0x20` folds ASCII case (names equal ignoring ASCII case hash
-        // alike; other bytes may collide, which `eq` sorts out). Each word is mixed by a folded
-        // multiply (the high and low halves of the 128-bit product xored): every input bit
-        // reaches every output bit. A plain 64-bit multiply only carries bits upwards, so the
-        // low bits hashbrown picks the bucket from ignored the last bytes of a word, and names
-        // such as `1A00sub1`..`1A00sub8` all probed from one bucket.
-        const K: u64 = 0x9E37_79B9_7F4A_7C15;
+        // Eight bytes at a time, each word mixed into the hasher's state ([`FoldHasher`]).
+        // `| 0x20` folds ASCII case (names equal ignoring ASCII case hash alike; other bytes may
+        // collide, which `eq` sorts out). The bytes past the last whole word are read with
+        // fixed-size loads (overlapping ones; which bytes land where depends only on the length,
+        // so equal names still hash alike): copying a variable-length tail into a zeroed word
+        // called `memcpy` and then stalled on reading the word back (the hottest instruction of
+        // the section index).
         const CASE: u64 = 0x2020_2020_2020_2020;
-        #[inline(always)]
-        fn mix(h: u64, w: u64) -> u64 {
-            let m = u128::from(h ^ w) * u128::from(K);
-            (m as u64) ^ ((m >> 64) as u64)
-        }
-        // The bytes past the last whole word are read with fixed-size loads (overlapping ones;
-        // which bytes land where depends only on the length, so equal names still hash alike):
-        // copying a variable-length tail into a zeroed word called `memcpy` and then stalled
-        // on reading the word back (the hottest instruction of the section index).
         let b = self.0.as_bytes();
         let n = b.len();
-        let mut h = n as u64;
+        state.write_u64(n as u64);
         let mut i = 0;
         while i + 8 <= n {
-            h = mix(h, word(b, i) | CASE);
+            state.write_u64(word(b, i) | CASE);
             i += 8;
         }
         if i < n {
@@ -172,26 +163,59 @@ impl Hash for Caseless<'_> {
             } else {
                 u64::from(b[0]) | (u64::from(b[n / 2]) << 8) | (u64::from(b[n - 1]) << 16)
             };
-            h = mix(h, w | CASE);
+            state.write_u64(w | CASE);
         }
-        state.write_u64(h);
     }
 }
 
-/// Passes an already mixed `u64` through (the hash is computed by [`Caseless`]).
-#[derive(Default)]
-struct PassHasher(u64);
-impl Hasher for PassHasher {
+/// Mixes each word into its state by a folded multiply (the high and low halves of the
+/// 128-bit product xored): every input bit reaches every output bit. A plain 64-bit multiply
+/// only carries bits upwards, so the low bits hashbrown picks the bucket from ignored the last
+/// bytes of a word, and names such as `1A00sub1`..`1A00sub8` all probed from one bucket.
+struct FoldHasher(u64);
+
+impl FoldHasher {
+    #[inline(always)]
+    fn mix(&mut self, w: u64) {
+        const K: u64 = 0x9E37_79B9_7F4A_7C15;
+        let m = u128::from(self.0 ^ w) * u128::from(K);
+        self.0 = (m as u64) ^ ((m >> 64) as u64);
+    }
+}
+
+impl Hasher for FoldHasher {
     fn finish(&self) -> u64 {
         self.0
     }
     fn write(&mut self, bytes: &[u8]) {
         for &b in bytes {
-            self.0 = (self.0 ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3);
+            self.mix(u64::from(b));
         }
     }
-    fn write_u64(&mut self, v: u64) {
-        self.0 = v;
+    #[inline(always)]
+    fn write_u64(&mut self, w: u64) {
+        self.mix(w);
+    }
+}
+
+/// Builds [`FoldHasher`]s that start from a random seed, one per map. With a fixed start a
+/// file could be written whose section names or keys all hash alike (the mix is public, and
+/// a name's second word can cancel what its first did), and the index would take quadratic
+/// time; not knowing the seed, a file cannot aim at it. std's `RandomState` supplies the seed.
+#[derive(Clone)]
+struct Seeded(u64);
+
+impl Seeded {
+    fn new() -> Self {
+        use std::hash::BuildHasher;
+        Seeded(std::collections::hash_map::RandomState::new().hash_one(0u8))
+    }
+}
+
+impl std::hash::BuildHasher for Seeded {
+    type Hasher = FoldHasher;
+    fn build_hasher(&self) -> FoldHasher {
+        FoldHasher(self.0)
     }
 }
 
@@ -210,7 +234,7 @@ pub struct RawFile<'a> {
     pub entries: Vec<Entry<'a>>,
     /// All comment, blank and stray lines in file order; sections hold ranges of it.
     pub trivia: Vec<Trivia<'a>>,
-    index: HashMap<Caseless<'a>, (u32, u32), BuildHasherDefault<PassHasher>>,
+    index: HashMap<Caseless<'a>, (u32, u32), Seeded>,
 }
 
 impl<'a> RawFile<'a> {
@@ -515,8 +539,8 @@ pub fn scan<'a>(text: &'a str, file: FileId, diags: &mut odc_model::Capped) -> R
     }
 
     // Index the sections and link duplicates.
-    let mut index: HashMap<Caseless<'a>, (u32, u32), BuildHasherDefault<PassHasher>> =
-        HashMap::with_capacity_and_hasher(sections.len(), BuildHasherDefault::default());
+    let mut index: HashMap<Caseless<'a>, (u32, u32), Seeded> =
+        HashMap::with_capacity_and_hasher(sections.len(), Seeded::new());
     for i in 0..sections.len() {
         let name = sections[i].name;
         match index.entry(Caseless(name)) {
@@ -587,8 +611,8 @@ fn check_duplicate_keys(
             }
         }
     } else {
-        let mut seen: HashMap<Caseless<'_>, usize, BuildHasherDefault<PassHasher>> =
-            HashMap::with_capacity_and_hasher(n, BuildHasherDefault::default());
+        let mut seen: HashMap<Caseless<'_>, usize, Seeded> =
+            HashMap::with_capacity_and_hasher(n, Seeded::new());
         for (j, e) in entries.iter().enumerate() {
             if let Some(&first) = seen.get(&Caseless(e.key)) {
                 report(&entries[first], e, diags);
@@ -606,7 +630,7 @@ mod tests {
     #[test]
     fn names_equal_ignoring_case_hash_alike() {
         use std::hash::BuildHasher;
-        let build = BuildHasherDefault::<PassHasher>::default();
+        let build = Seeded::new();
         let name = "1A00sub1ManufacturerStatus";
         let mut seen = std::collections::HashSet::new();
         for n in 1..=name.len() {
@@ -617,6 +641,42 @@ mod tests {
             seen.insert(h);
         }
         assert_eq!(seen.len(), name.len(), "prefixes of different lengths hash apart");
+    }
+
+    #[test]
+    fn each_index_hashes_from_its_own_seed() {
+        use std::hash::BuildHasher;
+        // Two names that collide from a known start: the second word cancels what the first
+        // left in the state. From another seed they hash apart.
+        let start = Seeded(16);
+        let first = |w: u64| {
+            let mut h = start.build_hasher();
+            h.write_u64(16);
+            h.write_u64(w);
+            h.finish()
+        };
+        let (a1, b1) = (u64::from_le_bytes(*b"aaaaaaaa"), u64::from_le_bytes(*b"bbbbbbbb"));
+        let a2 = u64::from_le_bytes(*b"cccccccc");
+        let b2 = a2 ^ first(a1) ^ first(b1);
+        let name = |w1: u64, w2: u64| {
+            let mut v = w1.to_le_bytes().to_vec();
+            v.extend(w2.to_le_bytes());
+            v
+        };
+        let hash = |seed: &Seeded, bytes: &[u8]| {
+            let mut h = seed.build_hasher();
+            h.write_u64(bytes.len() as u64);
+            for c in bytes.chunks(8) {
+                h.write_u64(u64::from_le_bytes(c.try_into().unwrap()));
+            }
+            h.finish()
+        };
+        let (a, b) = (name(a1, a2), name(b1, b2));
+        assert_eq!(hash(&start, &a), hash(&start, &b), "crafted for this start");
+        let seeded = Seeded::new();
+        assert_ne!(hash(&seeded, &a), hash(&seeded, &b));
+        let other = Seeded::new();
+        assert_ne!(seeded.hash_one(Caseless("1A00")), other.hash_one(Caseless("1A00")));
     }
 
     fn scan_str(text: &str) -> (RawFile<'_>, Vec<Diagnostic>) {
