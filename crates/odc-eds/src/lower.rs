@@ -2,6 +2,7 @@
 
 use std::collections::BTreeMap;
 
+use odc_model::trim::trim;
 use odc_model::{
     Access, Commissioning, DataType, Device, Diagnostic, FileId, Format, Module, Name, Object,
     ObjectKind, ObjectList, PdoMapping, RawEntry, RawSection, Severity, Span, Spanned, SubExtend,
@@ -27,20 +28,20 @@ pub(crate) fn compact_sub_name(object: &str, n: u8) -> Name {
 /// made from it in one go: inline when it fits in 24 bytes, else one allocation of its size.
 /// (Appending to a `Name` calls out of line at each step; checking a byte buffer as UTF-8
 /// costs more than the rest.)
-pub(crate) struct CompactNames {
+struct CompactNames {
     buf: String,
     stem: usize,
 }
 
 impl CompactNames {
-    pub(crate) fn new(object: &str) -> Self {
+    fn new(object: &str) -> Self {
         let mut buf = String::with_capacity(object.len() + 3);
         buf.push_str(object);
         CompactNames { buf, stem: object.len() }
     }
 
     /// The name of sub-object `n`.
-    pub(crate) fn name(&mut self, n: u8) -> Name {
+    fn name(&mut self, n: u8) -> Name {
         self.buf.truncate(self.stem);
         self.buf.push_str(decimal(n));
         Name::new(&self.buf)
@@ -1810,7 +1811,7 @@ fn expected(class: ValueClass) -> &'static str {
 
 /// Reads `s` as a value of `dt`. `flags` are [`num`] warning flags.
 fn read_value(s: &str, dt: DataType, problem: &mut Problem) -> Option<(Value, u8)> {
-    let s = num::trim(s);
+    let s = trim(s);
     match dt.class() {
         ValueClass::Bool => num::parse_bool(s).map(|b| (Value::Bool(b), 0)),
         ValueClass::Unsigned(bits) => {

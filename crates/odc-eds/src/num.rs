@@ -1,6 +1,8 @@
 //! Hand-written number readers: integers (decimal, `0x` hex, leading-zero octal, C suffixes,
 //! `$NODEID` in either order), booleans, reals, hex bytes.
 
+use odc_model::trim::trim;
+
 /// Something about how a number was written that deserves a warning.
 pub(crate) const OCTAL: u8 = 1;
 /// A C suffix (`U`, `L`, `LL`, ...) was cut.
@@ -149,18 +151,6 @@ fn parse_common(b: &[u8]) -> Option<(i128, u8)> {
     }
 }
 
-/// `s.trim()`, returning `s` at once when it starts and ends with a printable ASCII character
-/// (never white space). The scanner has trimmed blanks already, so that is nearly always the
-/// case, and the general trim decodes characters from both ends.
-#[inline]
-pub(crate) fn trim(s: &str) -> &str {
-    match s.as_bytes() {
-        [a, .., z] if a.is_ascii_graphic() && z.is_ascii_graphic() => s,
-        [a] if a.is_ascii_graphic() => s,
-        _ => s.trim(),
-    }
-}
-
 fn find_nodeid(s: &str) -> Option<usize> {
     let b = s.as_bytes();
     let mut i = memchr::memchr(b'$', b)?;
@@ -287,15 +277,6 @@ mod tests {
     fn hex_digit_reads_hex_digits_only() {
         for c in 0..=255u8 {
             assert_eq!(hex_digit(c), (c as char).to_digit(16).map(|d| d as u8), "{c}");
-        }
-    }
-
-    #[test]
-    fn trim_matches_str_trim() {
-        for s in
-            ["", " ", "a", " a", "a ", "\u{a0}1\u{a0}", "0x1F", "\t$NODEID+1 ", "é", "1\u{3000}"]
-        {
-            assert_eq!(trim(s), s.trim(), "{s:?}");
         }
     }
 

@@ -30,7 +30,6 @@
 mod decode;
 mod lower;
 pub mod num;
-mod trim;
 mod xml;
 
 use std::borrow::Cow;

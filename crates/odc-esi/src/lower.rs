@@ -15,8 +15,8 @@ use odc_model::{
 };
 
 use crate::num;
-use crate::trim::trim;
 use crate::xml::{Attr, Element};
+use odc_model::trim::trim;
 
 /// Device children the lowering interprets; the others are kept raw.
 const DEVICE_KNOWN: &[&str] = &[

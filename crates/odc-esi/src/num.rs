@@ -2,7 +2,7 @@
 
 use odc_model::{DataType, Value, ValueClass};
 
-use crate::trim::trim;
+use odc_model::trim::trim;
 
 /// Parses an ETG `HexDecValue`: `#x1A` (the schema's form), `0x1A` (common, not conformant),
 /// decimal, optionally signed. Surrounding white space is ignored.

@@ -26,7 +26,7 @@ use quick_xml::XmlVersion;
 use quick_xml::events::{BytesStart, Event};
 use quick_xml::{Error, Reader};
 
-use crate::trim::{is_trimmed, trim, trim_end, trim_start};
+use odc_model::trim::{is_trimmed, trim, trim_end, trim_start};
 
 /// Deepest element nesting read; deeper content is skipped with a diagnostic.
 pub const MAX_DEPTH: usize = 256;

@@ -293,16 +293,7 @@ pub struct SubRare {
 }
 
 impl SubRare {
-    /// All absent: what [`SubObject::rare`] shows for a sub-object without the box.
-    pub const EMPTY: SubRare = SubRare {
-        denotation: None,
-        obj_flags: None,
-        upload_file: None,
-        download_file: None,
-        extra: Vec::new(),
-    };
-
-    /// Whether all are absent (field by field: comparing with [`SubRare::EMPTY`] compared every
+    /// Whether all are absent (field by field: comparing with an empty one compared every
     /// field through `PartialEq`, and the EDS reader asks this of every sub-object).
     pub fn is_empty(&self) -> bool {
         let SubRare { denotation, obj_flags, upload_file, download_file, extra } = self;
@@ -336,8 +327,14 @@ impl SubObject {
 
     /// Denotation, `ObjFlags`, file names and keys kept as written (all absent for most).
     pub fn rare(&self) -> &SubRare {
-        // A static, not the const: a const with a `Vec` is not promoted to a `'static` borrow.
-        static EMPTY: SubRare = SubRare::EMPTY;
+        // All absent: what a sub-object without the box shows.
+        static EMPTY: SubRare = SubRare {
+            denotation: None,
+            obj_flags: None,
+            upload_file: None,
+            download_file: None,
+            extra: Vec::new(),
+        };
         self.rare.as_deref().unwrap_or(&EMPTY)
     }
 

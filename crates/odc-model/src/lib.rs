@@ -20,6 +20,7 @@ pub mod ethercat;
 pub mod pdo;
 mod span;
 pub mod subs;
+pub mod trim;
 mod types;
 mod value;
 

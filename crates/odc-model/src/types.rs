@@ -301,10 +301,7 @@ impl Access {
     /// a letter's two cases fold to it): every EDS sub-object has an AccessType, and comparing
     /// against each spelling in turn cost more than the rest of reading it.
     pub fn parse(s: &str) -> Option<Access> {
-        let s = match s.as_bytes() {
-            [a, .., z] if a.is_ascii_graphic() && z.is_ascii_graphic() => s,
-            _ => s.trim(),
-        };
+        let s = crate::trim::trim(s);
         let fold = |c: &u8| c | 0x20;
         Some(match s.as_bytes() {
             [a, b] => match [fold(a), fold(b)] {
