@@ -95,6 +95,9 @@ for tool in canopen-host python-canopen lely-dcf-tools; do
     odc=$(rust "$L" eds odc)
     if [ "$tool" = canopen-host ]; then other=$(rust "$L" eds canopen-host); else other=$(py "$L" "$tool"); fi
     row "$set" "$(n "$L")" "$(bytes "$L")" "$tool" "$odc" "$other"
+    # odc makes the sub-objects a CompactSubObj implies on first read: the same comparison
+    # with odc reading every sub-object after the parse.
+    row "$set" "$(n "$L")" "$(bytes "$L")" "$tool (all subs)" "$(rust "$L" eds odc-all-subs)" "$other"
   done
 done
 

@@ -45,6 +45,22 @@ fn main() {
                 }),
             ),
             (
+                // The same, then the sub-objects of every object made: those a `CompactSubObj`
+                // implies are made on first read (python-canopen also makes them on access,
+                // canopen-host never), so this is the cost once all of them are used. Asking
+                // for the last one makes them without timing a walk over them.
+                "odc-all-subs",
+                Box::new(|name, b| {
+                    let mut s = odc_model::Sources::new();
+                    let dev = odc_eds::parse(&mut s, name, b).device;
+                    let fixed = dev.modules.supported.iter().flat_map(|m| m.fixed_objects.values());
+                    for o in dev.objects.values().chain(fixed) {
+                        black_box(o.subs.last_key_value());
+                    }
+                    true
+                }),
+            ),
+            (
                 "canopen-host",
                 Box::new(|_, b| {
                     let text = String::from_utf8_lossy(b);

@@ -16,62 +16,6 @@ use crate::rules::codes;
 /// The name CiA 306 tools give the implied sub-index 0 of a compact object.
 pub(crate) const COMPACT_SUB0_NAME: &str = "NrOfObjects";
 
-/// The name of an implied sub-object `n` of a compact object named `object`.
-pub(crate) fn compact_sub_name(object: &str, n: u8) -> Name {
-    CompactNames::new(object).name(n)
-}
-
-/// Makes the names of a compact object's implied sub-objects, its name followed by the
-/// sub-index in decimal: thousands in a CANopen master's DCF.
-///
-/// The text is put together in a buffer that holds the object's name once, and each name is
-/// made from it in one go: inline when it fits in 24 bytes, else one allocation of its size.
-/// (Appending to a `Name` calls out of line at each step; checking a byte buffer as UTF-8
-/// costs more than the rest.)
-struct CompactNames {
-    buf: String,
-    stem: usize,
-}
-
-impl CompactNames {
-    fn new(object: &str) -> Self {
-        let mut buf = String::with_capacity(object.len() + 3);
-        buf.push_str(object);
-        CompactNames { buf, stem: object.len() }
-    }
-
-    /// The name of sub-object `n`.
-    fn name(&mut self, n: u8) -> Name {
-        self.buf.truncate(self.stem);
-        self.buf.push_str(decimal(n));
-        Name::new(&self.buf)
-    }
-}
-
-/// The decimal digits of `n`, without leading zeros, from a table made at compile time (a
-/// compact object names thousands of implied sub-objects by number).
-fn decimal(n: u8) -> &'static str {
-    /// "000" to "255", three digits each.
-    const TABLE: [u8; 768] = {
-        let mut t = [0u8; 768];
-        let mut i = 0;
-        while i < 256 {
-            t[3 * i] = b'0' + (i / 100) as u8;
-            t[3 * i + 1] = b'0' + (i / 10 % 10) as u8;
-            t[3 * i + 2] = b'0' + (i % 10) as u8;
-            i += 1;
-        }
-        t
-    };
-    const DIGITS: &str = match std::str::from_utf8(&TABLE) {
-        Ok(s) => s,
-        Err(_) => panic!("ASCII digits are UTF-8"),
-    };
-    let skip = usize::from(n < 100) + usize::from(n < 10);
-    let at = 3 * usize::from(n);
-    DIGITS.get(at + skip..at + 3).unwrap_or_default()
-}
-
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Kind {
     FileInfo,
@@ -925,7 +869,7 @@ impl<'r, 'a> Lower<'r, 'a> {
         // leaves them out), in the objects and in the modules' objects.
         let dcf_sub =
             |s: &odc_model::SubObject| s.parameter_value.is_some() || s.rare().denotation.is_some();
-        let dcf_object = |o: &Object| o.denotation.is_some() || o.subs.values().any(dcf_sub);
+        let dcf_object = |o: &Object| o.denotation.is_some() || o.subs.any_ignoring_names(dcf_sub);
         let has_pv = dev.objects.values().any(dcf_object)
             || dev.modules.supported.iter().any(|m| {
                 m.fixed_objects.values().any(dcf_object)
@@ -1642,19 +1586,10 @@ impl<'r, 'a> Lower<'r, 'a> {
         let mut sub0 = SubObject::new(0, COMPACT_SUB0_NAME, DataType::Unsigned8, Access::Ro);
         sub0.default = Some(Spanned::new(Value::Unsigned(u64::from(n.value)), n.span));
         sub0.span = n.span;
-        // Explicit sub sections are read after this, so `obj.subs` is empty here: appended in
-        // order into a vector of the right size.
-        obj.subs.reserve_exact(usize::from(n.value) + 1 + b.subs.len());
+        // Explicit sub sections are read after this, so `obj.subs` is empty here.
+        obj.subs.reserve_exact(1 + b.subs.len());
         obj.subs.insert(0, sub0);
-        // Clones of the template written straight into the vector, then numbered and named in
-        // place: making each sub-object whole first and moving it in copied its 160 bytes
-        // twice, and those copies took 15% of the parse time of the CANopen corpus files.
-        obj.subs.extend((1..=n.value).map(|i| (i, template.clone())));
-        let mut names = CompactNames::new(&obj.name);
-        for (&i, s) in obj.subs.iter_mut().skip(1) {
-            s.sub_index = i;
-            s.name = names.name(i);
-        }
+        obj.subs.set_implied(template, n.value, &obj.name);
     }
 
     /// `[IIIIName]`, `[IIIIValue]`, `[IIIIDenotation]`.
@@ -1684,7 +1619,8 @@ impl<'r, 'a> Lower<'r, 'a> {
                     );
                     continue;
                 };
-                let dt = obj.subs.get(&sub).map_or(DataType::Domain, |s| s.data_type);
+                // `get_mut`: makes only this one of a compact object's implied sub-objects.
+                let dt = obj.subs.get_mut(&sub).map_or(DataType::Domain, |s| s.data_type);
                 let value = if which == 1 { self.value(e, dt) } else { None };
                 let text = self.text(e);
                 if let Some(s) = obj.subs.get_mut(&sub) {
@@ -1966,21 +1902,5 @@ mod tests {
         }
         assert!(obj_key("Parameter_Name").is_none());
         assert!(obj_key("Cou t").is_none());
-    }
-
-    #[test]
-    fn compact_sub_names() {
-        assert_eq!(compact_sub_name("Obj", 0), "Obj0");
-        assert_eq!(compact_sub_name("Obj", 7), "Obj7");
-        assert_eq!(compact_sub_name("Obj", 10), "Obj10");
-        assert_eq!(compact_sub_name("Obj", 99), "Obj99");
-        assert_eq!(compact_sub_name("Obj", 100), "Obj100");
-        assert_eq!(compact_sub_name("", 255), "255");
-        // Past the 24 bytes of an inline name.
-        let long = "Expected software identification";
-        assert_eq!(compact_sub_name(long, 17), format!("{long}17"));
-        for n in 0..=255u8 {
-            assert_eq!(decimal(n), n.to_string());
-        }
     }
 }

@@ -2,11 +2,12 @@
 
 use std::fmt::Write as _;
 
+use odc_model::subs::implied_name;
 use odc_model::{
     Device, Format, Module, Object, Origin, PdoMapping, RawEntry, Spanned, SubObject, Value,
 };
 
-use crate::lower::{COMPACT_SUB0_NAME, compact_sub_name, is_compact_template_key};
+use crate::lower::{COMPACT_SUB0_NAME, is_compact_template_key};
 
 /// Writes a value in its canonical form.
 pub(crate) fn value_text(v: &Value) -> String {
@@ -229,7 +230,7 @@ impl W {
             let names: Vec<(u8, &str)> = o
                 .subs
                 .range(1..=n)
-                .filter(|(i, s)| implied(s) && s.name != compact_sub_name(&o.name, **i))
+                .filter(|(i, s)| implied(s) && s.name != implied_name(&o.name, **i))
                 .map(|(i, s)| (*i, s.name.as_str()))
                 .collect();
             if !names.is_empty() {

@@ -191,7 +191,8 @@ pub struct Object {
     pub subs: SubObjects,
     /// `SubNumber` as declared (a count, gaps allowed).
     pub sub_number: Option<Spanned<u16>>,
-    /// `CompactSubObj` as declared; the sub-objects it implies are in `subs`.
+    /// `CompactSubObj` as declared; the sub-objects it implies are in `subs` (made when first
+    /// read, see [`SubObjects::set_implied`]).
     pub compact_sub_obj: Option<Spanned<u8>>,
     /// `ObjFlags` (bit 0: refuse write on download, bit 1: refuse read on scan).
     pub obj_flags: Option<Spanned<u32>>,
