@@ -240,7 +240,7 @@ impl Object {
 
 /// A sub-object: the unit that has a type, an access and a value.
 ///
-/// Its layout is chosen for parse time: a lely master DCF implies ~2,500 sub-objects per file
+/// Its layout is chosen for parse time: a lely master DCF implies up to ~2,000 sub-objects
 /// through `CompactSubObj`, each a copy of a template, and an ESI device has thousands, so a
 /// sub-object is moved, cloned and dropped often enough that its size shows. What most
 /// sub-objects have (name, type, access, default, DCF parameter value) is inline; the limits

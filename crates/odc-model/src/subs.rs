@@ -16,7 +16,7 @@
 //!
 //! **Implied sub-objects** ([`SubObjects::set_implied`]): an EDS object with `CompactSubObj=n`
 //! has sub-objects `1..=n` that are copies of one template named by number, and a CANopen
-//! master's DCF declares about 2,500 of them. They are kept as the template and the count and
+//! master's DCF declares up to a few thousand. They are kept as the template and the count and
 //! made the first time something reads past the sub-objects written out (at most once; a
 //! look-up of one written out, [`SubObjects::len`] and [`SubObjects::contains_key`] do not make
 //! them). Changing one through `&mut self` makes only that one. Every method answers as if all
