@@ -53,7 +53,9 @@
 //! - **CompactSubObj=N** implies sub 0 (`NrOfObjects`, UNSIGNED8 ro, default N) and subs
 //!   1..=N with the object's DataType, AccessType, PDOMapping and values, named
 //!   `<ParameterName><n>` unless `[IIIIName]` names them; `[IIIIValue]` gives ParameterValues,
-//!   `[IIIIDenotation]` denotations. Explicit sub sections override (warning `F122`).
+//!   `[IIIIDenotation]` denotations. Explicit sub sections override (warning `F122`). The
+//!   implied sub-objects are kept as the template and the count and made when first read
+//!   ([`odc_model::SubObjects::set_implied`]): a master's DCF implies thousands.
 //! - **CompactPDO** (see [`compact_pdo`](crate#compactpdo)): objects are synthesised with
 //!   [`odc_model::Origin::CompactPdo`] only when `CompactPDO` is non-zero; the writer leaves them
 //!   out and keeps the `CompactPDO` key.
