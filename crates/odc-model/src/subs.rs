@@ -52,7 +52,7 @@ struct Implied {
     count: u8,
     stem: Name,
     /// All the sub-objects (these and the ones written out), made on the first read that needs
-    /// them and dropped by any change.
+    /// them; from then on, a change goes to this vector (see [`SubObjects::items_mut`]).
     all: OnceLock<Vec<Pair>>,
 }
 
@@ -223,10 +223,13 @@ impl SubObjects {
     /// The index in `items` of `sub`, making it there first if it is an implied sub-object not
     /// written out; `Err` where `sub` would go if there is none.
     fn find_or_make(&mut self, sub: u8) -> Result<usize, usize> {
+        if self.implied.as_ref().is_some_and(|m| m.all.get().is_some()) {
+            // All made already: changes go to that vector from now on (merging again after each
+            // change would make them all again each time).
+            self.items_mut();
+        }
         let found = self.find(sub);
-        let Some(m) = &mut self.implied else { return found };
-        // A change to come: the merged vector, if made, is no longer right.
-        m.all = OnceLock::new();
+        let Some(m) = &self.implied else { return found };
         match found {
             Err(i) if m.keys().contains(&sub) => {
                 self.items.insert(i, (sub, m.make(sub)));
@@ -701,5 +704,14 @@ mod tests {
         assert!(!made(&m));
         assert_eq!(m[&8].name, "Long enough to be allocated 8");
         assert!(made(&m));
+        // Once all are made, a change goes to them: nothing is made a second time.
+        if let Some(s) = m.get_mut(&9) {
+            s.name.push('?');
+        }
+        assert!(m.implied.is_none() && m.items.len() == 201);
+        assert_eq!(
+            (m[&7].name.as_str(), m[&9].name.as_str()),
+            ("Long enough to be allocated 7!", "Long enough to be allocated 9?")
+        );
     }
 }
