@@ -1602,10 +1602,12 @@ impl<'r, 'a> Lower<'r, 'a> {
                 }
                 // Companions name and set sub-objects of an ARRAY or RECORD: a VAR's sub-index 0
                 // is the object itself, whose name is its own `ParameterName`.
+                // `get_mut` makes only this one of a compact object's implied sub-objects.
                 let sub = dec_u16(e.key.as_bytes())
                     .and_then(|n| u8::try_from(n).ok())
-                    .filter(|n| obj.kind.has_subs() && obj.subs.contains_key(n));
-                let Some(sub) = sub else {
+                    .filter(|_| obj.kind.has_subs())
+                    .and_then(|n| obj.subs.get_mut(&n));
+                let Some(s) = sub else {
                     self.warn(
                         codes::BAD_COMPACT_ENTRY,
                         format!(
@@ -1619,16 +1621,10 @@ impl<'r, 'a> Lower<'r, 'a> {
                     );
                     continue;
                 };
-                // `get_mut`: makes only this one of a compact object's implied sub-objects.
-                let dt = obj.subs.get_mut(&sub).map_or(DataType::Domain, |s| s.data_type);
-                let value = if which == 1 { self.value(e, dt) } else { None };
-                let text = self.text(e);
-                if let Some(s) = obj.subs.get_mut(&sub) {
-                    match which {
-                        0 => s.name = Name::from(text.value),
-                        1 => s.parameter_value = value,
-                        _ => s.rare_mut().denotation = Some(text),
-                    }
+                match which {
+                    0 => s.name = Name::from(e.value),
+                    1 => s.parameter_value = self.value(e, s.data_type),
+                    _ => s.rare_mut().denotation = Some(self.text(e)),
                 }
             }
         }
