@@ -34,10 +34,13 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use odc_model::{Device, Diagnostic, Sources, diag};
-use sha2::{Digest, Sha256};
+use odc_model::{Diagnostic, diag};
 
-pub use odc_codegen::{self, Role};
+pub use odc_pipeline::{self, Role};
+pub use odc_pipeline::{
+    Overlay, is_xml, odc_codegen, overlay_candidates, overlay_path, read_device_file, read_overlay,
+    sha256_hex,
+};
 
 /// Why generation failed.
 #[derive(thiserror::Error)]
@@ -60,16 +63,17 @@ pub enum Error {
         /// The rendered diagnostics.
         report: String,
     },
-    /// An ESI file has fewer devices than the one asked for.
-    #[error("{}: no device number {index}; the file describes {count}", path.display())]
+    /// The file has no device at the index asked for ([`Config::select_device`]).
+    #[error("{}: {message}", path.display())]
     NoSuchDevice {
         /// The device file.
         path: PathBuf,
-        /// The index asked for.
-        index: usize,
-        /// How many devices the file has.
-        count: usize,
+        /// What did not match, with the devices the file describes.
+        message: String,
     },
+    /// A level names no rule or group.
+    #[error(transparent)]
+    UnknownRule(#[from] odc_pipeline::UnknownRule),
     /// The overlay beside a device file is not valid.
     #[error("invalid overlay {}: {message}", path.display())]
     Overlay {
@@ -81,6 +85,19 @@ pub enum Error {
     /// No output directory: `OUT_DIR` is not set (not in a build script) and none was given.
     #[error("OUT_DIR is not set: call compile() from a build script, or set out_dir()")]
     NotInBuildScript,
+}
+
+impl From<odc_pipeline::Error> for Error {
+    fn from(e: odc_pipeline::Error) -> Error {
+        match e {
+            odc_pipeline::Error::Io { path, source } => Error::Io { path, source },
+            odc_pipeline::Error::Overlay { path, message } => Error::Overlay { path, message },
+            odc_pipeline::Error::UnknownRule(e) => Error::UnknownRule(e),
+            odc_pipeline::Error::Select { path, message } => Error::NoSuchDevice { path, message },
+            // `odc_pipeline::Error` is non-exhaustive: a future kind keeps its message.
+            other => Error::Overlay { path: PathBuf::new(), message: other.to_string() },
+        }
+    }
 }
 
 impl fmt::Debug for Error {
@@ -227,56 +244,25 @@ impl Config {
     pub fn generate(&self) -> Result<Output, Error> {
         let mut out = Output::default();
         for input in &self.inputs {
-            let bytes = read_device_file(&input.path)
-                .map_err(|source| Error::Io { path: input.path.clone(), source })?;
-            out.read.push(input.path.clone());
-            let overlay = match overlay_path(&input.path) {
-                Some(path) => {
-                    out.read.push(path.clone());
-                    Some(read_overlay(&path)?)
-                }
-                None => None,
+            let options = odc_pipeline::Options {
+                check: self.check.clone(),
+                select: odc_pipeline::Select::Index(input.device),
+                ..Default::default()
             };
-            let check = match (&self.check, &overlay) {
-                (Some(c), _) => c.clone(),
-                (None, Some(o)) => o.check.clone(),
-                (None, None) => odc_check::Config::default(),
-            };
-            let mut sources = Sources::new();
-            let name = input.path.display().to_string();
-            let (device, mut diags) = parse(&mut sources, &name, &bytes, input, &input.path)?;
-            if !diags.iter().any(Diagnostic::is_error) {
-                diags.extend(odc_check::check(&device, &check));
-            }
-            diag::sort(&mut diags);
-            let (errors, warnings): (Vec<_>, Vec<_>) =
-                diags.into_iter().partition(Diagnostic::is_error);
-            if !errors.is_empty() {
-                let report = diag::render_human(&sources, &errors, false);
+            let loaded = odc_pipeline::load(&input.path, &options).map_err(Error::from)?;
+            out.read.extend(loaded.read.iter().cloned());
+            if let Err(refused) = loaded.gate() {
+                let errors: Vec<Diagnostic> = loaded.errors().cloned().collect();
+                let report = format!("{}error: {refused}\n", loaded.render(&errors));
                 return Err(Error::Diagnostics { path: input.path.clone(), report });
             }
-            let warnings: Vec<_> = warnings
-                .into_iter()
-                .filter(|d| d.severity == odc_model::Severity::Warning)
-                .collect();
-            out.warnings.extend(diag::render_short(&sources, &warnings).lines().map(String::from));
-            let file_name = input
-                .path
-                .file_name()
-                .map(|n| n.to_string_lossy().into_owned())
-                .unwrap_or_else(|| name.clone());
-            let opts = odc_codegen::Options {
-                role: self.role,
-                runtime_path: self.runtime_path.clone(),
-                source_name: file_name,
-                source_sha256: sha256_hex(&bytes),
-                overlay: overlay.map(|o| o.codegen).unwrap_or_default(),
-            };
-            let code =
-                odc_codegen::generate(&device, &opts).map_err(|diags| Error::Diagnostics {
-                    path: input.path.clone(),
-                    report: diag::render_human(&sources, &diags, false),
-                })?;
+            let warnings: Vec<Diagnostic> = loaded.warnings().cloned().collect();
+            out.warnings
+                .extend(diag::render_short(&loaded.sources, &warnings).lines().map(String::from));
+            let device = loaded.device().map_err(Error::from)?;
+            let code = loaded.generate(device, self.role, &self.runtime_path).map_err(|diags| {
+                Error::Diagnostics { path: input.path.clone(), report: loaded.render(&diags) }
+            })?;
             let module = input.module.clone().unwrap_or_else(|| module_name(&input.path));
             out.generated.push(Generated { module, code, path: input.path.clone() });
         }
@@ -300,11 +286,8 @@ impl Config {
         };
         if emit {
             for input in &self.inputs {
-                println!("{}", rerun_line(&input.path));
-                // Only an existing overlay: cargo re-runs a build script on every build while a
-                // watched file is missing.
-                if let Some(overlay) = overlay_path(&input.path) {
-                    println!("{}", rerun_line(&overlay));
+                for path in watch_paths(&input.path) {
+                    println!("{}", rerun_line(&path));
                 }
             }
         }
@@ -319,102 +302,26 @@ impl Config {
     }
 }
 
-/// The places a device file's overlay may be, in the order they are tried: `<stem>.odc.toml`
-/// beside the file, then `odc.toml` in its directory.
-pub fn overlay_candidates(file: &Path) -> [PathBuf; 2] {
-    let dir = file.parent().unwrap_or(Path::new(""));
-    let mut beside = file.file_stem().map(|s| s.to_os_string()).unwrap_or_default();
-    beside.push(".odc.toml");
-    [dir.join(beside), dir.join("odc.toml")]
-}
-
-/// The overlay of a device file, if one exists (see [`overlay_candidates`]). `odc check`,
-/// `odc generate`, this crate and `include_device!` all find a device's quirk allowances and
-/// parameter schemes this way.
-pub fn overlay_path(file: &Path) -> Option<PathBuf> {
-    overlay_candidates(file).into_iter().find(|p| p.is_file())
-}
-
-/// A device's overlay, read: the checker's settings and what the code generator adds.
-#[derive(Clone, Debug)]
-pub struct Overlay {
-    /// Levels, strictness and per-object allowances.
-    pub check: odc_check::Config,
-    /// Vendor parameter schemes and process-data layouts.
-    pub codegen: odc_codegen::Overlay,
-}
-
-/// Reads an overlay file.
+/// What a build script watches for a device file: the file, its overlay if one exists, and the
+/// directory they are in, so that an overlay created beside the file (or an `odc.toml`) makes
+/// cargo run the script again instead of replaying the old warnings.
 ///
-/// # Errors
-///
-/// [`Error::Io`] when it cannot be read, [`Error::Overlay`] when either part is invalid.
-pub fn read_overlay(path: &Path) -> Result<Overlay, Error> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
-    let bad = |message: String| Error::Overlay { path: path.to_path_buf(), message };
-    let check = odc_check::Config::from_toml(&text).map_err(|e| bad(e.to_string()))?;
-    let codegen = odc_codegen::Overlay::from_toml(&text).map_err(|e| bad(e.to_string()))?;
-    Ok(Overlay { check, codegen })
-}
-
-/// Reads a device file, but never more than one byte past the larger front-end limit
-/// ([`odc_eds::MAX_FILE_SIZE`], [`odc_esi::MAX_FILE_SIZE`]): the front-end then reports the
-/// file as too large, and a huge or endless input (`/dev/zero`, a FIFO) costs no more memory
-/// than that.
-///
-/// # Errors
-///
-/// When the file cannot be opened or read.
-pub fn read_device_file(path: &Path) -> std::io::Result<Vec<u8>> {
-    use std::io::Read as _;
-    let limit = odc_eds::MAX_FILE_SIZE.max(odc_esi::MAX_FILE_SIZE) as u64 + 1;
-    let mut bytes = Vec::new();
-    std::fs::File::open(path)?.take(limit).read_to_end(&mut bytes)?;
-    Ok(bytes)
+/// A missing file cannot be watched by name (cargo then re-runs the script on every build), so
+/// the directory stands for it; cargo watches a directory by every file in it. A device file in
+/// the package root has no such directory (watching the root would take in `target/`): there,
+/// creating an overlay needs a `cargo clean -p` or a touch of the device file.
+pub fn watch_paths(file: &Path) -> Vec<PathBuf> {
+    let mut paths = vec![file.to_path_buf()];
+    paths.extend(overlay_path(file));
+    if let Some(dir) = file.parent().filter(|d| !d.as_os_str().is_empty() && *d != Path::new(".")) {
+        paths.push(dir.to_path_buf());
+    }
+    paths
 }
 
 /// The directive that makes cargo re-run the build script when `path` changes.
 pub fn rerun_line(path: &Path) -> String {
     format!("cargo:rerun-if-changed={}", path.display())
-}
-
-fn parse(
-    sources: &mut Sources,
-    name: &str,
-    bytes: &[u8],
-    input: &Input,
-    path: &Path,
-) -> Result<(Device, Vec<Diagnostic>), Error> {
-    if is_xml(path, bytes) {
-        let parsed = odc_esi::parse(sources, name, bytes);
-        let count = parsed.devices.len();
-        if parsed.diagnostics.iter().any(Diagnostic::is_error) && count == 0 {
-            return Ok((Device::default(), parsed.diagnostics));
-        }
-        let device = parsed.devices.into_iter().nth(input.device).ok_or(Error::NoSuchDevice {
-            path: path.to_path_buf(),
-            index: input.device,
-            count,
-        })?;
-        Ok((device, parsed.diagnostics))
-    } else {
-        let parsed = odc_eds::parse(sources, name, bytes);
-        Ok((parsed.device, parsed.diagnostics))
-    }
-}
-
-/// Whether the bytes are an ESI (XML) rather than an EDS/DCF: by extension, else by the first
-/// non-blank character.
-pub fn is_xml(path: &Path, bytes: &[u8]) -> bool {
-    match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
-        Some("xml" | "esi") => true,
-        Some("eds" | "dcf") => false,
-        _ => {
-            let body = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
-            body.iter().find(|b| !b.is_ascii_whitespace()) == Some(&b'<')
-        }
-    }
 }
 
 /// The default module name of a device file: its stem in snake case (`lexium-mdrive.eds` →
@@ -429,11 +336,6 @@ pub fn module_name(path: &Path) -> String {
         out.insert_str(0, "device_");
     }
     out
-}
-
-/// The SHA-256 of `bytes` in lower-case hex.
-pub fn sha256_hex(bytes: &[u8]) -> String {
-    Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
 }
 
 /// Writes `contents` to `path` unless it already holds exactly that; atomically (see

@@ -12,9 +12,12 @@
 //!
 //! The path is relative to the calling crate's root (`CARGO_MANIFEST_DIR`). The file goes
 //! through the same front-end (EDS/DCF or ESI, by extension or a first non-blank `<`), checker
-//! and code generator as with `odc-build`, with the runtime at `::odc`: the calling crate
-//! depends on `odc` as well. The expansion ends with an `include_bytes!` of the file, so cargo
-//! rebuilds the crate when the file changes.
+//! and code generator as with `odc-build` (one pipeline, `odc-pipeline`, with the overlay
+//! beside the file), with the runtime at `::odc`: the calling crate depends on `odc` as well.
+//! The expansion ends with an `include_bytes!` of the file and of its overlay, so cargo
+//! rebuilds the crate when either changes. (An overlay created where none was is not seen until
+//! the device file or the calling source changes: a stable procedural macro cannot watch a file
+//! that does not exist yet.)
 //!
 //! | key | values | default |
 //! |---|---|---|
@@ -28,10 +31,9 @@
 // proven invariant may opt out with an `#[allow]` and a comment saying why.
 #![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used, clippy::panic))]
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use odc_build::Role;
-use odc_model::{Device, Diagnostic, Sources, diag};
+use odc_pipeline::Role;
 use proc_macro2::{Span, TokenStream};
 use quote::quote;
 use syn::parse::{Parse, ParseStream};
@@ -114,83 +116,42 @@ fn expand(args: &Args) -> syn::Result<TokenStream> {
             syn::Error::new(span, "CARGO_MANIFEST_DIR is not set: build the crate with cargo")
         })?;
     let path = manifest_dir.join(&rel);
-    let bytes = std::fs::read(&path).map_err(|e| {
-        // The OS's wording differs between platforms; not found is the common case.
-        let why = match e.kind() {
-            std::io::ErrorKind::NotFound => "no such file".to_string(),
-            _ => e.to_string(),
-        };
-        syn::Error::new(span, format!("cannot read `{rel}` (from CARGO_MANIFEST_DIR): {why}"))
+    let options = odc_pipeline::Options::new().select(odc_pipeline::Select::Index(args.device));
+    let loaded = odc_pipeline::load(&path, &options).map_err(|e| match e {
+        odc_pipeline::Error::Io { path: p, source } if p == path => {
+            // The OS's wording differs between platforms; not found is the common case.
+            let why = match source.kind() {
+                std::io::ErrorKind::NotFound => "no such file".to_string(),
+                _ => source.to_string(),
+            };
+            syn::Error::new(span, format!("cannot read `{rel}` (from CARGO_MANIFEST_DIR): {why}"))
+        }
+        other => syn::Error::new(span, format!("`{rel}` cannot be generated:\n{other}")),
     })?;
-    let code = generate(&rel, &path, &bytes, args).map_err(|report| {
+    let code = generate(&loaded, args.role).map_err(|report| {
         syn::Error::new(span, format!("`{rel}` cannot be generated:\n{report}"))
     })?;
     let items: TokenStream = code.parse().map_err(|e| {
         syn::Error::new(span, format!("the code generated from `{rel}` does not lex: {e}"))
     })?;
-    // The absolute path, so the dependency holds wherever the macro is called from.
-    let abs = std::fs::canonicalize(&path).unwrap_or(path);
-    let abs = LitStr::new(&abs.to_string_lossy(), Span::call_site());
+    // Every file read (the device file and its overlay), by absolute path, so that the crate is
+    // rebuilt when one changes wherever the macro is called from.
+    let tracked = loaded.read.iter().map(|p| {
+        let abs = std::fs::canonicalize(p).unwrap_or_else(|_| p.clone());
+        LitStr::new(&abs.to_string_lossy(), Span::call_site())
+    });
     Ok(quote! {
         #items
-        const _: &[u8] = include_bytes!(#abs);
+        #(const _: &[u8] = include_bytes!(#tracked);)*
     })
 }
 
-/// Reads, checks and generates; the error is the rendered report.
-fn generate(name: &str, path: &Path, bytes: &[u8], args: &Args) -> Result<String, String> {
-    let mut sources = Sources::new();
-    let (device, mut diags) = parse(&mut sources, name, path, bytes, args.device)?;
-    // The overlay beside the file: its quirk allowances and parameter schemes.
-    let overlay = match odc_build::overlay_path(path) {
-        Some(p) => Some(odc_build::read_overlay(&p).map_err(|e| e.to_string())?),
-        None => None,
-    };
-    let check = overlay.as_ref().map(|o| o.check.clone()).unwrap_or_default();
-    if !diags.iter().any(Diagnostic::is_error) {
-        diags.extend(odc_check::check(&device, &check));
+/// Passes the error gate and generates; the error is the rendered report.
+fn generate(loaded: &odc_pipeline::Loaded, role: Role) -> Result<String, String> {
+    if let Err(refused) = loaded.gate() {
+        let errors: Vec<_> = loaded.errors().cloned().collect();
+        return Err(format!("{}error: {refused}\n", loaded.render(&errors)));
     }
-    diag::sort(&mut diags);
-    let errors: Vec<Diagnostic> = diags.into_iter().filter(|d| d.is_error()).collect();
-    if !errors.is_empty() {
-        return Err(diag::render_human(&sources, &errors, false));
-    }
-    let file_name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| name.to_string());
-    let opts = odc_codegen::Options {
-        role: args.role,
-        runtime_path: "::odc".to_string(),
-        source_name: file_name,
-        source_sha256: odc_build::sha256_hex(bytes),
-        overlay: overlay.map(|o| o.codegen).unwrap_or_default(),
-    };
-    odc_codegen::generate(&device, &opts).map_err(|d| diag::render_human(&sources, &d, false))
-}
-
-fn parse(
-    sources: &mut Sources,
-    name: &str,
-    path: &Path,
-    bytes: &[u8],
-    index: usize,
-) -> Result<(Device, Vec<Diagnostic>), String> {
-    if odc_build::is_xml(path, bytes) {
-        let parsed = odc_esi::parse(sources, name, bytes);
-        let count = parsed.devices.len();
-        if count == 0 {
-            if parsed.diagnostics.iter().any(Diagnostic::is_error) {
-                return Ok((Device::default(), parsed.diagnostics));
-            }
-            return Err("the file describes no device".to_string());
-        }
-        match parsed.devices.into_iter().nth(index) {
-            Some(device) => Ok((device, parsed.diagnostics)),
-            None => Err(format!("no device number {index}; the file describes {count}")),
-        }
-    } else {
-        let parsed = odc_eds::parse(sources, name, bytes);
-        Ok((parsed.device, parsed.diagnostics))
-    }
+    let device = loaded.device().map_err(|e| e.to_string())?;
+    loaded.generate(device, role, "::odc").map_err(|d| loaded.render(&d))
 }

@@ -529,9 +529,18 @@ struct JsonDiagnostic<'a> {
 
 /// Renders diagnostics as a JSON array, with file names, lines and columns resolved.
 pub fn render_json(sources: &Sources, diags: &[Diagnostic]) -> String {
-    let items: Vec<JsonDiagnostic<'_>> = diags
-        .iter()
-        .map(|d| JsonDiagnostic {
+    render_json_many([(sources, diags)])
+}
+
+/// [`render_json`] for the diagnostics of several loads (one [`Sources`] each), as one array in
+/// the order given.
+pub fn render_json_many<'a>(
+    reports: impl IntoIterator<Item = (&'a Sources, &'a [Diagnostic])>,
+) -> String {
+    let items: Vec<JsonDiagnostic<'_>> = reports
+        .into_iter()
+        .flat_map(|(sources, diags)| diags.iter().map(move |d| (sources, d)))
+        .map(|(sources, d)| JsonDiagnostic {
             severity: d.severity,
             code: d.code,
             message: &d.message,

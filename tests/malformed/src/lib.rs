@@ -77,15 +77,10 @@ impl Outcome {
 /// by design); renders the diagnostics in all three forms.
 pub fn run(name: &str, bytes: &[u8], xml: bool, generate: bool) -> Outcome {
     let mut sources = Sources::new();
-    let (devices, diagnostics) = if xml {
-        let p = odc_esi::parse(&mut sources, name, bytes);
-        (p.devices, p.diagnostics)
-    } else {
-        let p = odc_eds::parse(&mut sources, name, bytes);
-        // As `odc`: a file too large to read describes no device.
-        let read = !p.diagnostics.iter().any(|d| d.code == odc_eds::codes::SIZE_LIMIT);
-        (if read { vec![p.device] } else { Vec::new() }, p.diagnostics)
-    };
+    // The format by the flag, not the name: a generated case has no extension.
+    let kind = std::path::Path::new(if xml { "case.xml" } else { "case.eds" });
+    let parsed = odc_pipeline::parse(&mut sources, name, kind, bytes.to_vec());
+    let (devices, diagnostics) = (parsed.devices, parsed.diagnostics);
     let config = odc_check::Config::default();
     let mut checked = Vec::new();
     for d in &devices {

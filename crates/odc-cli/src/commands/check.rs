@@ -3,8 +3,8 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use odc_check::Level;
-use odc_model::{Sources, diag};
+use odc_model::diag;
+use odc_pipeline::Loaded;
 
 use super::{Color, DiagFormat, print_diagnostics};
 use crate::input;
@@ -22,64 +22,70 @@ pub struct Args {
     /// Output format of the diagnostics.
     #[arg(long, value_enum, default_value_t)]
     format: DiagFormat,
-    /// Turn every warning into an error.
-    #[arg(long)]
-    strict: bool,
-    /// Make a rule or group (`format`, `cia301`, `cia402`, `etg`) an error.
-    #[arg(long, short = 'D', value_name = "RULE|GROUP")]
-    deny: Vec<String>,
-    /// Make a rule or group a warning.
-    #[arg(long, short = 'W', value_name = "RULE|GROUP")]
-    warn: Vec<String>,
-    /// Silence a rule or group.
-    #[arg(long, short = 'A', value_name = "RULE|GROUP")]
-    allow: Vec<String>,
-    /// Checker configuration (odc.toml format).
-    #[arg(long, value_name = "FILE")]
-    config: Option<PathBuf>,
-    /// Only this device of each file: `PRODUCT[:REVISION]` or a name (default: all).
-    #[arg(long, value_name = "DEVICE")]
-    device: Option<String>,
+    /// Levels, configuration and `--device` (default: every device of each file).
+    #[command(flatten)]
+    levels: input::Levels,
     /// When to colour the output.
     #[arg(long, value_enum, default_value_t)]
     color: Color,
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let mut sources = Sources::new();
-    let mut all = Vec::new();
-    for path in &args.files {
-        let mut config = input::config_for(args.config.as_deref(), path)?;
-        for (names, level) in
-            [(&args.allow, Level::Allow), (&args.warn, Level::Warn), (&args.deny, Level::Deny)]
-        {
-            for name in names {
-                config.set_level(name, level).map_err(|e| anyhow::anyhow!("{e}"))?;
-            }
-        }
-        config.strict(args.strict);
-        let loaded = input::load(&mut sources, path)?;
-        let mut front_end = loaded.diagnostics;
-        let devices = match &args.device {
-            Some(spec) => std::slice::from_ref(input::select(&loaded.devices, Some(spec))?),
-            None => loaded.devices.as_slice(),
-        };
-        for device in devices {
-            let diags = std::mem::take(&mut front_end);
-            all.extend(config.apply(device, diags));
-            all.extend(odc_check::check(device, &config));
-        }
-        // A file with no device left its front-end diagnostics unreported so far.
-        all.extend(front_end);
+    let all = load_all(&args.files, &args.levels).into_iter().collect::<Result<Vec<_>, _>>()?;
+    let errors: usize = all.iter().map(|loaded| loaded.errors().count()).sum();
+    if let DiagFormat::Json = args.format {
+        let reports = all.iter().map(|l| (&l.sources, l.diagnostics.as_slice()));
+        super::out(&(diag::render_json_many(reports) + "\n"))?;
+        return Ok(if errors > 0 { ExitCode::from(1) } else { ExitCode::SUCCESS });
     }
-    diag::sort(&mut all);
-    print_diagnostics(&sources, &all, args.format, args.color)?;
-    let errors = all.iter().filter(|d| d.is_error()).count();
-    if !matches!(args.format, DiagFormat::Json) {
-        let warnings = all.iter().filter(|d| d.severity == odc_model::Severity::Warning).count();
-        if errors + warnings > 0 {
-            eprintln!("{errors} error(s), {warnings} warning(s)");
-        }
+    for loaded in &all {
+        let diags = &loaded.diagnostics;
+        let file_errors = loaded.errors().count();
+        print_diagnostics(&loaded.sources, diags, args.format, args.color)?;
+        let warnings = loaded.warnings().count();
+        let plural = |n: usize| if n == 1 { "" } else { "s" };
+        eprintln!(
+            "{}: {file_errors} error{}, {warnings} warning{}",
+            loaded.path.display(),
+            plural(file_errors),
+            plural(warnings)
+        );
     }
     Ok(if errors > 0 { ExitCode::from(1) } else { ExitCode::SUCCESS })
+}
+
+/// Loads every file, on as many threads as there are cores, in the order given.
+fn load_all(files: &[PathBuf], levels: &input::Levels) -> Vec<anyhow::Result<Loaded>> {
+    use std::sync::Mutex;
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(files.len());
+    let next = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<anyhow::Result<Loaded>>>> =
+        Mutex::new(files.iter().map(|_| None).collect());
+    std::thread::scope(|scope| {
+        for _ in 0..threads {
+            scope.spawn(|| {
+                loop {
+                    let i = next.fetch_add(1, Ordering::Relaxed);
+                    let Some(path) = files.get(i) else { break };
+                    let loaded = input::load(path, levels);
+                    // A poisoned lock means another worker panicked; the scope re-raises that
+                    // panic when it ends, so this result is not needed.
+                    if let Ok(mut results) = results.lock()
+                        && let Some(slot) = results.get_mut(i)
+                    {
+                        *slot = Some(loaded);
+                    }
+                }
+            });
+        }
+    });
+    let results = results.into_inner().unwrap_or_else(std::sync::PoisonError::into_inner);
+    results
+        .into_iter()
+        .zip(files)
+        .map(|(r, path)| {
+            r.unwrap_or_else(|| Err(anyhow::anyhow!("{} was not checked", path.display())))
+        })
+        .collect()
 }

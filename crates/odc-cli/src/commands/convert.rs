@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use odc_model::{Format, Sources};
+use odc_model::Format;
 
 use crate::input;
 
@@ -21,9 +21,8 @@ pub struct Args {
     /// Output format.
     #[arg(long, value_enum)]
     to: Option<Target>,
-    /// For a file with several devices: `PRODUCT[:REVISION]` or a name (`odc info` lists them).
-    #[arg(long, value_name = "DEVICE")]
-    device: Option<String>,
+    #[command(flatten)]
+    levels: input::Levels,
 }
 
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
@@ -41,10 +40,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         }
         _ => Format::Eds,
     };
-    let mut sources = Sources::new();
-    let loaded = input::load(&mut sources, &args.input)?;
-    super::require_clean(&sources, &loaded.diagnostics)?;
-    let device = input::select(&loaded.devices, args.device.as_deref())?;
+    let loaded = input::load(&args.input, &args.levels)?;
+    super::gate(&loaded)?;
+    let device = loaded.device()?;
     let text = odc_eds::write(device, target);
     match &args.output {
         Some(path) => input::write_atomic(path, text.as_bytes())?,

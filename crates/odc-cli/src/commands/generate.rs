@@ -3,9 +3,8 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::Context;
-use odc_build::odc_codegen::{self, Options, Role};
-use odc_model::{Sources, diag};
+use odc_model::diag;
+use odc_pipeline::Role;
 
 use crate::input;
 
@@ -21,9 +20,8 @@ pub struct Args {
     /// Output file; standard output when absent.
     #[arg(short, long)]
     output: Option<PathBuf>,
-    /// For a file with several devices: `PRODUCT[:REVISION]` or a name (`odc info` lists them).
-    #[arg(long, value_name = "DEVICE")]
-    device: Option<String>,
+    #[command(flatten)]
+    levels: input::Levels,
     /// Path of the runtime crate in the generated code.
     #[arg(long, default_value = "::odc")]
     runtime_path: String,
@@ -37,37 +35,31 @@ enum RoleArg {
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let bytes = odc_build::read_device_file(&args.file)
-        .with_context(|| format!("cannot read {}", args.file.display()))?;
-    let mut sources = Sources::new();
-    let loaded = input::load(&mut sources, &args.file)?;
-    super::require_clean(&sources, &loaded.diagnostics)?;
-    let device = input::select(&loaded.devices, args.device.as_deref())?;
-    let opts = Options {
-        role: match args.role {
-            RoleArg::Master => Role::Master,
-            RoleArg::Slave => Role::Slave,
-            RoleArg::Both => Role::Both,
-        },
-        runtime_path: args.runtime_path,
-        source_name: args
-            .file
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default(),
-        source_sha256: odc_build::sha256_hex(&bytes),
-        overlay: input::codegen_overlay_for(&args.file)?,
+    let loaded = input::load(&args.file, &args.levels)?;
+    super::gate(&loaded)?;
+    let device = loaded.device()?;
+    let role = match args.role {
+        RoleArg::Master => Role::Master,
+        RoleArg::Slave => Role::Slave,
+        RoleArg::Both => Role::Both,
     };
-    let code = match odc_codegen::generate(device, &opts) {
+    let code = match loaded.generate(device, role, &args.runtime_path) {
         Ok(code) => code,
         Err(diags) => {
-            eprint!("{}", diag::render_human(&sources, &diags, false));
+            eprint!("{}", diag::render_human(&loaded.sources, &diags, false));
             return Ok(ExitCode::from(1));
         }
     };
+    let what = format!("{} objects, {} PDOs", device.objects.len(), device.pdos.len());
     match &args.output {
-        Some(path) => input::write_atomic(path, code.as_bytes())?,
-        None => super::out(&code)?,
+        Some(path) => {
+            input::write_atomic(path, code.as_bytes())?;
+            eprintln!("wrote {}: {what}", path.display());
+        }
+        None => {
+            super::out(&code)?;
+            eprintln!("generated {}: {what}", loaded.file_name());
+        }
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use odc_model::{Device, Direction, Sources, Value};
+use odc_model::{Device, Direction, Value};
 
 use crate::input;
 
@@ -15,23 +15,22 @@ use crate::input;
 pub struct Args {
     /// EDS, DCF or ESI file.
     file: PathBuf,
-    /// `PRODUCT[:REVISION]` or a name.
-    #[arg(long, value_name = "DEVICE")]
-    device: Option<String>,
+    /// Levels, configuration and `--device`.
+    #[command(flatten)]
+    levels: input::Levels,
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let mut sources = Sources::new();
-    let loaded = input::load(&mut sources, &args.file)?;
-    super::require_clean(&sources, &loaded.diagnostics)?;
-    if args.device.is_none() && loaded.devices.len() > 1 {
+    let loaded = input::load(&args.file, &args.levels)?;
+    super::gate(&loaded)?;
+    if loaded.devices.len() > 1 {
         super::out(&format!(
             "{} devices:\n{}",
             loaded.devices.len(),
-            input::list(&loaded.devices)
+            odc_pipeline::list_devices(&loaded.devices)
         ))?;
     } else {
-        super::out(&summary(input::select(&loaded.devices, args.device.as_deref())?))?;
+        super::out(&summary(loaded.device()?))?;
     }
     Ok(ExitCode::SUCCESS)
 }

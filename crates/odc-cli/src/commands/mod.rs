@@ -9,7 +9,7 @@ pub mod info;
 
 use std::io::IsTerminal;
 
-use odc_model::{Diagnostic, Sources, diag};
+use odc_model::{Diagnostic, Severity, Sources, diag};
 
 /// How diagnostics are printed.
 #[derive(Clone, Copy, Debug, Default, clap::ValueEnum)]
@@ -66,26 +66,24 @@ pub fn print_diagnostics(
     Ok(())
 }
 
-/// A command stopped because the device file has error-level diagnostics (already printed):
-/// exit code 1, as for `odc check`, not 2 (usage or I/O).
+/// A command stopped at the error gate: the file has error-level diagnostics (already
+/// printed). Exit code 1, as for `odc check`, not 2 (usage or I/O).
 #[derive(Debug)]
-pub struct HasErrors(pub usize);
+pub struct HasErrors(pub odc_pipeline::Refused);
 
 impl std::fmt::Display for HasErrors {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "the file has {} error(s); run `odc check` for all diagnostics", self.0)
+        self.0.fmt(f)
     }
 }
 
 impl std::error::Error for HasErrors {}
 
-/// Prints front-end diagnostics and fails with [`HasErrors`] when any is an error: for
-/// commands that need a usable model (dump, convert, info, generate).
-pub fn require_clean(sources: &Sources, diags: &[Diagnostic]) -> anyhow::Result<()> {
-    let errors: Vec<Diagnostic> = diags.iter().filter(|d| d.is_error()).cloned().collect();
-    if errors.is_empty() {
-        return Ok(());
-    }
-    print_diagnostics(sources, &errors, DiagFormat::Human, Color::Auto)?;
-    Err(HasErrors(errors.len()).into())
+/// The error gate of the commands that need a usable model (generate, info, dump, convert):
+/// prints the file's errors and warnings, and fails with [`HasErrors`] when one is an error.
+pub fn gate(loaded: &odc_pipeline::Loaded) -> anyhow::Result<()> {
+    let shown: Vec<Diagnostic> =
+        loaded.diagnostics.iter().filter(|d| d.severity != Severity::Note).cloned().collect();
+    print_diagnostics(&loaded.sources, &shown, DiagFormat::Human, Color::Auto)?;
+    loaded.gate().map_err(|refused| HasErrors(refused).into())
 }
