@@ -411,6 +411,18 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_build_script_watches_the_directory_where_an_overlay_may_appear() {
+        let repo = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../eds");
+        let with = repo.join("lxm23a.eds");
+        assert_eq!(watch_paths(&with), [with.clone(), repo.join("lxm23a.odc.toml"), repo.clone()]);
+        let without = repo.join("lexium-mdrive.eds");
+        assert_eq!(watch_paths(&without), [without.clone(), repo]);
+        // Not the package root: cargo would scan target/ and re-run on every build.
+        assert_eq!(watch_paths(Path::new("x.eds")), [PathBuf::from("x.eds")]);
+        assert_eq!(watch_paths(Path::new("./x.eds")), [PathBuf::from("./x.eds")]);
+    }
+
+    #[test]
     fn names_and_directives() {
         assert_eq!(module_name(Path::new("eds/lexium-mdrive.eds")), "lexium_mdrive");
         assert_eq!(module_name(Path::new("esi/3x.xml")), "device_3x");

@@ -155,3 +155,29 @@ fn generate(loaded: &odc_pipeline::Loaded, role: Role) -> Result<String, String>
     let device = loaded.device().map_err(|e| e.to_string())?;
     loaded.generate(device, role, "::odc").map_err(|d| loaded.render(&d))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_expansion_tracks_the_device_file_and_its_overlay() {
+        let args: Args = match syn::parse_str(r#""../../eds/lxm23a.eds", role = "slave""#) {
+            Ok(args) => args,
+            Err(e) => panic!("{e}"),
+        };
+        let code = match expand(&args) {
+            Ok(code) => code.to_string(),
+            Err(e) => panic!("{e}"),
+        };
+        // Both by absolute path: a change of either rebuilds the calling crate.
+        for file in ["eds/lxm23a.eds", "eds/lxm23a.odc.toml"] {
+            let abs = std::fs::canonicalize(format!("../../{file}"))
+                .map(|p| p.display().to_string())
+                .unwrap_or_default();
+            assert!(code.contains(&format!("include_bytes ! ({abs:?})")), "{file} not tracked");
+        }
+        // The overlay's scheme reached the code.
+        assert!(code.contains("pub mod keypad"));
+    }
+}
