@@ -57,12 +57,14 @@ pub struct Device {
     /// `[DeviceInfo]`; for an ESI the identity and names from `<Type>` and `<Name>`.
     pub device_info: DeviceInfo,
     /// `[DummyUsage]`: which data-type indexes may be mapped as PDO gap fillers.
+    #[serde(serialize_with = "crate::hex::index_map")]
     pub dummy_usage: BTreeMap<u16, Spanned<bool>>,
     /// `[Comments]` lines.
     pub comments: Vec<String>,
     /// The three object lists as declared (checked against `objects`, not used to build it).
     pub object_lists: ObjectLists,
     /// The object dictionary, in index order.
+    #[serde(serialize_with = "crate::hex::index_map")]
     pub objects: BTreeMap<u16, Object>,
     /// Modular devices: the modules the file describes, and (DCF) the ones connected.
     pub modules: Modules,
@@ -119,9 +121,12 @@ pub struct FileInfo {
 #[allow(missing_docs)] // CiA 306 key names
 pub struct DeviceInfo {
     pub vendor_name: Option<Spanned<String>>,
+    #[serde(serialize_with = "crate::hex::ident")]
     pub vendor_number: Option<Spanned<u32>>,
     pub product_name: Option<Spanned<String>>,
+    #[serde(serialize_with = "crate::hex::ident")]
     pub product_number: Option<Spanned<u32>>,
+    #[serde(serialize_with = "crate::hex::ident")]
     pub revision_number: Option<Spanned<u32>>,
     pub order_code: Option<Spanned<String>>,
     /// Supported bit rates in kbit/s (`BaudRate_NNN=1`), ascending; unsupported ones are absent.
@@ -156,6 +161,7 @@ pub struct ObjectLists {
 pub struct ObjectList {
     /// `SupportedObjects=`.
     pub supported_objects: Option<Spanned<u16>>,
+    #[serde(serialize_with = "crate::hex::index_list")]
     /// The entries `1=0x1000`, `2=...`, in order.
     pub entries: Vec<Spanned<u16>>,
     /// Span of the section header.
@@ -181,6 +187,7 @@ pub enum Origin {
 /// its type, access and values; ARRAY, RECORD and DEFSTRUCT hold their sub-objects in order.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Object {
+    #[serde(serialize_with = "crate::hex::index")]
     /// The 16-bit index.
     pub index: u16,
     /// `ParameterName`.
@@ -199,6 +206,7 @@ pub struct Object {
     /// DCF `Denotation` of the object.
     pub denotation: Option<Spanned<String>>,
     /// `[xxxxObjectLinks]`: indexes of objects this one is linked to.
+    #[serde(serialize_with = "crate::hex::index_list")]
     pub links: Vec<Spanned<u16>>,
     /// Where the object came from.
     pub origin: Origin,
@@ -412,7 +420,7 @@ impl Serialize for SubObject {
         use serde::ser::SerializeStruct;
         let r = self.rare();
         let mut st = s.serialize_struct("SubObject", 17)?;
-        st.serialize_field("sub_index", &self.sub_index)?;
+        st.serialize_field("sub_index", &format_args!("0x{:02X}", self.sub_index))?;
         st.serialize_field("name", &self.name)?;
         st.serialize_field("kind", &self.kind)?;
         st.serialize_field("data_type", &self.data_type)?;
@@ -487,8 +495,10 @@ pub struct Module {
     /// `[MxFixedObjects]` with each `[MxFixedIIII]`: objects the module adds at fixed indexes.
     /// Shared: the modules an ESI file declares once apply to each of its devices, whose
     /// module lists would otherwise each hold a copy of every module's dictionary.
+    #[serde(serialize_with = "crate::hex::index_map")]
     pub fixed_objects: Arc<BTreeMap<u16, Object>>,
     /// `[MxSubExtends]` with each `[MxSubExtIIII]`: sub-objects the module appends to an object.
+    #[serde(serialize_with = "crate::hex::index_map")]
     pub sub_extends: BTreeMap<u16, SubExtend>,
     /// `[MxComments]` lines.
     pub comments: Vec<String>,
@@ -518,6 +528,7 @@ pub struct Commissioning {
     pub net_number: Option<Spanned<u32>>,
     pub network_name: Option<Spanned<String>>,
     pub canopen_manager: Option<Spanned<bool>>,
+    #[serde(serialize_with = "crate::hex::ident")]
     pub lss_serial_number: Option<Spanned<u32>>,
     pub node_refd: Option<Spanned<String>>,
     pub net_refd: Option<Spanned<String>>,

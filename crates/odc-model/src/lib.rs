@@ -17,6 +17,7 @@
 mod device;
 pub mod diag;
 pub mod ethercat;
+mod hex;
 pub mod pdo;
 mod span;
 pub mod subs;

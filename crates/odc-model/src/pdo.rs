@@ -13,8 +13,10 @@ pub struct Pdo {
     /// Receive (master → device) or transmit (device → master).
     pub direction: Direction,
     /// The mapping object: 0x1600–0x17FF (Rx) or 0x1A00–0x1BFF (Tx).
+    #[serde(serialize_with = "crate::hex::index")]
     pub mapping_index: u16,
     /// CANopen: the communication object 0x1400–0x15FF / 0x1800–0x19FF, when present.
+    #[serde(serialize_with = "crate::hex::index_opt")]
     pub comm_index: Option<u16>,
     /// The name the file gives the PDO (ESI `Name`, EDS mapping object `ParameterName`).
     pub name: String,
@@ -54,8 +56,10 @@ impl Pdo {
 pub struct PdoEntry {
     /// Index of the mapped object; a CANopen dummy entry maps a data-type index (0x0001–0x0007),
     /// an EtherCAT gap has index 0.
+    #[serde(serialize_with = "crate::hex::index")]
     pub index: u16,
     /// Sub-index of the mapped object.
+    #[serde(serialize_with = "crate::hex::sub")]
     pub sub: u8,
     /// Length in bits.
     pub bits: u16,

@@ -498,7 +498,7 @@ impl fmt::Debug for SubObjects {
 impl Serialize for SubObjects {
     /// A map from sub-index to sub-object, as the `BTreeMap` it replaces.
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        s.collect_map(self.iter())
+        s.collect_map(self.iter().map(|(k, v)| (format!("0x{k:02X}"), v)))
     }
 }
 
@@ -573,11 +573,14 @@ mod tests {
     }
 
     #[test]
-    fn debug_and_serde_output_as_the_map() {
+    fn debug_and_serde_output_as_the_map_with_hex_keys() {
         let m: SubObjects = [(1, sub(1, "b")), (0, sub(0, "a"))].into_iter().collect();
         let b: BTreeMap<u8, SubObject> = m.clone().into_iter().collect();
         assert_eq!(format!("{m:?}"), format!("{b:?}"));
-        assert_eq!(serde_json::to_string(&m).ok(), serde_json::to_string(&b).ok());
+        // Serialised with hex keys, as device files write sub-indexes.
+        let hex: BTreeMap<String, &SubObject> =
+            b.iter().map(|(k, v)| (format!("0x{k:02X}"), v)).collect();
+        assert_eq!(serde_json::to_string(&m).ok(), serde_json::to_string(&hex).ok());
     }
 
     #[test]
