@@ -369,6 +369,12 @@ impl<'a> Files<'a> for Sources {
         let f = self.files.get(id).ok_or(FilesError::FileMissing)?;
         let start = f.line_start(line_index)?;
         let end = byte_index.min(f.line_start(line_index + 1)?).max(start);
+        // A line of usual length is counted directly; only a long one uses the table of
+        // character counts, which costs a pass over the whole file to build.
+        if end - start <= CHAR_MARK {
+            let line = f.text.as_bytes().get(start..end).unwrap_or_default();
+            return Ok(line.iter().filter(|&&b| starts_char(b)).count() + 1);
+        }
         Ok(f.chars_before(end) - f.chars_before(start) + 1)
     }
 }
@@ -588,6 +594,16 @@ mod tests {
             let line_start = text[..byte].rfind('\n').map_or(0, |i| i + 1);
             assert_eq!(lc.column, text[line_start..byte].chars().count() + 1, "byte {byte}");
         }
+    }
+
+    #[test]
+    fn columns_count_characters_on_short_lines() {
+        let mut sources = Sources::new();
+        let f = sources.add("f", "[2000]\nParameterName=Drehzahl öü=1\n".to_string());
+        let at = |byte: u32| sources.line_col(Span::new(f, byte, byte));
+        // `=1` after two 2-byte characters: byte 31 is the 29th character of line 2.
+        assert_eq!(at(7 + 28), Some(LineCol { line: 2, column: 27 }));
+        assert_eq!(at(7 + 29), Some(LineCol { line: 2, column: 28 }));
     }
 
     #[test]

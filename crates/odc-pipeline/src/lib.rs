@@ -45,7 +45,7 @@ pub use select::{Select, list_devices};
 
 /// How a device file is loaded and checked: one type for the command line, the build API and
 /// the macro.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct Options {
     /// A checker configuration file (`odc.toml` form) used instead of the overlay's checker
     /// settings (`--config`). The overlay's schemes still apply.
@@ -59,6 +59,22 @@ pub struct Options {
     pub strict: bool,
     /// Which devices of the file to keep and check.
     pub select: Select,
+    /// Whether to compute the device file's SHA-256 ([`Loaded::sha256`]), which generated code
+    /// names; a command that generates nothing (`odc check`) turns it off.
+    pub source_hash: bool,
+}
+
+impl Default for Options {
+    fn default() -> Options {
+        Options {
+            config_file: None,
+            check: None,
+            levels: Vec::new(),
+            strict: false,
+            select: Select::All,
+            source_hash: true,
+        }
+    }
 }
 
 impl Options {
@@ -137,7 +153,8 @@ pub struct Loaded {
     pub overlay: Option<PathBuf>,
     /// What the overlay adds to generated code.
     pub codegen: odc_codegen::Overlay,
-    /// SHA-256 of the device file's bytes, lower-case hex.
+    /// SHA-256 of the device file's bytes, lower-case hex; empty when
+    /// [`Options::source_hash`] was off.
     pub sha256: String,
 }
 
@@ -343,7 +360,7 @@ pub fn load(path: &Path, options: &Options) -> Result<Loaded, Error> {
         config.strict(true);
     }
     let mut sources = Sources::new();
-    let sha256 = sha256_hex(&bytes);
+    let sha256 = if options.source_hash { sha256_hex(&bytes) } else { String::new() };
     let mut parsed = parse(&mut sources, &path.display().to_string(), path, bytes);
     let unread = parsed.devices.is_empty();
     parsed.devices = options

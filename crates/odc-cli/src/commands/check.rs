@@ -1,12 +1,11 @@
 //! `odc check`: parse and check device files, print diagnostics.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use odc_model::diag;
-use odc_pipeline::Loaded;
 
-use super::{Color, DiagFormat, print_diagnostics};
+use super::{Color, DiagFormat};
 use crate::input;
 
 /// Check device files against CiA 306/301/402 and ETG rules.
@@ -31,36 +30,51 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let all = load_all(&args.files, &args.levels).into_iter().collect::<Result<Vec<_>, _>>()?;
-    let errors: usize = all.iter().map(|loaded| loaded.errors().count()).sum();
+    let mut options = args.levels.options();
+    // Nothing is generated: the source's fingerprint is not needed.
+    options.source_hash = false;
     if let DiagFormat::Json = args.format {
+        let all = parallel(&args.files, |path| Ok(odc_pipeline::load(path, &options)?))
+            .into_iter()
+            .collect::<anyhow::Result<Vec<_>>>()?;
+        let errors: usize = all.iter().map(|loaded| loaded.errors().count()).sum();
         let reports = all.iter().map(|l| (&l.sources, l.diagnostics.as_slice()));
         super::out(&(diag::render_json_many(reports) + "\n"))?;
         return Ok(if errors > 0 { ExitCode::from(1) } else { ExitCode::SUCCESS });
     }
-    for loaded in &all {
-        let diags = &loaded.diagnostics;
-        let file_errors = loaded.errors().count();
-        print_diagnostics(&loaded.sources, diags, args.format, args.color)?;
-        let warnings = loaded.warnings().count();
+    // Each file is loaded and its report rendered on a worker; the reports are printed in the
+    // order of the files.
+    let reports = parallel(&args.files, |path| {
+        let loaded = odc_pipeline::load(path, &options)?;
+        let text = super::render(&loaded.sources, &loaded.diagnostics, args.format, args.color);
+        Ok((loaded.errors().count(), loaded.warnings().count(), text))
+    });
+    let mut total = 0;
+    for (path, report) in args.files.iter().zip(reports) {
+        let (errors, warnings, text) = report?;
+        total += errors;
         let plural = |n: usize| if n == 1 { "" } else { "s" };
+        eprint!("{text}");
         eprintln!(
-            "{}: {file_errors} error{}, {warnings} warning{}",
-            loaded.path.display(),
-            plural(file_errors),
+            "{}: {errors} error{}, {warnings} warning{}",
+            path.display(),
+            plural(errors),
             plural(warnings)
         );
     }
-    Ok(if errors > 0 { ExitCode::from(1) } else { ExitCode::SUCCESS })
+    Ok(if total > 0 { ExitCode::from(1) } else { ExitCode::SUCCESS })
 }
 
-/// Loads every file, on as many threads as there are cores, in the order given.
-fn load_all(files: &[PathBuf], levels: &input::Levels) -> Vec<anyhow::Result<Loaded>> {
+/// `work` on every file, on as many threads as there are cores; the results in file order.
+fn parallel<T: Send>(
+    files: &[PathBuf],
+    work: impl Fn(&Path) -> anyhow::Result<T> + Sync,
+) -> Vec<anyhow::Result<T>> {
     use std::sync::Mutex;
     use std::sync::atomic::{AtomicUsize, Ordering};
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get()).min(files.len());
     let next = AtomicUsize::new(0);
-    let results: Mutex<Vec<Option<anyhow::Result<Loaded>>>> =
+    let results: Mutex<Vec<Option<anyhow::Result<T>>>> =
         Mutex::new(files.iter().map(|_| None).collect());
     std::thread::scope(|scope| {
         for _ in 0..threads {
@@ -68,13 +82,13 @@ fn load_all(files: &[PathBuf], levels: &input::Levels) -> Vec<anyhow::Result<Loa
                 loop {
                     let i = next.fetch_add(1, Ordering::Relaxed);
                     let Some(path) = files.get(i) else { break };
-                    let loaded = input::load(path, levels);
+                    let result = work(path);
                     // A poisoned lock means another worker panicked; the scope re-raises that
                     // panic when it ends, so this result is not needed.
                     if let Ok(mut results) = results.lock()
                         && let Some(slot) = results.get_mut(i)
                     {
-                        *slot = Some(loaded);
+                        *slot = Some(result);
                     }
                 }
             });

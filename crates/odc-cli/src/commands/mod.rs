@@ -51,6 +51,16 @@ pub fn print_diagnostics(
     format: DiagFormat,
     color: Color,
 ) -> anyhow::Result<()> {
+    let text = render(sources, diags, format, color);
+    match format {
+        DiagFormat::Human | DiagFormat::Short => eprint!("{text}"),
+        DiagFormat::Json => out(&(text + "\n"))?,
+    }
+    Ok(())
+}
+
+/// Diagnostics rendered in a format, as [`print_diagnostics`] prints them.
+pub fn render(sources: &Sources, diags: &[Diagnostic], format: DiagFormat, color: Color) -> String {
     match format {
         DiagFormat::Human => {
             let color = match color {
@@ -58,12 +68,11 @@ pub fn print_diagnostics(
                 Color::Always => true,
                 Color::Never => false,
             };
-            eprint!("{}", diag::render_human(sources, diags, color));
+            diag::render_human(sources, diags, color)
         }
-        DiagFormat::Short => eprint!("{}", diag::render_short(sources, diags)),
-        DiagFormat::Json => return out(&(diag::render_json(sources, diags) + "\n")),
+        DiagFormat::Short => diag::render_short(sources, diags),
+        DiagFormat::Json => diag::render_json(sources, diags),
     }
-    Ok(())
 }
 
 /// A command stopped at the error gate: the file has error-level diagnostics (already
