@@ -119,12 +119,19 @@ for set in esi-common esi-common-largest; do
   row "$set" "$(n "$L")" "$(bytes "$L")" quick-xml "$(rust "$L" esi odc)" "$(rust "$L" esi quick-xml)"
 done
 
-log "whole process: odc check vs dcfchk"
+log "whole process: odc check vs dcfchk, vs python-canopen over its files"
 # Wall time of the whole command (interpreter start-up included), median of 5, on the
 # largest EDS both read.
 F=$(cat "$WORK/eds-common-largest.list")
 wall() { local ts=(); for _ in 1 2 3 4 5; do local s; s=$(date +%s%N); "$@" >/dev/null 2>&1 || true; ts+=($(( $(date +%s%N) - s ))); done; printf '%s\n' "${ts[@]}" | sort -n | sed -n 3p | awk '{printf "%.9f", $1/1e9}'; }
 row whole-process 1 "$(wc -c < "$F")" "dcfchk" "$(wall "$ODC" check "$F")" "$(wall "$WORK/venv/bin/dcfchk" "$F")"
+# Every file python-canopen reads, one process each, best of three: `odc check` (all rules,
+# human diagnostics) against `canopen.import_od` on each file.
+L="$WORK/eds-python-canopen.list"
+best3() { local ts=(); for _ in 1 2 3; do local s; s=$(date +%s%N); "$@" >/dev/null 2>&1 || true; ts+=($(( $(date +%s%N) - s ))); done; printf '%s\n' "${ts[@]}" | sort -n | sed -n 1p | awk '{printf "%.9f", $1/1e9}'; }
+mapfile -t PYFILES < "$L"
+row whole-process-many "$(n "$L")" "$(bytes "$L")" "python-canopen" \
+  "$(best3 "$ODC" check "${PYFILES[@]}")" "$(best3 "$PY" "$BENCH/py/import_all.py" "$L")"
 
 log "PDO pack/unpack (criterion)"
 # Every loop aligned to 64 bytes, in a target directory of its own (the parse harness keeps

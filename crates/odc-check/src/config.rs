@@ -2,16 +2,20 @@
 
 use std::collections::BTreeMap;
 
-use odc_model::{Device, Diagnostic, FileId, Format, RuleInfo, Severity, diag};
+use odc_model::{Device, Diagnostic, FileId, Format, Registry, RuleInfo, Severity, diag};
 
-use crate::{Level, all_rules, own_rule};
+use crate::{Level, own_rule};
 
 /// The groups a level can be set for, besides single rules.
 const GROUPS: &[&str] = &["format", "cia301", "cia402", "etg", "all"];
 
 /// How to report: levels per rule, group or `all`; strictness; per-object allowances.
 /// See the crate documentation for the `odc.toml` form.
-#[derive(Clone, Debug, Default, serde::Deserialize)]
+///
+/// Rule names are resolved in a [`Registry`]: by default this crate's rules
+/// ([`crate::rules`]); a driver that also reports the front-ends' and the generator's codes
+/// gives the registry of all of them ([`Config::in_registry`], [`Config::from_toml_in`]).
+#[derive(Clone, Debug, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub struct Config {
     /// Warnings become errors.
@@ -24,6 +28,15 @@ pub struct Config {
     /// Objects a rule (code, name, group or `all`) is allowed for: `0x2003` or `0x1A00:1`.
     #[serde(default)]
     pub allow_object: BTreeMap<String, Vec<String>>,
+    /// The rules names are resolved in.
+    #[serde(skip, default = "crate::rules")]
+    registry: Registry,
+}
+
+impl Default for Config {
+    fn default() -> Config {
+        Config::in_registry(crate::rules())
+    }
 }
 
 /// A rule or group name that no rule has.
@@ -59,16 +72,12 @@ enum Key {
     Group(&'static str),
 }
 
-fn resolve_key(key: &str) -> Result<Key, UnknownRule> {
+fn resolve_key(registry: &Registry, key: &str) -> Result<Key, UnknownRule> {
     let k = key.trim();
     if let Some(g) = GROUPS.iter().find(|g| g.eq_ignore_ascii_case(k)) {
         return Ok(Key::Group(g));
     }
-    all_rules()
-        .into_iter()
-        .find(|r| r.code.eq_ignore_ascii_case(k) || r.name.eq_ignore_ascii_case(k))
-        .map(|r| Key::Rule(r.code))
-        .ok_or_else(|| UnknownRule(key.to_string()))
+    registry.find(k).map(|r| Key::Rule(r.code)).ok_or_else(|| UnknownRule(key.to_string()))
 }
 
 /// An object selector of `[allow-object]`.
@@ -105,14 +114,38 @@ impl ObjectSel {
 }
 
 impl Config {
-    /// Reads an `odc.toml` (see the crate documentation for its form).
+    /// An empty configuration whose rule names are resolved in `registry`.
+    pub fn in_registry(registry: Registry) -> Config {
+        Config { strict: false, rules: BTreeMap::new(), allow_object: BTreeMap::new(), registry }
+    }
+
+    /// The same configuration, resolving names in `registry` from now on: a wider registry
+    /// (the drivers' registry of every code) keeps every name already set valid.
+    pub fn with_registry(mut self, registry: Registry) -> Config {
+        self.registry = registry;
+        self
+    }
+
+    /// The rules names are resolved in.
+    pub fn registry(&self) -> &Registry {
+        &self.registry
+    }
+
+    /// Reads an `odc.toml` (see the crate documentation for its form), naming this crate's
+    /// rules.
     pub fn from_toml(text: &str) -> Result<Config, ConfigError> {
-        let config: Config = toml::from_str(text)?;
+        Config::from_toml_in(text, crate::rules())
+    }
+
+    /// Reads an `odc.toml` whose rule names are resolved in `registry`.
+    pub fn from_toml_in(text: &str, registry: Registry) -> Result<Config, ConfigError> {
+        let mut config: Config = toml::from_str(text)?;
+        config.registry = registry;
         for key in config.rules.keys() {
-            resolve_key(key)?;
+            config.resolve(key)?;
         }
         for (rule, objects) in &config.allow_object {
-            resolve_key(rule)?;
+            config.resolve(rule)?;
             for text in objects {
                 if parse_sel(text).is_none() {
                     return Err(ConfigError::BadObject { rule: rule.clone(), text: text.clone() });
@@ -124,9 +157,10 @@ impl Config {
 
     /// Sets the level of a rule (code or name), a group or `all`.
     pub fn set_level(&mut self, rule_or_group: &str, level: Level) -> Result<(), UnknownRule> {
-        let key = resolve_key(rule_or_group)?;
+        let key = self.resolve(rule_or_group)?;
         // The last setting wins over others naming the same rule or group (code vs name).
-        self.rules.retain(|k, _| resolve_key(k).ok() != Some(key));
+        let registry = self.registry.clone();
+        self.rules.retain(|k, _| resolve_key(&registry, k).ok() != Some(key));
         self.rules.insert(rule_or_group.trim().to_string(), level);
         Ok(())
     }
@@ -138,7 +172,7 @@ impl Config {
 
     /// Allows a rule (code, name, group or `all`) for one object: `0x2003` or `0x1A00:1`.
     pub fn allow_object(&mut self, rule_or_group: &str, object: &str) -> Result<(), ConfigError> {
-        resolve_key(rule_or_group)?;
+        self.resolve(rule_or_group)?;
         if parse_sel(object).is_none() {
             return Err(ConfigError::BadObject {
                 rule: rule_or_group.to_string(),
@@ -149,10 +183,14 @@ impl Config {
         Ok(())
     }
 
+    fn resolve(&self, key: &str) -> Result<Key, UnknownRule> {
+        resolve_key(&self.registry, key)
+    }
+
     /// Whether a configured key names this rule or its group, and how specifically
     /// (2 = the rule, 1 = its group, 0 = `all`).
-    fn specificity(key: &str, info: &RuleInfo) -> Option<u8> {
-        match resolve_key(key).ok()? {
+    fn specificity(&self, key: &str, info: &RuleInfo) -> Option<u8> {
+        match self.resolve(key).ok()? {
             Key::Rule(code) if code == info.code => Some(2),
             Key::Group("all") => Some(0),
             Key::Group(g) if g == info.group => Some(1),
@@ -164,7 +202,7 @@ impl Config {
     pub fn level_of(&self, info: &RuleInfo) -> Option<Level> {
         self.rules
             .iter()
-            .filter_map(|(k, &level)| Some((Self::specificity(k, info)?, level)))
+            .filter_map(|(k, &level)| Some((self.specificity(k, info)?, level)))
             .max_by_key(|&(spec, _)| spec)
             .map(|(_, level)| level)
     }
@@ -172,7 +210,7 @@ impl Config {
     fn allowed_for(&self, info: &RuleInfo, object: Option<(u16, Option<u8>)>) -> bool {
         object.is_some()
             && self.allow_object.iter().any(|(k, objects)| {
-                Self::specificity(k, info).is_some()
+                self.specificity(k, info).is_some()
                     && objects.iter().filter_map(|t| parse_sel(t)).any(|s| s.matches(object))
             })
     }
@@ -182,10 +220,9 @@ impl Config {
     /// and sorts by position.
     pub fn apply(&self, device: &Device, diags: Vec<Diagnostic>) -> Vec<Diagnostic> {
         let sections = SectionIndex::new(device);
-        let rules = all_rules();
         let mut out = Vec::with_capacity(diags.len());
         for mut d in diags {
-            let info = rules.iter().find(|r| r.code == d.code).copied();
+            let info = self.registry.get(d.code);
             if let Some(info) = info {
                 let level = self.level_of(info).or_else(|| {
                     own_rule(info.code).map(|r| r.level).filter(|&l| l == Level::Allow)

@@ -14,8 +14,10 @@
 //! | `D5xx` | `cia402` | CiA 402 drives (when 0x1000, or an ESI `Profile`, says profile 402) |
 //! | `T6xx` | `etg` | EtherCAT (ESI devices): PDO entries, sync managers, PDO assignment, `Exclude`, mailbox, DC |
 //!
-//! The front-ends have their own rules (`odc_eds::RULES`, `odc_esi::RULES`, group `format`);
-//! [`Config::apply`] handles their diagnostics too.
+//! The front-ends have their own rules (`odc_eds::RULES`, `odc_esi::RULES`, group `format`), as
+//! has the code generator (`odc_codegen::RULES`); this crate knows none of them. A [`Config`]
+//! made in the registry of every code (`odc_pipeline::registry`) applies levels to their
+//! diagnostics too ([`Config::apply`]).
 //!
 //! # Levels
 //!
@@ -68,7 +70,7 @@ mod config;
 mod rules;
 mod util;
 
-use odc_model::{Device, Diagnostic, RuleInfo, Severity, Span};
+use odc_model::{Device, Diagnostic, Registry, RuleInfo, Severity, Span};
 
 pub use config::{Config, ConfigError, UnknownRule};
 
@@ -169,22 +171,10 @@ impl Ctx {
 /// This crate's rules, in code order.
 pub static RULES: &[Rule] = rules::ALL;
 
-/// Every rule odc knows: this crate's and the front-ends'.
-pub fn all_rules() -> Vec<&'static RuleInfo> {
-    RULES
-        .iter()
-        .map(|r| &r.info)
-        .chain(odc_eds::RULES.iter())
-        .chain(odc_esi::RULES.iter())
-        .collect()
-}
-
-/// The rule with this code or name (case-insensitive), for `odc explain`.
-pub fn explain(code_or_name: &str) -> Option<&'static RuleInfo> {
-    let key = code_or_name.trim();
-    all_rules()
-        .into_iter()
-        .find(|r| r.code.eq_ignore_ascii_case(key) || r.name.eq_ignore_ascii_case(key))
+/// This crate's rules as a [`Registry`]: what a [`Config`] resolves names in by default.
+/// Drivers give it the registry of every code instead (`odc_pipeline::registry`).
+pub fn rules() -> Registry {
+    Registry::new(RULES.iter().map(|r| &r.info))
 }
 
 /// This crate's rule with this code, if it is one.
@@ -246,10 +236,11 @@ mod tests {
     }
 
     #[test]
-    fn explain_finds_by_code_and_name() {
+    fn the_registry_finds_by_code_and_name() {
         let first = &RULES[0].info;
-        assert_eq!(explain(first.code).map(|r| r.code), Some(first.code));
-        assert_eq!(explain(&first.name.to_uppercase()).map(|r| r.code), Some(first.code));
-        assert!(explain("no-such-rule").is_none());
+        assert_eq!(rules().find(first.code).map(|r| r.code), Some(first.code));
+        assert_eq!(rules().find(&first.name.to_uppercase()).map(|r| r.code), Some(first.code));
+        assert!(rules().find("no-such-rule").is_none());
+        assert_eq!(rules().len(), RULES.len());
     }
 }

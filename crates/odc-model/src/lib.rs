@@ -19,6 +19,7 @@ pub mod diag;
 pub mod ethercat;
 mod hex;
 pub mod pdo;
+mod registry;
 mod span;
 pub mod subs;
 pub mod trim;
@@ -31,6 +32,7 @@ pub use device::{
 };
 pub use diag::{Capped, Diagnostic, Label, RuleInfo, Severity, Sources};
 pub use pdo::{Pdo, PdoEntry};
+pub use registry::Registry;
 pub use span::{FileId, Span, Spanned};
 pub use subs::SubObjects;
 pub use types::{Access, DataType, Direction, ObjectKind, PdoMapping, ValueClass};

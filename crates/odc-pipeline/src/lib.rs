@@ -35,8 +35,9 @@ mod select;
 
 use std::fmt;
 use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
 
-use odc_model::{Device, Diagnostic, Severity, Sources, diag};
+use odc_model::{Device, Diagnostic, Registry, Severity, Sources, diag};
 use sha2::{Digest, Sha256};
 
 pub use odc_check::{Config as CheckConfig, Level, UnknownRule};
@@ -50,7 +51,9 @@ pub struct Options {
     /// A checker configuration file (`odc.toml` form) used instead of the overlay's checker
     /// settings (`--config`). The overlay's schemes still apply.
     pub config_file: Option<PathBuf>,
-    /// A checker configuration used instead of the overlay's (`odc_build::Config::check_config`).
+    /// A checker configuration used instead of the overlay's (`odc_build::Config::check_config`);
+    /// its names are then resolved in [`registry`] (make it with [`check_config`] to set levels
+    /// of front-end codes).
     pub check: Option<CheckConfig>,
     /// Levels by rule code, rule name or group, applied in order after the configuration
     /// (`-A`, `-W`, `-D`).
@@ -177,7 +180,7 @@ impl fmt::Display for Refused {
         let plural = if n == 1 { "" } else { "s" };
         write!(f, "{}: refused: {n} error{plural}", self.path.display())?;
         let allowable: Vec<&str> =
-            self.codes.iter().copied().filter(|c| odc_check::explain(c).is_some()).collect();
+            self.codes.iter().copied().filter(|c| registry().get(c).is_some()).collect();
         match allowable.first() {
             Some(first) => write!(
                 f,
@@ -346,12 +349,12 @@ pub fn load(path: &Path, options: &Options) -> Result<Loaded, Error> {
         None => None,
     };
     let mut config = match (&options.check, &options.config_file) {
-        (Some(config), _) => config.clone(),
+        (Some(config), _) => config.clone().with_registry(registry()),
         (None, Some(file)) => {
             read.push(file.clone());
             read_overlay(file)?.check
         }
-        (None, None) => overlay.as_ref().map(|o| o.check.clone()).unwrap_or_default(),
+        (None, None) => overlay.as_ref().map_or_else(check_config, |o| o.check.clone()),
     };
     for (rule, level) in &options.levels {
         config.set_level(rule, *level)?;
@@ -379,6 +382,29 @@ pub fn load(path: &Path, options: &Options) -> Result<Loaded, Error> {
         codegen: overlay.map(|o| o.codegen).unwrap_or_default(),
         sha256,
     })
+}
+
+/// Every diagnostic code odc can emit: the front-ends' (`F1xx` EDS/DCF, `F2xx` ESI), the
+/// checker's (`C`, `D`, `T`) and the code generator's (`G6xx`). `odc explain`, `odc lints`,
+/// overlays and `-A/-W/-D` name rules in it.
+pub fn registry() -> Registry {
+    static REGISTRY: OnceLock<Registry> = OnceLock::new();
+    REGISTRY
+        .get_or_init(|| {
+            Registry::new(
+                (odc_check::RULES.iter().map(|r| &r.info))
+                    .chain(odc_eds::RULES)
+                    .chain(odc_esi::RULES)
+                    .chain(odc_codegen::RULES),
+            )
+        })
+        .clone()
+}
+
+/// An empty checker configuration that names rules in [`registry`] (every code), for
+/// [`Options::check`] and `odc_build::Config::check_config`.
+pub fn check_config() -> CheckConfig {
+    CheckConfig::in_registry(registry())
 }
 
 /// The places a device file's overlay may be, in the order they are tried: `<stem>.odc.toml`
@@ -413,7 +439,7 @@ pub fn read_overlay(path: &Path) -> Result<Overlay, Error> {
     let text = std::fs::read_to_string(path)
         .map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
     let bad = |message: String| Error::Overlay { path: path.to_path_buf(), message };
-    let check = CheckConfig::from_toml(&text).map_err(|e| bad(e.to_string()))?;
+    let check = CheckConfig::from_toml_in(&text, registry()).map_err(|e| bad(e.to_string()))?;
     let codegen = odc_codegen::Overlay::from_toml(&text).map_err(|e| bad(e.to_string()))?;
     Ok(Overlay { check, codegen })
 }

@@ -83,14 +83,22 @@ pub fn run(name: &str, bytes: &[u8], xml: bool, generate: bool) -> Outcome {
     let (devices, diagnostics) = (parsed.devices, parsed.diagnostics);
     let config = odc_check::Config::default();
     let mut checked = Vec::new();
+    let mut generator = Vec::new();
     for d in &devices {
         checked.extend(odc_check::check(d, &config));
         if generate {
             let _ = odc_eds::write(d, odc_model::Format::Dcf);
-            let _ = odc_codegen::generate(d, &odc_codegen::Options::default());
+            if let Err(diags) = odc_codegen::generate(d, &odc_codegen::Options::default()) {
+                generator.extend(diags);
+            }
         }
     }
     diag::sort(&mut checked);
+    // Every code any stage emitted is one `odc explain`, `odc lints` and the levels know.
+    let registry = odc_pipeline::registry();
+    for d in diagnostics.iter().chain(&checked).chain(&generator) {
+        assert!(registry.get(d.code).is_some(), "{name}: {} is not in the registry", d.code);
+    }
     for list in [&diagnostics, &checked] {
         let _ = diag::render_human(&sources, list, false);
         let _ = diag::render_json(&sources, list);

@@ -14,7 +14,7 @@ pub struct Args {
 pub struct LintsArgs {}
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let rule = odc_check::explain(&args.code).ok_or_else(|| {
+    let rule = odc_pipeline::registry().find(&args.code).ok_or_else(|| {
         anyhow::anyhow!("no rule has the code or name `{}`; `odc lints` lists them", args.code)
     })?;
     super::out(&format!(
@@ -30,7 +30,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 }
 
 pub fn lints(_: LintsArgs) -> anyhow::Result<ExitCode> {
-    let rules = odc_check::all_rules();
+    let rules: Vec<_> = odc_pipeline::registry().iter().collect();
     let width = rules.iter().map(|r| r.name.len()).max().unwrap_or(0);
     let table: String = rules
         .iter()
