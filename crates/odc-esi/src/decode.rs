@@ -1,5 +1,6 @@
 //! Bytes to text: BOM, UTF-8, ISO-8859-1 (and its spellings) per the XML declaration.
 
+use crate::codes;
 use std::borrow::Cow;
 
 use odc_model::Diagnostic;
@@ -105,7 +106,7 @@ pub(crate) fn decode(input: Cow<'_, [u8]>) -> Result<Decoded, DecodeError> {
 
 fn invalid_utf8(bad: usize) -> Diagnostic {
     Diagnostic::warning(
-        "F203",
+        codes::INVALID_UTF8,
         format!("the file is not valid UTF-8 (first bad byte at offset {bad})"),
     )
     .with_note(

@@ -77,7 +77,7 @@ fn parse_input(sources: &mut Sources, name: &str, bytes: Cow<'_, [u8]>) -> Parse
     if bytes.len() > MAX_FILE_SIZE {
         let file = sources.add(name, String::new());
         let d = Diagnostic::error(
-            "F205",
+            codes::SIZE_LIMIT,
             format!("the file is larger than {MAX_FILE_SIZE} bytes, the limit"),
         )
         .with_label(Span::new(file, 0, 0), "not read");
@@ -89,12 +89,12 @@ fn parse_input(sources: &mut Sources, name: &str, bytes: Cow<'_, [u8]>) -> Parse
             let file = sources.add(name, String::new());
             let d = match e {
                 decode::DecodeError::Utf16 => Diagnostic::error(
-                    "F201",
+                    codes::UNSUPPORTED_ENCODING,
                     "the file is UTF-16; ESI files are read as UTF-8 or ISO-8859-1",
                 )
                 .with_note("convert it, e.g. `iconv -f UTF-16 -t UTF-8`"),
                 decode::DecodeError::Unsupported(label) => Diagnostic::error(
-                    "F201",
+                    codes::UNSUPPORTED_ENCODING,
                     format!("unsupported encoding `{label}` in the XML declaration"),
                 )
                 .with_note("ESI files are read as UTF-8 or ISO-8859-1"),
@@ -123,8 +123,11 @@ fn parse_input(sources: &mut Sources, name: &str, bytes: Cow<'_, [u8]>) -> Parse
         // quick-xml reads NUL as a name character; XML 1.0 §2.2 allows it nowhere.
         let at = at as u32;
         diagnostics.push(
-            Diagnostic::error("F202", "the file contains a NUL byte, which XML does not allow")
-                .with_label(Span::new(file, at, at + 1), "the first one"),
+            Diagnostic::error(
+                codes::MALFORMED_XML,
+                "the file contains a NUL byte, which XML does not allow",
+            )
+            .with_label(Span::new(file, at, at + 1), "the first one"),
         );
     }
     let mut doc = xml::read(text, file);
@@ -137,8 +140,58 @@ fn parse_input(sources: &mut Sources, name: &str, bytes: Cow<'_, [u8]>) -> Parse
     Parsed { devices, diagnostics, file }
 }
 
+/// The codes, as constants, so the code and the registry cannot drift apart.
+pub mod codes {
+    /// See [`super::RULES`]: `esi-unsupported-encoding`.
+    pub const UNSUPPORTED_ENCODING: &str = "F201";
+    /// See [`super::RULES`]: `esi-malformed-xml`.
+    pub const MALFORMED_XML: &str = "F202";
+    /// See [`super::RULES`]: `esi-invalid-utf8`.
+    pub const INVALID_UTF8: &str = "F203";
+    /// See [`super::RULES`]: `esi-depth-limit`.
+    pub const DEPTH_LIMIT: &str = "F204";
+    /// See [`super::RULES`]: `esi-size-limit`.
+    pub const SIZE_LIMIT: &str = "F205";
+    /// See [`super::RULES`]: `esi-not-ethercatinfo`.
+    pub const NOT_ETHERCATINFO: &str = "F206";
+    /// See [`super::RULES`]: `esi-invalid-number`.
+    pub const INVALID_NUMBER: &str = "F207";
+    /// See [`super::RULES`]: `esi-invalid-boolean`.
+    pub const INVALID_BOOLEAN: &str = "F208";
+    /// See [`super::RULES`]: `esi-missing-element`.
+    pub const MISSING_ELEMENT: &str = "F209";
+    /// See [`super::RULES`]: `esi-unknown-data-type`.
+    pub const UNKNOWN_DATA_TYPE: &str = "F210";
+    /// See [`super::RULES`]: `esi-invalid-data`.
+    pub const INVALID_DATA: &str = "F211";
+    /// See [`super::RULES`]: `esi-unknown-access`.
+    pub const UNKNOWN_ACCESS: &str = "F212";
+    /// See [`super::RULES`]: `esi-unknown-pdo-mapping`.
+    pub const UNKNOWN_PDO_MAPPING: &str = "F213";
+    /// See [`super::RULES`]: `esi-duplicate-object`.
+    pub const DUPLICATE_OBJECT: &str = "F214";
+    /// See [`super::RULES`]: `esi-unmatched-subitem`.
+    pub const UNMATCHED_SUBITEM: &str = "F215";
+    /// See [`super::RULES`]: `esi-unresolved-entity`.
+    pub const UNRESOLVED_ENTITY: &str = "F216";
+    /// See [`super::RULES`]: `esi-doctype-ignored`.
+    pub const DOCTYPE_IGNORED: &str = "F217";
+    /// See [`super::RULES`]: `esi-number-out-of-range`.
+    pub const NUMBER_OUT_OF_RANGE: &str = "F218";
+    /// See [`super::RULES`]: `esi-nonstandard-number`.
+    pub const NONSTANDARD_NUMBER: &str = "F219";
+    /// See [`super::RULES`]: `esi-sub-object-limit`.
+    pub const SUB_OBJECT_LIMIT: &str = "F220";
+    /// See [`super::RULES`]: `esi-element-limit`.
+    pub const ELEMENT_LIMIT: &str = "F221";
+    /// See [`super::RULES`]: `esi-structured-sub-item`.
+    pub const STRUCTURED_SUB_ITEM: &str = "F222";
+    /// See [`super::RULES`]: `esi-duplicate-module`.
+    pub const DUPLICATE_MODULE: &str = "F223";
+}
+
 macro_rules! rule {
-    ($code:literal, $name:literal, $sev:ident, $summary:literal, $expl:literal) => {
+    ($code:expr, $name:literal, $sev:ident, $summary:literal, $expl:literal) => {
         RuleInfo {
             code: $code,
             name: $name,
@@ -153,7 +206,7 @@ macro_rules! rule {
 /// Every diagnostic code this crate emits.
 pub static RULES: &[RuleInfo] = &[
     rule!(
-        "F201",
+        codes::UNSUPPORTED_ENCODING,
         "esi-unsupported-encoding",
         Error,
         "the ESI file's encoding cannot be read",
@@ -162,7 +215,7 @@ pub static RULES: &[RuleInfo] = &[
          files and other encodings are refused. Fix: convert the file to UTF-8."
     ),
     rule!(
-        "F202",
+        codes::MALFORMED_XML,
         "esi-malformed-xml",
         Error,
         "the ESI file is not well-formed XML",
@@ -172,7 +225,7 @@ pub static RULES: &[RuleInfo] = &[
          is still lowered, so later diagnostics may be consequences of this one. Fix the file."
     ),
     rule!(
-        "F203",
+        codes::INVALID_UTF8,
         "esi-invalid-utf8",
         Warning,
         "the ESI file is not valid UTF-8",
@@ -181,7 +234,7 @@ pub static RULES: &[RuleInfo] = &[
          convert the file."
     ),
     rule!(
-        "F204",
+        codes::DEPTH_LIMIT,
         "esi-depth-limit",
         Error,
         "XML elements nested too deeply",
@@ -189,7 +242,7 @@ pub static RULES: &[RuleInfo] = &[
          limit keeps hostile input from exhausting memory or stack."
     ),
     rule!(
-        "F205",
+        codes::SIZE_LIMIT,
         "esi-size-limit",
         Error,
         "the ESI file is too large",
@@ -197,7 +250,7 @@ pub static RULES: &[RuleInfo] = &[
          are about 4 MiB, and the limit bounds the memory a hostile file can make odc use."
     ),
     rule!(
-        "F206",
+        codes::NOT_ETHERCATINFO,
         "esi-not-ethercatinfo",
         Error,
         "the root element is not EtherCATInfo",
@@ -207,7 +260,7 @@ pub static RULES: &[RuleInfo] = &[
          error."
     ),
     rule!(
-        "F207",
+        codes::INVALID_NUMBER,
         "esi-invalid-number",
         Error,
         "a number that cannot be read",
@@ -216,14 +269,14 @@ pub static RULES: &[RuleInfo] = &[
          is read."
     ),
     rule!(
-        "F208",
+        codes::INVALID_BOOLEAN,
         "esi-invalid-boolean",
         Error,
         "a boolean that cannot be read",
         "xs:boolean values are 1, 0, true or false. The attribute is taken as absent."
     ),
     rule!(
-        "F209",
+        codes::MISSING_ELEMENT,
         "esi-missing-element",
         Error,
         "a required element or attribute is missing",
@@ -232,7 +285,7 @@ pub static RULES: &[RuleInfo] = &[
          a device's Type, its identity stays empty)."
     ),
     rule!(
-        "F210",
+        codes::UNKNOWN_DATA_TYPE,
         "esi-unknown-data-type",
         Error,
         "a data type name that is neither built in nor declared",
@@ -242,7 +295,7 @@ pub static RULES: &[RuleInfo] = &[
          a warning: the entry's BitLen still gives its size."
     ),
     rule!(
-        "F211",
+        codes::INVALID_DATA,
         "esi-invalid-data",
         Error,
         "DefaultData/MinData/MaxData or a value that does not fit its type",
@@ -251,7 +304,7 @@ pub static RULES: &[RuleInfo] = &[
          valid hex, or does not fit the type, is kept as invalid text."
     ),
     rule!(
-        "F212",
+        codes::UNKNOWN_ACCESS,
         "esi-unknown-access",
         Warning,
         "an access value that is not ro, rw or wo",
@@ -259,7 +312,7 @@ pub static RULES: &[RuleInfo] = &[
          else is read as ro."
     ),
     rule!(
-        "F213",
+        codes::UNKNOWN_PDO_MAPPING,
         "esi-unknown-pdo-mapping",
         Warning,
         "a PdoMapping flag that is not R, T, RT or TR",
@@ -267,14 +320,14 @@ pub static RULES: &[RuleInfo] = &[
          (TxPDO), RT/TR (both), any case. Anything else is read as not mappable."
     ),
     rule!(
-        "F214",
+        codes::DUPLICATE_OBJECT,
         "esi-duplicate-object",
         Warning,
         "an object index defined twice",
         "Two Object elements of one dictionary have the same Index. The later one is used."
     ),
     rule!(
-        "F215",
+        codes::UNMATCHED_SUBITEM,
         "esi-unmatched-subitem",
         Warning,
         "an object's Info/SubItem matches no sub-item of its data type",
@@ -284,7 +337,7 @@ pub static RULES: &[RuleInfo] = &[
          ignored when there is none."
     ),
     rule!(
-        "F216",
+        codes::UNRESOLVED_ENTITY,
         "esi-unresolved-entity",
         Warning,
         "an entity reference that is not predefined",
@@ -292,7 +345,7 @@ pub static RULES: &[RuleInfo] = &[
          entities are never expanded. Others are kept as written."
     ),
     rule!(
-        "F217",
+        codes::DOCTYPE_IGNORED,
         "esi-doctype-ignored",
         Warning,
         "a DOCTYPE declaration was ignored",
@@ -300,7 +353,7 @@ pub static RULES: &[RuleInfo] = &[
          (internal or external) are never resolved."
     ),
     rule!(
-        "F218",
+        codes::NUMBER_OUT_OF_RANGE,
         "esi-number-out-of-range",
         Error,
         "a number too large or too small for its field",
@@ -311,7 +364,7 @@ pub static RULES: &[RuleInfo] = &[
          wider is an error and the text is kept as written."
     ),
     rule!(
-        "F219",
+        codes::NONSTANDARD_NUMBER,
         "esi-nonstandard-number",
         Warning,
         "a number or hex string in a broken but readable form",
@@ -320,7 +373,7 @@ pub static RULES: &[RuleInfo] = &[
          that the file can be fixed."
     ),
     rule!(
-        "F220",
+        codes::SUB_OBJECT_LIMIT,
         "esi-sub-object-limit",
         Error,
         "the file's dictionaries make too many sub-objects",
@@ -331,7 +384,7 @@ pub static RULES: &[RuleInfo] = &[
          that crosses the limit and the rest of its dictionary are dropped."
     ),
     rule!(
-        "F221",
+        codes::ELEMENT_LIMIT,
         "esi-element-limit",
         Error,
         "the file has too many XML elements",
@@ -340,7 +393,7 @@ pub static RULES: &[RuleInfo] = &[
          lowered, as after a well-formedness error."
     ),
     rule!(
-        "F222",
+        codes::STRUCTURED_SUB_ITEM,
         "esi-structured-sub-item",
         Warning,
         "a sub-item whose type is itself structured",
@@ -349,7 +402,7 @@ pub static RULES: &[RuleInfo] = &[
          another type (which odc never follows). Fix the SubItem's Type."
     ),
     rule!(
-        "F223",
+        codes::DUPLICATE_MODULE,
         "esi-duplicate-module",
         Warning,
         "two modules with the same ModuleIdent",

@@ -1,5 +1,6 @@
 //! Lowering: element tree → [`odc_model::Device`]s.
 
+use crate::codes;
 use std::cell::RefCell;
 use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
@@ -163,7 +164,7 @@ impl<'a> Ctx<'a> {
             if broken {
                 self.push(
                     Diagnostic::warning(
-                        "F219",
+                        codes::NONSTANDARD_NUMBER,
                         format!("`{}` is not a well-formed number ({what})", text.trim()),
                     )
                     .with_label(span, format!("read as {v:#x}")),
@@ -173,9 +174,12 @@ impl<'a> Ctx<'a> {
         });
         if v.is_none() {
             self.push(
-                Diagnostic::error("F207", format!("`{}` is not a number ({what})", text.trim()))
-                    .with_label(span, "expected decimal or #x hex")
-                    .with_note("ETG.2000 HexDecValue: [+-]?[0-9]+ or #x[0-9a-fA-F]+"),
+                Diagnostic::error(
+                    codes::INVALID_NUMBER,
+                    format!("`{}` is not a number ({what})", text.trim()),
+                )
+                .with_label(span, "expected decimal or #x hex")
+                .with_note("ETG.2000 HexDecValue: [+-]?[0-9]+ or #x[0-9a-fA-F]+"),
             );
         }
         v
@@ -185,8 +189,11 @@ impl<'a> Ctx<'a> {
         let r = T::try_from(v).ok();
         if r.is_none() {
             self.push(
-                Diagnostic::error("F218", format!("{v} is out of range for {what}"))
-                    .with_label(span, "out of range"),
+                Diagnostic::error(
+                    codes::NUMBER_OUT_OF_RANGE,
+                    format!("{v} is out of range for {what}"),
+                )
+                .with_label(span, "out of range"),
             );
         }
         r
@@ -248,8 +255,11 @@ impl<'a> Ctx<'a> {
         let v = num::parse_bool(a.value);
         if v.is_none() {
             self.push(
-                Diagnostic::error("F208", format!("`{}` is not a boolean ({name})", a.value))
-                    .with_label(a.span, "expected 1, 0, true or false"),
+                Diagnostic::error(
+                    codes::INVALID_BOOLEAN,
+                    format!("`{}` is not a boolean ({name})", a.value),
+                )
+                .with_label(a.span, "expected 1, 0, true or false"),
             );
         }
         v
@@ -260,7 +270,7 @@ impl<'a> Ctx<'a> {
         if v.is_none() {
             self.push(
                 Diagnostic::error(
-                    "F208",
+                    codes::INVALID_BOOLEAN,
                     format!("`{}` is not a boolean ({})", el.text(), el.name()),
                 )
                 .with_label(el.text_span(), "expected 1, 0, true or false"),
@@ -274,8 +284,11 @@ impl<'a> Ctx<'a> {
             Some(b) => b,
             None => {
                 self.push(
-                    Diagnostic::error("F211", format!("`{}` is not hex bytes", el.name()))
-                        .with_label(el.text_span(), "expected pairs of hex digits"),
+                    Diagnostic::error(
+                        codes::INVALID_DATA,
+                        format!("`{}` is not hex bytes", el.name()),
+                    )
+                    .with_label(el.text_span(), "expected pairs of hex digits"),
                 );
                 Vec::new()
             }
@@ -284,8 +297,11 @@ impl<'a> Ctx<'a> {
 
     fn missing(&mut self, parent: Element<'_>, what: &str) {
         self.push(
-            Diagnostic::error("F209", format!("`{}` has no `{what}`", parent.name()))
-                .with_label(parent.span(), format!("`{what}` missing")),
+            Diagnostic::error(
+                codes::MISSING_ELEMENT,
+                format!("`{}` has no `{what}`", parent.name()),
+            )
+            .with_label(parent.span(), format!("`{what}` missing")),
         );
     }
 
@@ -353,7 +369,7 @@ pub(crate) fn lower(
     let mut ctx = Ctx { src, diags, subs: 0 };
     let Some(root) = doc.roots().next() else {
         if !ctx.diags.iter().any(|d| d.is_error()) {
-            ctx.push(Diagnostic::error("F202", "the file has no root element"));
+            ctx.push(Diagnostic::error(codes::MALFORMED_XML, "the file has no root element"));
         }
         return Vec::new();
     };
@@ -362,7 +378,7 @@ pub(crate) fn lower(
         "EtherCATModule" | "EtherCATDict" | "EtherCATDiag" => {
             ctx.push(
                 Diagnostic::warning(
-                    "F206",
+                    codes::NOT_ETHERCATINFO,
                     format!("`{}` file: it describes no device on its own", root.name()),
                 )
                 .with_label(root.span(), "root element"),
@@ -371,8 +387,11 @@ pub(crate) fn lower(
         }
         other => {
             ctx.push(
-                Diagnostic::error("F206", format!("root element is `{other}`, not `EtherCATInfo`"))
-                    .with_label(root.span(), "not an ESI file"),
+                Diagnostic::error(
+                    codes::NOT_ETHERCATINFO,
+                    format!("root element is `{other}`, not `EtherCATInfo`"),
+                )
+                .with_label(root.span(), "not an ESI file"),
             );
             return Vec::new();
         }
@@ -385,7 +404,7 @@ pub(crate) fn lower(
     let vendor_names = vendor.map(|v| names(v, &mut ctx)).unwrap_or_default();
     let Some(descriptions) = root.child("Descriptions") else {
         // After a well-formedness error the rest of the file is unread: no second error for it.
-        if !ctx.diags.iter().any(|d| d.code == "F202") {
+        if !ctx.diags.iter().any(|d| d.code == codes::MALFORMED_XML) {
             ctx.missing(root, "Descriptions");
         }
         return Vec::new();
@@ -475,9 +494,12 @@ fn lower_modules<'t>(
             && let Some(first) = out.iter().find(|o: &&EsiModule| o.module_ident == Some(ident))
         {
             ctx.push(
-                Diagnostic::warning("F223", format!("module ident 0x{ident:X} used twice"))
-                    .with_label(module.span, "this module")
-                    .with_secondary(first.span, "the first module with it"),
+                Diagnostic::warning(
+                    codes::DUPLICATE_MODULE,
+                    format!("module ident 0x{ident:X} used twice"),
+                )
+                .with_label(module.span, "this module")
+                .with_secondary(first.span, "the first module with it"),
             );
         }
         out.push(module);
@@ -817,7 +839,7 @@ fn access_of(text: &str, span: Span, ctx: &mut Ctx<'_>) -> Access {
         Some(a) => a,
         None => {
             ctx.push(
-                Diagnostic::warning("F212", format!("unknown access `{text}`"))
+                Diagnostic::warning(codes::UNKNOWN_ACCESS, format!("unknown access `{text}`"))
                     .with_label(span, "read as ro"),
             );
             Access::Ro
@@ -835,8 +857,11 @@ fn pdo_mapping_of(text: &str, span: Span, ctx: &mut Ctx<'_>) -> PdoMapping {
         _ if is("RT") || is("TR") => PdoMapping::Both,
         _ => {
             ctx.push(
-                Diagnostic::warning("F213", format!("unknown PdoMapping `{text}`"))
-                    .with_label(span, "read as not mappable"),
+                Diagnostic::warning(
+                    codes::UNKNOWN_PDO_MAPPING,
+                    format!("unknown PdoMapping `{text}`"),
+                )
+                .with_label(span, "read as not mappable"),
             );
             PdoMapping::No
         }
@@ -931,7 +956,7 @@ fn value_of(el: Element<'_>, ty: DataType, ctx: &mut Ctx<'_>) -> Spanned<Value> 
             if padded {
                 ctx.push(
                     Diagnostic::warning(
-                        "F219",
+                        codes::NONSTANDARD_NUMBER,
                         format!("`{text}` has an odd number of hex digits ({})", el.name()),
                     )
                     .with_label(el.text_span(), "read with a leading zero"),
@@ -948,8 +973,11 @@ fn value_of(el: Element<'_>, ty: DataType, ctx: &mut Ctx<'_>) -> Spanned<Value> 
         Some(Ok(v)) => v,
         Some(Err(())) => {
             ctx.push(
-                Diagnostic::error("F218", format!("`{text}` does not fit {}", ty.name()))
-                    .with_label(el.text_span(), format!("in `{}`", el.name())),
+                Diagnostic::error(
+                    codes::NUMBER_OUT_OF_RANGE,
+                    format!("`{text}` does not fit {}", ty.name()),
+                )
+                .with_label(el.text_span(), format!("in `{}`", el.name())),
             );
             Value::Invalid(text.into())
         }
@@ -957,7 +985,7 @@ fn value_of(el: Element<'_>, ty: DataType, ctx: &mut Ctx<'_>) -> Spanned<Value> 
             let what = if is_data { "little-endian hex bytes" } else { "a value" };
             ctx.push(
                 Diagnostic::error(
-                    "F211",
+                    codes::INVALID_DATA,
                     format!("`{}` is not {what} of type {}", text, ty.name()),
                 )
                 .with_label(el.text_span(), format!("in `{}`", el.name())),
@@ -988,7 +1016,11 @@ fn apply_info(info: Element<'_>, sub: &mut SubObject, ctx: &mut Ctx<'_>) {
 
 fn unknown_type(name: &str, span: Span, ctx: &mut Ctx<'_>, severe: bool) {
     let msg = format!("unknown data type `{name}`");
-    let d = if severe { Diagnostic::error("F210", msg) } else { Diagnostic::warning("F210", msg) };
+    let d = if severe {
+        Diagnostic::error(codes::UNKNOWN_DATA_TYPE, msg)
+    } else {
+        Diagnostic::warning(codes::UNKNOWN_DATA_TYPE, msg)
+    };
     ctx.push(d.with_label(span, "neither declared in DataTypes nor a base type"));
 }
 
@@ -1077,7 +1109,7 @@ fn lower_objects<'t>(
         if ctx.subs > crate::MAX_SUB_OBJECTS {
             ctx.push(
                 Diagnostic::error(
-                    "F220",
+                    codes::SUB_OBJECT_LIMIT,
                     format!(
                         "the file's dictionaries have more than {} sub-objects",
                         crate::MAX_SUB_OBJECTS
@@ -1089,8 +1121,11 @@ fn lower_objects<'t>(
         }
         if objects.insert(index, object).is_some() {
             ctx.push(
-                Diagnostic::warning("F214", format!("object 0x{index:04X} defined twice"))
-                    .with_label(index_el.text_span(), "this definition is used"),
+                Diagnostic::warning(
+                    codes::DUPLICATE_OBJECT,
+                    format!("object 0x{index:04X} defined twice"),
+                )
+                .with_label(index_el.text_span(), "this definition is used"),
             );
         }
     }
@@ -1152,7 +1187,7 @@ fn lower_struct<'t>(
                         let span = type_el.map(|t| t.text_span()).unwrap_or(si.span());
                         ctx.push(
                             Diagnostic::warning(
-                                "F222",
+                                codes::STRUCTURED_SUB_ITEM,
                                 format!("sub-item of the structured type `{type_name}`"),
                             )
                             .with_label(span, "read as DOMAIN; not expanded"),
@@ -1214,7 +1249,7 @@ fn apply_sub_infos(info: Element<'_>, object: &mut Object, ctx: &mut Ctx<'_>) {
                     };
                     ctx.push(
                         Diagnostic::warning(
-                            "F215",
+                            codes::UNMATCHED_SUBITEM,
                             format!("object 0x{:04X} has no sub-item named `{name}`", object.index),
                         )
                         .with_label(
@@ -1257,8 +1292,11 @@ fn lower_pdos<'t>(
                 Some(def) => *def,
                 None => {
                     ctx.push(
-                        Diagnostic::error("F209", format!("no `Pdo` with RefName `{}`", r.value))
-                            .with_label(r.span, "referred to here"),
+                        Diagnostic::error(
+                            codes::MISSING_ELEMENT,
+                            format!("no `Pdo` with RefName `{}`", r.value),
+                        )
+                        .with_label(r.span, "referred to here"),
                     );
                     continue;
                 }

@@ -19,6 +19,7 @@
 //! side table of owned strings. A text's span is that of its trimmed slice (the element's span
 //! when it has none); texts whose span is not (CDATA, owned texts) keep theirs in the table. [`Element`] and [`Attr`] are copyable handles onto the arena.
 
+use crate::codes;
 use std::borrow::Cow;
 
 use odc_model::{Diagnostic, FileId, Span};
@@ -400,7 +401,7 @@ impl<'s> Builder<'s> {
                         Err(err) => {
                             self.doc.diagnostics.push(
                                 Diagnostic::warning(
-                                    "F216",
+                                    codes::UNRESOLVED_ENTITY,
                                     format!("attribute value has an unresolved reference: {err}"),
                                 )
                                 .with_label(self.span(vstart, vend), "kept as written"),
@@ -413,8 +414,11 @@ impl<'s> Builder<'s> {
                 }
                 Err(err) => {
                     self.doc.diagnostics.push(
-                        Diagnostic::error("F202", format!("malformed attribute: {err}"))
-                            .with_label(self.span(start, end), "in this tag"),
+                        Diagnostic::error(
+                            codes::MALFORMED_XML,
+                            format!("malformed attribute: {err}"),
+                        )
+                        .with_label(self.span(start, end), "in this tag"),
                     );
                 }
             }
@@ -450,7 +454,7 @@ impl<'s> Builder<'s> {
         let span = self.span(n.start, n.end);
         match self.first_root {
             Some(first) => {
-                let d = Diagnostic::error("F202", "a second root element")
+                let d = Diagnostic::error(codes::MALFORMED_XML, "a second root element")
                     .with_label(span, "XML allows one root element")
                     .with_secondary(first, "the root element");
                 self.doc.diagnostics.push(d);
@@ -556,7 +560,7 @@ impl<'s> Builder<'s> {
         if self.stack.is_empty() {
             if !trim(&s).is_empty() {
                 let lead = (s.len() - trim_start(&s).len()) as u32;
-                let d = Diagnostic::error("F202", "text outside the root element")
+                let d = Diagnostic::error(codes::MALFORMED_XML, "text outside the root element")
                     .with_label(self.span(start + lead, end.min(start + lead + 20)), "here");
                 self.doc.diagnostics.push(d);
             }
@@ -645,9 +649,12 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
         }
         if matches!(ev, Ok(Event::Start(_) | Event::Empty(_))) && b.doc.nodes.len() >= MAX_ELEMENTS
         {
-            let d = Diagnostic::error("F221", format!("more than {MAX_ELEMENTS} elements"))
-                .with_label(b.span(before, after), "reading stopped here")
-                .with_note("what was read before this point is still used");
+            let d = Diagnostic::error(
+                codes::ELEMENT_LIMIT,
+                format!("more than {MAX_ELEMENTS} elements"),
+            )
+            .with_label(b.span(before, after), "reading stopped here")
+            .with_note("what was read before this point is still used");
             b.doc.diagnostics.push(d);
             break;
         }
@@ -657,7 +664,7 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
                     if !depth_reported {
                         depth_reported = true;
                         let d = Diagnostic::error(
-                            "F204",
+                            codes::DEPTH_LIMIT,
                             format!("elements nested deeper than {MAX_DEPTH} levels"),
                         )
                         .with_label(b.span(before, after), "this element and its content skipped");
@@ -719,7 +726,7 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
                         } else {
                             format!("unknown entity `&{name};` (entities are never resolved)")
                         };
-                        let d = Diagnostic::warning("F216", message)
+                        let d = Diagnostic::warning(codes::UNRESOLVED_ENTITY, message)
                             .with_label(b.span(before, after), "kept as written");
                         b.doc.diagnostics.push(d);
                         format!("&{name};")
@@ -728,7 +735,7 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
                 b.append(Cow::Owned(text), (before, after), false);
             }
             Ok(Event::DocType(_)) => {
-                let d = Diagnostic::warning("F217", "DOCTYPE declaration ignored")
+                let d = Diagnostic::warning(codes::DOCTYPE_IGNORED, "DOCTYPE declaration ignored")
                     .with_label(b.span(before, after), "not read: no DTD, no external entities")
                     .with_note("ESI files are described by an XML schema; a DTD has no meaning");
                 b.doc.diagnostics.push(d);
@@ -738,7 +745,7 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
                 let bom = if src.starts_with('\u{FEFF}') { 3 } else { 0 };
                 if before as usize != bom {
                     let d = Diagnostic::error(
-                        "F202",
+                        codes::MALFORMED_XML,
                         "the XML declaration is not at the start of the file",
                     )
                     .with_label(b.span(before, after), "XML allows nothing before it");
@@ -756,14 +763,19 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
     // Close elements left open (error or truncated file).
     let end = src.len() as u32;
     if let Some(top) = b.stack.last()
-        && !b.doc.diagnostics.iter().any(|d| (d.code == "F202" || d.code == "F221") && d.is_error())
+        && !b.doc.diagnostics.iter().any(|d| {
+            (d.code == codes::MALFORMED_XML || d.code == codes::ELEMENT_LIMIT) && d.is_error()
+        })
         && let Some(n) = b.doc.nodes.get(top.idx as usize)
     {
         let open = b.doc.str(n.name).to_string();
         let span = b.span(n.start, n.end);
         b.doc.diagnostics.push(
-            Diagnostic::error("F202", format!("the file ends inside element `{open}`"))
-                .with_label(span, "not closed"),
+            Diagnostic::error(
+                codes::MALFORMED_XML,
+                format!("the file ends inside element `{open}`"),
+            )
+            .with_label(span, "not closed"),
         );
     }
     while let Some(idx) = b.close(end, true) {
@@ -796,9 +808,10 @@ fn event_start(src: &str, ev: &Result<Event<'_>, Error>) -> Option<u32> {
 fn report(b: &mut Builder<'_>, reader: &Reader<&[u8]>, e: Error) {
     let pos = (reader.error_position() as u32).min(b.doc.src.len() as u32);
     let end = (pos + 1).min(b.doc.src.len() as u32).max(pos);
-    let d = Diagnostic::error("F202", format!("the file is not well-formed XML: {e}"))
-        .with_label(b.span(pos, end), "reading stopped here")
-        .with_note("what was read before this point is still used");
+    let d =
+        Diagnostic::error(codes::MALFORMED_XML, format!("the file is not well-formed XML: {e}"))
+            .with_label(b.span(pos, end), "reading stopped here")
+            .with_note("what was read before this point is still used");
     b.doc.diagnostics.push(d);
 }
 
@@ -886,16 +899,16 @@ mod tests {
     fn errors_have_positions() {
         let doc = read("<a><b></a>", FileId(0));
         assert_eq!(doc.diagnostics.len(), 1);
-        assert_eq!(doc.diagnostics[0].code, "F202");
+        assert_eq!(doc.diagnostics[0].code, codes::MALFORMED_XML);
         let doc = read("<a></a>junk", FileId(0));
-        assert_eq!(doc.diagnostics[0].code, "F202");
+        assert_eq!(doc.diagnostics[0].code, codes::MALFORMED_XML);
     }
 
     #[test]
     fn depth_limited() {
         let src = format!("{}{}", "<a>".repeat(1000), "</a>".repeat(1000));
         let doc = read(&src, FileId(0));
-        assert!(doc.diagnostics.iter().any(|d| d.code == "F204"));
+        assert!(doc.diagnostics.iter().any(|d| d.code == codes::DEPTH_LIMIT));
         assert_eq!(doc.diagnostics.len(), 1);
     }
 
@@ -904,6 +917,6 @@ mod tests {
         let src = "<!DOCTYPE a [<!ENTITY x SYSTEM \"file:///etc/passwd\">]><a>&x;</a>";
         let doc = read(src, FileId(0));
         assert_eq!(doc.roots().next().unwrap().text(), "&x;");
-        assert!(doc.diagnostics.iter().any(|d| d.code == "F217"));
+        assert!(doc.diagnostics.iter().any(|d| d.code == codes::DOCTYPE_IGNORED));
     }
 }
