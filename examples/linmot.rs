@@ -30,8 +30,8 @@ use odc_examples::bus::{self, Closed, Port};
 use odc_examples::master::Master;
 use odc_examples::{Error, pdo};
 
-/// The code generated from the device file, for both ends (a program uses part of it).
-#[allow(dead_code, unused_imports)]
+/// The code generated from the device file, for both ends (a program uses part of it; the
+/// generated modules allow the dead code that leaves).
 mod linmot_e1200 {
     odc::include_od!("linmot_e1200");
 }

@@ -39,6 +39,9 @@ pub struct OdNames {
     pub entries: BTreeMap<(u16, u8), EntryName>,
     /// The module of each record or array that has typed sub-objects.
     pub modules: BTreeMap<u16, Ident>,
+    /// Whether the device declares the CiA 402 profile (its controlword and statusword are
+    /// typed, and the code has a `cia402` module).
+    pub cia402: bool,
 }
 
 fn ident(s: &str) -> Ident {
@@ -48,13 +51,14 @@ fn ident(s: &str) -> Ident {
 impl OdNames {
     /// Names the device's objects.
     pub fn new(device: &Device) -> Self {
+        let cia402 = crate::cia402::is_cia402(device);
         // Objects: VARs get a constant, records and arrays a module; two namespaces.
         let mut consts = Namer::new();
         let mut mods = Namer::new();
         let mut var_pos = BTreeMap::new();
         let mut mod_pos = BTreeMap::new();
         for (&index, object) in &device.objects {
-            if typed_subs(object).next().is_none() {
+            if typed_subs(object, cia402).next().is_none() {
                 continue;
             }
             if object.kind.has_subs() {
@@ -75,13 +79,13 @@ impl OdNames {
         let mut field_pos = Vec::new();
         for (&index, object) in &device.objects {
             if let Some(&p) = var_pos.get(&index) {
-                let Some((sub, ty)) = typed_subs(object).next() else { continue };
+                let Some((sub, ty)) = typed_subs(object, cia402).next() else { continue };
                 let name = &consts[p];
                 field_pos.push(fields.propose(names::snake(name), format!("obj_{index:04x}")));
                 entries.insert((index, sub.sub_index), (None, ident(name), ty));
             } else if let Some(module) = modules.get(&index) {
                 let mut subs = Namer::new();
-                let typed: Vec<_> = typed_subs(object).collect();
+                let typed: Vec<_> = typed_subs(object, cia402).collect();
                 for (sub, _) in &typed {
                     subs.propose(names::screaming(&sub.name), format!("SUB_{:02X}", sub.sub_index));
                 }
@@ -102,18 +106,19 @@ impl OdNames {
                 (addr, EntryName { module, konst, field: ident(&field), ty })
             })
             .collect();
-        OdNames { entries, modules }
+        OdNames { entries, modules, cia402 }
     }
 }
 
-/// The sub-objects of an object that have a Rust type, in sub-index order.
-pub fn typed_subs(object: &Object) -> impl Iterator<Item = (&SubObject, RustTy)> {
+/// The sub-objects of an object that have a Rust type, in sub-index order; `cia402` as for
+/// [`RustTy::of_entry`].
+pub fn typed_subs(object: &Object, cia402: bool) -> impl Iterator<Item = (&SubObject, RustTy)> {
     let var = !object.kind.has_subs();
     object
         .subs
         .values()
         .filter(move |s| !var || s.sub_index == 0)
-        .filter_map(|s| RustTy::of(s).map(|t| (s, t)))
+        .filter_map(move |s| RustTy::of_entry(s, object.index, var, cia402).map(|t| (s, t)))
 }
 
 /// A value as the doc comments show it.
@@ -229,7 +234,7 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
     let mut items = Vec::new();
     for (&index, object) in &ctx.device.objects {
         if let Some(module) = ctx.names.modules.get(&index) {
-            let consts = typed_subs(object).filter_map(|(sub, _)| {
+            let consts = typed_subs(object, ctx.names.cia402).filter_map(|(sub, _)| {
                 let name = ctx.names.entries.get(&(index, sub.sub_index))?;
                 Some(descriptor(ctx, index, sub, name))
             });
@@ -241,7 +246,7 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
                     #(#consts)*
                 }
             });
-        } else if let Some((sub, name)) = typed_subs(object)
+        } else if let Some((sub, name)) = typed_subs(object, ctx.names.cia402)
             .next()
             .and_then(|(sub, _)| Some((sub, ctx.names.entries.get(&(index, sub.sub_index))?)))
         {
