@@ -43,7 +43,7 @@ impl Cia402Device for slave::Dictionary {
         self.profile_velocity
     }
     fn set_position_actual_value(&mut self, position: i32) {
-        self.position_actual_value_obj_6064 = position;
+        self.position_actual_value = position;
     }
 }
 
@@ -80,9 +80,6 @@ pub fn main() -> Result<(), Error> {
     m.nmt(NmtCommand::Stop)?;
     drop(m);
     let od = drive.join().map_err(|_| "the drive thread panicked")??;
-    println!(
-        "-- the drive's dictionary: position actual value {}",
-        od.position_actual_value_obj_6064
-    );
+    println!("-- the drive's dictionary: position actual value {}", od.position_actual_value);
     Ok(())
 }

@@ -5,7 +5,12 @@
 //! inside a `mod`):
 //!
 //! - `od`: a typed `::odc::Entry<T>` descriptor per object and sub-object; sub-objects of
-//!   records and arrays are grouped in a module named after the object;
+//!   records and arrays are grouped in a module named after the object. The controlword
+//!   0x6040 and statusword 0x6041 of a CiA 402 drive are `odc::cia402::Controlword` and
+//!   `Statusword` (in the PDO structs and the slave dictionary too). Names come from the
+//!   file's; when two objects' names give the same identifier, the object CiA 301/402 names
+//!   so, else the one in a standard area, keeps it and the others get their index
+//!   (`POSITION_ACTUAL_VALUE` is 0x6064, a vendor twin `POSITION_ACTUAL_VALUE_OBJ_2064`);
 //! - `pdo`: a `#[derive(::odc::Pdo)]` struct per PDO of the default mapping, with its mapping
 //!   index, mapping values, COB-ID rule and transmission type (CANopen) or sync-manager
 //!   placement (EtherCAT);
@@ -24,7 +29,9 @@
 
 //!
 //! The output is deterministic, starts with an `@generated` line naming the input file and its
-//! hash, and names the runtime by absolute paths (`::odc::…` by default).
+//! hash, and names the runtime by absolute paths (`::odc::…` by default). Its modules allow
+//! dead code, and it has no `use` of its own, so a binary crate that includes it and uses a
+//! few entries gets no warning.
 
 mod cia402;
 mod master;
@@ -34,6 +41,7 @@ mod pdo;
 mod process;
 mod scheme;
 mod slave;
+mod standard;
 mod types;
 
 use odc_model::{Device, Diagnostic, RuleInfo, Severity};

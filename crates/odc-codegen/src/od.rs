@@ -7,6 +7,7 @@ use proc_macro2::{Ident, Span, TokenStream};
 use quote::quote;
 
 use crate::names::{self, Namer};
+use crate::standard;
 use crate::types::{RustTy, index_literal, sub_literal};
 use crate::{Ctx, doc};
 
@@ -61,11 +62,14 @@ impl OdNames {
             if typed_subs(object, cia402).next().is_none() {
                 continue;
             }
+            let rank = standard::rank(index, &object.name);
             if object.kind.has_subs() {
-                let p = mods.propose(names::snake(&object.name), format!("obj_{index:04x}"));
+                let base = names::snake(&object.name);
+                let p = mods.propose_ranked(base, format!("obj_{index:04x}"), rank);
                 mod_pos.insert(index, p);
             } else {
-                let p = consts.propose(names::screaming(&object.name), format!("OBJ_{index:04X}"));
+                let base = names::screaming(&object.name);
+                let p = consts.propose_ranked(base, format!("OBJ_{index:04X}"), rank);
                 var_pos.insert(index, p);
             }
         }
@@ -81,7 +85,9 @@ impl OdNames {
             if let Some(&p) = var_pos.get(&index) {
                 let Some((sub, ty)) = typed_subs(object, cia402).next() else { continue };
                 let name = &consts[p];
-                field_pos.push(fields.propose(names::snake(name), format!("obj_{index:04x}")));
+                let rank = standard::rank(index, &object.name);
+                let suffix = format!("obj_{index:04x}");
+                field_pos.push(fields.propose_ranked(names::snake(name), suffix, rank));
                 entries.insert((index, sub.sub_index), (None, ident(name), ty));
             } else if let Some(module) = modules.get(&index) {
                 let mut subs = Namer::new();
@@ -92,7 +98,8 @@ impl OdNames {
                 for ((sub, ty), name) in typed.iter().zip(subs.finish("_", &[])) {
                     let field = names::snake(&format!("{module} {name}"));
                     let suffix = format!("obj_{index:04x}_{:02x}", sub.sub_index);
-                    field_pos.push(fields.propose(field, suffix));
+                    let rank = u8::from(standard::is_standard_area(index));
+                    field_pos.push(fields.propose_ranked(field, suffix, rank));
                     entries
                         .insert((index, sub.sub_index), (Some(module.clone()), ident(&name), *ty));
                 }

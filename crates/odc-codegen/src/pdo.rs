@@ -8,6 +8,7 @@ use quote::quote;
 
 use crate::names::{self, Namer};
 use crate::od::value_text;
+use crate::standard;
 use crate::types::{RustTy, hex_literal, index_literal, int_literal, sub_literal};
 use crate::{Ctx, doc};
 
@@ -121,7 +122,12 @@ fn fields(ctx: &Ctx<'_>, pdo: &Pdo, errors: &mut Vec<Diagnostic>) -> (Vec<Field>
                 (names::snake(&n), n)
             }
         };
-        let name = namer.propose(base, format!("obj_{:04x}_{:02x}", entry.index, entry.sub));
+        let rank = match object {
+            Some(o) if !o.kind.has_subs() => standard::rank(entry.index, &o.name),
+            _ => u8::from(standard::is_standard_area(entry.index)),
+        };
+        let suffix = format!("obj_{:04x}_{:02x}", entry.index, entry.sub);
+        let name = namer.propose_ranked(base, suffix, rank);
         let mut doc = format!("{label} (`0x{:04X}:{:02X}`, {bits} bits", entry.index, entry.sub);
         if let Some(s) = sub {
             doc.push_str(&format!(", {}", s.data_type.name()));
