@@ -14,8 +14,8 @@ use odc_examples::drive::{Cia402Device, Drive};
 use odc_examples::master::{self, Master, PositionPdos};
 use odc_examples::{Error, bus};
 
-/// The code generated from the device file, for both ends (a program uses part of it).
-#[allow(dead_code, unused_imports)]
+/// The code generated from the device file, for both ends (a program uses part of it; the
+/// generated modules allow the dead code that leaves).
 mod lexium_mdrive {
     odc::include_od!("lexium_mdrive");
 }
@@ -26,10 +26,10 @@ const NODE: u8 = 0x41;
 
 /// The firmware's names for the objects it drives: the generated dictionary's fields.
 impl Cia402Device for slave::Dictionary {
-    fn controlword(&self) -> u16 {
+    fn controlword(&self) -> Controlword {
         self.controlword
     }
-    fn set_statusword(&mut self, statusword: u16) {
+    fn set_statusword(&mut self, statusword: Statusword) {
         self.statusword = statusword;
     }
     fn mode_of_operation(&self) -> i8 {
@@ -66,11 +66,8 @@ pub fn main() -> Result<(), Error> {
     let pdos = PositionPdos {
         rx: pdo::Rpdo2::cob_id(NODE),
         tx: pdo::Tpdo2::cob_id(NODE),
-        command: |cw: Controlword, target| pdo::Rpdo2 {
-            controlword: cw.bits(),
-            target_position: target,
-        },
-        status: |t: &pdo::Tpdo2| (Statusword(t.statusword), t.position_actual_value),
+        command: |cw: Controlword, target| pdo::Rpdo2 { controlword: cw, target_position: target },
+        status: |t: &pdo::Tpdo2| (t.statusword, t.position_actual_value),
     };
     m.step("NMT start; the state machine to operation enabled");
     m.nmt(NmtCommand::Start)?;

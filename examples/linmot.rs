@@ -30,8 +30,8 @@ use odc_examples::bus::{self, Closed, Port};
 use odc_examples::master::Master;
 use odc_examples::{Error, pdo};
 
-/// The code generated from the device file, for both ends (a program uses part of it).
-#[allow(dead_code, unused_imports)]
+/// The code generated from the device file, for both ends (a program uses part of it; the
+/// generated modules allow the dead code that leaves).
 mod linmot_e1200 {
     odc::include_od!("linmot_e1200");
 }
@@ -141,10 +141,10 @@ impl LinMot {
     /// which the UPID's object (2000h + UPID) gives.
     fn map_upids(&mut self) {
         let upids = [
-            (1, self.od.tpdo4_upid_mapping_tpdo4_upi_ds_1),
-            (2, self.od.tpdo4_upid_mapping_tpdo4_upi_ds_2),
-            (3, self.od.tpdo4_upid_mapping_tpdo4_upi_ds_3),
-            (4, self.od.tpdo4_upid_mapping_tpdo4_upi_ds_4),
+            (1, self.od.tpdo4_upid_mapping_tpdo4_upids_1),
+            (2, self.od.tpdo4_upid_mapping_tpdo4_upids_2),
+            (3, self.od.tpdo4_upid_mapping_tpdo4_upids_3),
+            (4, self.od.tpdo4_upid_mapping_tpdo4_upids_4),
         ];
         let mut n = 0u8;
         for (sub, id) in upids {
@@ -191,10 +191,10 @@ impl LinMot {
             let mut data = Vec::new();
             for e in entries.iter().filter(|e| e.index == 0x4F08) {
                 let id = [
-                    self.od.tpdo4_upid_mapping_tpdo4_upi_ds_1,
-                    self.od.tpdo4_upid_mapping_tpdo4_upi_ds_2,
-                    self.od.tpdo4_upid_mapping_tpdo4_upi_ds_3,
-                    self.od.tpdo4_upid_mapping_tpdo4_upi_ds_4,
+                    self.od.tpdo4_upid_mapping_tpdo4_upids_1,
+                    self.od.tpdo4_upid_mapping_tpdo4_upids_2,
+                    self.od.tpdo4_upid_mapping_tpdo4_upids_3,
+                    self.od.tpdo4_upid_mapping_tpdo4_upids_4,
                 ]
                 .get(usize::from(e.sub).saturating_sub(1))
                 .copied()
@@ -226,9 +226,9 @@ pub fn main() -> Result<(), Error> {
     m.step("boot-up");
     m.boot_up()?;
     m.step("TxPDO 4 by UPID (manual 9.1.3): 1CA4h, 1CA6h, 1B91h into 4F08h sub 1..3");
-    m.write(&od::tpdo4_upid_mapping::TPDO4_UPI_DS_1, 0x1CA4)?;
-    m.write(&od::tpdo4_upid_mapping::TPDO4_UPI_DS_2, 0x1CA6)?;
-    m.write(&od::tpdo4_upid_mapping::TPDO4_UPI_DS_3, 0x1B91)?;
+    m.write(&od::tpdo4_upid_mapping::TPDO4_UPIDS_1, 0x1CA4)?;
+    m.write(&od::tpdo4_upid_mapping::TPDO4_UPIDS_2, 0x1CA6)?;
+    m.write(&od::tpdo4_upid_mapping::TPDO4_UPIDS_3, 0x1B91)?;
     let mapping = od::transmit_pdo_mapping_parameter_3_tx_pdo_4::PDO_MAPPING_ENTRY_1;
     let first = m.read(&mapping)?;
     println!("-- the drive mapped 1A03h sub 1 = {first:08X}h");

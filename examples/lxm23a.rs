@@ -13,8 +13,8 @@ use odc_examples::drive::{Cia402Device, Drive};
 use odc_examples::master::{self, Master, PositionPdos};
 use odc_examples::{Error, bus};
 
-/// The code generated from the device file, for both ends (a program uses part of it).
-#[allow(dead_code, unused_imports)]
+/// The code generated from the device file, for both ends (a program uses part of it; the
+/// generated modules allow the dead code that leaves).
 mod lxm23a {
     odc::include_od!("lxm23a");
 }
@@ -24,10 +24,10 @@ const NODE: u8 = 1;
 
 /// The firmware's names for the objects it drives: the generated dictionary's fields.
 impl Cia402Device for slave::Dictionary {
-    fn controlword(&self) -> u16 {
+    fn controlword(&self) -> Controlword {
         self.controlword
     }
-    fn set_statusword(&mut self, statusword: u16) {
+    fn set_statusword(&mut self, statusword: Statusword) {
         self.statusword = statusword;
     }
     fn mode_of_operation(&self) -> i8 {
@@ -43,7 +43,7 @@ impl Cia402Device for slave::Dictionary {
         self.profile_velocity
     }
     fn set_position_actual_value(&mut self, position: i32) {
-        self.position_actual_value_obj_6064 = position;
+        self.position_actual_value = position;
     }
 }
 
@@ -68,11 +68,8 @@ pub fn main() -> Result<(), Error> {
     let pdos = PositionPdos {
         rx: pdo::Rpdo2::cob_id(NODE),
         tx: pdo::Tpdo2::cob_id(NODE),
-        command: |cw: Controlword, target| pdo::Rpdo2 {
-            controlword: cw.bits(),
-            target_position: target,
-        },
-        status: |t: &pdo::Tpdo2| (Statusword(t.statusword), t.position_actual_value),
+        command: |cw: Controlword, target| pdo::Rpdo2 { controlword: cw, target_position: target },
+        status: |t: &pdo::Tpdo2| (t.statusword, t.position_actual_value),
     };
     m.step("NMT start; the state machine to operation enabled");
     m.nmt(NmtCommand::Start)?;
@@ -83,9 +80,6 @@ pub fn main() -> Result<(), Error> {
     m.nmt(NmtCommand::Stop)?;
     drop(m);
     let od = drive.join().map_err(|_| "the drive thread panicked")??;
-    println!(
-        "-- the drive's dictionary: position actual value {}",
-        od.position_actual_value_obj_6064
-    );
+    println!("-- the drive's dictionary: position actual value {}", od.position_actual_value);
     Ok(())
 }

@@ -16,8 +16,8 @@ use odc_examples::drive::{Cia402Device, Drive};
 use odc_examples::master::{self, Master, PositionPdos, mapping_plan};
 use odc_examples::{Error, bus};
 
-/// The code generated from the device file, for both ends (a program uses part of it).
-#[allow(dead_code, unused_imports)]
+/// The code generated from the device file, for both ends (a program uses part of it; the
+/// generated modules allow the dead code that leaves).
 mod servoone {
     odc::include_od!("servoone");
 }
@@ -28,8 +28,8 @@ const NODE: u8 = 1;
 /// R_PDO1 as this application maps it.
 #[derive(Clone, Copy, Debug, PartialEq, odc::Pdo)]
 struct Command {
-    #[pdo(index = 0x6040)]
-    controlword: u16,
+    #[pdo(index = 0x6040, bits = 16)]
+    controlword: Controlword,
     #[pdo(index = 0x607A)]
     target_position: i32,
 }
@@ -37,8 +37,8 @@ struct Command {
 /// T_PDO1 as this application maps it.
 #[derive(Clone, Copy, Debug, PartialEq, odc::Pdo)]
 struct Status {
-    #[pdo(index = 0x6041)]
-    statusword: u16,
+    #[pdo(index = 0x6041, bits = 16)]
+    statusword: Statusword,
     #[pdo(index = 0x6064)]
     position_actual_value: i32,
 }
@@ -55,10 +55,10 @@ const _: () = {
 
 /// The firmware's names for the objects it drives: the generated dictionary's fields.
 impl Cia402Device for slave::Dictionary {
-    fn controlword(&self) -> u16 {
+    fn controlword(&self) -> Controlword {
         self.controlword
     }
-    fn set_statusword(&mut self, statusword: u16) {
+    fn set_statusword(&mut self, statusword: Statusword) {
         self.statusword = statusword;
     }
     fn mode_of_operation(&self) -> i8 {
@@ -103,11 +103,8 @@ pub fn main() -> Result<(), Error> {
     let pdos = PositionPdos {
         rx,
         tx,
-        command: |cw: Controlword, target| Command {
-            controlword: cw.bits(),
-            target_position: target,
-        },
-        status: |t: &Status| (Statusword(t.statusword), t.position_actual_value),
+        command: |cw: Controlword, target| Command { controlword: cw, target_position: target },
+        status: |t: &Status| (t.statusword, t.position_actual_value),
     };
     m.step("NMT start; the state machine to operation enabled");
     m.nmt(NmtCommand::Start)?;

@@ -19,7 +19,7 @@ use std::collections::BTreeMap;
 use std::time::Duration;
 
 use odc::can::CanFrame;
-use odc::cia402::{Controlword, ModeOfOperation, State};
+use odc::cia402::{Controlword, ModeOfOperation, State, Statusword};
 use odc::nmt::{NmtCommand, NmtState};
 use odc::sdo::Server;
 use odc::slave::ObjectDictionary;
@@ -31,9 +31,9 @@ use crate::pdo;
 /// `slave::Dictionary`, which differ in name from one device file to the next.
 pub trait Cia402Device: ObjectDictionary {
     /// 0x6040.
-    fn controlword(&self) -> u16;
+    fn controlword(&self) -> Controlword;
     /// 0x6041 (read-only over SDO; the firmware sets it).
-    fn set_statusword(&mut self, statusword: u16);
+    fn set_statusword(&mut self, statusword: Statusword);
     /// 0x6060.
     fn mode_of_operation(&self) -> i8;
     /// 0x6061 (read-only over SDO).
@@ -53,7 +53,7 @@ pub struct Drive<D> {
     server: Server<64>,
     nmt: NmtState,
     state: State,
-    last_controlword: u16,
+    last_controlword: Controlword,
     position: i64,
     target: i64,
     moving: bool,
@@ -72,7 +72,7 @@ impl<D: Cia402Device> Drive<D> {
             server: Server::new(node),
             nmt: NmtState::BootUp,
             state: State::NotReadyToSwitchOn,
-            last_controlword: 0,
+            last_controlword: Controlword::DISABLE_VOLTAGE,
             position: 0,
             target: 0,
             moving: false,
@@ -172,8 +172,8 @@ impl<D: Cia402Device> Drive<D> {
     /// The firmware's reaction to the values the master wrote: the state machine, the mode,
     /// the set-point handshake, and the statusword and actual position it reports.
     fn update(&mut self) {
-        let cw = Controlword(self.od.controlword());
-        let last = Controlword(self.last_controlword);
+        let cw = self.od.controlword();
+        let last = self.last_controlword;
         if cw != last {
             self.state = self.state.after(cw, cw.bit(7) && !last.bit(7));
             let profile_position = ModeOfOperation::from_i8(self.od.mode_of_operation())
@@ -191,7 +191,7 @@ impl<D: Cia402Device> Drive<D> {
             if !cw.bit(4) {
                 self.acknowledged = false;
             }
-            self.last_controlword = cw.0;
+            self.last_controlword = cw;
         }
         if self.state != State::OperationEnabled {
             self.moving = false;
@@ -211,7 +211,7 @@ impl<D: Cia402Device> Drive<D> {
             .with_remote(true)
             .with_target_reached(!self.moving)
             .with_setpoint_ack(self.acknowledged);
-        self.od.set_statusword(sw.bits());
+        self.od.set_statusword(sw);
         self.od.set_position_actual_value(i32::try_from(self.position).unwrap_or(i32::MAX));
     }
 

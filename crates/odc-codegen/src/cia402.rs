@@ -1,6 +1,6 @@
 //! `cia402`: the modes of operation a CiA 402 drive supports.
 
-use odc_model::Value;
+use odc_model::{Device, Value};
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::quote;
 
@@ -26,11 +26,10 @@ const MODES: &[(u32, i8, &str, &str)] = &[
 ];
 
 /// Whether the device declares the CiA 402 profile.
-pub fn is_cia402(ctx: &Ctx<'_>) -> bool {
-    let device_type = ctx.device.sub(0x1000, 0).and_then(|s| s.initial_value()).map(|v| &v.value);
+pub fn is_cia402(device: &Device) -> bool {
+    let device_type = device.sub(0x1000, 0).and_then(|s| s.initial_value()).map(|v| &v.value);
     let by_type = matches!(device_type, Some(Value::Unsigned(v)) if v & 0xFFFF == 402);
-    let by_profile = ctx
-        .device
+    let by_profile = device
         .ethercat
         .as_ref()
         .is_some_and(|e| e.profiles.iter().any(|p| p.profile_no == Some(402)));
@@ -39,7 +38,7 @@ pub fn is_cia402(ctx: &Ctx<'_>) -> bool {
 
 /// The `cia402` module, or nothing.
 pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
-    if !is_cia402(ctx) {
+    if !ctx.names.cia402 {
         return TokenStream::new();
     }
     let rt = &ctx.rt;
@@ -81,12 +80,15 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
         "A mode of operation (0x6060, 0x6061) this device supports: {source}.\n\n\
          `Mode::from_i8` refuses the others, so a mode the drive cannot run is not written."
     ));
-    let docs = doc(&format!("CiA 402 drive profile of {}.", ctx.device.name()));
+    let docs = doc(&format!(
+        "CiA 402 drive profile of {}.\n\n\
+         The controlword and statusword are the runtime's `odc::cia402::Controlword` and\n\
+         `Statusword`: `od` and the PDO structs type 0x6040 and 0x6041 with them.",
+        ctx.device.name()
+    ));
     quote! {
         #docs
         pub mod cia402 {
-            pub use #rt::cia402::{Controlword, Statusword};
-
             #mode_doc
             #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
             #repr

@@ -7,6 +7,7 @@ use proc_macro2::{Ident, Span, TokenStream};
 use quote::quote;
 
 use crate::names::{self, Namer};
+use crate::standard;
 use crate::types::{RustTy, index_literal, sub_literal};
 use crate::{Ctx, doc};
 
@@ -39,6 +40,9 @@ pub struct OdNames {
     pub entries: BTreeMap<(u16, u8), EntryName>,
     /// The module of each record or array that has typed sub-objects.
     pub modules: BTreeMap<u16, Ident>,
+    /// Whether the device declares the CiA 402 profile (its controlword and statusword are
+    /// typed, and the code has a `cia402` module).
+    pub cia402: bool,
 }
 
 fn ident(s: &str) -> Ident {
@@ -48,20 +52,24 @@ fn ident(s: &str) -> Ident {
 impl OdNames {
     /// Names the device's objects.
     pub fn new(device: &Device) -> Self {
+        let cia402 = crate::cia402::is_cia402(device);
         // Objects: VARs get a constant, records and arrays a module; two namespaces.
         let mut consts = Namer::new();
         let mut mods = Namer::new();
         let mut var_pos = BTreeMap::new();
         let mut mod_pos = BTreeMap::new();
         for (&index, object) in &device.objects {
-            if typed_subs(object).next().is_none() {
+            if typed_subs(object, cia402).next().is_none() {
                 continue;
             }
+            let rank = standard::rank(index, &object.name);
             if object.kind.has_subs() {
-                let p = mods.propose(names::snake(&object.name), format!("obj_{index:04x}"));
+                let base = names::snake(&object.name);
+                let p = mods.propose_ranked(base, format!("obj_{index:04x}"), rank);
                 mod_pos.insert(index, p);
             } else {
-                let p = consts.propose(names::screaming(&object.name), format!("OBJ_{index:04X}"));
+                let base = names::screaming(&object.name);
+                let p = consts.propose_ranked(base, format!("OBJ_{index:04X}"), rank);
                 var_pos.insert(index, p);
             }
         }
@@ -75,20 +83,23 @@ impl OdNames {
         let mut field_pos = Vec::new();
         for (&index, object) in &device.objects {
             if let Some(&p) = var_pos.get(&index) {
-                let Some((sub, ty)) = typed_subs(object).next() else { continue };
+                let Some((sub, ty)) = typed_subs(object, cia402).next() else { continue };
                 let name = &consts[p];
-                field_pos.push(fields.propose(names::snake(name), format!("obj_{index:04x}")));
+                let rank = standard::rank(index, &object.name);
+                let suffix = format!("obj_{index:04x}");
+                field_pos.push(fields.propose_ranked(names::snake(name), suffix, rank));
                 entries.insert((index, sub.sub_index), (None, ident(name), ty));
             } else if let Some(module) = modules.get(&index) {
                 let mut subs = Namer::new();
-                let typed: Vec<_> = typed_subs(object).collect();
+                let typed: Vec<_> = typed_subs(object, cia402).collect();
                 for (sub, _) in &typed {
                     subs.propose(names::screaming(&sub.name), format!("SUB_{:02X}", sub.sub_index));
                 }
                 for ((sub, ty), name) in typed.iter().zip(subs.finish("_", &[])) {
                     let field = names::snake(&format!("{module} {name}"));
                     let suffix = format!("obj_{index:04x}_{:02x}", sub.sub_index);
-                    field_pos.push(fields.propose(field, suffix));
+                    let rank = u8::from(standard::is_standard_area(index));
+                    field_pos.push(fields.propose_ranked(field, suffix, rank));
                     entries
                         .insert((index, sub.sub_index), (Some(module.clone()), ident(&name), *ty));
                 }
@@ -102,18 +113,19 @@ impl OdNames {
                 (addr, EntryName { module, konst, field: ident(&field), ty })
             })
             .collect();
-        OdNames { entries, modules }
+        OdNames { entries, modules, cia402 }
     }
 }
 
-/// The sub-objects of an object that have a Rust type, in sub-index order.
-pub fn typed_subs(object: &Object) -> impl Iterator<Item = (&SubObject, RustTy)> {
+/// The sub-objects of an object that have a Rust type, in sub-index order; `cia402` as for
+/// [`RustTy::of_entry`].
+pub fn typed_subs(object: &Object, cia402: bool) -> impl Iterator<Item = (&SubObject, RustTy)> {
     let var = !object.kind.has_subs();
     object
         .subs
         .values()
         .filter(move |s| !var || s.sub_index == 0)
-        .filter_map(|s| RustTy::of(s).map(|t| (s, t)))
+        .filter_map(move |s| RustTy::of_entry(s, object.index, var, cia402).map(|t| (s, t)))
 }
 
 /// A value as the doc comments show it.
@@ -229,7 +241,7 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
     let mut items = Vec::new();
     for (&index, object) in &ctx.device.objects {
         if let Some(module) = ctx.names.modules.get(&index) {
-            let consts = typed_subs(object).filter_map(|(sub, _)| {
+            let consts = typed_subs(object, ctx.names.cia402).filter_map(|(sub, _)| {
                 let name = ctx.names.entries.get(&(index, sub.sub_index))?;
                 Some(descriptor(ctx, index, sub, name))
             });
@@ -241,7 +253,7 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
                     #(#consts)*
                 }
             });
-        } else if let Some((sub, name)) = typed_subs(object)
+        } else if let Some((sub, name)) = typed_subs(object, ctx.names.cia402)
             .next()
             .and_then(|(sub, _)| Some((sub, ctx.names.entries.get(&(index, sub.sub_index))?)))
         {

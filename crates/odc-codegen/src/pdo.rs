@@ -8,6 +8,7 @@ use quote::quote;
 
 use crate::names::{self, Namer};
 use crate::od::value_text;
+use crate::standard;
 use crate::types::{RustTy, hex_literal, index_literal, int_literal, sub_literal};
 use crate::{Ctx, doc};
 
@@ -72,20 +73,22 @@ fn fields(ctx: &Ctx<'_>, pdo: &Pdo, errors: &mut Vec<Diagnostic>) -> (Vec<Field>
         }
         let sub = ctx.device.sub(entry.index, entry.sub);
         let bits = u32::from(entry.bits);
-        let declared = sub.and_then(RustTy::of).or_else(|| {
-            entry
-                .data_type
-                .map(|dt| odc_model::SubObject::new(0, "", dt, odc_model::Access::Rw))
-                .as_ref()
-                .and_then(RustTy::of)
-        });
-        let natural = declared.and_then(|t| match t {
-            RustTy::Bool => Some(1),
-            RustTy::Unsigned(n) | RustTy::Signed(n) => Some(n),
-            RustTy::F32 => Some(32),
-            RustTy::F64 => Some(64),
-            _ => None,
-        });
+        // The descriptor's type when `od` has one (so the field and `od::X` agree, CiA 402
+        // words included), else the data type's.
+        let declared = ctx
+            .names
+            .entries
+            .get(&(entry.index, entry.sub))
+            .map(|e| e.ty)
+            .or_else(|| sub.and_then(RustTy::of))
+            .or_else(|| {
+                entry
+                    .data_type
+                    .map(|dt| odc_model::SubObject::new(0, "", dt, odc_model::Access::Rw))
+                    .as_ref()
+                    .and_then(RustTy::of)
+            });
+        let natural = declared.and_then(RustTy::natural_bits);
         let ty = match (declared, natural) {
             (Some(t), Some(n))
                 if t.is_pdo_value() && bits <= n && (bits == n || t != RustTy::Bool) =>
@@ -119,7 +122,12 @@ fn fields(ctx: &Ctx<'_>, pdo: &Pdo, errors: &mut Vec<Diagnostic>) -> (Vec<Field>
                 (names::snake(&n), n)
             }
         };
-        let name = namer.propose(base, format!("obj_{:04x}_{:02x}", entry.index, entry.sub));
+        let rank = match object {
+            Some(o) if !o.kind.has_subs() => standard::rank(entry.index, &o.name),
+            _ => u8::from(standard::is_standard_area(entry.index)),
+        };
+        let suffix = format!("obj_{:04x}_{:02x}", entry.index, entry.sub);
+        let name = namer.propose_ranked(base, suffix, rank);
         let mut doc = format!("{label} (`0x{:04X}:{:02X}`, {bits} bits", entry.index, entry.sub);
         if let Some(s) = sub {
             doc.push_str(&format!(", {}", s.data_type.name()));

@@ -528,7 +528,7 @@ fn aliases(ctx: &Ctx<'_>, c: &Checked<'_>) -> Result<Vec<Alias>, String> {
             }
             m
         }
-        for (sub, _) in typed_subs(object) {
+        for (sub, _) in typed_subs(object, ctx.names.cia402) {
             let si = sub.sub_index;
             let name = if !object.kind.has_subs() {
                 render(pattern, &placeholders(values, None))?

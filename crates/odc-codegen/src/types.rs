@@ -25,6 +25,10 @@ pub enum RustTy {
     TimeOfDay,
     /// `TimeDifference`.
     TimeDifference,
+    /// `cia402::Controlword`: 0x6040 of a CiA 402 drive, UNSIGNED16 on the wire.
+    Controlword,
+    /// `cia402::Statusword`: 0x6041 of a CiA 402 drive, UNSIGNED16 on the wire.
+    Statusword,
 }
 
 impl RustTy {
@@ -61,6 +65,31 @@ impl RustTy {
         })
     }
 
+    /// The type of the sub-object `sub` of object `index`: [`RustTy::of`], except that the
+    /// controlword 0x6040 and statusword 0x6041 of a CiA 402 drive (`cia402`) are the
+    /// runtime's `Controlword` and `Statusword` when the file types them UNSIGNED16 as the
+    /// profile does (another type keeps its own; the checker reports it, D502).
+    pub fn of_entry(sub: &SubObject, index: u16, var: bool, cia402: bool) -> Option<RustTy> {
+        let word = cia402 && var && sub.sub_index == 0 && sub.data_type == DataType::Unsigned16;
+        match index {
+            0x6040 if word => Some(RustTy::Controlword),
+            0x6041 if word => Some(RustTy::Statusword),
+            _ => RustTy::of(sub),
+        }
+    }
+
+    /// The width of the type on the wire in bits, for the PDO types.
+    pub fn natural_bits(self) -> Option<u32> {
+        Some(match self {
+            RustTy::Bool => 1,
+            RustTy::Unsigned(n) | RustTy::Signed(n) => n,
+            RustTy::F32 => 32,
+            RustTy::F64 => 64,
+            RustTy::Controlword | RustTy::Statusword => 16,
+            _ => return None,
+        })
+    }
+
     /// The type for a PDO field of `bits` bits whose object is unknown: the narrowest unsigned
     /// integer that holds it.
     pub fn raw(bits: u32) -> Option<RustTy> {
@@ -78,7 +107,13 @@ impl RustTy {
     pub fn is_pdo_value(self) -> bool {
         matches!(
             self,
-            RustTy::Bool | RustTy::Unsigned(_) | RustTy::Signed(_) | RustTy::F32 | RustTy::F64
+            RustTy::Bool
+                | RustTy::Unsigned(_)
+                | RustTy::Signed(_)
+                | RustTy::F32
+                | RustTy::F64
+                | RustTy::Controlword
+                | RustTy::Statusword
         )
     }
 
@@ -119,6 +154,8 @@ impl RustTy {
             }
             RustTy::TimeOfDay => quote!(#rt::TimeOfDay),
             RustTy::TimeDifference => quote!(#rt::TimeDifference),
+            RustTy::Controlword => quote!(#rt::cia402::Controlword),
+            RustTy::Statusword => quote!(#rt::cia402::Statusword),
         }
     }
 
@@ -208,6 +245,13 @@ impl RustTy {
                 let bytes = b.iter().map(|&x| hex_literal(u64::from(x), 2));
                 ValueExpr::Plain(quote!(#rt::OctetString([#(#bytes),*])))
             }
+            (RustTy::Controlword | RustTy::Statusword, Value::Unsigned(u)) => {
+                let bits = hex_literal(u16::try_from(*u).ok()?.into(), 4);
+                ValueExpr::Plain(quote!(#ty(#bits)))
+            }
+            (RustTy::Controlword | RustTy::Statusword, Value::Signed(i)) if *i >= 0 => {
+                return self.value_expr(&Value::Unsigned(i.unsigned_abs()), rt);
+            }
             (RustTy::TimeOfDay | RustTy::TimeDifference, Value::Time { ms, days }) => {
                 let ms = Literal::u32_unsuffixed(*ms);
                 let days = Literal::u16_unsuffixed(*days);
@@ -254,6 +298,7 @@ impl RustTy {
                 let n = Literal::usize_unsuffixed(n);
                 quote!(#rt::OctetString([0; #n]))
             }
+            RustTy::Controlword | RustTy::Statusword => quote!(#ty(0)),
             // U24..U56, I24..I56, TimeOfDay, TimeDifference.
             _ => quote!(#ty::ZERO),
         }
@@ -327,6 +372,29 @@ mod tests {
         assert_eq!(int_literal(0x180).to_string(), "0x0180");
         assert_eq!(int_literal(0x6040_0010).to_string(), "0x6040_0010");
         assert_eq!(index_literal(0x1A00).to_string(), "0x1A00");
+    }
+
+    #[test]
+    fn cia402_words_only_where_the_profile_types_them() {
+        use odc_model::Access;
+        let u16_sub = SubObject::new(0, "Controlword", DataType::Unsigned16, Access::Rww);
+        let i16_sub = SubObject::new(0, "Controlword", DataType::Integer16, Access::Rww);
+        assert_eq!(RustTy::of_entry(&u16_sub, 0x6040, true, true), Some(RustTy::Controlword));
+        assert_eq!(RustTy::of_entry(&u16_sub, 0x6041, true, true), Some(RustTy::Statusword));
+        // Another type keeps its own; so does a device without the profile, a record's
+        // sub-object, and any other index.
+        assert_eq!(RustTy::of_entry(&i16_sub, 0x6040, true, true), Some(RustTy::Signed(16)));
+        assert_eq!(RustTy::of_entry(&u16_sub, 0x6040, true, false), Some(RustTy::Unsigned(16)));
+        assert_eq!(RustTy::of_entry(&u16_sub, 0x6040, false, true), Some(RustTy::Unsigned(16)));
+        assert_eq!(RustTy::of_entry(&u16_sub, 0x6042, true, true), Some(RustTy::Unsigned(16)));
+        let rt = quote!(::odc);
+        assert_eq!(
+            RustTy::Controlword.option_expr(&Value::Unsigned(6), &rt).map(|t| t.to_string()),
+            Some("Some (:: odc :: cia402 :: Controlword (0x0006))".into())
+        );
+        assert!(RustTy::Statusword.option_expr(&Value::Unsigned(0x1_0000), &rt).is_none());
+        assert!(RustTy::Controlword.default_expr(&Value::NodeIdPlus(1), &rt).is_none());
+        assert_eq!(RustTy::Statusword.natural_bits(), Some(16));
     }
 
     #[test]

@@ -6,7 +6,11 @@ use core::fmt;
 
 /// Controlword (0x6040). Commands are associated consts; mode-specific bits are set builder-style:
 /// `Controlword::ENABLE_OPERATION.with_new_setpoint(true)`.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+///
+/// The value type of a generated `od::CONTROLWORD` (`odc::Entry<Controlword>`) and of the PDO
+/// fields that map 0x6040; it converts from and into the `u16` on the wire. It orders by that
+/// raw value, as the limits of a device file compare it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Controlword(pub u16);
@@ -86,7 +90,10 @@ impl Controlword {
 }
 
 /// Statusword (0x6041).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+///
+/// The value type of a generated `od::STATUSWORD` (`odc::Entry<Statusword>`) and of the PDO
+/// fields that map 0x6041; it converts from and into the `u16` on the wire, and orders by it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Statusword(pub u16);
@@ -503,6 +510,23 @@ macro_rules! word_pdo {
 }
 word_pdo!(Controlword, Statusword);
 
+macro_rules! word_u16 {
+    ($($t:ident),*) => {$(
+        impl From<u16> for $t {
+            fn from(bits: u16) -> Self {
+                Self(bits)
+            }
+        }
+
+        impl From<$t> for u16 {
+            fn from(word: $t) -> u16 {
+                word.0
+            }
+        }
+    )*};
+}
+word_u16!(Controlword, Statusword);
+
 /// SDO encodings, so generated descriptors can be typed `Entry<Controlword>` and so on.
 macro_rules! obj_value_via {
     ($t:ty, $inner:ty, $dt:ident, $to:expr, $from:expr) => {
@@ -704,6 +728,17 @@ mod tests {
         assert_eq!(s.manufacturer_bits(), 1);
         assert_eq!(ModeOfOperation::from_raw(0xF8, 8), Some(ModeOfOperation::Other(-8)));
         assert_eq!(ModeOfOperation::Other(-8).to_raw() & 0xFF, 0xF8);
+    }
+
+    #[test]
+    fn words_convert_and_order_by_raw_value() {
+        let raw: u16 = Controlword::SHUTDOWN.into();
+        assert_eq!(raw, 0x0006);
+        assert_eq!(Controlword::from(0x000F), Controlword::ENABLE_OPERATION);
+        assert_eq!(u16::from(Statusword(0x0237)), 0x0237);
+        assert_eq!(Statusword::from(0x0250).state(), Some(State::SwitchOnDisabled));
+        assert!(Controlword::SHUTDOWN < Controlword::ENABLE_OPERATION);
+        assert!(Statusword(0x8000) > Statusword(0x7FFF));
     }
 
     #[test]

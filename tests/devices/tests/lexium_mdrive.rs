@@ -52,7 +52,7 @@ fn prologue(b: &mut Bench<slave::Dictionary>) {
     b.write(&od::PROFILE_ACCELERATION, 1_000_000);
     b.write(&od::PROFILE_VELOCITY, 512_000);
     for cw in [Controlword::SHUTDOWN, Controlword::SWITCH_ON, Controlword::ENABLE_OPERATION] {
-        b.write(&od::CONTROLWORD, cw.bits());
+        b.write(&od::CONTROLWORD, cw);
     }
 }
 
@@ -83,8 +83,8 @@ fn profile_position() {
     ];
     for (target, cw) in moves {
         b.write(&od::TARGET_POSITION, target);
-        b.write(&od::CONTROLWORD, cw.with_new_setpoint(true).bits());
-        b.write(&od::CONTROLWORD, cw.bits());
+        b.write(&od::CONTROLWORD, cw.with_new_setpoint(true));
+        b.write(&od::CONTROLWORD, cw);
     }
     let mut manual: Vec<_> = PROLOGUE.iter().map(|t| printed(t)).collect();
     manual.extend(
@@ -142,8 +142,8 @@ fn homing() {
     b.write_unsized(&od::HOME_OFFSET, 0);
     b.write_unsized(&homing_speeds::HOMING_SPEED_FAST, 51_200);
     b.write_unsized(&homing_speeds::HOMING_SPEED_SLOW, 5120);
-    b.write(&od::CONTROLWORD, Controlword::ENABLE_OPERATION.with_homing_start(true).bits());
-    b.write(&od::CONTROLWORD, Controlword::DISABLE_VOLTAGE.bits());
+    b.write(&od::CONTROLWORD, Controlword::ENABLE_OPERATION.with_homing_start(true));
+    b.write(&od::CONTROLWORD, Controlword::DISABLE_VOLTAGE);
     let mut manual: Vec<_> = PROLOGUE.iter().map(|t| printed(t)).collect();
     manual.extend(
         [

@@ -97,15 +97,15 @@ fn answers_without_size() {
 fn upids_in_txpdo4() {
     use od::tpdo4_upid_mapping as tpdo4;
     let mut b = bench();
-    b.write(&tpdo4::TPDO4_UPI_DS_1, 0x1CA4);
-    b.write(&tpdo4::TPDO4_UPI_DS_2, 0x1CA6);
-    b.write(&tpdo4::TPDO4_UPI_DS_3, 0x1B91);
+    b.write(&tpdo4::TPDO4_UPIDS_1, 0x1CA4);
+    b.write(&tpdo4::TPDO4_UPIDS_2, 0x1CA6);
+    b.write(&tpdo4::TPDO4_UPIDS_3, 0x1B91);
     // The device maps 4F08h sub n with the bit length of the UPID's type; the scheme's aliases
     // know the types from the file.
     let entries = [
-        (tpdo4::TPDO4_UPI_DS_1.addr, upid::U1CA4_RAM.data_type()),
-        (tpdo4::TPDO4_UPI_DS_2.addr, upid::U1CA6_RAM.data_type()),
-        (tpdo4::TPDO4_UPI_DS_3.addr, upid::U1B91_RAM.data_type()),
+        (tpdo4::TPDO4_UPIDS_1.addr, upid::U1CA4_RAM.data_type()),
+        (tpdo4::TPDO4_UPIDS_2.addr, upid::U1CA6_RAM.data_type()),
+        (tpdo4::TPDO4_UPIDS_3.addr, upid::U1B91_RAM.data_type()),
     ]
     .map(|(a, t)| {
         let bits = t.bits().expect("an integer type") as u8;

@@ -19,7 +19,7 @@ mod common;
 
 use common::{Bench, Printed, assert_same, printed, status};
 use odc::SdoAbort;
-use odc::cia402::{Command, Controlword, State};
+use odc::cia402::{Command, Controlword, State, Statusword};
 use odc::cob::CobId;
 use odc::nmt::NmtCommand;
 use odc::slave::ObjectDictionary;
@@ -110,7 +110,7 @@ fn profile_position() {
     b.pdo(tx, &Tpdo2 { statusword: sw, position_actual_value: 0 });
     // "Enable power stage with R_PDO2".
     for cw in [Controlword::DISABLE_VOLTAGE, Controlword::SHUTDOWN, Controlword::ENABLE_OPERATION] {
-        b.pdo(rx, &Rpdo2 { controlword: cw.bits(), target_position: 0 });
+        b.pdo(rx, &Rpdo2 { controlword: cw, target_position: 0 });
         state = state.after(cw, false);
     }
     assert_eq!(state, State::OperationEnabled, "the manual's annotation: 6 Operation Enabled");
@@ -120,15 +120,15 @@ fn profile_position() {
     check_mode(&mut b, Mode::ProfilePosition);
     // "Start relative movement with NewSetpoint=1": 30000 pulses.
     let start = Controlword::ENABLE_OPERATION.with_new_setpoint(true).with_relative(true);
-    b.pdo(rx, &Rpdo2 { controlword: start.bits(), target_position: 30_000 });
+    b.pdo(rx, &Rpdo2 { controlword: start, target_position: 30_000 });
     let sw = status(state, &[VOLTAGE, REMOTE, ACK]);
     b.pdo(tx, &Tpdo2 { statusword: sw, position_actual_value: 0 });
     // "Target position reached".
     let sw = status(state, &[VOLTAGE, REMOTE, TARGET_REACHED, ACK, LIMP]);
-    assert!(odc::cia402::Statusword(sw).target_reached());
+    assert!(sw.target_reached());
     b.pdo(tx, &Tpdo2 { statusword: sw, position_actual_value: 30_000 });
     let done = start.with_new_setpoint(false);
-    b.pdo(rx, &Rpdo2 { controlword: done.bits(), target_position: 30_000 });
+    b.pdo(rx, &Rpdo2 { controlword: done, target_position: 30_000 });
 
     assert_same(
         &b.wire.log,
@@ -173,7 +173,7 @@ fn homing() {
     let mut state = State::ReadyToSwitchOn;
     b.pdo(tx, &Tpdo1 { statusword: status(state, &[VOLTAGE, REMOTE, BIT13, LIMP]) });
     for cw in [Controlword::DISABLE_VOLTAGE, Controlword::SHUTDOWN, Controlword::ENABLE_OPERATION] {
-        b.pdo(rx, &Rpdo1 { controlword: cw.bits() });
+        b.pdo(rx, &Rpdo1 { controlword: cw });
         state = state.after(cw, false);
     }
     assert_eq!(state, State::OperationEnabled);
@@ -183,11 +183,11 @@ fn homing() {
     // "Select method 17".
     b.write(&od::HOMING_METHOD, 17);
     let start = Controlword::ENABLE_OPERATION.with_homing_start(true);
-    b.pdo(rx, &Rpdo1 { controlword: start.bits() });
+    b.pdo(rx, &Rpdo1 { controlword: start });
     // "Reference movement active", then "terminated": target reached and homing attained.
     b.pdo(tx, &Tpdo1 { statusword: status(state, &[VOLTAGE, REMOTE]) });
     let done = status(state, &[VOLTAGE, REMOTE, TARGET_REACHED, ACK, LIMP, LIMN]);
-    assert!(odc::cia402::Statusword(done).homing_attained());
+    assert!(done.homing_attained());
     b.pdo(tx, &Tpdo1 { statusword: done });
 
     assert_same(
@@ -237,8 +237,8 @@ fn profile_velocity() {
     b.write(&od::PROFILE_ACCELERATION, 2000);
     b.nmt_all(NmtCommand::Start);
     let (rx, tx) = (Rpdo3::cob_id(NODE), Tpdo3::cob_id(NODE));
-    let rpdo = |cw: Controlword, v: i32| Rpdo3 { controlword: cw.bits(), target_velocity: v };
-    let tpdo = |sw: u16, v: i32| Tpdo3 { statusword: sw, velocity_actual_value: v };
+    let rpdo = |cw: Controlword, v: i32| Rpdo3 { controlword: cw, target_velocity: v };
+    let tpdo = |sw: Statusword, v: i32| Tpdo3 { statusword: sw, velocity_actual_value: v };
     let mut state = State::ReadyToSwitchOn;
     b.pdo(tx, &tpdo(status(state, &[VOLTAGE, REMOTE, TARGET_REACHED, BIT13, LIMP]), 0));
     for cw in [Controlword::DISABLE_VOLTAGE, Controlword::SHUTDOWN, Controlword::ENABLE_OPERATION] {
@@ -303,7 +303,7 @@ fn profile_torque() {
     let mut state = State::ReadyToSwitchOn;
     b.pdo(tx, &Tpdo1 { statusword: status(state, &[VOLTAGE, REMOTE, BIT13, LIMP]) });
     for cw in [Controlword::DISABLE_VOLTAGE, Controlword::SHUTDOWN, Controlword::ENABLE_OPERATION] {
-        b.pdo(rx, &Rpdo1 { controlword: cw.bits() });
+        b.pdo(rx, &Rpdo1 { controlword: cw });
         state = state.after(cw, false);
     }
     b.pdo(tx, &Tpdo1 { statusword: status(state, &[VOLTAGE, REMOTE, BIT13, LIMP]) });
@@ -312,13 +312,13 @@ fn profile_torque() {
     // "Target torque set to 100 (10.0%)".
     b.write(&od::TARGET_TORQUE, 100);
     b.pdo(tx, &Tpdo1 { statusword: status(state, &[VOLTAGE, REMOTE, TARGET_REACHED]) });
-    b.pdo(rx, &Rpdo1 { controlword: quick_stop().bits() });
+    b.pdo(rx, &Rpdo1 { controlword: quick_stop() });
     state = state.after(quick_stop(), false);
     b.pdo(
         tx,
         &Tpdo1 { statusword: status(state, &[VOLTAGE, REMOTE, TARGET_REACHED, BIT13, LIMP]) },
     );
-    b.pdo(rx, &Rpdo1 { controlword: Controlword::ENABLE_OPERATION.bits() });
+    b.pdo(rx, &Rpdo1 { controlword: Controlword::ENABLE_OPERATION });
     state = state.after(Controlword::ENABLE_OPERATION, false);
     b.pdo(tx, &Tpdo1 { statusword: status(state, &[VOLTAGE, REMOTE, TARGET_REACHED, LIMP]) });
 

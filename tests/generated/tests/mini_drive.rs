@@ -1,6 +1,7 @@
 //! The generated code of `mini-drive.eds`, exercised: descriptors, PDO bytes, the slave
 //! dictionary's abort codes, the master plan.
 
+use odc::cia402::{Controlword, State, Statusword};
 use odc::plan::SdoWrite;
 use odc::{Access, DataType, DefaultValue, ObjectAddr, Pdo, SdoAbort};
 use odc_tests_generated::mini_drive::{cia402, master, od, pdo, slave};
@@ -23,7 +24,7 @@ fn descriptors() {
 #[test]
 fn rpdo_bytes() {
     // 0x6040 (16 bits), an 8-bit dummy, 0x607A (32 bits): 7 bytes, little-endian.
-    let rx = pdo::Rpdo1 { controlword: 0x000F, target_position: -2 };
+    let rx = pdo::Rpdo1 { controlword: Controlword::ENABLE_OPERATION, target_position: -2 };
     let bytes = rx.pack().expect("fits");
     assert_eq!(bytes.as_ref(), &[0x0F, 0x00, 0x00, 0xFE, 0xFF, 0xFF, 0xFF]);
     assert_eq!(pdo::Rpdo1::unpack(&[0x0F, 0x00, 0xAA, 0xFE, 0xFF, 0xFF, 0xFF]), Ok(rx));
@@ -37,7 +38,8 @@ fn rpdo_bytes() {
 fn tpdo_bytes() {
     let bytes = [0x37, 0x02, 0x08, 0x10, 0x27, 0x00, 0x00];
     let tx = pdo::Tpdo1::unpack(&bytes).expect("7 bytes");
-    assert_eq!(tx.statusword, 0x0237);
+    assert_eq!(tx.statusword, Statusword(0x0237));
+    assert_eq!(tx.statusword.state(), Some(State::OperationEnabled));
     assert_eq!(tx.modes_of_operation_display, 8);
     assert_eq!(tx.position_actual_value, 10_000);
     assert_eq!(tx.pack().expect("fits").as_ref(), &bytes);
@@ -66,7 +68,7 @@ fn slave_reads_and_writes() {
     assert_eq!(d.read(0x1008, 0, &mut buf), Ok(3));
     assert_eq!(&buf[..3], b"MD1");
     assert_eq!(d.write(0x6040, 0, &[0x06, 0x00]), Ok(()));
-    assert_eq!(d.controlword, 6);
+    assert_eq!(d.controlword, Controlword::SHUTDOWN);
     // Abort codes.
     let code = |r: Result<(), SdoAbort>| r.err().map(SdoAbort::to_u32);
     assert_eq!(code(d.write(0x1000, 0, &[0; 4])), Some(0x0601_0002));

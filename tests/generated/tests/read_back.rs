@@ -8,7 +8,6 @@ use odc_tests_generated::{lexium_mdrive, lxm23a, mini_drive, servoone};
 
 /// `eds/lenze-e94aycca.eds`, slave side (generated for the benchmark): entries without default
 /// whose limits exclude zero (0x27F1, 0x2BD9).
-#[allow(dead_code)]
 mod lenze_e94aycca {
     odc::include_od!("lenze_e94aycca");
 }

@@ -1,5 +1,6 @@
 //! `include_device!` generates what `odc-build` generates (tests/generated) for the same file.
 
+use odc::cia402::Controlword;
 use odc::{Access, DataType, DefaultValue, ObjectAddr, Pdo};
 use odc_tests_generated::lxm23a as built;
 use odc_tests_macros::lxm23a::{od, pdo, slave};
@@ -27,10 +28,11 @@ fn rpdo2_packs_like_odc_build() {
     assert_eq!(pdo::Rpdo2::MAPPING_VALUES, built::pdo::Rpdo2::MAPPING_VALUES);
     assert_eq!(pdo::Rpdo2::cob_id(5), 0x8000_0305);
     assert_eq!(<pdo::Rpdo2 as Pdo>::LEN, 6);
-    let rx = pdo::Rpdo2 { controlword: 0x000F, target_position: -2 };
+    let rx = pdo::Rpdo2 { controlword: Controlword::ENABLE_OPERATION, target_position: -2 };
     let bytes = rx.pack().expect("fits");
     assert_eq!(bytes.as_ref(), &[0x0F, 0x00, 0xFE, 0xFF, 0xFF, 0xFF]);
-    let same = built::pdo::Rpdo2 { controlword: 0x000F, target_position: -2 };
+    let same =
+        built::pdo::Rpdo2 { controlword: Controlword::ENABLE_OPERATION, target_position: -2 };
     assert_eq!(same.pack().expect("fits").as_ref(), bytes.as_ref());
     assert_eq!(pdo::Rpdo2::unpack(bytes.as_ref()), Ok(rx));
 }

@@ -1,4 +1,6 @@
-//! Devices built in Rust, for the snapshot tests.
+//! Devices built in Rust, for the snapshot and name tests.
+// Each test binary uses some of them.
+#![allow(dead_code)]
 
 use odc_model::{
     Access, DataType, Device, Object, ObjectKind, PdoMapping, Span, Spanned, SubObject, Value,
@@ -140,6 +142,52 @@ pub fn drive() -> Device {
     insert(&mut dev, target);
     insert(&mut dev, var(0x6502, "Supported drive modes", Unsigned32, Ro, u(0x0000_0085)));
     insert(&mut dev, var(0x2000, "type", Real32, Wo, Some(Value::Real32(1.5f32.to_bits()))));
+    dev.pdos = odc_model::pdo::resolve_canopen_pdos(&dev);
+    dev
+}
+
+/// A drive whose names collide the way real files' do: a vendor object with a standard
+/// object's name (0x2064), a starred internal twin in the profile (0x6063, as Lexium 23A
+/// writes it), and a trade name the camel-case rule would split (0x2301). Its TPDO maps the
+/// vendor object before the standard one.
+pub fn twins() -> Device {
+    use Access::*;
+    use DataType::*;
+    let mut dev = Device::default();
+    dev.device_info.product_name = Some(Spanned::synthetic("Twins".to_string()));
+    insert(&mut dev, var(0x1000, "Device type", Unsigned32, Ro, u(0x0002_0192)));
+    insert(
+        &mut dev,
+        object(
+            0x1800,
+            "Transmit PDO parameter",
+            ObjectKind::Record,
+            vec![
+                sub(0, "Largest sub-index supported", Unsigned8, Ro, u(2)),
+                sub(1, "COB-ID used by PDO", Unsigned32, Rw, Some(Value::NodeIdPlus(0x180))),
+                sub(2, "Transmission type", Unsigned8, Rw, u(1)),
+            ],
+        ),
+    );
+    insert(
+        &mut dev,
+        object(
+            0x1A00,
+            "Transmit PDO mapping",
+            ObjectKind::Record,
+            vec![
+                sub(0, "Number of mapped objects", Unsigned8, Rw, u(2)),
+                sub(1, "Mapping entry 1", Unsigned32, Rw, u(0x2064_0020)),
+                sub(2, "Mapping entry 2", Unsigned32, Rw, u(0x6064_0020)),
+            ],
+        ),
+    );
+    insert(&mut dev, mappable(var(0x2064, "Position actual value", Integer32, Ro, None)));
+    insert(&mut dev, var(0x2301, "CANopen baud rate P3-01", Unsigned16, Rw, u(0)));
+    insert(&mut dev, mappable(var(0x6040, "Controlword", Unsigned16, Rww, u(0))));
+    insert(&mut dev, mappable(var(0x6041, "Statusword", Unsigned16, Ro, None)));
+    insert(&mut dev, mappable(var(0x6063, "Position actual value*", Integer32, Ro, None)));
+    insert(&mut dev, mappable(var(0x6064, "Position actual value", Integer32, Ro, None)));
     dev.pdos = odc_model::pdo::resolve_canopen_pdos(&dev);
     dev
 }

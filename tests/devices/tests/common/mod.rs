@@ -6,7 +6,7 @@
 use std::collections::VecDeque;
 
 use odc::can::CanFrame;
-use odc::cia402::State;
+use odc::cia402::{State, Statusword};
 use odc::nmt::NmtCommand;
 use odc::sdo::frame::{Init, Request, Response};
 use odc::sdo::{Bus, Client, Server};
@@ -191,6 +191,6 @@ impl<D: ObjectDictionary> Bench<D> {
 
 /// A statusword: the state's bits from the profile, then the flags the manual's frame shows
 /// (bit numbers, named where they are used).
-pub fn status(state: State, flags: &[u32]) -> u16 {
-    flags.iter().fold(state.statusword(), |sw, &bit| sw.with_bit(bit, true)).bits()
+pub fn status(state: State, flags: &[u32]) -> Statusword {
+    flags.iter().fold(state.statusword(), |sw, &bit| sw.with_bit(bit, true))
 }
