@@ -116,7 +116,9 @@ fn expand(args: &Args) -> syn::Result<TokenStream> {
             syn::Error::new(span, "CARGO_MANIFEST_DIR is not set: build the crate with cargo")
         })?;
     let path = manifest_dir.join(&rel);
-    let options = odc_pipeline::Options::new().select(odc_pipeline::Select::Index(args.device));
+    let mut options = odc_pipeline::Options::new().select(odc_pipeline::Select::Index(args.device));
+    // Diagnostics name the file as the macro call does.
+    options.name = Some(rel.clone());
     let loaded = odc_pipeline::load(&path, &options).map_err(|e| match e {
         odc_pipeline::Error::Io { path: p, source } if p == path => {
             // The OS's wording differs between platforms; not found is the common case.
@@ -125,6 +127,9 @@ fn expand(args: &Args) -> syn::Result<TokenStream> {
                 _ => source.to_string(),
             };
             syn::Error::new(span, format!("cannot read `{rel}` (from CARGO_MANIFEST_DIR): {why}"))
+        }
+        odc_pipeline::Error::Select { message, .. } => {
+            syn::Error::new(span, format!("`{rel}` cannot be generated:\n{message}"))
         }
         other => syn::Error::new(span, format!("`{rel}` cannot be generated:\n{other}")),
     })?;

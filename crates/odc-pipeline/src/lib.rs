@@ -65,6 +65,9 @@ pub struct Options {
     /// Whether to compute the device file's SHA-256 ([`Loaded::sha256`]), which generated code
     /// names; a command that generates nothing (`odc check`) turns it off.
     pub source_hash: bool,
+    /// How diagnostics and refusals name the file; default: the path as given. A macro names
+    /// it as the user wrote it, not by the absolute path it reads.
+    pub name: Option<String>,
 }
 
 impl Default for Options {
@@ -76,6 +79,7 @@ impl Default for Options {
             strict: false,
             select: Select::All,
             source_hash: true,
+            name: None,
         }
     }
 }
@@ -143,6 +147,8 @@ pub enum Error {
 pub struct Loaded {
     /// The device file, as given.
     pub path: PathBuf,
+    /// How diagnostics name it ([`Options::name`]).
+    pub name: String,
     /// The source text of every file, for rendering diagnostics.
     pub sources: Sources,
     /// The selected devices (one for EDS/DCF, one per selected `<Device>` of an ESI; none when
@@ -184,8 +190,8 @@ impl fmt::Display for Refused {
         match allowable.first() {
             Some(first) => write!(
                 f,
-                " ({}); fix the file, or allow a rule with `-A {first}` or `{first} = \"allow\"` \
-                 under [rules] in {}",
+                " ({}); fix the file, or allow a rule: `{first} = \"allow\"` under [rules] in \
+                 {} (on the command line `-A {first}`)",
                 self.codes.join(", "),
                 self.overlay.display()
             ),
@@ -224,11 +230,15 @@ impl Loaded {
         if errors == 0 {
             return Ok(());
         }
-        let overlay = self.overlay.clone().unwrap_or_else(|| {
-            let [beside, _] = overlay_candidates(&self.path);
-            beside
-        });
-        Err(Refused { path: self.path.clone(), errors, codes, overlay })
+        // Both named as the file is: where an allowance would go, the overlay that applied,
+        // else `<stem>.odc.toml` beside the file.
+        let name = Path::new(&self.name);
+        let [beside, _] = overlay_candidates(name);
+        let overlay = match self.overlay.as_deref().and_then(Path::file_name) {
+            Some(file) => name.with_file_name(file),
+            None => beside,
+        };
+        Err(Refused { path: name.to_path_buf(), errors, codes, overlay })
     }
 
     /// The one device a command works on.
@@ -249,7 +259,7 @@ impl Loaded {
     }
 
     fn select_error(&self, message: String) -> Error {
-        Error::Select { path: self.path.clone(), message }
+        Error::Select { path: PathBuf::from(&self.name), message }
     }
 
     /// The device file's name without its directory, as generated code names its source.
@@ -364,16 +374,18 @@ pub fn load(path: &Path, options: &Options) -> Result<Loaded, Error> {
     }
     let mut sources = Sources::new();
     let sha256 = if options.source_hash { sha256_hex(&bytes) } else { String::new() };
-    let mut parsed = parse(&mut sources, &path.display().to_string(), path, bytes);
+    let name = options.name.clone().unwrap_or_else(|| path.display().to_string());
+    let mut parsed = parse(&mut sources, &name, path, bytes);
     let unread = parsed.devices.is_empty();
     parsed.devices = options
         .select
         .apply(std::mem::take(&mut parsed.devices))
-        .map_err(|message| Error::Select { path: path.to_path_buf(), message })
+        .map_err(|message| Error::Select { path: PathBuf::from(&name), message })
         .or_else(|e| if unread { Ok(Vec::new()) } else { Err(e) })?;
     let diagnostics = check(&parsed, &config);
     Ok(Loaded {
         path: path.to_path_buf(),
+        name,
         sources,
         devices: parsed.devices,
         diagnostics,
