@@ -391,6 +391,8 @@ pub(crate) struct Lower<'r, 'a> {
     null_object: bool,
     /// Sub-objects implied by CompactSubObj so far (see [`crate::MAX_IMPLIED_SUB_OBJECTS`]).
     implied_subs: usize,
+    /// The data type indexes (0x0001..=0x025F) the file has an object section for, sorted.
+    defined_types: Vec<u16>,
 }
 
 fn raw_entry(e: &Entry<'_>, file: FileId) -> RawEntry {
@@ -407,6 +409,7 @@ impl<'r, 'a> Lower<'r, 'a> {
             soft: false,
             null_object: false,
             implied_subs: 0,
+            defined_types: Vec::new(),
         }
     }
 
@@ -622,6 +625,9 @@ impl<'r, 'a> Lower<'r, 'a> {
         match got {
             Some((v, flags)) => {
                 self.int_flags(flags, e);
+                if class == ValueClass::Bytes && num::hex_has_odd_group(e.value) {
+                    self.odd_hex(e, &v, dt);
+                }
                 Some(Spanned::new(v, span))
             }
             None => {
@@ -648,7 +654,54 @@ impl<'r, 'a> Lower<'r, 'a> {
         }
     }
 
+    /// Warns that an OCTET_STRING/DOMAIN value has a group of an odd number of hex digits,
+    /// saying how it was read (a zero nibble in front of the group: `ABC` is `0A BC`).
+    #[cold]
+    fn odd_hex(&mut self, e: &Entry<'_>, v: &Value, dt: DataType) {
+        let read = match v {
+            Value::Bytes(b) => b.iter().map(|x| format!("{x:02X}")).collect::<Vec<_>>().join(" "),
+            _ => return,
+        };
+        self.diags.push(
+            Diagnostic::warning(
+                codes::ODD_HEX_DIGITS,
+                format!(
+                    "`{}` has an odd number of hex digits for {}; read as `{read}`",
+                    e.value,
+                    dt.name()
+                ),
+            )
+            .with_label(self.span(e.value_pos), format!("read as `{read}`"))
+            .with_note("a zero nibble is put in front of each group of odd length"),
+        );
+    }
+
+    /// Reads a `LowLimit`/`HighLimit`: an empty one is absent whatever the type (with
+    /// [`codes::EMPTY_VALUE`], as for numbers); only a value is the empty string.
+    fn limit(&mut self, e: &Entry<'_>, dt: DataType) -> Option<Box<Spanned<Value>>> {
+        if e.value.is_empty() {
+            self.empty(e);
+            return None;
+        }
+        self.value(e, dt).map(Box::new)
+    }
+
     fn data_type(&mut self, e: &Entry<'_>) -> Result<Option<DataType>, ()> {
+        if let Some(dt) = type_by_name(e.value) {
+            self.diags.push(
+                Diagnostic::error(
+                    codes::INVALID_VALUE,
+                    format!("DataType `{}` is a name, not a data type index", e.value),
+                )
+                .with_label(self.span(e.value_pos), format!("did you mean 0x{:04X}?", dt.code()))
+                .with_note(format!(
+                    "DataType is the index of the type's object: {} is 0x{:04X}",
+                    dt.name(),
+                    dt.code()
+                )),
+            );
+            return Err(());
+        }
         let Some(v) = self.uint(e, 0xFFFF)? else { return Ok(None) };
         // CiA 301 §7.4.7: data types are the objects 0x0001..=0x025F.
         if v.value == 0 || v.value > 0x025F {
@@ -661,7 +714,28 @@ impl<'r, 'a> Lower<'r, 'a> {
             );
             return Err(());
         }
-        Ok(Some(DataType::from_code(v.value as u16)))
+        let dt = DataType::from_code(v.value as u16);
+        if let DataType::Profile(code) = dt
+            && self.defined_types.binary_search(&code).is_err()
+        {
+            let what = match code {
+                0x0040..=0x005F => "a manufacturer-specific data type",
+                0x0060..=0x025F => "a device-profile data type",
+                _ => "reserved",
+            };
+            self.diags.push(
+                Diagnostic::warning(
+                    codes::NOT_A_DATA_TYPE,
+                    format!("`{}` is not a data type index", e.value),
+                )
+                .with_label(v.span, "not a data type")
+                .with_note(format!(
+                    "CiA 301 defines no data type 0x{code:04X} ({what}), and the file has no \
+                     object [{code:04X}] defining one; values are read as plain numbers or text"
+                )),
+            );
+        }
+        Ok(Some(dt))
     }
 
     fn access(&mut self, e: &Entry<'_>) -> Option<Access> {
@@ -761,6 +835,9 @@ impl<'r, 'a> Lower<'r, 'a> {
                 }
                 Kind::Object(x) => {
                     objects += 1;
+                    if x <= 0x025F {
+                        self.defined_types.push(x);
+                    }
                     secs.push((section_key(0, x, ROLE_MAIN, 0), i));
                 }
                 Kind::Sub(x, s) => secs.push((section_key(0, x, ROLE_SUB, s), i)),
@@ -821,6 +898,7 @@ impl<'r, 'a> Lower<'r, 'a> {
             }
         }
 
+        self.defined_types.sort_unstable();
         let mut built: Vec<(u16, Object)> = Vec::with_capacity(objects);
         group_objects(&mut secs, |owner, index, b| {
             if owner > 0 {
@@ -1246,12 +1324,14 @@ impl<'r, 'a> Lower<'r, 'a> {
             }
         };
         let mut extra_entries: Vec<&Entry<'_>> = Vec::new();
+        let mut unreadable = None;
         let data_type = match keys.take(K::DataType) {
             Some(e) => match self.data_type(e) {
                 Ok(Some(dt)) => Some(dt),
                 Ok(None) => None,
                 Err(()) => {
                     extra_entries.push(e);
+                    unreadable = Some(self.span(e.value_pos));
                     None
                 }
             },
@@ -1260,11 +1340,19 @@ impl<'r, 'a> Lower<'r, 'a> {
         let data_type = match data_type.or(default_dt) {
             Some(dt) => dt,
             None => {
-                self.diags.push(
-                    Diagnostic::error(codes::MISSING_DATA_TYPE, format!("{what} has no DataType"))
-                        .with_label(header, "DataType missing")
-                        .with_note("assumed DOMAIN"),
-                );
+                let d = match unreadable {
+                    Some(at) => Diagnostic::error(
+                        codes::MISSING_DATA_TYPE,
+                        format!("{what} has no readable DataType"),
+                    )
+                    .with_label(at, "not a DataType"),
+                    None => Diagnostic::error(
+                        codes::MISSING_DATA_TYPE,
+                        format!("{what} has no DataType"),
+                    )
+                    .with_label(header, "DataType missing"),
+                };
+                self.diags.push(d.with_note("assumed DOMAIN"));
                 DataType::Domain
             }
         };
@@ -1316,9 +1404,8 @@ impl<'r, 'a> Lower<'r, 'a> {
             }
         }
         sub.default = keys.take(K::DefaultValue).and_then(|e| self.value(e, data_type));
-        sub.low_limit = keys.take(K::LowLimit).and_then(|e| self.value(e, data_type)).map(Box::new);
-        sub.high_limit =
-            keys.take(K::HighLimit).and_then(|e| self.value(e, data_type)).map(Box::new);
+        sub.low_limit = keys.take(K::LowLimit).and_then(|e| self.limit(e, data_type));
+        sub.high_limit = keys.take(K::HighLimit).and_then(|e| self.limit(e, data_type));
         sub.parameter_value = keys.take(K::ParameterValue).and_then(|e| self.value(e, data_type));
         let denotation = keys.take(K::Denotation).map(|e| self.text(e));
         let mut obj_flags = None;
@@ -1707,6 +1794,30 @@ impl<'r, 'a> Lower<'r, 'a> {
         }
         m
     }
+}
+
+/// The type a `DataType` value names when it is written as a name (`UNSIGNED16`,
+/// `visible_string`) instead of an index; case and `_` are ignored.
+fn type_by_name(s: &str) -> Option<DataType> {
+    let s = s.trim();
+    if !s.starts_with(|c: char| c.is_ascii_alphabetic()) {
+        return None;
+    }
+    let same = |name: &str| {
+        let mut a = s.bytes().filter(|&c| c != b'_');
+        let mut b = name.bytes().filter(|&c| c != b'_');
+        loop {
+            match (a.next(), b.next()) {
+                (None, None) => return true,
+                (Some(x), Some(y)) if x.eq_ignore_ascii_case(&y) => {}
+                _ => return false,
+            }
+        }
+    };
+    (0x0001..=0x0023)
+        .map(DataType::from_code)
+        .filter(|dt| !matches!(dt, DataType::Profile(_)))
+        .find(|dt| same(&dt.name()))
 }
 
 /// A sub-object with nothing read yet, for [`Lower::fill_sub`].

@@ -68,6 +68,10 @@ pub mod codes {
     pub const NO_SECTIONS: &str = "F131";
     /// See [`super::RULES`].
     pub const LINE_LIMIT: &str = "F132";
+    /// See [`super::RULES`].
+    pub const ODD_HEX_DIGITS: &str = "F133";
+    /// See [`super::RULES`].
+    pub const NOT_A_DATA_TYPE: &str = "F134";
 }
 
 macro_rules! rule {
@@ -197,7 +201,8 @@ pub static RULES: &[RuleInfo] = &[
         "`Key=` with nothing after the `=` where a number or keyword is expected",
         "An empty value is treated as if the key were absent (python-canopen crashes on it, \
          lely ignores it). For VISIBLE_STRING, OCTET_STRING and DOMAIN values an empty value is \
-         the empty string and is not reported. Fix: give a value or delete the line."
+         the empty string and is not reported; an empty LowLimit or HighLimit is absent and \
+         reported whatever the type. Fix: give a value or delete the line."
     ),
     rule!(
         codes::INLINE_COMMENT,
@@ -382,5 +387,30 @@ pub static RULES: &[RuleInfo] = &[
          files have about 15,000): every line costs memory in the lossless raw layer and the \
          model, and the limit bounds what a hostile file can make odc use. Lines past it are \
          not read, as if the file ended there."
+    ),
+    rule!(
+        codes::ODD_HEX_DIGITS,
+        "odd-hex-digits",
+        Warning,
+        "an OCTET_STRING or DOMAIN value with an odd number of hex digits",
+        "OCTET_STRING and DOMAIN values are hex bytes, two digits each, contiguous or \
+         blank-separated (`0102AB`, `01 02 AB`). A group of odd length cannot be split into \
+         bytes: odc reads it with a zero nibble in front (`ABC` is `0A BC`), other tools may \
+         read it otherwise, and the warning says which bytes odc read. Fix: write the leading zero (`0ABC`) or the \
+         missing digit."
+    ),
+    rule!(
+        codes::NOT_A_DATA_TYPE,
+        "not-a-data-type",
+        Warning,
+        "a DataType that is no data type CiA 301 defines and that the file does not define",
+        "DataType is the index of a data type object: CiA 301 defines 0x0001-0x001B (BOOLEAN \
+         .. UNSIGNED64, with gaps at 0x000E and 0x0017) and 0x0020-0x0023 (PDO and SDO \
+         parameter records, IDENTITY); 0x0040-0x025F are for manufacturer and profile types, \
+         which the file defines with a DEFTYPE or DEFSTRUCT object at that index. Any other \
+         index (a reserved one, or a profile index with no object describing it) gives values \
+         no size or type: odc keeps the number and reads values as text or plain numbers, and \
+         no code can be generated for them. Fix: use the index of the intended type \
+         (`0x0007` for UNSIGNED32), or define the type."
     ),
 ];
