@@ -1327,7 +1327,10 @@ impl<'r, 'a> Lower<'r, 'a> {
         let mut unreadable = None;
         let data_type = match keys.take(K::DataType) {
             Some(e) => match self.data_type(e) {
-                Ok(Some(dt)) => Some(dt),
+                Ok(Some(dt)) => {
+                    sub.data_type_span = self.span(e.line_pos);
+                    Some(dt)
+                }
                 Ok(None) => None,
                 Err(()) => {
                     extra_entries.push(e);

@@ -66,7 +66,7 @@ fn sub0_type(dev: &Device, ctx: &mut Ctx) {
             ctx.report(
                 o.index,
                 Some(0),
-                first_span([s.span, o.span]),
+                first_span([s.data_type_span, s.span, o.span]),
                 format!("{}:00 is {}, not UNSIGNED8", idx(o.index), s.data_type.name()),
             );
         }
