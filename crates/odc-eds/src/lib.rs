@@ -24,6 +24,8 @@
 //!   `[1018sub1]`, `[1018Sub1]`, `[1a00sub01]`.
 //! - **Duplicates.** Repeated sections are merged, repeated keys are kept; the **last** value
 //!   wins (as python's `configparser` in non-strict mode); both are warnings (`F105`, `F106`).
+//!   The values a later one replaces are still read for their diagnostics, so an error in
+//!   either of two merged sections is reported.
 //! - **Comments.** Whole lines starting with `;` or `#` are comments. A trailing ` # ...` or
 //!   ` ; ...` is cut only from values that must be a number or keyword and do not read with it
 //!   (`ObjectType=0x07 # VAR`, `AccessType=rw # ...`), with warning `F113`; names and strings

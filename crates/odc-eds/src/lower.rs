@@ -13,6 +13,9 @@ use crate::num;
 use crate::raw::{Entry, RawFile, Section};
 use crate::rules::codes;
 
+/// The note of a value that does not read: the model keeps its text.
+const KEPT_AS_WRITTEN: &str = "the text is kept as written";
+
 /// The name CiA 306 tools give the implied sub-index 0 of a compact object.
 pub(crate) const COMPACT_SUB0_NAME: &str = "NrOfObjects";
 
@@ -363,6 +366,11 @@ fn le64(b: &[u8], at: usize) -> u64 {
 struct Keys<'e, 'a> {
     k: [Option<&'e Entry<'a>>; N_KEYS],
     extra: Vec<&'e Entry<'a>>,
+    /// Known keys given again later (in the same section or a repeat of it, `F106`/`F105`):
+    /// the earlier entry and the one that replaced it. Their values are not used but still
+    /// read for diagnostics ([`Lower::check_shadowed`]), so that an error in a merged section
+    /// is not lost.
+    shadowed: Vec<(K, &'e Entry<'a>, &'e Entry<'a>)>,
 }
 
 impl<'e, 'a> Keys<'e, 'a> {
@@ -425,14 +433,18 @@ impl<'r, 'a> Lower<'r, 'a> {
     }
 
     fn keys(&self, first: u32) -> Keys<'r, 'a> {
-        let mut keys = Keys { k: [None; N_KEYS], extra: Vec::new() };
+        let mut keys = Keys { k: [None; N_KEYS], extra: Vec::new(), shadowed: Vec::new() };
         // Plain loops over the section and its repeats (a closure here was not inlined).
         let mut next = Some(first);
         while let Some(i) = next {
             let s = self.sec(i);
             for e in self.raw.entries_of(s) {
                 match obj_key(e.key) {
-                    Some(k) => keys.k[k as usize] = Some(e),
+                    Some(k) => {
+                        if let Some(old) = keys.k[k as usize].replace(e) {
+                            keys.shadowed.push((k, old, e));
+                        }
+                    }
                     None => keys.extra.push(e),
                 }
             }
@@ -648,7 +660,7 @@ impl<'r, 'a> Lower<'r, 'a> {
                     )
                     .with_label(span, format!("expected {}", expected(class))),
                 };
-                self.diags.push(d.with_note("the text is kept as written"));
+                self.diags.push(d.with_note(KEPT_AS_WRITTEN));
                 Some(Spanned::new(Value::Invalid(e.value.into()), span))
             }
         }
@@ -775,6 +787,68 @@ impl<'r, 'a> Lower<'r, 'a> {
                     .with_note("assumed ro"),
                 );
                 None
+            }
+        }
+    }
+
+    /// Reads the values that a later entry of the same key replaced (see [`Keys::shadowed`])
+    /// for their diagnostics only: each diagnostic gets a note and a label at the entry that
+    /// replaced the value; only errors are kept. Values typed by the data type are read with
+    /// `dt` when it is known.
+    #[cold]
+    fn check_shadowed(&mut self, keys: &mut Keys<'r, 'a>, dt: Option<DataType>) {
+        for (k, e, by) in std::mem::take(&mut keys.shadowed) {
+            let outer = std::mem::take(&mut self.diags);
+            match k {
+                K::DataType => {
+                    let _ = self.data_type(e);
+                }
+                K::AccessType => {
+                    let _ = self.access(e);
+                }
+                K::PdoMapping => {
+                    let _ = self.boolean(e);
+                }
+                K::ObjectType => {
+                    let _ = self.object_kind(e);
+                }
+                K::ObjFlags => {
+                    let _ = self.uint(e, u64::from(u32::MAX));
+                }
+                K::SubNumber => {
+                    let _ = self.uint(e, 0xFFFF);
+                }
+                K::CompactSubObj => {
+                    let _ = self.uint(e, 0xFF);
+                }
+                K::DefaultValue | K::ParameterValue => {
+                    if let Some(dt) = dt {
+                        let _ = self.value(e, dt);
+                    }
+                }
+                K::LowLimit | K::HighLimit => {
+                    if let Some(dt) = dt {
+                        let _ = self.limit(e, dt);
+                    }
+                }
+                K::ParameterName
+                | K::Denotation
+                | K::UploadFile
+                | K::DownloadFile
+                | K::Count
+                | K::ObjExtend => {}
+            }
+            let found = std::mem::replace(&mut self.diags, outer).finish();
+            let by = self.span(by.key_pos);
+            // Errors only: how a replaced value was written (octal, a suffix) is noise.
+            for mut d in found.into_iter().filter(Diagnostic::is_error) {
+                d.notes.retain(|n| n != KEPT_AS_WRITTEN);
+                self.diags.push(
+                    d.with_secondary(by, "replaced by this later value").with_note(format!(
+                        "the value is not used: a later `{}=` replaces it",
+                        e.key
+                    )),
+                );
             }
         }
     }
@@ -1423,6 +1497,9 @@ impl<'r, 'a> Lower<'r, 'a> {
         for k in [K::SubNumber, K::CompactSubObj, K::Count, K::ObjExtend] {
             keys.move_to_extra(k);
         }
+        if !keys.shadowed.is_empty() {
+            self.check_shadowed(keys, Some(data_type));
+        }
         let has_extra = !(extra_entries.is_empty() && keys.extra.is_empty());
         let has_rare = denotation.is_some()
             || obj_flags.is_some()
@@ -1648,6 +1725,12 @@ impl<'r, 'a> Lower<'r, 'a> {
             }
         }
         self.companions(&mut obj, b);
+        if !keys.shadowed.is_empty() {
+            // A structured object's own keys (a VAR's went through `fill_sub`); values typed
+            // by the object's DataType are those of a compact object's sub-objects.
+            let dt = obj.sub(1).filter(|_| obj.compact_sub_obj.is_some()).map(|s| s.data_type);
+            self.check_shadowed(&mut keys, dt);
+        }
         let mut all_extra: Vec<RawEntry> =
             obj_extra.into_iter().chain(keys.extra.drain(..)).map(|e| raw_entry(e, file)).collect();
         all_extra.append(&mut obj.extra);
@@ -1664,7 +1747,7 @@ impl<'r, 'a> Lower<'r, 'a> {
     ) {
         let what = format_args!("compact object {:04X}", obj.index);
         // The template: DataType, AccessType, PDOMapping and values of the object section.
-        let mut tkeys = Keys { k: [None; N_KEYS], extra: Vec::new() };
+        let mut tkeys = Keys { k: [None; N_KEYS], extra: Vec::new(), shadowed: Vec::new() };
         for k in COMPACT_TEMPLATE {
             tkeys.k[k as usize] = keys.take(k);
         }

@@ -133,7 +133,8 @@ pub static RULES: &[RuleInfo] = &[
         "the same section appears twice (names compare case-insensitively)",
         "Section names are case-insensitive and must be unique. odc merges the repeated sections \
          in file order; for a key given in more than one, the later value wins (the behaviour of \
-         python's configparser in non-strict mode). The writer emits one merged section. Fix: \
+         python's configparser in non-strict mode); a value that does not read is reported even \
+         when a later one replaces it. The writer emits one merged section. Fix: \
          merge the sections by hand and decide which values are meant."
     ),
     rule!(
@@ -141,8 +142,8 @@ pub static RULES: &[RuleInfo] = &[
         "duplicate-key",
         Warning,
         "the same key appears twice in one section (keys compare case-insensitively)",
-        "Keys are case-insensitive and must be unique within a section. The later value wins. \
-         Fix: delete the line that is not meant."
+        "Keys are case-insensitive and must be unique within a section. The later value wins; \
+         an earlier value that does not read is still reported. Fix: delete the line that is not meant."
     ),
     rule!(
         codes::INVALID_VALUE,

@@ -140,3 +140,28 @@ fn compact_pdo_objects_are_lelys() {
 fn default(dev: &odc_model::Device, index: u16, sub: u8) -> Option<Value> {
     dev.sub(index, sub).and_then(|s| s.default.clone()).map(|v| v.value)
 }
+
+/// Two sections of one name are merged (F105); an error in the one whose value is replaced
+/// is still reported, with a label at the value that replaced it.
+#[test]
+fn errors_of_both_merged_sections_are_reported() {
+    let text = "[2000]\nParameterName=A\nObjectType=0x7\nDataType=0x0006\nAccessType=rw\n\
+                DefaultValue=0x12345\nPDOMapping=2\n\n\
+                [2000]\nParameterName=A\nAccessType=rw\nDefaultValue=70000\nPDOMapping=1\n\n\
+                [2001]\nParameterName=R\nObjectType=0x9\nSubNumber=1\n\
+                [2001sub0]\nParameterName=n\nDataType=0x0005\nAccessType=bogus\nDefaultValue=1\n\
+                [2001sub0]\nAccessType=ro\nDataType=0x0005\n";
+    let (sources, p) = parse(text);
+    let found: Vec<_> =
+        p.diagnostics.iter().filter(|d| d.is_error()).map(|d| (d.code, at(&sources, d))).collect();
+    assert_eq!(
+        found,
+        [("F108", "0x12345"), ("F107", "2"), ("F108", "70000"), ("F115", "bogus")],
+        "{:?}",
+        p.diagnostics
+    );
+    let d = &p.diagnostics.iter().find(|d| d.code == "F115").expect("F115");
+    assert!(d.notes.iter().any(|n| n.contains("a later `AccessType=` replaces it")), "{d:?}");
+    // The later values are the ones used.
+    assert_eq!(p.device.sub(0x2001, 0).map(|s| s.access), Some(odc_model::Access::Ro));
+}
