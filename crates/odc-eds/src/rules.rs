@@ -97,7 +97,8 @@ pub static RULES: &[RuleInfo] = &[
         "CiA 306 files are INI text: every line is a section header `[name]`, an entry \
          `key=value`, a comment starting with `;`, or blank. A line that is none of these is kept \
          (the writer drops it) and otherwise ignored. Git merge-conflict markers (`<<<<<<<`, \
-         `=======`, `>>>>>>>`) are the most common cause in public files: resolve the conflict. \
+         `=======`, `>>>>>>>`) are the most common cause in public files; they are reported in \
+         one diagnostic per file that labels every marker line: resolve the conflict. \
          Fix: delete the line, or turn it into a `;` comment."
     ),
     rule!(

@@ -165,3 +165,25 @@ fn errors_of_both_merged_sections_are_reported() {
     // The later values are the ones used.
     assert_eq!(p.device.sub(0x2001, 0).map(|s| s.access), Some(odc_model::Access::Ro));
 }
+
+/// Merge-conflict markers: one diagnostic for the file, every marker line labelled, the note
+/// once; `=======` is a marker, not an entry with an empty key.
+#[test]
+fn merge_markers_are_folded() {
+    let block = "<<<<<<< HEAD\nDefaultValue=1\n=======\nDefaultValue=2\n>>>>>>> abc123\n";
+    let text = format!(
+        "[2000]\nParameterName=A\nObjectType=0x7\nDataType=0x0005\nAccessType=rw\n{block}{block}{block}"
+    );
+    let (sources, p) = parse(&text);
+    let f101: Vec<_> = p.diagnostics.iter().filter(|d| d.code == "F101").collect();
+    assert_eq!(f101.len(), 1, "{:?}", p.diagnostics);
+    let d = f101[0];
+    assert_eq!(d.message, "9 git merge-conflict marker lines (3 conflicts) ignored");
+    assert_eq!(d.labels.len(), 9);
+    assert_eq!(d.notes.len(), 1);
+    assert_eq!(at(&sources, d), "<<<<<<< HEAD");
+    assert!(p.device.objects[&0x2000].extra.is_empty(), "{:?}", p.device.objects[&0x2000].extra);
+    // A line of equals signs that is not a marker is still an entry.
+    let (_, p) = parse("[Comments]\nLines=1\nLine1=x\n========x\n");
+    assert!(p.diagnostics.iter().all(|d| d.code != "F101"), "{:?}", p.diagnostics);
+}
