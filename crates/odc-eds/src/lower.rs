@@ -667,7 +667,8 @@ impl<'r, 'a> Lower<'r, 'a> {
     }
 
     /// Warns that an OCTET_STRING/DOMAIN value has a group of an odd number of hex digits,
-    /// saying how it was read (a zero nibble in front of the group: `ABC` is `0A BC`).
+    /// saying how it was read (a zero nibble in front of the group: `ABC` is `0A BC`). No note:
+    /// CANopenNode files write `DefaultValue=0` on every DOMAIN, and the message says it all.
     #[cold]
     fn odd_hex(&mut self, e: &Entry<'_>, v: &Value, dt: DataType) {
         let read = match v {
@@ -683,8 +684,7 @@ impl<'r, 'a> Lower<'r, 'a> {
                     dt.name()
                 ),
             )
-            .with_label(self.span(e.value_pos), format!("read as `{read}`"))
-            .with_note("a zero nibble is put in front of each group of odd length"),
+            .with_label(self.span(e.value_pos), format!("read as `{read}`")),
         );
     }
 
