@@ -408,11 +408,11 @@ pub static RULES: &[RuleInfo] = &[
         "a DataType that is no data type CiA 301 defines and that the file does not define",
         "DataType is the index of a data type object: CiA 301 defines 0x0001-0x001B (BOOLEAN \
          .. UNSIGNED64, with gaps at 0x000E and 0x0017) and 0x0020-0x0023 (PDO and SDO \
-         parameter records, IDENTITY); 0x0040-0x025F are for manufacturer and profile types, \
-         which the file defines with a DEFTYPE or DEFSTRUCT object at that index. Any other \
+         parameter records, IDENTITY), ETG.1000 BIT1..BIT8 are 0x0030-0x0037; \
+         0x0040-0x025F are for manufacturer and profile types, which the file defines with a \
+         DEFTYPE or DEFSTRUCT object at that index. Any other \
          index (a reserved one, or a profile index with no object describing it) gives values \
-         no size or type: odc keeps the number and reads values as text or plain numbers, and \
-         no code can be generated for them. Fix: use the index of the intended type \
-         (`0x0007` for UNSIGNED32), or define the type."
+         no size or type: odc keeps the number and reads values as text or plain numbers. \
+         Fix: use the index of the intended type (`0x0007` for UNSIGNED32), or define the type."
     ),
 ];
