@@ -433,7 +433,7 @@ fn axis_offset(dev: &Device, ctx: &mut Ctx) {
             ctx.report(
                 index,
                 None,
-                first_span([s.span, o.span]),
+                first_span([s.data_type_span, s.span, o.span]),
                 format!(
                     "{}{} is {} but {} of the first axis is {}",
                     idx(index),
