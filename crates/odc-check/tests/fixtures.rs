@@ -55,3 +55,18 @@ fn fail_fixtures() {
         insta::assert_snapshot!(name, out);
     }
 }
+
+/// An empty `LowLimit=`/`HighLimit=` on a string or domain is no limit (python-canopen
+/// comparison, issue 14): no C208, whatever the type.
+#[test]
+fn empty_limits_of_strings_are_no_limits() {
+    for dt in ["0x0009", "0x000A", "0x000B", "0x000F"] {
+        let text = format!(
+            "[2000]\nParameterName=s\nObjectType=0x7\nDataType={dt}\nAccessType=rw\nLowLimit=\nHighLimit=\n"
+        );
+        let mut sources = Sources::new();
+        let parsed = odc_eds::parse(&mut sources, "t.eds", text.as_bytes());
+        let diags = check(&parsed.device, &Config::default());
+        assert!(!diags.iter().any(|d| d.code == "C208"), "{dt}: {diags:?}");
+    }
+}

@@ -24,6 +24,8 @@
 //!   `[1018sub1]`, `[1018Sub1]`, `[1a00sub01]`.
 //! - **Duplicates.** Repeated sections are merged, repeated keys are kept; the **last** value
 //!   wins (as python's `configparser` in non-strict mode); both are warnings (`F105`, `F106`).
+//!   The values a later one replaces are still read for their diagnostics, so an error in
+//!   either of two merged sections is reported.
 //! - **Comments.** Whole lines starting with `;` or `#` are comments. A trailing ` # ...` or
 //!   ` ; ...` is cut only from values that must be a number or keyword and do not read with it
 //!   (`ObjectType=0x07 # VAR`, `AccessType=rw # ...`), with warning `F113`; names and strings
@@ -39,8 +41,14 @@
 //! - **REAL32/REAL64**: a `0x` literal is the IEEE bit pattern, anything else a decimal float;
 //!   the writer emits Rust's shortest round-trip decimal (NaN as its bit pattern).
 //! - **Empty values** (`Key=`) are absent, with warning `F112`, except for VISIBLE_STRING,
-//!   OCTET_STRING, DOMAIN and UNICODE_STRING values, where they are the empty string.
-//! - **OCTET_STRING/DOMAIN** values are hex bytes, contiguous or blank-separated.
+//!   OCTET_STRING, DOMAIN and UNICODE_STRING values (`DefaultValue`, `ParameterValue`), where
+//!   they are the empty string. An empty `LowLimit`/`HighLimit` is absent whatever the type.
+//! - **OCTET_STRING/DOMAIN** values are hex bytes, contiguous or blank-separated; a group of
+//!   an odd number of digits is read with a zero nibble in front (`ABC` is `0A BC`), with
+//!   warning `F133`.
+//! - **DataType** is an index: a name (`UNSIGNED16`) is error `F107` with the index it names;
+//!   an index that is neither a CiA 301 type nor defined by an object of the file (`0x0099`)
+//!   is warning `F134` and kept.
 //! - **`SubNumber`** is kept as declared: a count of sub-objects (gaps allowed), not the highest
 //!   sub-index; comparing it with the sub-objects is the checker's job, as is **0x1003 sub 0**
 //!   being a count of errors. Object lists are kept as declared and not used to build
@@ -75,11 +83,14 @@
 //!
 //! # CompactPDO
 //!
-//! See the `compact_pdo` module source: for each of `NrOfRXPDO`/`NrOfTXPDO` PDOs whose
-//! communication or mapping object is absent, one is synthesised; the bits of `CompactPDO` say
-//! which communication sub-objects exist (bit 0 COB-ID, 1 transmission type, 2 inhibit time,
-//! 3 reserved, 4 event timer, 5 SYNC start value); the first four PDOs get the predefined
-//! COB-IDs `$NODEID+0x200`.. (RPDO) and `$NODEID+0x180`.. (TPDO).
+//! As lely-core reads it (the `compact_pdo` module source has the details): PDOs the file
+//! writes out (communication or mapping object present) count towards
+//! `NrOfRXPDO`/`NrOfTXPDO` and get the object of the pair they lack; the rest of the count
+//! goes to the lowest PDO numbers not written out, which get both objects. The bits of
+//! `CompactPDO` say which communication sub-objects exist (bit 0 COB-ID, 1 transmission type,
+//! 2 inhibit time, 3 reserved, 4 event timer, 5 SYNC start value); the first four PDOs get the
+//! predefined COB-IDs `$NODEID+0x200`.. (RPDO) and `$NODEID+0x180`.. (TPDO), the other values
+//! are 0 (transmission type included); an implied mapping object has 0x40 empty entries.
 // Bad input is a diagnostic, never a panic: no unwrap, expect or panic outside tests. A
 // proven invariant may opt out with an `#[allow]` and a comment saying why.
 #![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used, clippy::panic))]

@@ -260,6 +260,14 @@ pub(crate) fn parse_hex_bytes(s: &str) -> Option<Vec<u8>> {
     Some(out)
 }
 
+/// Whether a group of hex digits of an OCTET_STRING/DOMAIN value (see [`parse_hex_bytes`])
+/// has an odd number of digits, which that reading pads with a leading zero nibble.
+pub(crate) fn hex_has_odd_group(s: &str) -> bool {
+    let s = s.trim();
+    let s = s.strip_prefix("0x").or_else(|| s.strip_prefix("0X")).unwrap_or(s);
+    s.split_ascii_whitespace().any(|g| g.len() % 2 == 1)
+}
+
 /// Cuts a trailing comment (` # ...` or ` ; ...`, blank before the mark required) from a value.
 pub(crate) fn strip_inline_comment(s: &str) -> Option<&str> {
     let b = s.as_bytes();

@@ -20,7 +20,8 @@
 //!   number or a keyword and do not read as one otherwise (with a warning);
 //! - `[name]` starts a section; text after the `]` is reported and ignored;
 //! - `key=value` (first `=`), key and value trimmed of blanks; lines without `=` are reported
-//!   (as are git merge-conflict markers) and kept as trivia;
+//!   and kept as trivia; git merge-conflict markers (`<<<<<<< x`, `=======`, `>>>>>>> y`) are
+//!   trivia too, reported in one diagnostic for the whole file;
 //! - keys before the first section go into [`RawFile::preamble`] and are reported;
 //! - duplicate sections and duplicate keys are kept and reported; lookups answer the **last**
 //!   occurrence (python `configparser(strict=False)` behaves the same, and a later line is the
@@ -411,6 +412,8 @@ pub fn scan<'a>(text: &'a str, file: FileId, diags: &mut odc_model::Capped) -> R
     // Where the entries and trivia of the current section (the preamble first) start; its
     // ranges are written when the next header (or the end) closes it.
     let (mut cur_entries, mut cur_trivia) = (0u32, 0u32);
+    // Git merge-conflict marker lines, reported in one diagnostic.
+    let mut markers: Vec<Pos> = Vec::new();
     // Each line is read once, left to right: blanks, then the first character decides; for an
     // entry, one search finds the `=` (or that there is none), a second the newline.
     let mut line_start = 0usize;
@@ -424,6 +427,10 @@ pub fn scan<'a>(text: &'a str, file: FileId, diags: &mut odc_model::Capped) -> R
             b'\n' => (s, TriviaKind::Blank),
             b';' | b'#' => (find_byte(bytes, s, b'\n'), TriviaKind::Comment),
             b'[' => (find_byte(bytes, s, b'\n'), TriviaKind::Stray),
+            // `=======`, the middle of a merge conflict, is no `key=value`.
+            b'=' if is_conflict_marker(&bytes[s..find_byte(bytes, s, b'\n')]) => {
+                (find_byte(bytes, s, b'\n'), TriviaKind::Stray)
+            }
             _ => {
                 let eq = find_eq_or_nl(bytes, s);
                 if eq < n && bytes[eq] == b'=' {
@@ -508,25 +515,44 @@ pub fn scan<'a>(text: &'a str, file: FileId, diags: &mut odc_model::Capped) -> R
             continue;
         }
         if kind == TriviaKind::Stray {
-            let l = &text[s..e];
-            let mut d = Diagnostic::warning(
-                codes::STRAY_LINE,
-                "line is neither `key=value`, a `[section]` nor a comment",
-            )
-            .with_label(pos(s, e).span(file), "ignored");
-            if l.starts_with("<<<<<<<") || l.starts_with("=======") || l.starts_with(">>>>>>>") {
-                d = d.with_note(
-                    "this is a git merge-conflict marker: the file was committed \
-                     with an unresolved conflict; later duplicate keys win",
+            if is_conflict_marker(&bytes[s..e]) {
+                // Reported together below: a file with one conflict has three, and real
+                // files have dozens.
+                markers.push(pos(s, e));
+            } else {
+                diags.push(
+                    Diagnostic::warning(
+                        codes::STRAY_LINE,
+                        "line is neither `key=value`, a `[section]` nor a comment",
+                    )
+                    .with_label(pos(s, e).span(file), "ignored"),
                 );
             }
-            diags.push(d);
         }
         trivia.push(Trivia { kind, text: line, pos: line_pos, before });
     }
     let cur = sections.last_mut().unwrap_or(&mut preamble);
     cur.entries = cur_entries..entries.len() as u32;
     cur.trivia = cur_trivia..trivia.len() as u32;
+
+    if let Some((first, rest)) = markers.split_first() {
+        let conflicts = markers.iter().filter(|m| bytes[m.start as usize] == b'<').count();
+        let message = match (markers.len(), conflicts) {
+            (1, _) => "git merge-conflict marker line ignored".to_string(),
+            (n, 1) => format!("{n} git merge-conflict marker lines (1 conflict) ignored"),
+            (n, c) => format!("{n} git merge-conflict marker lines ({c} conflicts) ignored"),
+        };
+        let mut d = Diagnostic::warning(codes::STRAY_LINE, message)
+            .with_label(first.span(file), "ignored")
+            .with_note(
+                "the file was committed with an unresolved conflict: the lines of both versions \
+                 are read, and for a key given in both the later one wins",
+            );
+        for m in rest {
+            d = d.with_secondary(m.span(file), "ignored");
+        }
+        diags.push(d);
+    }
 
     for e in
         entries.get(preamble.entries.start as usize..preamble.entries.end as usize).unwrap_or(&[])
@@ -571,6 +597,25 @@ pub fn scan<'a>(text: &'a str, file: FileId, diags: &mut odc_model::Capped) -> R
     }
 
     RawFile { text, file, preamble, sections, entries, trivia, index }
+}
+
+/// Whether a line (without its line end, blanks trimmed at the start) is a git merge-conflict
+/// marker: `<<<<<<< ours`, `=======`, `>>>>>>> theirs` (or `|||||||` of the diff3 style).
+fn is_conflict_marker(line: &[u8]) -> bool {
+    let Some((&c, _)) = line.split_first() else { return false };
+    if !matches!(c, b'<' | b'=' | b'>' | b'|')
+        || line.len() < 7
+        || line[..7].iter().any(|&b| b != c)
+    {
+        return false;
+    }
+    let rest = &line[7..];
+    if c == b'=' {
+        // `=======` alone: `========x` or `=======x` is not a marker.
+        rest.iter().all(|&b| is_blank(b))
+    } else {
+        rest.first().is_none_or(|&b| is_blank(b))
+    }
 }
 
 /// The first byte of `key` with ASCII case folded by `| 0x20` (0 for an empty key): equal keys

@@ -68,6 +68,10 @@ pub mod codes {
     pub const NO_SECTIONS: &str = "F131";
     /// See [`super::RULES`].
     pub const LINE_LIMIT: &str = "F132";
+    /// See [`super::RULES`].
+    pub const ODD_HEX_DIGITS: &str = "F133";
+    /// See [`super::RULES`].
+    pub const NOT_A_DATA_TYPE: &str = "F134";
 }
 
 macro_rules! rule {
@@ -93,7 +97,8 @@ pub static RULES: &[RuleInfo] = &[
         "CiA 306 files are INI text: every line is a section header `[name]`, an entry \
          `key=value`, a comment starting with `;`, or blank. A line that is none of these is kept \
          (the writer drops it) and otherwise ignored. Git merge-conflict markers (`<<<<<<<`, \
-         `=======`, `>>>>>>>`) are the most common cause in public files: resolve the conflict. \
+         `=======`, `>>>>>>>`) are the most common cause in public files; they are reported in \
+         one diagnostic per file that labels every marker line: resolve the conflict. \
          Fix: delete the line, or turn it into a `;` comment."
     ),
     rule!(
@@ -129,7 +134,8 @@ pub static RULES: &[RuleInfo] = &[
         "the same section appears twice (names compare case-insensitively)",
         "Section names are case-insensitive and must be unique. odc merges the repeated sections \
          in file order; for a key given in more than one, the later value wins (the behaviour of \
-         python's configparser in non-strict mode). The writer emits one merged section. Fix: \
+         python's configparser in non-strict mode); a value that does not read is reported even \
+         when a later one replaces it. The writer emits one merged section. Fix: \
          merge the sections by hand and decide which values are meant."
     ),
     rule!(
@@ -137,8 +143,8 @@ pub static RULES: &[RuleInfo] = &[
         "duplicate-key",
         Warning,
         "the same key appears twice in one section (keys compare case-insensitively)",
-        "Keys are case-insensitive and must be unique within a section. The later value wins. \
-         Fix: delete the line that is not meant."
+        "Keys are case-insensitive and must be unique within a section. The later value wins; \
+         an earlier value that does not read is still reported. Fix: delete the line that is not meant."
     ),
     rule!(
         codes::INVALID_VALUE,
@@ -197,7 +203,8 @@ pub static RULES: &[RuleInfo] = &[
         "`Key=` with nothing after the `=` where a number or keyword is expected",
         "An empty value is treated as if the key were absent (python-canopen crashes on it, \
          lely ignores it). For VISIBLE_STRING, OCTET_STRING and DOMAIN values an empty value is \
-         the empty string and is not reported. Fix: give a value or delete the line."
+         the empty string and is not reported; an empty LowLimit or HighLimit is absent and \
+         reported whatever the type. Fix: give a value or delete the line."
     ),
     rule!(
         codes::INLINE_COMMENT,
@@ -382,5 +389,30 @@ pub static RULES: &[RuleInfo] = &[
          files have about 15,000): every line costs memory in the lossless raw layer and the \
          model, and the limit bounds what a hostile file can make odc use. Lines past it are \
          not read, as if the file ended there."
+    ),
+    rule!(
+        codes::ODD_HEX_DIGITS,
+        "odd-hex-digits",
+        Warning,
+        "an OCTET_STRING or DOMAIN value with an odd number of hex digits",
+        "OCTET_STRING and DOMAIN values are hex bytes, two digits each, contiguous or \
+         blank-separated (`0102AB`, `01 02 AB`). A group of odd length cannot be split into \
+         bytes: odc reads it with a zero nibble in front (`ABC` is `0A BC`), other tools may \
+         read it otherwise, and the warning says which bytes odc read. Fix: write the leading zero (`0ABC`) or the \
+         missing digit."
+    ),
+    rule!(
+        codes::NOT_A_DATA_TYPE,
+        "not-a-data-type",
+        Warning,
+        "a DataType that is no data type CiA 301 defines and that the file does not define",
+        "DataType is the index of a data type object: CiA 301 defines 0x0001-0x001B (BOOLEAN \
+         .. UNSIGNED64, with gaps at 0x000E and 0x0017) and 0x0020-0x0023 (PDO and SDO \
+         parameter records, IDENTITY), ETG.1000 BIT1..BIT8 are 0x0030-0x0037; \
+         0x0040-0x025F are for manufacturer and profile types, which the file defines with a \
+         DEFTYPE or DEFSTRUCT object at that index. Any other \
+         index (a reserved one, or a profile index with no object describing it) gives values \
+         no size or type: odc keeps the number and reads values as text or plain numbers. \
+         Fix: use the index of the intended type (`0x0007` for UNSIGNED32), or define the type."
     ),
 ];

@@ -282,6 +282,9 @@ pub struct SubObject {
     pub bit_size: Option<u32>,
     /// Span of the section header (or of the line that implied the sub-object).
     pub span: Span,
+    /// Span of the `DataType=` line, when the file states one (for diagnostics about the
+    /// type; not serialised, as the other spans of keys that have no value of their own).
+    pub data_type_span: Span,
     /// The fields few sub-objects have; `None` when all are absent.
     rare: Option<Box<SubRare>>,
 }
@@ -330,6 +333,7 @@ impl SubObject {
             parameter_value: None,
             bit_size: None,
             span: Span::DUMMY,
+            data_type_span: Span::DUMMY,
             rare: None,
         }
     }
@@ -383,6 +387,7 @@ impl Clone for SubObject {
             parameter_value: self.parameter_value.clone(),
             bit_size: self.bit_size,
             span: self.span,
+            data_type_span: self.data_type_span,
             rare: self.rare.clone(),
         }
     }
@@ -411,6 +416,7 @@ impl std::fmt::Debug for SubObject {
             .field("bit_size", &self.bit_size)
             .field("extra", &r.extra)
             .field("span", &self.span)
+            .field("data_type_span", &self.data_type_span)
             .finish()
     }
 }
@@ -549,7 +555,8 @@ mod tests {
     #[cfg(target_pointer_width = "64")]
     fn sub_object_stays_small() {
         assert_eq!(std::mem::size_of::<Value>(), 24);
-        assert_eq!(std::mem::size_of::<SubObject>(), 160);
+        // 168 since the span of `DataType` (diagnostics point at the key, issue 14).
+        assert_eq!(std::mem::size_of::<SubObject>(), 168);
         // Empty rare fields compare, print and serialise as absent ones.
         let a = SubObject::new(1, "x", DataType::Unsigned8, Access::Ro);
         let mut b = a.clone();

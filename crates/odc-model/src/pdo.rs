@@ -113,7 +113,11 @@ pub fn resolve_canopen_pdos(dev: &Device) -> Vec<Pdo> {
             .filter_map(|sub| {
                 let s = object.sub(sub as u8)?;
                 let value = initial_u64(s)?;
-                Some(PdoEntry::from_mapping_value(value as u32, s.span))
+                // The entry is where its value is written (`DefaultValue=`, `ParameterValue=`
+                // or a `[IIIIValue]` line), else the sub-object.
+                let span = s.initial_value().map_or(s.span, |v| v.span);
+                let span = if span.is_dummy() { s.span } else { span };
+                Some(PdoEntry::from_mapping_value(value as u32, span))
             })
             .collect();
         let comm = dev.objects.get(&comm_index);

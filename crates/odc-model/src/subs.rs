@@ -1,7 +1,7 @@
 //! [`SubObjects`]: the sub-objects of one object, ordered by sub-index.
 //!
 //! Why not a `BTreeMap<u8, SubObject>` (what this used to be): a sub-object is a large value
-//! (about 400 bytes then, 160 since its rare fields are boxed, see [`SubObject`]: typed values,
+//! (about 400 bytes then, 168 since its rare fields are boxed, see [`SubObject`]: typed values,
 //! a name, spans), and most objects have one (a VAR) or a
 //! handful. A B-tree allocates a node of eleven slots (several kilobytes, past the allocator's
 //! fast size classes) for a single sub-object, moves every value through its bulk-build and

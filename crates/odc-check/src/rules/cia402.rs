@@ -5,11 +5,11 @@
 //! A multi-axis device repeats the profile area every 0x800 indexes (axis n at
 //! 0x6000 + n·0x800); each axis is checked on its own.
 
-use odc_model::{DataType, Device, Direction, Object, SubObject};
+use odc_model::{DataType, Device, Direction, Object, Span, SubObject};
 
 use super::rule;
 use crate::Ctx;
-use crate::util::{first_span, idx, initial_u64};
+use crate::util::{as_u64, first_span, idx, initial_u64};
 
 /// The profile area repeats at most 8 times (0x6000–0x9FFF).
 const MAX_AXES: u16 = 8;
@@ -84,19 +84,35 @@ fn axes(dev: &Device) -> Vec<u16> {
     out
 }
 
-/// Where the device says it is a 402 drive: 0x1000 when it has a value, else the ESI profile.
-fn profile_span(dev: &Device) -> odc_model::Span {
+/// Where and why the device counts as a 402 drive: the value of 0x1000 when it has one, else
+/// the ESI profile that says 402.
+fn why_402(dev: &Device) -> (Span, String) {
+    let device_type = dev.sub(0x1000, 0).and_then(|s| {
+        let v = s.initial_value()?;
+        let n = as_u64(&v.value)?;
+        Some((first_span([v.span, s.span]), n))
+    });
+    if let Some((span, n)) = device_type
+        && n & 0xFFFF == 402
+    {
+        return (span, format!("0x1000 is 0x{n:08X}: device profile 402 in bits 0–15"));
+    }
     let profile = dev.ethercat.as_deref().and_then(|e| {
         e.profiles
             .iter()
             .find(|p| p.profile_no == Some(402) || p.channel_profiles.contains(&Some(402)))
     });
-    let device_type = dev.objects.get(&0x1000).map_or(odc_model::Span::DUMMY, |o| o.span);
-    let profile = profile.map_or(odc_model::Span::DUMMY, |p| p.span);
-    if device_type_402(dev).is_some() {
-        first_span([device_type, profile])
-    } else {
-        first_span([profile, device_type])
+    match profile {
+        Some(p) if p.profile_no == Some(402) => {
+            (p.span, "the ESI's <Profile> says <ProfileNo>402</ProfileNo>".to_string())
+        }
+        Some(p) => {
+            (p.span, "a <ChannelInfo> of the ESI's <Profile> says ProfileNo 402".to_string())
+        }
+        None => {
+            let span = dev.objects.get(&0x1000).map_or(Span::DUMMY, |o| o.span);
+            (span, "0x1000 says device profile 402".to_string())
+        }
     }
 }
 
@@ -130,13 +146,15 @@ fn controlword_statusword(dev: &Device, ctx: &mut Ctx) {
     for base in axes(dev) {
         for (index, what) in [(0x6040 + base, "controlword"), (0x6041 + base, "statusword")] {
             if !dev.objects.contains_key(&index) {
-                let span = profile_span(dev);
+                let (span, why) = why_402(dev);
                 ctx.report(
                     index,
                     None,
                     span,
                     format!("CiA 402 drive{} has no {what} {}", axis_text(base), idx(index)),
-                );
+                )
+                .notes
+                .push(format!("it is a CiA 402 drive because {why}"));
             }
         }
     }
@@ -183,7 +201,7 @@ fn object_type(dev: &Device, ctx: &mut Ctx) {
                 ctx.report(
                     o.index,
                     None,
-                    first_span([s.span, o.span]),
+                    first_span([s.data_type_span, s.span, o.span]),
                     format!(
                         "{} ({what}){} is {}; CiA 402 makes it {}",
                         idx(o.index),
@@ -415,7 +433,7 @@ fn axis_offset(dev: &Device, ctx: &mut Ctx) {
             ctx.report(
                 index,
                 None,
-                first_span([s.span, o.span]),
+                first_span([s.data_type_span, s.span, o.span]),
                 format!(
                     "{}{} is {} but {} of the first axis is {}",
                     idx(index),

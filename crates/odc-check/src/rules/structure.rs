@@ -66,7 +66,7 @@ fn sub0_type(dev: &Device, ctx: &mut Ctx) {
             ctx.report(
                 o.index,
                 Some(0),
-                first_span([s.span, o.span]),
+                first_span([s.data_type_span, s.span, o.span]),
                 format!("{}:00 is {}, not UNSIGNED8", idx(o.index), s.data_type.name()),
             );
         }
@@ -178,7 +178,7 @@ fn array_not_uniform(dev: &Device, ctx: &mut Ctx) {
                 ctx.report(
                     o.index,
                     Some(s.sub_index),
-                    first_span([s.span, o.span]),
+                    first_span([s.data_type_span, s.span, o.span]),
                     format!(
                         "ARRAY {} element {} is {} but element {} is {}",
                         idx(o.index),
@@ -457,7 +457,7 @@ fn pdo_comm_record(dev: &Device, ctx: &mut Ctx) {
                 ctx.report(
                     o.index,
                     Some(s.sub_index),
-                    span,
+                    first_span([s.data_type_span, span]),
                     format!(
                         "{at} ({}) is {}, not {}",
                         pdo_comm_sub_name(s.sub_index),

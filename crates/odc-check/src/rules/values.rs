@@ -332,7 +332,7 @@ fn wrong_object_type(dev: &Device, ctx: &mut Ctx) {
                 ctx.report(
                     o.index,
                     sub_of(o, sub),
-                    first_span([s.span, o.span]),
+                    first_span([s.data_type_span, s.span, o.span]),
                     format!(
                         "{} is {}; CiA 301 makes it {}",
                         addr(o, sub),

@@ -1,4 +1,6 @@
-//! Lowering: raw sections and entries → [`odc_model::Device`], with diagnostics.
+//! Lowering: raw sections and entries → [`odc_model::Device`], with diagnostics. The section
+//! names are classified in `classify`, the known keys of object sections found in `keys`,
+//! and values read in `read`; this module walks the sections and builds the device.
 
 use std::collections::BTreeMap;
 
@@ -13,372 +15,19 @@ use crate::num;
 use crate::raw::{Entry, RawFile, Section};
 use crate::rules::codes;
 
+mod classify;
+mod keys;
+mod read;
+
+use classify::*;
+pub(crate) use keys::is_compact_template_key;
+use keys::*;
+
+/// The note of a value that does not read: the model keeps its text.
+const KEPT_AS_WRITTEN: &str = "the text is kept as written";
+
 /// The name CiA 306 tools give the implied sub-index 0 of a compact object.
 pub(crate) const COMPACT_SUB0_NAME: &str = "NrOfObjects";
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Kind {
-    FileInfo,
-    DeviceInfo,
-    DummyUsage,
-    Comments,
-    ObjList(u8),
-    Commissioning,
-    SupportedModules,
-    ConnectedModules,
-    Object(u16),
-    Sub(u16, u8),
-    Name(u16),
-    Value(u16),
-    Denotation(u16),
-    Links(u16),
-    ModInfo(u16),
-    ModFixedObjects(u16),
-    ModFixed(u16, u16),
-    ModFixedSub(u16, u16, u8),
-    ModSubExtends(u16),
-    ModSubExt(u16, u16),
-    ModComments(u16),
-    Malformed,
-    Unknown,
-}
-
-fn hex4(b: &[u8]) -> Option<u16> {
-    if b.len() != 4 {
-        return None;
-    }
-    let mut v = 0u16;
-    for &c in b {
-        let d = num::hex_digit(c)?;
-        v = (v << 4) | u16::from(d);
-    }
-    Some(v)
-}
-
-fn hex_u8(b: &[u8]) -> Option<u8> {
-    if b.is_empty() || b.len() > 4 {
-        return None;
-    }
-    let mut v = 0u32;
-    for &c in b {
-        let d = num::hex_digit(c)?;
-        v = (v << 4) | u32::from(d);
-    }
-    u8::try_from(v).ok()
-}
-
-fn dec_u16(b: &[u8]) -> Option<u16> {
-    if b.is_empty() || b.len() > 5 || !b.iter().all(u8::is_ascii_digit) {
-        return None;
-    }
-    b.iter()
-        .try_fold(0u32, |v, &c| Some(v * 10 + u32::from(c - b'0')))
-        .and_then(|v| u16::try_from(v).ok())
-}
-
-fn strip_prefix_ci<'b>(b: &'b [u8], p: &str) -> Option<&'b [u8]> {
-    if b.len() >= p.len() && b[..p.len()].eq_ignore_ascii_case(p.as_bytes()) {
-        Some(&b[p.len()..])
-    } else {
-        None
-    }
-}
-
-/// Classifies the part after a 4-hex-digit index: ``, `subN`, `Name`, `Value`, ...
-fn classify_object_tail(index: u16, tail: &[u8]) -> Kind {
-    if tail.is_empty() {
-        return Kind::Object(index);
-    }
-    if let Some(s) = strip_prefix_ci(tail, "sub") {
-        return hex_u8(s).map_or(Kind::Malformed, |s| Kind::Sub(index, s));
-    }
-    if tail.eq_ignore_ascii_case(b"Name") {
-        Kind::Name(index)
-    } else if tail.eq_ignore_ascii_case(b"Value") {
-        Kind::Value(index)
-    } else if tail.eq_ignore_ascii_case(b"Denotation") {
-        Kind::Denotation(index)
-    } else if tail.eq_ignore_ascii_case(b"ObjectLinks") {
-        Kind::Links(index)
-    } else {
-        Kind::Malformed
-    }
-}
-
-fn classify(name: &str) -> Kind {
-    let b = name.as_bytes();
-    if b.len() >= 4
-        && let Some(index) = hex4(&b[..4])
-    {
-        let k = classify_object_tail(index, &b[4..]);
-        // Names such as `[DEADBEEF]` that are not ours: only report when it looks like ours.
-        return k;
-    }
-    const NAMED: &[(&str, Kind)] = &[
-        ("FileInfo", Kind::FileInfo),
-        ("DeviceInfo", Kind::DeviceInfo),
-        ("DummyUsage", Kind::DummyUsage),
-        ("Comments", Kind::Comments),
-        ("MandatoryObjects", Kind::ObjList(0)),
-        ("OptionalObjects", Kind::ObjList(1)),
-        ("ManufacturerObjects", Kind::ObjList(2)),
-        ("DeviceComissioning", Kind::Commissioning),
-        ("DeviceCommissioning", Kind::Commissioning),
-        ("SupportedModules", Kind::SupportedModules),
-        ("ConnectedModules", Kind::ConnectedModules),
-    ];
-    for &(n, k) in NAMED {
-        if name.eq_ignore_ascii_case(n) {
-            return k;
-        }
-    }
-    // Modules: M<decimal><rest>.
-    if b.len() > 2 && (b[0] == b'M' || b[0] == b'm') && b[1].is_ascii_digit() {
-        let digits = b[1..].iter().take_while(|c| c.is_ascii_digit()).count();
-        let Some(x) = dec_u16(&b[1..1 + digits]) else { return Kind::Unknown };
-        let rest = &b[1 + digits..];
-        if rest.eq_ignore_ascii_case(b"ModuleInfo") {
-            return Kind::ModInfo(x);
-        }
-        if rest.eq_ignore_ascii_case(b"FixedObjects") {
-            return Kind::ModFixedObjects(x);
-        }
-        if rest.eq_ignore_ascii_case(b"SubExtends") {
-            return Kind::ModSubExtends(x);
-        }
-        if rest.eq_ignore_ascii_case(b"Comments") {
-            return Kind::ModComments(x);
-        }
-        if let Some(t) = strip_prefix_ci(rest, "SubExt")
-            && let Some(i) = hex4(t)
-        {
-            return Kind::ModSubExt(x, i);
-        }
-        if let Some(t) = strip_prefix_ci(rest, "Fixed")
-            && t.len() >= 4
-            && let Some(i) = hex4(&t[..4])
-        {
-            return match classify_object_tail(i, &t[4..]) {
-                Kind::Object(i) => Kind::ModFixed(x, i),
-                Kind::Sub(i, s) => Kind::ModFixedSub(x, i, s),
-                _ => Kind::Malformed,
-            };
-        }
-    }
-    Kind::Unknown
-}
-
-/// The sections that make one object.
-#[derive(Default)]
-struct ObjB<'s> {
-    main: Option<u32>,
-    subs: SubSections<'s>,
-    name: Option<u32>,
-    value: Option<u32>,
-    denotation: Option<u32>,
-    links: Option<u32>,
-}
-
-/// Where an object section belongs: owner (0 the device, m + 1 module m's fixed objects),
-/// object index, role, sub-index, packed so that sorting the sections by it groups each
-/// object's sections, roles in order, sub-objects by sub-index. All object sections of a file
-/// go into one vector that is sorted once (files list them in order, so it usually already
-/// is): no map and no vector per object.
-fn section_key(owner: u32, index: u16, role: u8, sub: u8) -> u64 {
-    (u64::from(owner) << 32) | (u64::from(index) << 16) | (u64::from(role) << 8) | u64::from(sub)
-}
-
-const ROLE_MAIN: u8 = 0;
-const ROLE_SUB: u8 = 1;
-const ROLE_NAME: u8 = 2;
-const ROLE_VALUE: u8 = 3;
-const ROLE_DENOTATION: u8 = 4;
-const ROLE_LINKS: u8 = 5;
-
-/// The sub-object sections of one object: a run of the sorted section vector, `(key,
-/// section)` by sub-index. A sub-index given twice (spelt differently: `sub1`, `sub01`) is
-/// the later section.
-#[derive(Default, Clone, Copy)]
-struct SubSections<'s>(&'s [(u64, u32)]);
-
-impl<'s> SubSections<'s> {
-    fn is_empty(&self) -> bool {
-        self.0.is_empty()
-    }
-
-    /// `(sub-index, section)` in sub-index order, the last of a repeated sub-index only.
-    fn iter(&self) -> impl Iterator<Item = (u8, u32)> + 's {
-        let v = self.0;
-        v.iter()
-            .enumerate()
-            .filter(move |&(j, p)| v.get(j + 1).is_none_or(|q| q.0 != p.0))
-            .map(|(_, &(k, i))| (k as u8, i))
-    }
-
-    fn len(&self) -> usize {
-        self.iter().count()
-    }
-
-    /// The sections in sub-index order.
-    fn values(&self) -> impl Iterator<Item = u32> + 's {
-        self.iter().map(|(_, i)| i)
-    }
-}
-
-/// Sorts the object sections (stable: among equal keys the later section comes last) and
-/// calls `each(owner, index, sections)` per object, in key order.
-fn group_objects<'s>(secs: &'s mut [(u64, u32)], mut each: impl FnMut(u32, u16, ObjB<'s>)) {
-    if !secs.is_sorted_by_key(|p| p.0) {
-        secs.sort_by_key(|p| p.0);
-    }
-    let secs: &'s [(u64, u32)] = secs;
-    let mut rest = secs;
-    while let Some(&(k, _)) = rest.first() {
-        let n = rest.iter().position(|p| p.0 >> 16 != k >> 16).unwrap_or(rest.len());
-        let (group, tail) = rest.split_at(n);
-        rest = tail;
-        let mut b = ObjB::default();
-        let (mut sub_start, mut sub_end) = (0, 0);
-        for (j, &(key, i)) in group.iter().enumerate() {
-            match (key >> 8) as u8 {
-                ROLE_MAIN => b.main = Some(i),
-                ROLE_SUB => {
-                    if sub_end == 0 {
-                        sub_start = j;
-                    }
-                    sub_end = j + 1;
-                }
-                ROLE_NAME => b.name = Some(i),
-                ROLE_VALUE => b.value = Some(i),
-                ROLE_DENOTATION => b.denotation = Some(i),
-                _ => b.links = Some(i),
-            }
-        }
-        b.subs = SubSections(&group[sub_start..sub_end]);
-        each((k >> 32) as u32, (k >> 16) as u16, b);
-    }
-}
-
-#[derive(Default)]
-struct ModB<'s> {
-    info: Option<u32>,
-    fixed_list: Option<u32>,
-    fixed: BTreeMap<u16, ObjB<'s>>,
-    sub_ext_list: Option<u32>,
-    sub_ext: BTreeMap<u16, u32>,
-    comments: Option<u32>,
-}
-
-/// Keys of object and sub-object sections.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum K {
-    ParameterName,
-    ObjectType,
-    DataType,
-    AccessType,
-    PdoMapping,
-    DefaultValue,
-    LowLimit,
-    HighLimit,
-    ParameterValue,
-    Denotation,
-    ObjFlags,
-    UploadFile,
-    DownloadFile,
-    SubNumber,
-    CompactSubObj,
-    Count,
-    ObjExtend,
-}
-
-const N_KEYS: usize = 17;
-
-/// The keys of a CompactSubObj object's section that every implied sub-object takes.
-const COMPACT_TEMPLATE: [K; 10] = [
-    K::DataType,
-    K::AccessType,
-    K::PdoMapping,
-    K::DefaultValue,
-    K::LowLimit,
-    K::HighLimit,
-    K::ParameterValue,
-    K::ObjFlags,
-    K::UploadFile,
-    K::DownloadFile,
-];
-
-/// Whether `key` is one of [`COMPACT_TEMPLATE`]'s (the writer keeps those on the template).
-pub(crate) fn is_compact_template_key(key: &str) -> bool {
-    obj_key(key).is_some_and(|k| COMPACT_TEMPLATE.contains(&k))
-}
-
-fn obj_key(key: &str) -> Option<K> {
-    let b = key.as_bytes();
-    if b.len() < 5 {
-        return None;
-    }
-    // Dispatch on length and first letter; at most two candidates to compare.
-    let (name, k): (&str, K) = match (b.len(), b[0] | 0x20) {
-        (13, b'p') => ("parametername", K::ParameterName),
-        (10, b'o') => ("objecttype", K::ObjectType),
-        (8, b'd') => ("datatype", K::DataType),
-        (10, b'a') => ("accesstype", K::AccessType),
-        (10, b'p') => ("pdomapping", K::PdoMapping),
-        (12, b'd') if b[1] | 0x20 == b'o' => ("downloadfile", K::DownloadFile),
-        (12, b'd') => ("defaultvalue", K::DefaultValue),
-        (8, b'l') => ("lowlimit", K::LowLimit),
-        (9, b'h') => ("highlimit", K::HighLimit),
-        (14, b'p') => ("parametervalue", K::ParameterValue),
-        (10, b'd') => ("denotation", K::Denotation),
-        (8, b'o') => ("objflags", K::ObjFlags),
-        (10, b'u') => ("uploadfile", K::UploadFile),
-        (9, b's') => ("subnumber", K::SubNumber),
-        (13, b'c') => ("compactsubobj", K::CompactSubObj),
-        (5, b'c') => ("count", K::Count),
-        (9, b'o') => ("objextend", K::ObjExtend),
-        _ => return None,
-    };
-    // The names are all letters, so `b | 0x20 == lower` is a case-insensitive comparison. Keys
-    // of eight bytes or more: compare the first and the last eight bytes (overlapping) as words.
-    let l = name.as_bytes();
-    let n = b.len();
-    let eq = if n >= 8 {
-        const CASE: u64 = 0x2020_2020_2020_2020;
-        (le64(b, 0) | CASE) == le64(l, 0) && (le64(b, n - 8) | CASE) == le64(l, n - 8)
-    } else {
-        b.iter().zip(l).fold(0u8, |acc, (&x, &l)| acc | ((x | 0x20) ^ l)) == 0
-    };
-    eq.then_some(k)
-}
-
-/// The eight bytes of `b` at `at` as a little-endian word.
-#[inline]
-fn le64(b: &[u8], at: usize) -> u64 {
-    let mut w = [0u8; 8];
-    w.copy_from_slice(&b[at..at + 8]);
-    u64::from_le_bytes(w)
-}
-
-/// The known keys of one (possibly repeated) section, last occurrence winning, and the rest.
-struct Keys<'e, 'a> {
-    k: [Option<&'e Entry<'a>>; N_KEYS],
-    extra: Vec<&'e Entry<'a>>,
-}
-
-impl<'e, 'a> Keys<'e, 'a> {
-    fn get(&self, k: K) -> Option<&'e Entry<'a>> {
-        self.k[k as usize]
-    }
-    fn take(&mut self, k: K) -> Option<&'e Entry<'a>> {
-        self.k[k as usize].take()
-    }
-    /// Moves the known key `k` (if present) into `extra`.
-    fn move_to_extra(&mut self, k: K) {
-        if let Some(e) = self.take(k) {
-            self.extra.push(e);
-        }
-    }
-}
 
 pub(crate) struct Lower<'r, 'a> {
     raw: &'r RawFile<'a>,
@@ -391,6 +40,8 @@ pub(crate) struct Lower<'r, 'a> {
     null_object: bool,
     /// Sub-objects implied by CompactSubObj so far (see [`crate::MAX_IMPLIED_SUB_OBJECTS`]).
     implied_subs: usize,
+    /// The data type indexes (0x0001..=0x025F) the file has an object section for, sorted.
+    defined_types: Vec<u16>,
 }
 
 fn raw_entry(e: &Entry<'_>, file: FileId) -> RawEntry {
@@ -407,6 +58,7 @@ impl<'r, 'a> Lower<'r, 'a> {
             soft: false,
             null_object: false,
             implied_subs: 0,
+            defined_types: Vec::new(),
         }
     }
 
@@ -422,14 +74,18 @@ impl<'r, 'a> Lower<'r, 'a> {
     }
 
     fn keys(&self, first: u32) -> Keys<'r, 'a> {
-        let mut keys = Keys { k: [None; N_KEYS], extra: Vec::new() };
+        let mut keys = Keys { k: [None; N_KEYS], extra: Vec::new(), shadowed: Vec::new() };
         // Plain loops over the section and its repeats (a closure here was not inlined).
         let mut next = Some(first);
         while let Some(i) = next {
             let s = self.sec(i);
             for e in self.raw.entries_of(s) {
                 match obj_key(e.key) {
-                    Some(k) => keys.k[k as usize] = Some(e),
+                    Some(k) => {
+                        if let Some(old) = keys.k[k as usize].replace(e) {
+                            keys.shadowed.push((k, old, e));
+                        }
+                    }
                     None => keys.extra.push(e),
                 }
             }
@@ -448,260 +104,6 @@ impl<'r, 'a> Lower<'r, 'a> {
             name: s.name.to_owned(),
             entries: self.entries(first).map(|e| raw_entry(e, self.file)).collect(),
             span: self.span(s.header_pos),
-        }
-    }
-
-    // ----- value readers -------------------------------------------------------------------
-
-    fn warn(&mut self, code: &'static str, msg: impl Into<String>, span: Span, label: &str) {
-        self.diags.push(Diagnostic::warning(code, msg).with_label(span, label));
-    }
-
-    /// Warns about how an integer was written, if [`num::WARN_FLAGS`] says there is anything
-    /// to say (rarely: the check is inlined, the warnings are not).
-    #[inline(always)]
-    fn int_flags(&mut self, flags: u8, e: &Entry<'_>) {
-        if flags & num::WARN_FLAGS != 0 {
-            self.int_flag_warnings(flags, e);
-        }
-    }
-
-    fn int_flag_warnings(&mut self, flags: u8, e: &Entry<'_>) {
-        let span = self.span(e.value_pos);
-        if flags & num::OCTAL != 0 {
-            self.warn(
-                codes::OCTAL_NUMBER,
-                format!("`{}` has a leading zero and is read as octal", e.value),
-                span,
-                "read as octal",
-            );
-        }
-        if flags & num::SUFFIX != 0 {
-            self.warn(
-                codes::INTEGER_SUFFIX,
-                format!("C integer suffix in `{}` ignored", e.value),
-                span,
-                "suffix ignored",
-            );
-        }
-        if flags & num::NODEID_ORDER != 0 {
-            self.warn(
-                codes::NODEID_ORDER,
-                format!("`{}`: write `$NODEID` first", e.value),
-                span,
-                "read as $NODEID+offset",
-            );
-        }
-    }
-
-    /// Runs `read` on the value; when it fails and the value has a trailing comment, runs it on
-    /// the value without the comment (with a warning).
-    fn with_comment_fallback<T>(
-        &mut self,
-        e: &Entry<'_>,
-        mut read: impl FnMut(&str) -> Option<T>,
-    ) -> Option<T> {
-        if let Some(v) = read(e.value) {
-            return Some(v);
-        }
-        let stripped = num::strip_inline_comment(e.value)?;
-        let v = read(stripped)?;
-        self.warn(
-            codes::INLINE_COMMENT,
-            format!("comment after the value of `{}`", e.key),
-            self.span(e.value_pos),
-            "comment ignored",
-        );
-        Some(v)
-    }
-
-    /// Reads an unsigned header number of at most `max`. `Ok(None)`: empty (warned);
-    /// `Err(())`: unreadable (reported; the caller keeps the raw entry).
-    fn uint(&mut self, e: &Entry<'_>, max: u64) -> Result<Option<Spanned<u64>>, ()> {
-        if e.value.is_empty() {
-            self.empty(e);
-            return Ok(None);
-        }
-        let span = self.span(e.value_pos);
-        let Some((v, flags)) = self.with_comment_fallback(e, num::parse_plain) else {
-            let sev = if self.soft { Severity::Warning } else { Severity::Error };
-            self.diags.push(
-                Diagnostic::new(
-                    sev,
-                    codes::INVALID_VALUE,
-                    format!("`{}` is not a number", e.value),
-                )
-                .with_label(span, format!("expected a number for `{}`", e.key))
-                .with_note("numbers are decimal, 0x-hex or 0-octal"),
-            );
-            return Err(());
-        };
-        if v < 0 || v > i128::from(max) {
-            self.diags.push(
-                Diagnostic::new(
-                    if self.soft { Severity::Warning } else { Severity::Error },
-                    codes::OUT_OF_RANGE,
-                    format!("`{}` does not fit `{}` (0..={max})", e.value, e.key),
-                )
-                .with_label(span, "out of range"),
-            );
-            return Err(());
-        }
-        self.int_flags(flags, e);
-        Ok(Some(Spanned::new(v as u64, span)))
-    }
-
-    fn boolean(&mut self, e: &Entry<'_>) -> Result<Option<Spanned<bool>>, ()> {
-        if e.value.is_empty() {
-            self.empty(e);
-            return Ok(None);
-        }
-        let span = self.span(e.value_pos);
-        match self.with_comment_fallback(e, num::parse_bool) {
-            Some(b) => Ok(Some(Spanned::new(b, span))),
-            None => {
-                self.diags.push(
-                    Diagnostic::error(
-                        codes::INVALID_VALUE,
-                        format!("`{}` is not a boolean", e.value),
-                    )
-                    .with_label(span, format!("expected 0 or 1 for `{}`", e.key)),
-                );
-                Err(())
-            }
-        }
-    }
-
-    fn empty(&mut self, e: &Entry<'_>) {
-        self.warn(
-            codes::EMPTY_VALUE,
-            concat(&["`", e.key, "=` has no value; treated as absent"]),
-            self.span(e.line_pos),
-            "empty value",
-        );
-    }
-
-    fn text(&self, e: &Entry<'_>) -> Spanned<String> {
-        Spanned::new(e.value.to_owned(), self.span(e.value_pos))
-    }
-
-    /// Reads a value typed by `dt`.
-    fn value(&mut self, e: &Entry<'_>, dt: DataType) -> Option<Spanned<Value>> {
-        let span = self.span(e.value_pos);
-        let class = dt.class();
-        if e.value.is_empty() {
-            return match class {
-                ValueClass::Text => Some(Spanned::new(Value::Text(Box::default()), span)),
-                ValueClass::Bytes => Some(Spanned::new(Value::Bytes(Box::default()), span)),
-                ValueClass::Unicode => Some(Spanned::new(Value::Unicode(Box::default()), span)),
-                _ => {
-                    self.empty(e);
-                    None
-                }
-            };
-        }
-        let mut problem = Problem::Invalid;
-        let read = |s: &str, problem: &mut Problem| read_value(s, dt, problem);
-        let got = match read(e.value, &mut problem) {
-            Some(v) => Some(v),
-            None if problem == Problem::Invalid => {
-                let mut p2 = Problem::Invalid;
-                let r = num::strip_inline_comment(e.value).and_then(|s| read(s, &mut p2));
-                if r.is_some() {
-                    self.warn(
-                        codes::INLINE_COMMENT,
-                        format!("comment after the value of `{}`", e.key),
-                        span,
-                        "comment ignored",
-                    );
-                }
-                r
-            }
-            None => None,
-        };
-        match got {
-            Some((v, flags)) => {
-                self.int_flags(flags, e);
-                Some(Spanned::new(v, span))
-            }
-            None => {
-                let d = match problem {
-                    Problem::Range => Diagnostic::error(
-                        codes::OUT_OF_RANGE,
-                        format!("`{}` does not fit {}", e.value, dt.name()),
-                    )
-                    .with_label(span, format!("out of range for {}", dt.name())),
-                    Problem::Invalid => Diagnostic::new(
-                        if class == ValueClass::Bytes {
-                            Severity::Warning
-                        } else {
-                            Severity::Error
-                        },
-                        codes::INVALID_VALUE,
-                        format!("`{}` is not a valid {} value", e.value, dt.name()),
-                    )
-                    .with_label(span, format!("expected {}", expected(class))),
-                };
-                self.diags.push(d.with_note("the text is kept as written"));
-                Some(Spanned::new(Value::Invalid(e.value.into()), span))
-            }
-        }
-    }
-
-    fn data_type(&mut self, e: &Entry<'_>) -> Result<Option<DataType>, ()> {
-        let Some(v) = self.uint(e, 0xFFFF)? else { return Ok(None) };
-        // CiA 301 §7.4.7: data types are the objects 0x0001..=0x025F.
-        if v.value == 0 || v.value > 0x025F {
-            self.diags.push(
-                Diagnostic::error(
-                    codes::OUT_OF_RANGE,
-                    format!("`{}` is not a data type index (0x0001..=0x025F)", e.value),
-                )
-                .with_label(v.span, "kept as written"),
-            );
-            return Err(());
-        }
-        Ok(Some(DataType::from_code(v.value as u16)))
-    }
-
-    fn access(&mut self, e: &Entry<'_>) -> Option<Access> {
-        let span = self.span(e.value_pos);
-        if e.value.is_empty() {
-            self.empty(e);
-            return None;
-        }
-        let read = |s: &str| -> Option<(Access, bool)> {
-            if let Some(a) = Access::parse(s) {
-                Some((a, false))
-            } else if s.trim().eq_ignore_ascii_case("r") {
-                Some((Access::Ro, true))
-            } else {
-                None
-            }
-        };
-        match self.with_comment_fallback(e, read) {
-            Some((a, nonstandard)) => {
-                if nonstandard {
-                    self.warn(
-                        codes::NONSTANDARD_ACCESS,
-                        format!("AccessType `{}` is not CiA 306; read as `ro`", e.value),
-                        span,
-                        "read as ro",
-                    );
-                }
-                Some(a)
-            }
-            None => {
-                self.diags.push(
-                    Diagnostic::error(
-                        codes::UNKNOWN_ACCESS,
-                        format!("unknown AccessType `{}`", e.value),
-                    )
-                    .with_label(span, "expected ro, wo, rw, rwr, rww or const")
-                    .with_note("assumed ro"),
-                );
-                None
-            }
         }
     }
 
@@ -761,6 +163,9 @@ impl<'r, 'a> Lower<'r, 'a> {
                 }
                 Kind::Object(x) => {
                     objects += 1;
+                    if x <= 0x025F {
+                        self.defined_types.push(x);
+                    }
                     secs.push((section_key(0, x, ROLE_MAIN, 0), i));
                 }
                 Kind::Sub(x, s) => secs.push((section_key(0, x, ROLE_SUB, s), i)),
@@ -821,6 +226,7 @@ impl<'r, 'a> Lower<'r, 'a> {
             }
         }
 
+        self.defined_types.sort_unstable();
         let mut built: Vec<(u16, Object)> = Vec::with_capacity(objects);
         group_objects(&mut secs, |owner, index, b| {
             if owner > 0 {
@@ -1246,12 +652,17 @@ impl<'r, 'a> Lower<'r, 'a> {
             }
         };
         let mut extra_entries: Vec<&Entry<'_>> = Vec::new();
+        let mut unreadable = None;
         let data_type = match keys.take(K::DataType) {
             Some(e) => match self.data_type(e) {
-                Ok(Some(dt)) => Some(dt),
+                Ok(Some(dt)) => {
+                    sub.data_type_span = self.span(e.line_pos);
+                    Some(dt)
+                }
                 Ok(None) => None,
                 Err(()) => {
                     extra_entries.push(e);
+                    unreadable = Some(self.span(e.value_pos));
                     None
                 }
             },
@@ -1260,11 +671,19 @@ impl<'r, 'a> Lower<'r, 'a> {
         let data_type = match data_type.or(default_dt) {
             Some(dt) => dt,
             None => {
-                self.diags.push(
-                    Diagnostic::error(codes::MISSING_DATA_TYPE, format!("{what} has no DataType"))
-                        .with_label(header, "DataType missing")
-                        .with_note("assumed DOMAIN"),
-                );
+                let d = match unreadable {
+                    Some(at) => Diagnostic::error(
+                        codes::MISSING_DATA_TYPE,
+                        format!("{what} has no readable DataType"),
+                    )
+                    .with_label(at, "not a DataType"),
+                    None => Diagnostic::error(
+                        codes::MISSING_DATA_TYPE,
+                        format!("{what} has no DataType"),
+                    )
+                    .with_label(header, "DataType missing"),
+                };
+                self.diags.push(d.with_note("assumed DOMAIN"));
                 DataType::Domain
             }
         };
@@ -1316,9 +735,8 @@ impl<'r, 'a> Lower<'r, 'a> {
             }
         }
         sub.default = keys.take(K::DefaultValue).and_then(|e| self.value(e, data_type));
-        sub.low_limit = keys.take(K::LowLimit).and_then(|e| self.value(e, data_type)).map(Box::new);
-        sub.high_limit =
-            keys.take(K::HighLimit).and_then(|e| self.value(e, data_type)).map(Box::new);
+        sub.low_limit = keys.take(K::LowLimit).and_then(|e| self.limit(e, data_type));
+        sub.high_limit = keys.take(K::HighLimit).and_then(|e| self.limit(e, data_type));
         sub.parameter_value = keys.take(K::ParameterValue).and_then(|e| self.value(e, data_type));
         let denotation = keys.take(K::Denotation).map(|e| self.text(e));
         let mut obj_flags = None;
@@ -1332,6 +750,9 @@ impl<'r, 'a> Lower<'r, 'a> {
         let download_file = keys.take(K::DownloadFile).map(|e| self.text(e));
         for k in [K::SubNumber, K::CompactSubObj, K::Count, K::ObjExtend] {
             keys.move_to_extra(k);
+        }
+        if !keys.shadowed.is_empty() {
+            self.check_shadowed(keys, Some(data_type));
         }
         let has_extra = !(extra_entries.is_empty() && keys.extra.is_empty());
         let has_rare = denotation.is_some()
@@ -1558,6 +979,12 @@ impl<'r, 'a> Lower<'r, 'a> {
             }
         }
         self.companions(&mut obj, b);
+        if !keys.shadowed.is_empty() {
+            // A structured object's own keys (a VAR's went through `fill_sub`); values typed
+            // by the object's DataType are those of a compact object's sub-objects.
+            let dt = obj.sub(1).filter(|_| obj.compact_sub_obj.is_some()).map(|s| s.data_type);
+            self.check_shadowed(&mut keys, dt);
+        }
         let mut all_extra: Vec<RawEntry> =
             obj_extra.into_iter().chain(keys.extra.drain(..)).map(|e| raw_entry(e, file)).collect();
         all_extra.append(&mut obj.extra);
@@ -1574,7 +1001,7 @@ impl<'r, 'a> Lower<'r, 'a> {
     ) {
         let what = format_args!("compact object {:04X}", obj.index);
         // The template: DataType, AccessType, PDOMapping and values of the object section.
-        let mut tkeys = Keys { k: [None; N_KEYS], extra: Vec::new() };
+        let mut tkeys = Keys { k: [None; N_KEYS], extra: Vec::new(), shadowed: Vec::new() };
         for k in COMPACT_TEMPLATE {
             tkeys.k[k as usize] = keys.take(k);
         }
@@ -1712,191 +1139,4 @@ impl<'r, 'a> Lower<'r, 'a> {
 /// A sub-object with nothing read yet, for [`Lower::fill_sub`].
 fn blank_sub(sub_index: u8) -> SubObject {
     SubObject::new(sub_index, String::new(), DataType::Domain, Access::Ro)
-}
-
-/// The pieces joined into one exactly sized string: for the messages of diagnostics that real
-/// files trigger by the thousand (`F112`), cheaper than `format!`.
-fn concat(parts: &[&str]) -> String {
-    let mut s = String::with_capacity(parts.iter().map(|p| p.len()).sum());
-    parts.iter().for_each(|p| s.push_str(p));
-    s
-}
-
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Problem {
-    Invalid,
-    Range,
-}
-
-fn expected(class: ValueClass) -> &'static str {
-    match class {
-        ValueClass::Bool => "0 or 1",
-        ValueClass::Unsigned(_) | ValueClass::Signed(_) => {
-            "a decimal, 0x-hex or 0-octal number, optionally $NODEID+"
-        }
-        ValueClass::Real32 | ValueClass::Real64 => "a decimal float or a 0x bit pattern",
-        ValueClass::Bytes => "hex bytes",
-        ValueClass::Time => "milliseconds and days",
-        _ => "a value",
-    }
-}
-
-/// Reads `s` as a value of `dt`. `flags` are [`num`] warning flags.
-fn read_value(s: &str, dt: DataType, problem: &mut Problem) -> Option<(Value, u8)> {
-    let s = trim(s);
-    match dt.class() {
-        ValueClass::Bool => num::parse_bool(s).map(|b| (Value::Bool(b), 0)),
-        ValueClass::Unsigned(bits) => {
-            let n = num::parse_int(s)?;
-            if n.node_id {
-                let v = i64::try_from(n.value).ok()?;
-                return Some((Value::NodeIdPlus(v), n.flags));
-            }
-            let max = if bits >= 64 { u128::from(u64::MAX) } else { (1u128 << bits) - 1 };
-            if n.value < 0 || n.value as u128 > max {
-                *problem = Problem::Range;
-                return None;
-            }
-            Some((Value::Unsigned(n.value as u64), n.flags & !num::HEX))
-        }
-        ValueClass::Signed(bits) => {
-            let n = num::parse_int(s)?;
-            if n.node_id {
-                let v = i64::try_from(n.value).ok()?;
-                return Some((Value::NodeIdPlus(v), n.flags));
-            }
-            let bits = bits.min(64);
-            let smax = (1i128 << (bits - 1)) - 1;
-            let smin = -(1i128 << (bits - 1));
-            let umax = (1i128 << bits) - 1;
-            let mut v = n.value;
-            if n.flags & num::HEX != 0 && v > smax && v <= umax {
-                v -= 1i128 << bits; // two's complement bit pattern
-            }
-            if v < smin || v > smax {
-                *problem = Problem::Range;
-                return None;
-            }
-            Some((Value::Signed(v as i64), n.flags & !num::HEX))
-        }
-        ValueClass::Real32 => {
-            if is_hex(s) {
-                let (v, flags) = num::parse_plain(s)?;
-                if !(0..=i128::from(u32::MAX)).contains(&v) {
-                    *problem = Problem::Range;
-                    return None;
-                }
-                Some((Value::Real32(v as u32), flags & !num::HEX))
-            } else {
-                let (s, flags) = strip_float_suffix(s);
-                num::parse_f32(s).map(|f| (Value::Real32(f.to_bits()), flags))
-            }
-        }
-        ValueClass::Real64 => {
-            if is_hex(s) {
-                let (v, flags) = num::parse_plain(s)?;
-                if !(0..=i128::from(u64::MAX)).contains(&v) {
-                    *problem = Problem::Range;
-                    return None;
-                }
-                Some((Value::Real64(v as u64), flags & !num::HEX))
-            } else {
-                let (s, flags) = strip_float_suffix(s);
-                num::parse_f64(s).map(|f| (Value::Real64(f.to_bits()), flags))
-            }
-        }
-        ValueClass::Text => Some((Value::Text(s.into()), 0)),
-        ValueClass::Bytes => {
-            num::parse_hex_bytes(s).map(|b| (Value::Bytes(b.into_boxed_slice()), 0))
-        }
-        ValueClass::Unicode => Some((Value::Unicode(s.encode_utf16().collect()), 0)),
-        ValueClass::Time => {
-            let mut it = s.split_ascii_whitespace();
-            let a = it.next()?;
-            match (it.next(), it.next()) {
-                (None, _) => {
-                    let (v, flags) = num::parse_plain(a)?;
-                    if !(0..=0xFFFF_FFFF_FFFF).contains(&v) {
-                        *problem = Problem::Range;
-                        return None;
-                    }
-                    let v = v as u64;
-                    Some((Value::Time { ms: v as u32, days: (v >> 32) as u16 }, flags & !num::HEX))
-                }
-                (Some(b), None) => {
-                    let (days, f1) = num::parse_plain(a)?;
-                    let (ms, f2) = num::parse_plain(b)?;
-                    let ms = u32::try_from(ms).ok()?;
-                    let days = u16::try_from(days).ok()?;
-                    Some((Value::Time { ms, days }, (f1 | f2) & !num::HEX))
-                }
-                _ => None,
-            }
-        }
-        ValueClass::Structured => match num::parse_int(s) {
-            Some(n) if n.node_id => {
-                Some((Value::NodeIdPlus(i64::try_from(n.value).ok()?), n.flags))
-            }
-            Some(n) if n.value >= 0 => Some((Value::Unsigned(n.value as u64), n.flags & !num::HEX)),
-            Some(n) => Some((Value::Signed(i64::try_from(n.value).ok()?), n.flags & !num::HEX)),
-            None => Some((Value::Text(s.into()), 0)),
-        },
-    }
-}
-
-/// Cuts a C float suffix (`1.0f`, `2.5F`, `1.0L`).
-fn strip_float_suffix(s: &str) -> (&str, u8) {
-    match s.strip_suffix(['f', 'F', 'l', 'L']) {
-        Some(t) if t.ends_with(|c: char| c.is_ascii_digit() || c == '.') => (t, num::SUFFIX),
-        _ => (s, 0),
-    }
-}
-
-fn is_hex(s: &str) -> bool {
-    let b = s.as_bytes();
-    b.len() > 2 && b[0] == b'0' && (b[1] == b'x' || b[1] == b'X')
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn obj_key_is_case_insensitive_and_exact() {
-        let names = [
-            "ParameterName",
-            "ObjectType",
-            "DataType",
-            "AccessType",
-            "PDOMapping",
-            "DefaultValue",
-            "LowLimit",
-            "HighLimit",
-            "ParameterValue",
-            "Denotation",
-            "ObjFlags",
-            "UploadFile",
-            "DownloadFile",
-            "SubNumber",
-            "CompactSubObj",
-            "Count",
-            "ObjExtend",
-        ];
-        let mut seen = Vec::new();
-        for n in names {
-            let k = obj_key(n).map(|k| k as usize);
-            assert!(k.is_some(), "{n}");
-            assert_eq!(obj_key(&n.to_ascii_lowercase()).map(|k| k as usize), k, "{n}");
-            assert_eq!(obj_key(&n.to_ascii_uppercase()).map(|k| k as usize), k, "{n}");
-            assert!(!seen.contains(&k), "{n}");
-            seen.push(k);
-            // One character off (also a non-letter whose bit 5 is the only difference).
-            let mut b = n.as_bytes().to_vec();
-            b[n.len() - 1] = b'@';
-            assert!(obj_key(std::str::from_utf8(&b).unwrap_or("")).is_none(), "{n}");
-            assert!(obj_key(&format!("{n}x")).is_none(), "{n}");
-        }
-        assert!(obj_key("Parameter_Name").is_none());
-        assert!(obj_key("Cou t").is_none());
-    }
 }
