@@ -24,7 +24,7 @@ pub(crate) use keys::is_compact_template_key;
 use keys::*;
 
 /// The note of a value that does not read: the model keeps its text.
-const KEPT_AS_WRITTEN: &str = "the text is kept as written";
+const KEPT_AS_WRITTEN: &str = "the text is kept as written, so `odc convert` writes it back; generated code leaves this value out";
 
 /// The name CiA 306 tools give the implied sub-index 0 of a compact object.
 pub(crate) const COMPACT_SUB0_NAME: &str = "NrOfObjects";
