@@ -16,6 +16,12 @@ pub mod mini_drive {
     odc::include_od!("mini_drive");
 }
 
+/// The small drive with two values that do not fit their types (`fixtures/bad-values.eds`),
+/// generated with F108 allowed.
+pub mod bad_values {
+    include!(concat!(env!("OUT_DIR"), "/bad_values.rs"));
+}
+
 /// LTi ServoOne, EtherCAT (`esi/servoone.xml`).
 pub mod servoone {
     include!(concat!(env!("OUT_DIR"), "/servoone.rs"));
