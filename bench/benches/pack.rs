@@ -105,7 +105,7 @@ fn values() -> Vec<(u16, i32)> {
 fn bench(c: &mut Criterion) {
     let v = values();
     let odc_r: Vec<Rpdo2> =
-        v.iter().map(|&(a, b)| Rpdo2 { controlword: a, target_position: b }).collect();
+        v.iter().map(|&(a, b)| Rpdo2 { controlword: a.into(), target_position: b }).collect();
     let hand_r: Vec<HandRpdo2> =
         v.iter().map(|&(a, b)| HandRpdo2 { controlword: a, target_position: b }).collect();
     let deku_r: Vec<DekuRpdo2> =
@@ -138,7 +138,7 @@ fn bench(c: &mut Criterion) {
         let (_, dk) = DekuTpdo2::from_bytes((&frames[i], 0)).unwrap();
         let p = <PsTpdo2 as PackedStruct>::unpack(&frames[i]).unwrap();
         let want = (h.statusword, h.position_actual_value);
-        assert_eq!((t.statusword, t.position_actual_value), want);
+        assert_eq!((u16::from(t.statusword), t.position_actual_value), want);
         assert_eq!((dk.statusword, dk.position_actual_value), want);
         assert_eq!((p.statusword, p.position_actual_value), want);
     }
@@ -201,7 +201,7 @@ fn bench(c: &mut Criterion) {
         bn.iter(|| {
             for ((d, n), o) in black_box(&can).iter().zip(fields.iter_mut()) {
                 if let Ok(t) = Tpdo2::unpack(&d[..*n]) {
-                    *o = (t.statusword, t.position_actual_value);
+                    *o = (u16::from(t.statusword), t.position_actual_value);
                 }
             }
             black_box(&fields);
