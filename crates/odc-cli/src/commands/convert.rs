@@ -10,7 +10,9 @@ use crate::input;
 /// Convert a device file: EDS ↔ DCF, a normalised EDS, or one device of an ESI as EDS.
 ///
 /// The output format follows `--to`, else the extension of `-o`. Keys and sections odc does
-/// not interpret are carried over. The output file is replaced only when writing succeeded.
+/// not interpret are carried over. Written as EDS, a DCF's own values (ParameterValue,
+/// Denotation, [DeviceComissioning], [ConnectedModules]) are left out with a warning that
+/// counts them. The output file is replaced only when writing succeeded.
 #[derive(clap::Args)]
 pub struct Args {
     /// EDS, DCF or ESI file.
@@ -46,6 +48,15 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     super::require_clean(&sources, &loaded.diagnostics)?;
     let device = input::select(&loaded.devices, args.device.as_deref())?;
     let text = odc_eds::write(device, target);
+    // An EDS has no place for a DCF's values: they are left out, never without a word.
+    let dropped = odc_eds::dcf_only(device);
+    if target == Format::Eds && !dropped.is_empty() {
+        eprintln!(
+            "warning: {} DCF value(s) not written to the EDS ({dropped}); to keep them, write \
+             a DCF: --to dcf, or -o FILE.dcf",
+            dropped.total()
+        );
+    }
     match &args.output {
         Some(path) => input::write_atomic(path, text.as_bytes())?,
         None => super::out(&text)?,
