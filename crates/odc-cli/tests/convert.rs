@@ -142,30 +142,44 @@ NrOfEntries=1
 2=0x000A03E8
 ";
 
+/// A file with DCF values stays a DCF unless `--to eds` asks for an EDS; either way the user is
+/// told, and nothing is left out without a warning that counts it.
 #[test]
-fn dcf_values_left_out_of_an_eds_are_counted_in_a_warning() {
+fn dcf_values_are_kept_or_counted_in_a_warning() {
     let dir = tempdir("dcf");
     let input = dir.join("configured.dcf");
     std::fs::write(&input, DCF).unwrap();
     let input = input.display().to_string();
     let eds = dir.join("out.eds").display().to_string();
-    // To EDS, by extension and by --to: the values are left out, and the warning says how many
-    // and how to keep them.
-    for args in [vec!["-o", &eds], vec!["--to", "eds", "-o", &eds]] {
-        let mut all = vec!["convert", &input];
-        all.extend(args);
-        let out = odc(&all);
-        assert!(out.status.success(), "{}", stderr(&out));
-        assert_eq!(
-            stderr(&out),
-            "warning: 6 DCF value(s) not written to the EDS (2 ParameterValue, 1 Denotation, \
-             3 [DeviceComissioning] keys); to keep them, write a DCF: --to dcf, or -o FILE.dcf\n"
-        );
-        let text = std::fs::read_to_string(&eds).unwrap();
-        assert!(!text.contains("ParameterValue") && !text.contains("DeviceComissioning"));
-    }
-    // To DCF (and to standard output as DCF): kept, nothing to say.
     let dcf = dir.join("out.dcf").display().to_string();
+    let kept =
+        ["NodeID=5", "ParameterValue=0x20192", "Denotation=axis 1", "[1016Value]", "2=0xA03E8"];
+    // `--to eds`: left out, and the warning says how many and how to keep them.
+    let out = odc(&["convert", &input, "--to", "eds", "-o", &eds]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(
+        stderr(&out),
+        "warning: 6 DCF value(s) not written to the EDS (2 ParameterValue, 1 Denotation, \
+         3 [DeviceComissioning] keys); to keep them, write a DCF (leave out --to eds, or --to \
+         dcf)\n"
+    );
+    let text = std::fs::read_to_string(&eds).unwrap();
+    for k in kept {
+        assert!(!text.contains(k), "{k} in:\n{text}");
+    }
+    // `-o out.eds` without --to: kept, written as DCF, and said so.
+    let out = odc(&["convert", &input, "-o", &eds]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert_eq!(
+        stderr(&out),
+        "note: the input holds 6 DCF value(s) (2 ParameterValue, 1 Denotation, \
+         3 [DeviceComissioning] keys); written as DCF to keep them (--to eds leaves them out)\n"
+    );
+    let text = std::fs::read_to_string(&eds).unwrap();
+    for k in kept {
+        assert!(text.contains(k), "{k} in:\n{text}");
+    }
+    // To a DCF: kept, nothing to say.
     for args in [vec!["-o", &dcf], vec!["--to", "dcf"]] {
         let mut all = vec!["convert", &input];
         all.extend(args);
@@ -173,8 +187,5 @@ fn dcf_values_left_out_of_an_eds_are_counted_in_a_warning() {
         assert!(out.status.success(), "{}", stderr(&out));
         assert_eq!(stderr(&out), "");
     }
-    let text = std::fs::read_to_string(&dcf).unwrap();
-    for kept in ["NodeID=5", "ParameterValue=0x20192", "Denotation=axis 1", "2=0xA03E8"] {
-        assert!(text.contains(kept), "{kept} in:\n{text}");
-    }
+    assert_eq!(std::fs::read_to_string(&dcf).unwrap(), text);
 }

@@ -4,7 +4,8 @@ use std::fmt::Write as _;
 
 use odc_model::subs::implied_name;
 use odc_model::{
-    Device, Format, Module, Object, Origin, PdoMapping, RawEntry, Spanned, SubObject, Value,
+    Access, Device, Direction, Format, Module, Object, Origin, PdoMapping, RawEntry, Spanned,
+    SubObject, Value,
 };
 
 use crate::lower::{COMPACT_SUB0_NAME, is_compact_template_key};
@@ -38,6 +39,31 @@ pub(crate) fn value_text(v: &Value) -> String {
             n if n > 0 => format!("$NODEID+0x{n:X}"),
             n => format!("$NODEID-0x{:X}", n.unsigned_abs()),
         },
+    }
+}
+
+/// The access to write for a sub-object. An EDS says in which PDOs an object may be mapped
+/// through its access alone (CiA 306 §4.6.3: `ro`/`rwr` transmit, `wo`/`rww` receive, `rw`
+/// both); an ESI says it apart (`PdoMapping` R, T, RT). Where the access forbids a direction
+/// the ESI allows, it becomes the access that allows it: an ESI `ro` object mappable into
+/// RxPDOs becomes `rww` (readable, written by the PDO), since no EDS access is read-only by SDO
+/// yet RPDO-mappable. Every other access is written as read.
+fn eds_access(s: &SubObject) -> Access {
+    let a = s.access;
+    let (rx, tx) = match s.pdo_mapping {
+        PdoMapping::No | PdoMapping::Yes => return a,
+        PdoMapping::Rx => (true, false),
+        PdoMapping::Tx => (false, true),
+        PdoMapping::Both => (true, true),
+    };
+    let yes = |dir| PdoMapping::Yes.allows(a, dir);
+    if (!rx || yes(Direction::Rx)) && (!tx || yes(Direction::Tx)) {
+        return a;
+    }
+    match (rx, tx) {
+        (true, true) => Access::Rw,
+        (true, false) => Access::Rww,
+        _ => Access::Rwr,
     }
 }
 
@@ -120,7 +146,7 @@ impl W {
             self.kv("ObjectType", &format!("0x{:X}", k.code()));
         }
         self.kv("DataType", &format!("0x{:04X}", s.data_type.code()));
-        self.kv("AccessType", s.access.as_str());
+        self.kv("AccessType", eds_access(s).as_str());
         self.opt_value("DefaultValue", s.default.as_ref());
         self.opt_value("LowLimit", s.low_limit.as_deref());
         self.opt_value("HighLimit", s.high_limit.as_deref());
