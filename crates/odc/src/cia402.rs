@@ -18,7 +18,8 @@
 //!     drive = drive.after(cw, false); // the drive's transition
 //! }
 //! assert_eq!(drive, State::OperationEnabled);
-//! assert_eq!(sent, [Controlword::SHUTDOWN, Controlword::SWITCH_ON, Controlword::ENABLE_OPERATION]);
+//! use Controlword as Cw;
+//! assert_eq!(sent, [Cw::SHUTDOWN, Cw::SWITCH_ON, Cw::ENABLE_OPERATION]);
 //!
 //! // A profile-position set-point: enable operation with "new set-point".
 //! let cw = Controlword::ENABLE_OPERATION.with_new_setpoint(true);

@@ -45,7 +45,8 @@ impl<T: ObjValue> DefaultValue<T> {
 /// assert_eq!(PROFILE_VELOCITY.default.and_then(|d| d.resolve(5)), Some(100));
 /// // What a server does with a download: access, length and limits, with CiA 301 aborts.
 /// assert_eq!(PROFILE_VELOCITY.decode_download(&500u32.to_le_bytes()), Ok(500));
-/// assert_eq!(PROFILE_VELOCITY.decode_download(&5000u32.to_le_bytes()), Err(SdoAbort::ValueTooHigh));
+/// let too_fast = 5000u32.to_le_bytes();
+/// assert_eq!(PROFILE_VELOCITY.decode_download(&too_fast), Err(SdoAbort::ValueTooHigh));
 /// assert_eq!(PROFILE_VELOCITY.decode_download(&[1, 2]), Err(SdoAbort::TooShort));
 ///
 /// // A COB-ID default relative to the node id (`$NODEID+0x180`) resolves per node.

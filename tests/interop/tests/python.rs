@@ -7,8 +7,8 @@
 //!   generated PDO-mapping plan, then reads the mapping back.
 //!
 //! Ignored, with the reason in `cargo test`'s output, when the build found no python with
-//! `canopen`, unless `ODC_INTEROP_REQUIRED` is set (as `.ci/run` does). Each device prints one line of counts;
-//! run with `--nocapture` to see them.
+//! `canopen`, unless `ODC_INTEROP_REQUIRED` is set (as `.ci/run` does). Each device prints one
+//! line of counts; run with `--nocapture` to see them.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use odc::SdoAbort;

@@ -12,7 +12,8 @@ use crate::input;
 /// The output format follows `--to`, else the extension of `-o`; a file holding DCF values
 /// (ParameterValue, Denotation, [DeviceComissioning], [ConnectedModules]) stays a DCF unless
 /// `--to eds` asks for an EDS, which leaves them out with a warning that counts them. Keys and
-/// sections odc does not interpret are carried over. The output file is replaced only when writing succeeded.
+/// sections odc does not interpret are carried over. The output file is replaced only when
+/// writing succeeded.
 #[derive(clap::Args)]
 pub struct Args {
     /// EDS, DCF or ESI file.
