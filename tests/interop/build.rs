@@ -1,6 +1,10 @@
 //! Generates master and slave code for the CANopen devices of `eds/` and for two corpus EDS
 //! files (when the corpus is present: `ODC_CORPUS`, default `../shared/corpus` beside the
 //! repository), so the interop tests serve and drive exactly what odc generates.
+//!
+//! Also looks for python-canopen (`ODC_INTEROP_PYTHON`, else `python3`): without it, and
+//! without `ODC_INTEROP_REQUIRED`, the tests are compiled with `cfg(odc_interop_no_python)`,
+//! which marks them ignored with the reason, so `cargo test` shows that they did not run.
 
 use std::path::{Path, PathBuf};
 
@@ -16,6 +20,7 @@ fn main() -> Result<(), odc_build::Error> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
     println!("cargo::rustc-check-cfg=cfg(odc_interop_corpus)");
     println!("cargo:rerun-if-env-changed=ODC_CORPUS");
+    find_python();
     let mut config = odc_build::Config::new();
     config.role(odc_build::Role::Both);
     for name in ["lxm23a", "lexium-mdrive", "servoone", "lenze-e94aycca", "linmot-e1200"] {
@@ -43,4 +48,28 @@ fn main() -> Result<(), odc_build::Error> {
         odc_build::write_if_changed(&out_dir.join(format!("{}.rs", g.module)), g.code.as_bytes())?;
     }
     Ok(())
+}
+
+/// Sets `cfg(odc_interop_no_python)` when the python the tests would run cannot import
+/// `canopen` and `can`, unless `ODC_INTEROP_REQUIRED` is set (then the tests run and fail,
+/// saying so). Looked for again when either variable changes, or the interpreter found (a
+/// path) changes or goes away.
+fn find_python() {
+    println!("cargo::rustc-check-cfg=cfg(odc_interop_no_python)");
+    println!("cargo:rerun-if-env-changed=ODC_INTEROP_PYTHON");
+    println!("cargo:rerun-if-env-changed=ODC_INTEROP_REQUIRED");
+    let py = std::env::var_os("ODC_INTEROP_PYTHON").unwrap_or_else(|| "python3".into());
+    let ok = std::process::Command::new(&py)
+        .args(["-c", "import canopen, can"])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    if ok {
+        if Path::new(&py).is_file() {
+            println!("cargo:rerun-if-changed={}", Path::new(&py).display());
+        }
+    } else if std::env::var_os("ODC_INTEROP_REQUIRED").is_none() {
+        println!("cargo:rustc-cfg=odc_interop_no_python");
+    }
 }

@@ -104,6 +104,7 @@ mod write;
 
 pub use odc_model::Diagnostic;
 pub use rules::{RULES, codes};
+pub use write::{DcfOnly, dcf_only};
 
 /// The result of [`parse`].
 #[derive(Debug)]

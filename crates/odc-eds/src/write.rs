@@ -4,7 +4,8 @@ use std::fmt::Write as _;
 
 use odc_model::subs::implied_name;
 use odc_model::{
-    Device, Format, Module, Object, Origin, PdoMapping, RawEntry, Spanned, SubObject, Value,
+    Access, Device, Direction, Format, Module, Object, Origin, PdoMapping, RawEntry, Spanned,
+    SubObject, Value,
 };
 
 use crate::lower::{COMPACT_SUB0_NAME, is_compact_template_key};
@@ -41,9 +42,36 @@ pub(crate) fn value_text(v: &Value) -> String {
     }
 }
 
+/// The access to write for a sub-object. An EDS says in which PDOs an object may be mapped
+/// through its access alone (CiA 306 §4.6.3: `ro`/`rwr` transmit, `wo`/`rww` receive, `rw`
+/// both); an ESI says it apart (`PdoMapping` R, T, RT). Where the access forbids a direction
+/// the ESI allows, it becomes the access that allows it: an ESI `ro` object mappable into
+/// RxPDOs becomes `rww` (readable, written by the PDO), since no EDS access is read-only by SDO
+/// yet RPDO-mappable. Every other access is written as read.
+fn eds_access(s: &SubObject) -> Access {
+    let a = s.access;
+    let (rx, tx) = match s.pdo_mapping {
+        PdoMapping::No | PdoMapping::Yes => return a,
+        PdoMapping::Rx => (true, false),
+        PdoMapping::Tx => (false, true),
+        PdoMapping::Both => (true, true),
+    };
+    let yes = |dir| PdoMapping::Yes.allows(a, dir);
+    if (!rx || yes(Direction::Rx)) && (!tx || yes(Direction::Tx)) {
+        return a;
+    }
+    match (rx, tx) {
+        (true, true) => Access::Rw,
+        (true, false) => Access::Rww,
+        _ => Access::Rwr,
+    }
+}
+
 struct W {
     out: String,
     dcf: bool,
+    /// The model was read from an EDS or DCF: what it lacks, the file lacked.
+    from_eds: bool,
 }
 
 impl W {
@@ -118,7 +146,7 @@ impl W {
             self.kv("ObjectType", &format!("0x{:X}", k.code()));
         }
         self.kv("DataType", &format!("0x{:04X}", s.data_type.code()));
-        self.kv("AccessType", s.access.as_str());
+        self.kv("AccessType", eds_access(s).as_str());
         self.opt_value("DefaultValue", s.default.as_ref());
         self.opt_value("LowLimit", s.low_limit.as_deref());
         self.opt_value("HighLimit", s.high_limit.as_deref());
@@ -162,7 +190,17 @@ impl W {
             self.links(&name, o);
             return;
         }
-        self.opt_dec("SubNumber", &o.sub_number);
+        match &o.sub_number {
+            Some(n) => self.kv("SubNumber", &n.value.to_string()),
+            // A model that was not read from an EDS/DCF (an ESI device, a model built in code)
+            // has no SubNumber: CiA 306 §4.5.2 wants it on every ARRAY/RECORD not written
+            // compactly (C115), so it is the count of the sub-objects written. A model read
+            // from an EDS without one is written as it was read, so that it reads back equal.
+            None if o.compact_sub_obj.is_none() && !self.from_eds && !o.subs.is_empty() => {
+                self.kv("SubNumber", &o.subs.len().to_string());
+            }
+            None => {}
+        }
         if let Some(f) = &o.obj_flags {
             self.kv("ObjFlags", &format!("0x{:X}", f.value));
         }
@@ -312,7 +350,11 @@ impl W {
 }
 
 pub(crate) fn write(dev: &Device, format: Format) -> String {
-    let mut w = W { out: String::with_capacity(64 * 1024), dcf: format == Format::Dcf };
+    let mut w = W {
+        out: String::with_capacity(64 * 1024),
+        dcf: format == Format::Dcf,
+        from_eds: matches!(dev.format, Some(Format::Eds | Format::Dcf)),
+    };
     let fi = &dev.file_info;
     if *fi != odc_model::FileInfo::default() {
         w.header("FileInfo");
@@ -433,4 +475,189 @@ pub(crate) fn write(dev: &Device, format: Format) -> String {
         w.extra(&s.entries);
     }
     w.out
+}
+
+/// What a DCF holds that an EDS has no place for (CiA 306 §5): the values a device written as
+/// EDS leaves out. See [`dcf_only`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DcfOnly {
+    /// `ParameterValue` of sub-objects (also those of `[xxxxValue]` sections).
+    pub parameter_values: usize,
+    /// `Denotation` of objects and sub-objects (also those of `[xxxxDenotation]` sections).
+    pub denotations: usize,
+    /// Keys of `[DeviceComissioning]`.
+    pub commissioning: usize,
+    /// Entries of `[ConnectedModules]`.
+    pub connected_modules: usize,
+}
+
+impl DcfOnly {
+    /// The number of values in all.
+    pub fn total(&self) -> usize {
+        self.parameter_values + self.denotations + self.commissioning + self.connected_modules
+    }
+
+    /// Whether the device has nothing an EDS cannot hold.
+    pub fn is_empty(&self) -> bool {
+        self.total() == 0
+    }
+
+    fn sub(&mut self, s: &SubObject) {
+        self.parameter_values += usize::from(s.parameter_value.is_some());
+        self.denotations += usize::from(s.rare().denotation.is_some());
+    }
+
+    fn object(&mut self, o: &Object) {
+        self.denotations += usize::from(o.denotation.is_some());
+        for s in o.subs.values() {
+            self.sub(s);
+        }
+    }
+}
+
+/// Lists the parts, `12 ParameterValue, 1 Denotation, 3 [DeviceComissioning] keys`; empty parts
+/// are left out.
+impl std::fmt::Display for DcfOnly {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let parts = [
+            (self.parameter_values, "ParameterValue"),
+            (self.denotations, "Denotation"),
+            (self.commissioning, "[DeviceComissioning] keys"),
+            (self.connected_modules, "[ConnectedModules] entries"),
+        ];
+        let mut first = true;
+        for (n, what) in parts.into_iter().filter(|(n, _)| *n > 0) {
+            if !first {
+                f.write_str(", ")?;
+            }
+            first = false;
+            write!(f, "{n} {what}")?;
+        }
+        Ok(())
+    }
+}
+
+/// Counts the DCF-only values of a device: what [`write`](crate::write) leaves out when it
+/// writes the device as EDS (it writes them all as DCF).
+pub fn dcf_only(dev: &Device) -> DcfOnly {
+    let mut n = DcfOnly::default();
+    for o in dev.objects.values().filter(|o| o.origin != Origin::CompactPdo) {
+        n.object(o);
+    }
+    for m in &dev.modules.supported {
+        for o in m.fixed_objects.values() {
+            n.object(o);
+        }
+        for x in m.sub_extends.values() {
+            n.sub(&x.template);
+        }
+    }
+    if let Some(c) = &dev.commissioning {
+        let named = [
+            c.node_id.is_some(),
+            c.node_name.is_some(),
+            c.baudrate.is_some(),
+            c.net_number.is_some(),
+            c.network_name.is_some(),
+            c.canopen_manager.is_some(),
+            c.lss_serial_number.is_some(),
+            c.node_refd.is_some(),
+            c.net_refd.is_some(),
+        ];
+        n.commissioning = named.iter().filter(|b| **b).count() + c.extra.len();
+    }
+    n.connected_modules = dev.modules.connected.len();
+    n
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+    use odc_model::{Format, Sources};
+
+    use super::{DcfOnly, dcf_only};
+
+    const DCF: &str = "\
+[DeviceInfo]
+ProductName=p
+
+[DeviceComissioning]
+NodeID=5
+NodeName=drive
+Baudrate=500
+
+[MandatoryObjects]
+SupportedObjects=2
+1=0x1000
+2=0x1018
+
+[1000]
+ParameterName=Device type
+ObjectType=0x7
+DataType=0x0007
+AccessType=ro
+DefaultValue=0x20192
+ParameterValue=0x20192
+Denotation=axis 1
+PDOMapping=0
+
+[1018]
+ParameterName=Identity
+ObjectType=0x9
+SubNumber=2
+
+[1018sub0]
+ParameterName=n
+ObjectType=0x7
+DataType=0x0005
+AccessType=ro
+DefaultValue=1
+PDOMapping=0
+
+[1018sub1]
+ParameterName=Vendor-ID
+ObjectType=0x7
+DataType=0x0007
+AccessType=ro
+DefaultValue=0
+ParameterValue=0x1234
+PDOMapping=0
+";
+
+    #[test]
+    fn dcf_only_counts_what_an_eds_leaves_out() {
+        let mut sources = Sources::new();
+        let dev = crate::parse_str(&mut sources, "x.dcf", DCF).device;
+        let n = dcf_only(&dev);
+        let want =
+            DcfOnly { parameter_values: 2, denotations: 1, commissioning: 3, connected_modules: 0 };
+        assert_eq!(n, want);
+        assert_eq!(n.total(), 6);
+        assert_eq!(n.to_string(), "2 ParameterValue, 1 Denotation, 3 [DeviceComissioning] keys");
+        // A DCF keeps them all; an EDS none.
+        let dcf = crate::parse_str(&mut sources, "y.dcf", &crate::write(&dev, Format::Dcf)).device;
+        assert_eq!(dcf_only(&dcf), want);
+        let eds = crate::parse_str(&mut sources, "y.eds", &crate::write(&dev, Format::Eds)).device;
+        assert!(dcf_only(&eds).is_empty(), "{}", dcf_only(&eds));
+    }
+
+    /// A model that did not come from an EDS (here: one whose format is ESI) gets the SubNumber
+    /// CiA 306 requires; one read from an EDS without it is written as read.
+    #[test]
+    fn sub_number_is_written_for_a_model_that_has_none() {
+        let mut sources = Sources::new();
+        let text = DCF.replace("SubNumber=2\n", "");
+        let mut dev = crate::parse_str(&mut sources, "x.eds", &text).device;
+        assert!(dev.objects[&0x1018].sub_number.is_none());
+        assert!(!crate::write(&dev, Format::Eds).contains("SubNumber"));
+        dev.format = Some(Format::Esi);
+        let eds = crate::write(&dev, Format::Eds);
+        assert!(
+            eds.contains("[1018]\nParameterName=Identity\nObjectType=0x9\nSubNumber=2\n"),
+            "{eds}"
+        );
+        let back = crate::parse_str(&mut sources, "y.eds", &eds);
+        assert_eq!(back.device.objects[&0x1018].sub_number.as_ref().map(|n| n.value), Some(2));
+    }
 }

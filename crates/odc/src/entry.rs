@@ -29,6 +29,34 @@ impl<T: ObjValue> DefaultValue<T> {
 ///
 /// `T` is the Rust value type, so SDO helpers taking `Entry<T>` and `T` reject a value of the
 /// wrong type at compile time.
+///
+/// Generated `od` modules hold one per object and sub-object; by hand:
+///
+/// ```
+/// use odc::{Access, DataType, DefaultValue, Entry, ObjectAddr, SdoAbort};
+///
+/// // Profile velocity (CiA 402), 1..=3000 rpm, 100 by default.
+/// const PROFILE_VELOCITY: Entry<u32> = Entry::new(0x6081, 0, "Profile velocity", Access::Rw, true)
+///     .with_limits(Some(1), Some(3000))
+///     .with_default(DefaultValue::Value(100));
+///
+/// assert_eq!(PROFILE_VELOCITY.addr, ObjectAddr::new(0x6081, 0));
+/// assert_eq!(PROFILE_VELOCITY.data_type(), DataType::Unsigned32);
+/// assert_eq!(PROFILE_VELOCITY.default.and_then(|d| d.resolve(5)), Some(100));
+/// // What a server does with a download: access, length and limits, with CiA 301 aborts.
+/// assert_eq!(PROFILE_VELOCITY.decode_download(&500u32.to_le_bytes()), Ok(500));
+/// let too_fast = 5000u32.to_le_bytes();
+/// assert_eq!(PROFILE_VELOCITY.decode_download(&too_fast), Err(SdoAbort::ValueTooHigh));
+/// assert_eq!(PROFILE_VELOCITY.decode_download(&[1, 2]), Err(SdoAbort::TooShort));
+///
+/// // A COB-ID default relative to the node id (`$NODEID+0x180`) resolves per node.
+/// const TPDO1_COB_ID: Entry<u32> = Entry::new(0x1800, 1, "COB-ID", Access::Rw, false)
+///     .with_default(DefaultValue::NodeIdPlus(0x180));
+/// assert_eq!(TPDO1_COB_ID.default.and_then(|d| d.resolve(5)), Some(0x185));
+/// ```
+///
+/// The type is checked where the entry is used: `Client::write(&mut bus, &PROFILE_VELOCITY,
+/// -1i16)` does not compile ([`sdo::Client`](crate::sdo::Client)).
 #[derive(Debug)]
 pub struct Entry<T> {
     /// Where the entry lives.

@@ -39,6 +39,35 @@
 //! # Ok::<(), odc::PackError>(())
 //! ```
 //!
+//! Generated code, a bus and the SDO client: a master reads a drive and configures its PDO
+//! mapping (here the drive is odc's own generated slave, on an in-memory bus).
+//!
+//! ```
+//! # mod lxm23a { odc_macros::include_device!("../../eds/lxm23a.eds"); }
+//! # use odc::{can::CanFrame, sdo::{Bus, Server}};
+//! # /// The bus: the drive's SDO server answers each request as it is sent.
+//! # struct InMemoryBus { drive: lxm23a::slave::Dictionary, server: Server<64>, reply: Option<CanFrame>, now: u64 }
+//! # impl InMemoryBus {
+//! #     fn with(drive: lxm23a::slave::Dictionary) -> Self { Self { drive, server: Server::new(5), reply: None, now: 0 } }
+//! # }
+//! # impl Bus for InMemoryBus {
+//! #     type Error = core::convert::Infallible;
+//! #     fn send(&mut self, f: &CanFrame) -> Result<(), Self::Error> { self.reply = self.server.handle(&mut self.drive, f, self.now); Ok(()) }
+//! #     fn recv(&mut self, _deadline: u64) -> Result<Option<CanFrame>, Self::Error> { self.now += 1; Ok(self.reply.take()) }
+//! #     fn now_ms(&mut self) -> u64 { self.now }
+//! # }
+//! // build.rs: odc_build::Config::new().device("eds/lxm23a.eds").compile()
+//! // src/lib.rs: mod lxm23a { odc::include_od!("lxm23a"); }  (or odc_macros::include_device!)
+//! use odc::sdo::Client;
+//!
+//! let mut bus = InMemoryBus::with(lxm23a::slave::Dictionary::new(5)); // any odc::sdo::Bus
+//! let mut sdo = Client::<64>::new(5); // node 5
+//! let device_type: u32 = sdo.read(&mut bus, &lxm23a::od::DEVICE_TYPE)?; // od: typed entries
+//! assert_eq!(device_type, 0x0002_0192);
+//! sdo.execute(&mut bus, &lxm23a::master::plan(5)).map_err(|(_, e)| e)?; // the PDO mapping
+//! # Ok::<(), odc::sdo::SdoError<core::convert::Infallible>>(())
+//! ```
+//!
 //! Features: `derive` (default) re-exports `#[derive(Pdo)]` and `#[derive(PdoValue)]`; `std`
 //! links std; `serde` and `defmt` add derives on the plain data types.
 #![no_std]

@@ -107,7 +107,48 @@ impl core::error::Error for UnpackError {}
 /// A fixed-layout process data image (one RPDO/TPDO, or one EtherCAT sync-manager image).
 ///
 /// Layout is LSB0 and little-endian; entries follow each other in `MAPPING` order and may
-/// start at any bit. Implement it with `#[derive(odc::Pdo)]`.
+/// start at any bit. Implement it with `#[derive(odc::Pdo)]` (feature `derive`, on by default),
+/// whose `#[pdo(...)]` keys are:
+///
+/// | key | where | meaning |
+/// |---|---|---|
+/// | `bits = N` / `bytes = N` | struct | total size; the fields must fit, the rest is zero padding |
+/// | `max_bits = N` | struct | size limit, default 64 (classic CAN); EtherCAT code sets more |
+/// | `crate = "path"` | struct | path of the runtime, default `::odc` |
+/// | `index = 0x6040` | field | mapped object index (required) |
+/// | `sub = N` | field | mapped sub-index, default 0 |
+/// | `bits = N` / `bytes = N` | field | mapped width; inferred for `bool`, integers and floats |
+/// | `pad_bits = N` / `pad_bytes = N` | field | gap before the field (CiA dummy mapping) |
+/// | `offset = N` | field | absolute bit offset (ESI `BitOffs`); must not overlap the previous field |
+///
+/// A field's type is any [`PdoValue`]: `bool`, integers, floats, the [`cia402`](crate::cia402)
+/// types, and enums with `#[derive(odc::PdoValue)]`. Layout errors (overlaps, a struct over
+/// `max_bits`, a value wider than its `bits`) are compile errors that point at the key.
+///
+/// ```
+/// use odc::{MappingEntry, Pdo};
+///
+/// /// A TPDO: statusword, 4 bits of digital inputs after a 4-bit gap, position actual value.
+/// #[derive(Debug, PartialEq, odc::Pdo)]
+/// struct DriveTx {
+///     #[pdo(index = 0x6041)]
+///     statusword: u16,
+///     #[pdo(index = 0x60FD, sub = 1, bits = 4, pad_bits = 4)]
+///     inputs: u8,
+///     #[pdo(index = 0x6064)]
+///     position: i32,
+/// }
+///
+/// assert_eq!((DriveTx::BITS, DriveTx::LEN), (56, 7));
+/// assert_eq!(DriveTx::MAPPING[0].to_u32(), 0x6041_0010);
+/// // The gap: four 1-bit dummy entries (BOOLEAN, 0x0001).
+/// assert_eq!(DriveTx::MAPPING[1..5], [MappingEntry::new(0x0001, 0, 1); 4]);
+/// assert_eq!(DriveTx::MAPPING[5].to_u32(), 0x60FD_0104);
+/// let tx = DriveTx::unpack(&[0x37, 0x16, 0xA0, 0xE8, 0x03, 0x00, 0x00])?;
+/// assert_eq!(tx, DriveTx { statusword: 0x1637, inputs: 0xA, position: 1000 });
+/// assert_eq!(tx.pack()?, [0x37, 0x16, 0xA0, 0xE8, 0x03, 0x00, 0x00]);
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
 pub trait Pdo: Sized {
     /// Bits used, gaps included.
     const BITS: usize;

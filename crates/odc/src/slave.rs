@@ -7,6 +7,45 @@
 //! [`check_write`] and [`download`]. The per-type work lives here, once per value type, so
 //! that an arm costs a few instructions and a dictionary of hundreds of entries stays small in
 //! flash.
+//!
+//! A generated dictionary is served by an SDO [`Server`](crate::sdo::Server); the application
+//! reads and sets its values as plain fields, one per entry, and a [`WriteHook`] learns of (or
+//! vetoes) what the bus writes:
+//!
+//! ```
+//! # mod lxm23a { odc_macros::include_device!("../../eds/lxm23a.eds", role = "slave"); }
+//! use odc::can::CanFrame;
+//! use odc::sdo::Server;
+//! use odc::slave::ObjectDictionary;
+//! use odc::SdoAbort;
+//!
+//! // `lxm23a` generated from eds/lxm23a.eds (odc-build or include_device!), role "slave".
+//! let mut od = lxm23a::slave::Dictionary::new(5); // node 5: $NODEID defaults resolved
+//! let mut server = Server::<64>::new(5);
+//! // A master uploads 0x1000 (device type): request on 0x605, answer on 0x585.
+//! let request = CanFrame::new(0x605, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]);
+//! let answer = server.handle(&mut od, &request, 0).ok_or("no answer")?;
+//! assert_eq!(answer, CanFrame::new(0x585, [0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]));
+//! // The same dictionary, from the application: fields, and the checked SDO paths.
+//! assert_eq!(od.device_type, 0x0002_0192);
+//! let mut buf = [0u8; 4];
+//! assert_eq!(od.write(0x1000, 0, &buf), Err(SdoAbort::WriteOfReadOnly));
+//! assert_eq!(od.read(0x1001, 7, &mut buf), Err(SdoAbort::NoSuchSub));
+//!
+//! // A hook that refuses new target positions while the drive is not ready.
+//! struct NotReady;
+//! impl odc::slave::WriteHook for NotReady {
+//!     fn before_write(&mut self, addr: odc::ObjectAddr, _: &[u8]) -> Result<(), SdoAbort> {
+//!         if addr.index == 0x607A { Err(SdoAbort::DeviceState) } else { Ok(()) }
+//!     }
+//! }
+//! let r = od.write_with(0x607A, 0, &1000i32.to_le_bytes(), &mut NotReady);
+//! assert_eq!(r, Err(SdoAbort::DeviceState));
+//! assert_eq!(od.target_position, 0);
+//! od.write(0x607A, 0, &1000i32.to_le_bytes())?;
+//! assert_eq!(od.target_position, 1000);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 use crate::{
     Access, DefaultValue, Entry, EntryInfo, ObjValue, ObjectAddr, SdoAbort, VisibleString,

@@ -112,9 +112,14 @@ impl odc::sdo::Bus for TcpCan {
     }
 }
 
-/// The python interpreter with `canopen`: `ODC_INTEROP_PYTHON`, else `python3`; `None` when
-/// it cannot import canopen (the caller skips, unless `ODC_INTEROP_REQUIRED` is set).
-pub fn python() -> Option<PathBuf> {
+/// The python interpreter with `canopen`: `ODC_INTEROP_PYTHON`, else `python3`.
+///
+/// # Panics
+///
+/// When it cannot import canopen. The build script looked for it: where it found none (and
+/// `ODC_INTEROP_REQUIRED` is not set) the tests that call this are ignored, so a failure here
+/// means it is required or went away since the build.
+pub fn python() -> PathBuf {
     let py = std::env::var_os("ODC_INTEROP_PYTHON")
         .map_or_else(|| PathBuf::from("python3"), PathBuf::from);
     let ok = Command::new(&py)
@@ -123,15 +128,12 @@ pub fn python() -> Option<PathBuf> {
         .stderr(Stdio::null())
         .status()
         .is_ok_and(|s| s.success());
-    if ok {
-        return Some(py);
-    }
     assert!(
-        std::env::var_os("ODC_INTEROP_REQUIRED").is_none(),
-        "ODC_INTEROP_REQUIRED is set but {} cannot import canopen",
+        ok,
+        "{} cannot import canopen and can (set ODC_INTEROP_PYTHON; see tests/interop/README.md)",
         py.display()
     );
-    None
+    py
 }
 
 /// A python script with the loopback bus connected; killed if dropped before it ended.

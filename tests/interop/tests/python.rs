@@ -6,9 +6,9 @@
 //!   odc's `sdo::Client` reads it through the generated descriptors and executes the
 //!   generated PDO-mapping plan, then reads the mapping back.
 //!
-//! Skipped (with a message) when no python with `canopen` is found, unless
-//! `ODC_INTEROP_REQUIRED` is set (as `.ci/run` does). Each device prints one line of counts;
-//! run with `--nocapture` to see them.
+//! Ignored, with the reason in `cargo test`'s output, when the build found no python with
+//! `canopen`, unless `ODC_INTEROP_REQUIRED` is set (as `.ci/run` does). Each device prints one
+//! line of counts; run with `--nocapture` to see them.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use odc::SdoAbort;
@@ -77,11 +77,12 @@ fn read_u32(od: &dyn ObjectDictionary, index: u16, sub: u8) -> Option<u32> {
 }
 
 #[test]
+#[cfg_attr(
+    odc_interop_no_python,
+    ignore = "needs python3 with canopen and python-can: set ODC_INTEROP_PYTHON (tests/interop/README.md)"
+)]
 fn our_slave_their_master() {
-    let Some(py) = python() else {
-        eprintln!("skipped: no python with canopen (set ODC_INTEROP_PYTHON)");
-        return;
-    };
+    let py = python();
     println!(
         "our slave, their master (odc sdo::Server + generated slave, python-canopen RemoteNode)"
     );
@@ -289,11 +290,12 @@ fn drive(py: &std::path::Path, dev: &Device) -> Master {
 }
 
 #[test]
+#[cfg_attr(
+    odc_interop_no_python,
+    ignore = "needs python3 with canopen and python-can: set ODC_INTEROP_PYTHON (tests/interop/README.md)"
+)]
 fn their_slave_our_master() {
-    let Some(py) = python() else {
-        eprintln!("skipped: no python with canopen (set ODC_INTEROP_PYTHON)");
-        return;
-    };
+    let py = python();
     println!(
         "their slave, our master (python-canopen LocalNode, odc sdo::Client + generated od/master)"
     );
@@ -311,4 +313,18 @@ fn their_slave_our_master() {
         failures.extend(m.failures.iter().map(|f| format!("{}: {f}", dev.name)));
     }
     assert!(failures.is_empty(), "disagreements with python-canopen:\n{}", failures.join("\n"));
+}
+
+/// The two corpus devices are among those tested when the corpus is there; where it is not,
+/// this test shows in `cargo test`'s output that they were left out.
+#[test]
+#[cfg_attr(
+    not(odc_interop_corpus),
+    ignore = "needs the real-world corpus (ODC_CORPUS): maxon EPOS4 and Elcom e-RIO left out of the interop tests"
+)]
+fn corpus_devices_are_tested() {
+    let names: Vec<&str> = devices().iter().map(|d| d.name).collect();
+    for name in ["maxon_epos4", "elcom_erio"] {
+        assert!(names.contains(&name), "{name} not among {names:?}");
+    }
 }

@@ -9,8 +9,11 @@ use crate::input;
 
 /// Convert a device file: EDS ↔ DCF, a normalised EDS, or one device of an ESI as EDS.
 ///
-/// The output format follows `--to`, else the extension of `-o`. Keys and sections odc does
-/// not interpret are carried over. The output file is replaced only when writing succeeded.
+/// The output format follows `--to`, else the extension of `-o`; a file holding DCF values
+/// (ParameterValue, Denotation, [DeviceComissioning], [ConnectedModules]) stays a DCF unless
+/// `--to eds` asks for an EDS, which leaves them out with a warning that counts them. Keys and
+/// sections odc does not interpret are carried over. The output file is replaced only when
+/// writing succeeded.
 #[derive(clap::Args)]
 pub struct Args {
     /// EDS, DCF or ESI file.
@@ -32,17 +35,35 @@ enum Target {
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    let loaded = input::load(&args.input, &args.levels)?;
+    super::gate(&loaded)?;
+    let device = loaded.device()?;
+    // What an EDS has no place for. Left out only when an EDS is asked for by name: without
+    // them a DCF's compact PDO mappings ([1600Value]) would be left with no entries.
+    let dcf_values = odc_eds::dcf_only(device);
     let target = match (args.to, &args.output) {
         (Some(Target::Eds), _) => Format::Eds,
         (Some(Target::Dcf), _) => Format::Dcf,
         (None, Some(out)) if out.extension().is_some_and(|e| e.eq_ignore_ascii_case("dcf")) => {
             Format::Dcf
         }
+        (None, _) if !dcf_values.is_empty() => {
+            eprintln!(
+                "note: the input holds {} DCF value(s) ({dcf_values}); written as DCF to keep \
+                 them (--to eds leaves them out)",
+                dcf_values.total()
+            );
+            Format::Dcf
+        }
         _ => Format::Eds,
     };
-    let loaded = input::load(&args.input, &args.levels)?;
-    super::gate(&loaded)?;
-    let device = loaded.device()?;
+    if target == Format::Eds && !dcf_values.is_empty() {
+        eprintln!(
+            "warning: {} DCF value(s) not written to the EDS ({dcf_values}); to keep them, \
+             write a DCF (leave out --to eds, or --to dcf)",
+            dcf_values.total()
+        );
+    }
     let text = odc_eds::write(device, target);
     match &args.output {
         Some(path) => input::write_atomic(path, text.as_bytes())?,

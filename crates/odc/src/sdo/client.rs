@@ -88,6 +88,60 @@ enum State {
 /// blocking calls do all of that: [`Client::upload`], [`Client::download`], the typed
 /// [`Client::read`] and [`Client::write`] on generated descriptors, and [`Client::execute`]
 /// on generated configuration plans.
+///
+/// A [`Bus`] is whatever carries frames and tells the time; here an in-memory one with a
+/// device on it (an SDO [`Server`](super::Server) and a one-entry dictionary), answering each
+/// request as it is sent. With a real interface, `send` writes the frame to the CAN socket and
+/// `recv` waits for the next one until the deadline.
+///
+/// ```
+/// use odc::can::CanFrame;
+/// use odc::sdo::{Bus, Client, SdoError, Server};
+/// use odc::slave::ObjectDictionary;
+/// use odc::{Access, Entry, SdoAbort};
+///
+/// /// The device: 0x2000 holds a u32 that the client may read and write.
+/// struct Device(u32);
+/// impl ObjectDictionary for Device {
+///     fn read(&self, index: u16, sub: u8, buf: &mut [u8]) -> Result<usize, SdoAbort> {
+///         if (index, sub) != (0x2000, 0) { return Err(SdoAbort::NoSuchObject) }
+///         buf.get_mut(..4).ok_or(SdoAbort::OutOfMemory)?.copy_from_slice(&self.0.to_le_bytes());
+///         Ok(4)
+///     }
+///     fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
+///         if (index, sub) != (0x2000, 0) { return Err(SdoAbort::NoSuchObject) }
+///         let bytes: [u8; 4] = data.try_into().map_err(|_| SdoAbort::LengthMismatch)?;
+///         self.0 = u32::from_le_bytes(bytes);
+///         Ok(())
+///     }
+/// }
+///
+/// /// The bus: frames go straight to the device's server; its answer is the next received.
+/// struct InMemoryBus { device: Device, server: Server<64>, reply: Option<CanFrame>, now: u64 }
+/// impl Bus for InMemoryBus {
+///     type Error = core::convert::Infallible;
+///     fn send(&mut self, frame: &CanFrame) -> Result<(), Self::Error> {
+///         self.reply = self.server.handle(&mut self.device, frame, self.now);
+///         Ok(())
+///     }
+///     fn recv(&mut self, _deadline_ms: u64) -> Result<Option<CanFrame>, Self::Error> {
+///         self.now += 1; // a real bus waits; time passes either way
+///         Ok(self.reply.take())
+///     }
+///     fn now_ms(&mut self) -> u64 { self.now }
+/// }
+///
+/// const COUNTER: Entry<u32> = Entry::new(0x2000, 0, "Counter", Access::Rw, false);
+/// let mut bus = InMemoryBus { device: Device(7), server: Server::new(5), reply: None, now: 0 };
+/// let mut sdo = Client::<64>::new(5);
+/// assert_eq!(sdo.read(&mut bus, &COUNTER)?, 7); // typed: a u32, because COUNTER is Entry<u32>
+/// sdo.write(&mut bus, &COUNTER, 1000)?;
+/// assert_eq!(bus.device.0, 1000);
+/// // Untyped, by address; the device's abort comes back as the error.
+/// assert_eq!(sdo.upload(&mut bus, 0x2000, 0)?, &1000u32.to_le_bytes());
+/// assert_eq!(sdo.upload(&mut bus, 0x2001, 0), Err(SdoError::Remote(SdoAbort::NoSuchObject)));
+/// # Ok::<(), SdoError>(())
+/// ```
 #[derive(Clone, Debug)]
 pub struct Client<const N: usize> {
     node_id: u8,

@@ -1,5 +1,5 @@
 mod device {
-    odc_macros::include_device!("../../../../tests/macros/tests/ui/bad_value.eds");
+    odc_macros::include_device!("fixtures/bad_value.eds");
 }
 
 fn main() {}

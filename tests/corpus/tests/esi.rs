@@ -2,8 +2,6 @@
 //! panic, and all but the two known not-well-formed files must parse without errors.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use std::path::PathBuf;
-
 use odc_model::{Severity, Sources};
 
 /// Files known not to be well-formed XML (see the corpus README).
@@ -21,32 +19,18 @@ const KNOWN_BAD: &[&str] = &[
     "esi/tormach-bogus__bogus_devices-device_xml-BogusServo.xml",
 ];
 
-fn corpus_dir() -> PathBuf {
-    std::env::var_os("ODC_CORPUS").map(PathBuf::from).unwrap_or_else(|| {
-        PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/corpus"))
-    })
-}
-
 #[test]
+#[cfg_attr(
+    odc_no_corpus,
+    ignore = "needs the real-world corpus: set ODC_CORPUS to its directory (README, Tests)"
+)]
 fn corpus_esi_files() {
-    let dir = corpus_dir();
-    let Ok(manifest) = std::fs::read_to_string(dir.join("MANIFEST.tsv")) else {
-        eprintln!("corpus not found at {}; skipped", dir.display());
-        return;
-    };
-    let files: Vec<&str> = manifest
-        .lines()
-        .skip(1)
-        .filter_map(|l| {
-            let mut cols = l.split('\t');
-            let file = cols.next()?;
-            (cols.next()? == "esi").then_some(file)
-        })
-        .collect();
+    let dir = odc_tests_corpus::dir();
+    let files = odc_tests_corpus::files(&["esi"]);
     let (mut devices, mut clean, mut panics) = (0usize, 0usize, Vec::new());
     let mut failures = Vec::new();
     let mut code_counts = std::collections::BTreeMap::<String, usize>::new();
-    for f in &files {
+    for f in files.iter().map(String::as_str) {
         let bytes = std::fs::read(dir.join(f)).unwrap();
         let result = std::panic::catch_unwind(|| {
             let mut sources = Sources::new();

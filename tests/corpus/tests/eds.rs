@@ -1,37 +1,14 @@
 //! The real-world corpus: no panic, round trip, and at least 95% of files without errors.
 
-use std::path::PathBuf;
-
-fn corpus_dir() -> PathBuf {
-    std::env::var_os("ODC_CORPUS").map(PathBuf::from).unwrap_or_else(|| {
-        PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/corpus"))
-    })
-}
-
-/// The eds/dcf files listed in MANIFEST.tsv.
-fn files(dir: &std::path::Path) -> Option<Vec<PathBuf>> {
-    let manifest = std::fs::read_to_string(dir.join("MANIFEST.tsv")).ok()?;
-    Some(
-        manifest
-            .lines()
-            .skip(1)
-            .filter_map(|l| {
-                let mut cols = l.split('\t');
-                let file = cols.next()?;
-                let kind = cols.next()?;
-                matches!(kind, "eds" | "dcf").then(|| dir.join(file))
-            })
-            .collect(),
-    )
-}
+use odc_tests_corpus::{files, path};
 
 #[test]
+#[cfg_attr(
+    odc_no_corpus,
+    ignore = "needs the real-world corpus: set ODC_CORPUS to its directory (README, Tests)"
+)]
 fn corpus() {
-    let dir = corpus_dir();
-    let Some(files) = files(&dir) else {
-        println!("corpus not found at {}; skipped", dir.display());
-        return;
-    };
+    let files: Vec<_> = files(&["eds", "dcf"]).iter().map(|f| path(f)).collect();
     let mut clean = 0usize;
     let mut failing = Vec::new();
     let mut panicked = Vec::new();

@@ -3,24 +3,18 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::path::PathBuf;
 
 use odc_check::{Config, Level, RULES, check};
 use odc_model::{Device, Severity, Sources};
 
-fn corpus_dir() -> PathBuf {
-    std::env::var_os("ODC_CORPUS").map(PathBuf::from).unwrap_or_else(|| {
-        PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/corpus"))
-    })
-}
-
 #[test]
+#[cfg_attr(
+    odc_no_corpus,
+    ignore = "needs the real-world corpus: set ODC_CORPUS to its directory (README, Tests)"
+)]
 fn corpus() {
-    let dir = corpus_dir();
-    let Ok(manifest) = std::fs::read_to_string(dir.join("MANIFEST.tsv")) else {
-        eprintln!("corpus: no MANIFEST.tsv under {}; skipped", dir.display());
-        return;
-    };
+    let dir = odc_tests_corpus::dir();
+    let manifest = std::fs::read_to_string(dir.join("MANIFEST.tsv")).unwrap();
     let mut files = 0usize;
     let mut devices = 0usize;
     // rule code -> files that trip it; and the total number of diagnostics.
