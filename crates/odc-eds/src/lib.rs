@@ -97,11 +97,13 @@
 
 mod compact_pdo;
 mod lower;
+mod mandatory;
 mod num;
 pub mod raw;
 mod rules;
 mod write;
 
+pub use mandatory::{add_mandatory_objects, pdo_directions_by_index};
 pub use odc_model::Diagnostic;
 pub use rules::{RULES, codes};
 pub use write::{DcfOnly, dcf_only};

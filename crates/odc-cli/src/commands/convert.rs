@@ -37,7 +37,30 @@ enum Target {
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let loaded = input::load(&args.input, &args.levels)?;
     super::gate(&loaded)?;
-    let device = loaded.device()?;
+    let mut device = loaded.device()?.clone();
+    // An EtherCAT device written as EDS/DCF is a CANopen device: it gets the objects CiA 301
+    // makes mandatory when its ESI has none (most I/O terminals have no CoE dictionary).
+    let added = odc_eds::add_mandatory_objects(&mut device);
+    if !added.is_empty() {
+        let list: Vec<String> = added.iter().map(|i| format!("0x{i:04X}")).collect();
+        eprintln!(
+            "note: added the CiA 301 mandatory object(s) the ESI device lacks: {} (device type \
+             from <Profile>, identity from <Type>)",
+            list.join(", ")
+        );
+    }
+    for pdo in odc_eds::pdo_directions_by_index(&device) {
+        let (was, becomes) = match pdo.direction {
+            odc_model::Direction::Rx => ("RxPdo", "a TPDO"),
+            odc_model::Direction::Tx => ("TxPdo", "an RPDO"),
+        };
+        eprintln!(
+            "warning: {was} 0x{:04X} is numbered outside its direction's range; an EDS gives a \
+             PDO's direction by its index, so it is written as {becomes}",
+            pdo.mapping_index
+        );
+    }
+    let device = &device;
     // What an EDS has no place for. Left out only when an EDS is asked for by name: without
     // them a DCF's compact PDO mappings ([1600Value]) would be left with no entries.
     let dcf_values = odc_eds::dcf_only(device);

@@ -478,11 +478,22 @@ pub(super) fn synthesise(objects: &mut BTreeMap<u16, Object>, pdos: &[Pdo]) {
             if e.sub != 0 && object.kind == ObjectKind::Var {
                 object.kind = ObjectKind::Record;
             }
-            let mut s = SubObject::new(e.sub, name, ty, access);
-            s.pdo_mapping = mapping;
-            s.bit_size = Some(u32::from(e.bits));
-            s.span = e.span;
-            object.subs.entry(e.sub).or_insert(s);
+            let synthesised = object.origin == Origin::PdoEntry;
+            match object.subs.get_mut(&e.sub) {
+                // An entry both an RxPDO and a TxPDO map is written and read by process data.
+                Some(s) if synthesised && s.pdo_mapping != mapping => {
+                    s.access = Access::Rw;
+                    s.pdo_mapping = PdoMapping::Both;
+                }
+                Some(_) => {}
+                None => {
+                    let mut s = SubObject::new(e.sub, name, ty, access);
+                    s.pdo_mapping = mapping;
+                    s.bit_size = Some(u32::from(e.bits));
+                    s.span = e.span;
+                    object.subs.insert(e.sub, s);
+                }
+            }
         }
     }
     // Sub-index 0 (highest sub-index) of records made from entries.
