@@ -1,8 +1,8 @@
 //! `slave`: a heap-free object dictionary for the device's own firmware, as a table.
 //!
-//! The module is data: one `odc::slave::Row` per typed entry, naming its descriptor in `od`
-//! (which carries the type, access, limits and default), in a `const` `odc::slave::Table`
-//! that lays the values out as bytes. `Dictionary` holds those bytes and hands every SDO
+//! The module is data: one `odc::slave::Row` per typed entry, `row!(od::X)` from its
+//! descriptor in `od` (address, access, and the type, limits and default in a `Spec` that
+//! entries alike share), in a `const` `odc::slave::Table` that lays the values out as bytes. `Dictionary` holds those bytes and hands every SDO
 //! transfer to the table's one read and one write path in the runtime, so an entry costs a
 //! row in flash and its encoded size in RAM, and no code: the per-type work is linked once
 //! per value type (see `odc::slave`).
@@ -22,8 +22,8 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
         .map(|name| {
             let k = &name.konst;
             match &name.module {
-                Some(m) => quote!(Row::new(&od::#m::#k)),
-                None => quote!(Row::new(&od::#k)),
+                Some(m) => quote!(row!(od::#m::#k)),
+                None => quote!(row!(od::#k)),
             }
         })
         .collect();
@@ -34,7 +34,7 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
     } else {
         quote! {
             use super::od;
-            use #rt::slave::Row;
+            use #rt::slave::row;
         }
     };
     let docs = doc(&format!(
@@ -51,7 +51,8 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
             #imports
 
             /// The entries of the dictionary, sorted by (index, sub-index): each one's
-            /// descriptor in `od` and where its value is stored.
+            /// address, access, limits and default (from its descriptor in `od`) and where its
+            /// value is stored.
             pub static TABLE: #rt::slave::Table<#n> = LAYOUT;
 
             const LAYOUT: #rt::slave::Table<#n> = #rt::slave::Table::new([#(#rows),*]);

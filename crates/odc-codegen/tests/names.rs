@@ -31,14 +31,14 @@ fn the_standard_object_keeps_the_plain_name() {
         "{code}"
     );
     // The slave dictionary's rows name the descriptors.
-    assert!(code.contains("Row::new(&od::POSITION_ACTUAL_VALUE),"));
-    assert!(code.contains("Row::new(&od::POSITION_ACTUAL_VALUE_OBJ_2064),"));
+    assert!(code.contains("row!(od::POSITION_ACTUAL_VALUE),"));
+    assert!(code.contains("row!(od::POSITION_ACTUAL_VALUE_OBJ_2064),"));
 }
 
 #[test]
 fn trade_names_stay_one_word() {
     let code = generate(&common::twins(), &Options::default()).expect("generates");
     assert_eq!(const_for(&code, "0x2301"), "CANOPEN_BAUD_RATE_P3_01");
-    assert!(code.contains("Row::new(&od::CANOPEN_BAUD_RATE_P3_01),"));
+    assert!(code.contains("row!(od::CANOPEN_BAUD_RATE_P3_01),"));
     assert!(!code.contains("CA_NOPEN"));
 }

@@ -3,7 +3,8 @@
 //! [`WriteHook`]), and the table that makes a dictionary ([`Table`], [`Row`]).
 //!
 //! A generated dictionary is data, not code: a `const` [`Table`] with one [`Row`] per entry
-//! (its typed descriptor from the `od` module, `Row::new(&od::CONTROLWORD)`), and a
+//! (address, access, and the limits and default of its typed descriptor from the `od` module:
+//! `row!(od::CONTROLWORD)`), and a
 //! `Dictionary` holding the values as bytes, `[u8; TABLE.size()]`. Its `read` and `write` call
 //! [`Table::read`] and [`Table::write`]: a binary search by address, the access check, then the
 //! typed work of the entry's value type (decoding, limits, hook, encoding), once per type in
@@ -15,9 +16,9 @@
 
 mod table;
 
-pub use table::{Row, Table};
+pub use table::{Row, Spec, Table};
 
-use crate::{Entry, ObjValue, ObjectAddr, SdoAbort};
+use crate::{DefaultValue, Entry, ObjValue, ObjectAddr, SdoAbort};
 
 /// What an SDO server needs from an object dictionary. Generated `Dictionary` types implement
 /// it, so server code can be written once for every device.
@@ -104,15 +105,40 @@ fn search<T>(
 /// with `LowLimit=1` and no default starts at 1, not 0: a master that reads it and writes it
 /// back must not get 0x06090032).
 pub fn initial<T: ObjValue + PartialOrd>(entry: &Entry<T>, node_id: u8, fallback: T) -> T {
-    if let Some(v) = entry.default.and_then(|d| d.resolve(node_id)) {
+    initial_value(entry.default, entry.low, entry.high, node_id, fallback)
+}
+
+/// [`initial`] from the parts of a descriptor.
+fn initial_value<T: ObjValue + PartialOrd>(
+    default: Option<DefaultValue<T>>,
+    low: Option<T>,
+    high: Option<T>,
+    node_id: u8,
+    fallback: T,
+) -> T {
+    if let Some(v) = default.and_then(|d| d.resolve(node_id)) {
         return v;
     }
-    match (entry.low, entry.high) {
+    match (low, high) {
         (Some(lo), _) if fallback < lo => lo,
         (_, Some(hi)) if fallback > hi => hi,
         _ => fallback,
     }
 }
+
+/// The [`Row`] of a descriptor, for the `const` table of generated code: `row!(od::X)` is
+/// `Row::new(&od::X, &od::X.spec())`, the [`Spec`] promoted to a `static` that entries with the
+/// same limits and default share.
+#[macro_export]
+#[doc(hidden)]
+macro_rules! __slave_row {
+    ($entry:expr) => {
+        $crate::slave::Row::new(&$entry, &$entry.spec())
+    };
+}
+
+#[doc(inline)]
+pub use crate::__slave_row as row;
 
 #[cfg(test)]
 mod tests;

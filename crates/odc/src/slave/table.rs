@@ -3,39 +3,67 @@
 
 use core::fmt;
 
-use super::{WriteHook, initial, key, search};
-use crate::{Access, DataType, Entry, ObjValue, ObjectAddr, SdoAbort};
+use super::{WriteHook, initial_value, key, search};
+use crate::{Access, DataType, DefaultValue, Entry, ObjValue, ObjectAddr, SdoAbort};
 
-/// What the shared paths need of one entry, implemented once per value type (for
-/// [`Entry<T>`]): the typed work of an SDO transfer on the entry's stored bytes.
+/// What the dictionary needs of an entry's value beyond its address and access: the limits
+/// and the default of its descriptor, typed, without its name. [`Entry::spec`] makes it, and
+/// the [`row!`](crate::slave::row) of generated code keeps it in a promoted `static`, where
+/// entries with the same type, limits and default share one copy.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spec<T> {
+    low: Option<T>,
+    high: Option<T>,
+    default: Option<DefaultValue<T>>,
+}
+
+impl<T: ObjValue> Entry<T> {
+    /// The limits and default of the entry, for its [`Row`].
+    pub const fn spec(&self) -> Spec<T> {
+        Spec { low: self.low, high: self.high, default: self.default }
+    }
+}
+
+/// What the shared paths need of one entry's value type, implemented once per type (for
+/// [`Spec<T>`]): the typed work of an SDO download and of the initial value.
 ///
 /// Private: a [`Row`] is made only from an `Entry`, so every stored value went through the
-/// entry's type.
-///
-/// Every method of a trait object is linked with it: it has only the two that need the type
-/// (an upload copies the stored encoding, see [`Table::read`]; no name, no formatting), so an
-/// image links a download and an initialisation per value type.
+/// entry's type. Every method of a trait object is linked with it: it has only what needs the
+/// type (an upload copies the stored encoding, see [`Table::read`]; no name, no formatting).
 trait Slot: Sync {
     /// Decodes `data` as a value of the type and checks it against the limits.
     fn check(&self, data: &[u8]) -> Result<(), SdoAbort>;
     /// Stores the initial value on node `node_id` into zeroed `stored`.
     fn init(&self, stored: &mut [u8], node_id: u8);
+    /// The encoded size of the type: the bytes the value takes in the storage.
+    fn len(&self) -> usize;
+    /// The CiA 301 data type.
+    fn data_type(&self) -> DataType;
 }
 
-impl<T> Slot for Entry<T>
+impl<T> Slot for Spec<T>
 where
     T: ObjValue + PartialOrd + Sync + 'static,
 {
     fn check(&self, data: &[u8]) -> Result<(), SdoAbort> {
-        Entry::check(self, &T::decode(data)?)
+        crate::check_range(&T::decode(data)?, self.low.as_ref(), self.high.as_ref())
     }
 
     fn init(&self, stored: &mut [u8], node_id: u8) {
         // Zeroed storage decodes as the type's zero (0, false, 0.0, the empty string); the
         // storage is the type's encoded size, so the encoding fits.
         if let Ok(zero) = T::decode(stored) {
-            let _ = initial(self, node_id, zero).encode(stored);
+            let value = initial_value(self.default, self.low, self.high, node_id, zero);
+            let _ = value.encode(stored);
         }
+    }
+
+    fn len(&self) -> usize {
+        T::MAX_LEN
+    }
+
+    fn data_type(&self) -> DataType {
+        T::DATA_TYPE
     }
 }
 
@@ -54,33 +82,35 @@ fn store(data_type: DataType, data: &[u8], stored: &mut [u8]) {
     }
 }
 
-/// One entry of a generated dictionary: its typed descriptor (the `const` of the `od`
-/// module) and where its value is stored.
+/// One entry of a generated dictionary: its address, access right, the [`Spec`] of its value
+/// and where the value is stored; 16 bytes on a 32-bit target.
 ///
 /// A row is a table entry, not code: the dictionary's read and write paths ([`Table::read`],
-/// [`Table::write`]) serve every row, with the encoding, limits and default of its descriptor.
+/// [`Table::write`]) serve every row. Generated code writes `row!(od::CONTROLWORD)`.
 #[derive(Clone, Copy)]
 pub struct Row {
-    entry: &'static dyn Slot,
-    /// [`key`] of the entry's address, for the binary search.
+    spec: &'static dyn Slot,
+    /// [`key`] of the address in the low 24 bits, the access right in the high 8.
     key: u32,
-    /// Offset of the value in the dictionary's storage; [`Table::new`] assigns it.
+    /// Offset of the value in the dictionary's storage ([`Row::new`] puts its length here,
+    /// [`Table::new`] the offset).
     at: u32,
-    /// Size of the value in the storage: the encoded size of its type.
-    len: u32,
-    access: Access,
-    data_type: DataType,
 }
 
+/// The access rights by their code in [`Row::key`].
+const ACCESS: [Access; 6] =
+    [Access::Ro, Access::Wo, Access::Rw, Access::Rwr, Access::Rww, Access::Const];
+
 impl Row {
-    /// The row of `entry`.
-    pub const fn new<T>(entry: &'static Entry<T>) -> Row
+    /// The row of `entry`, whose limits and default are `spec` (`entry.spec()`: see
+    /// [`row!`](crate::slave::row)).
+    pub const fn new<T>(entry: &Entry<T>, spec: &'static Spec<T>) -> Row
     where
         T: ObjValue + PartialOrd + Sync + 'static,
     {
-        let key = key(entry.addr.index, entry.addr.sub);
-        let (access, data_type) = (entry.access, T::DATA_TYPE);
-        Row { entry, key, at: 0, len: T::MAX_LEN as u32, access, data_type }
+        let access = entry.access as u32;
+        let key = key(entry.addr.index, entry.addr.sub) | access << 24;
+        Row { spec, key, at: T::MAX_LEN as u32 }
     }
 
     /// The entry's address.
@@ -89,25 +119,29 @@ impl Row {
     }
 
     /// The entry's access right.
-    pub const fn access(&self) -> Access {
-        self.access
+    pub fn access(&self) -> Access {
+        match ACCESS.get((self.key >> 24) as usize) {
+            Some(&a) => a,
+            // Unreachable: `Row::new` stores the code of an `Access`.
+            None => Access::Ro,
+        }
     }
 
     /// The entry's CiA 301 data type.
-    pub const fn data_type(&self) -> DataType {
-        self.data_type
+    pub fn data_type(&self) -> DataType {
+        self.spec.data_type()
     }
 
     /// The stored bytes of this row in `values`.
     fn of<'v>(&self, values: &'v [u8]) -> Result<&'v [u8], SdoAbort> {
-        let (at, len) = (self.at as usize, self.len as usize);
+        let at = self.at as usize;
         // `values` is a dictionary's storage, `Table::size` bytes long: always `Some`.
-        values.get(at..at + len).ok_or(SdoAbort::General)
+        values.get(at..at + self.spec.len()).ok_or(SdoAbort::General)
     }
 
     fn of_mut<'v>(&self, values: &'v mut [u8]) -> Result<&'v mut [u8], SdoAbort> {
-        let (at, len) = (self.at as usize, self.len as usize);
-        values.get_mut(at..at + len).ok_or(SdoAbort::General)
+        let at = self.at as usize;
+        values.get_mut(at..at + self.spec.len()).ok_or(SdoAbort::General)
     }
 }
 
@@ -115,10 +149,9 @@ impl fmt::Debug for Row {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("Row")
             .field("addr", &self.addr())
-            .field("data_type", &self.data_type)
-            .field("access", &self.access)
+            .field("access", &self.access())
+            .field("data_type", &self.data_type())
             .field("at", &self.at)
-            .field("len", &self.len)
             .finish()
     }
 }
@@ -143,8 +176,9 @@ impl<const N: usize> Table<N> {
         let mut at = 0;
         let mut i = 0;
         while i < N {
+            let len = rows[i].at;
             rows[i].at = at;
-            at += rows[i].len;
+            at += len;
             i += 1;
         }
         Table { rows, size: at as usize }
@@ -172,17 +206,17 @@ impl<const N: usize> Table<N> {
 
     /// Fills `values` (zeroed, [`Table::size`] bytes) with every entry's initial value on
     /// node `node_id`: its default (`$NODEID` applied), else zero moved into its limits (see
-    /// [`initial`]).
+    /// [`initial`](super::initial)).
     pub fn init(&self, values: &mut [u8], node_id: u8) {
         for row in &self.rows {
             if let Ok(stored) = row.of_mut(values) {
-                row.entry.init(stored, node_id);
+                row.spec.init(stored, node_id);
             }
         }
     }
 
     fn row(&self, index: u16, sub: u8) -> Result<&Row, SdoAbort> {
-        let pos = search(&self.rows, |r| r.key, index, sub)?;
+        let pos = search(&self.rows, |r| r.key & 0xFF_FFFF, index, sub)?;
         self.rows.get(pos).ok_or(SdoAbort::NoSuchObject)
     }
 
@@ -190,7 +224,7 @@ impl<const N: usize> Table<N> {
     ///
     /// # Errors
     ///
-    /// [`SdoAbort::NoSuchObject`] or [`SdoAbort::NoSuchSub`] (see [`find`]),
+    /// [`SdoAbort::NoSuchObject`] or [`SdoAbort::NoSuchSub`] (see [`find`](super::find)),
     /// [`SdoAbort::ReadOfWriteOnly`], [`SdoAbort::TooShort`] when `buf` cannot hold the value.
     pub fn read(
         &self,
@@ -200,12 +234,12 @@ impl<const N: usize> Table<N> {
         buf: &mut [u8],
     ) -> Result<usize, SdoAbort> {
         let row = self.row(index, sub)?;
-        if !row.access.readable() {
+        if !row.access().readable() {
             return Err(SdoAbort::ReadOfWriteOnly);
         }
         let stored = row.of(values)?;
         // The stored bytes are the encoding, but for the zeros that pad a shorter string.
-        let len = match row.data_type {
+        let len = match row.data_type() {
             DataType::VisibleString => stored.iter().rposition(|&b| b != 0).map_or(0, |p| p + 1),
             _ => stored.len(),
         };
@@ -237,13 +271,13 @@ impl<const N: usize> Table<N> {
         hook: &mut dyn WriteHook,
     ) -> Result<(), SdoAbort> {
         let row = self.row(index, sub)?;
-        if !row.access.writable() {
+        if !row.access().writable() {
             return Err(SdoAbort::WriteOfReadOnly);
         }
-        row.entry.check(data)?;
+        row.spec.check(data)?;
         let addr = row.addr();
         hook.before_write(addr, data)?;
-        store(row.data_type, data, row.of_mut(values)?);
+        store(row.data_type(), data, row.of_mut(values)?);
         hook.after_write(addr);
         Ok(())
     }
@@ -251,7 +285,7 @@ impl<const N: usize> Table<N> {
     /// The row of a typed descriptor, if the table has its address with its type.
     fn typed<T: ObjValue>(&self, entry: &Entry<T>) -> Result<&Row, SdoAbort> {
         let row = self.row(entry.addr.index, entry.addr.sub)?;
-        if row.data_type != T::DATA_TYPE || row.len as usize != T::MAX_LEN {
+        if row.data_type() != T::DATA_TYPE || row.spec.len() != T::MAX_LEN {
             return Err(SdoAbort::LengthMismatch);
         }
         Ok(row)
@@ -296,7 +330,7 @@ impl<const N: usize> Table<N> {
         impl fmt::Debug for Shown<'_> {
             fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
                 match self.0.of(self.1) {
-                    Ok(stored) => show(self.0.data_type, stored, f),
+                    Ok(stored) => show(self.0.data_type(), stored, f),
                     Err(_) => f.write_str("<missing>"),
                 }
             }

@@ -50,15 +50,15 @@ mod od {
 }
 
 const LAYOUT: Table<9> = Table::new([
-    Row::new(&od::DEVICE_TYPE),
-    Row::new(&od::NAME),
-    Row::new(&od::COB_ID_EMCY),
-    Row::new(&od::PASSWORD),
-    Row::new(&od::SPEED),
-    Row::new(&od::BAD_LIMITS),
-    Row::new(&od::LABEL),
-    Row::new(&od::CONTROLWORD),
-    Row::new(&od::OFFSET),
+    row!(od::DEVICE_TYPE),
+    row!(od::NAME),
+    row!(od::COB_ID_EMCY),
+    row!(od::PASSWORD),
+    row!(od::SPEED),
+    row!(od::BAD_LIMITS),
+    row!(od::LABEL),
+    row!(od::CONTROLWORD),
+    row!(od::OFFSET),
 ]);
 static TABLE: Table<9> = LAYOUT;
 
