@@ -137,7 +137,7 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
             /// Every entry's address and value, shown by its CiA 301 data type.
             impl ::core::fmt::Debug for Dictionary {
                 fn fmt(&self, f: &mut ::core::fmt::Formatter<'_>) -> ::core::fmt::Result {
-                    TABLE.fmt(&self.values, f)
+                    TABLE.fmt_values(&self.values, f)
                 }
             }
 

@@ -64,21 +64,16 @@ pub trait WriteHook {
 impl WriteHook for () {}
 
 /// The search key of `index:sub`: `index << 8 | sub`. Keys sort as addresses do.
-pub const fn key(index: u16, sub: u8) -> u32 {
+const fn key(index: u16, sub: u8) -> u32 {
     (index as u32) << 8 | sub as u32
 }
 
-/// Finds `index:sub` in `keys` (sorted [`key`]s).
+/// Finds `index:sub` in `items` sorted by their [`key`] (`key_of`).
 ///
 /// # Errors
 ///
-/// [`SdoAbort::NoSuchObject`] when no key has `index`, [`SdoAbort::NoSuchSub`] when the object
-/// exists but not the sub-index.
-pub fn find(keys: &[u32], index: u16, sub: u8) -> Result<usize, SdoAbort> {
-    search(keys, |&k| k, index, sub)
-}
-
-/// [`find`] in `items` sorted by `key_of`.
+/// [`SdoAbort::NoSuchObject`] when no item has `index`, [`SdoAbort::NoSuchSub`] when the
+/// object exists but not the sub-index.
 fn search<T>(
     items: &[T],
     key_of: impl Fn(&T) -> u32,

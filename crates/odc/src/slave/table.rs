@@ -224,7 +224,7 @@ impl<const N: usize> Table<N> {
     ///
     /// # Errors
     ///
-    /// [`SdoAbort::NoSuchObject`] or [`SdoAbort::NoSuchSub`] (see [`find`](super::find)),
+    /// [`SdoAbort::NoSuchObject`] or [`SdoAbort::NoSuchSub`] (see [`Table::read`]),
     /// [`SdoAbort::ReadOfWriteOnly`], [`SdoAbort::TooShort`] when `buf` cannot hold the value.
     pub fn read(
         &self,
@@ -325,7 +325,7 @@ impl<const N: usize> Table<N> {
     /// # Errors
     ///
     /// The formatter's.
-    pub fn fmt(&self, values: &[u8], f: &mut fmt::Formatter<'_>) -> fmt::Result {
+    pub fn fmt_values(&self, values: &[u8], f: &mut fmt::Formatter<'_>) -> fmt::Result {
         struct Shown<'a>(&'a Row, &'a [u8]);
         impl fmt::Debug for Shown<'_> {
             fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {

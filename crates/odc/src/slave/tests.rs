@@ -5,6 +5,10 @@ use super::*;
 use crate::cia402::Controlword;
 use crate::{Access, DataType, DefaultValue, VisibleString};
 
+fn find(keys: &[u32], index: u16, sub: u8) -> Result<usize, SdoAbort> {
+    search(keys, |&k| k, index, sub)
+}
+
 #[test]
 fn find_by_key() {
     let keys = [key(0x1000, 0), key(0x1018, 0), key(0x1018, 2), key(0x6040, 0)];
@@ -192,7 +196,7 @@ fn debug_shows_addresses_and_typed_values() {
     struct D([u8; LAYOUT.size()]);
     impl core::fmt::Debug for D {
         fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
-            TABLE.fmt(&self.0, f)
+            TABLE.fmt_values(&self.0, f)
         }
     }
     let text = format!("{:?}", D(dictionary(5)));
