@@ -159,7 +159,7 @@ impl fmt::Debug for Row {
 /// The rows of a generated dictionary, sorted by address, with their search keys and the
 /// storage layout: what `Dictionary` needs besides its stored bytes.
 ///
-/// Generated code builds it in a `const` (`Table::new([Row::new(&od::DEVICE_TYPE), …])`) and
+/// Generated code builds it in a `const` (`Table::new([row!(od::DEVICE_TYPE), …])`) and
 /// keeps the values in a `[u8; TABLE.size()]`; every SDO transfer goes through [`Table::read`]
 /// and [`Table::write`], the firmware's own accesses through [`Table::get`] and
 /// [`Table::set`].
@@ -175,6 +175,7 @@ impl<const N: usize> Table<N> {
     pub const fn new(mut rows: [Row; N]) -> Self {
         let mut at = 0;
         let mut i = 0;
+        // `i < N`: the indexing cannot fail.
         while i < N {
             let len = rows[i].at;
             rows[i].at = at;

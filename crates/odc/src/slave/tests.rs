@@ -42,6 +42,7 @@ mod od {
             }),
         );
     pub const PASSWORD: Entry<u16> = Entry::new(0x2000, 1, "Password", Access::Wo, false);
+    pub const PASSWORD_U8: Entry<u8> = Entry::new(0x2000, 1, "Password", Access::Wo, false);
     pub const SPEED: Entry<u16> =
         Entry::new(0x2000, 2, "Speed", Access::Rw, false).with_limits(Some(1), Some(9));
     pub const BAD_LIMITS: Entry<u16> =
@@ -222,4 +223,15 @@ fn initial_values() {
     assert_eq!(initial(&e, 5, 0), -4);
     let e: Entry<u8> = Entry::new(1, 0, "", Access::Rw, false).with_limits(Some(0), Some(9));
     assert_eq!(initial(&e, 5, 0), 0);
+}
+
+#[test]
+fn rows_keep_every_access_right() {
+    for access in [Access::Ro, Access::Wo, Access::Rw, Access::Rwr, Access::Rww, Access::Const] {
+        const SPEC: crate::slave::Spec<u8> = od::PASSWORD_U8.spec();
+        let entry: Entry<u8> = Entry::new(0xFFFF, 0xFF, "", access, false);
+        let row = Row::new(&entry, &SPEC);
+        assert_eq!((row.access(), row.addr()), (access, ObjectAddr::new(0xFFFF, 0xFF)));
+        assert_eq!(row.data_type(), DataType::Unsigned8);
+    }
 }
