@@ -73,10 +73,10 @@ struct LinMot {
 impl LinMot {
     fn new() -> Self {
         let mut od = slave::Dictionary::new(NODE);
-        // What the drive measures.
-        od.x4_4_analog_voltage_upid_1ca4h_ram_value = 4500;
-        od.diff_analog_voltage_upid_1ca6h_ram_value = -120;
-        od.difference_velocity_upid_1b91h_ram_value = 0;
+        // What the drive measures (the dictionary has every UPID entry: these cannot fail).
+        let _ = od.set(upid::U1CA4_RAM, 4500);
+        let _ = od.set(upid::U1CA6_RAM, -120);
+        let _ = od.set(upid::U1B91_RAM, 0);
         LinMot {
             od,
             server: Server::new(NODE),
@@ -136,18 +136,19 @@ impl LinMot {
         }
     }
 
+    /// The UPIDs of TPDO 4 (4F08h sub 1..4), as the PLC set them.
+    fn upids(&self) -> [u16; 4] {
+        use od::tpdo4_upid_mapping::{TPDO4_UPIDS_1, TPDO4_UPIDS_2, TPDO4_UPIDS_3, TPDO4_UPIDS_4};
+        [TPDO4_UPIDS_1, TPDO4_UPIDS_2, TPDO4_UPIDS_3, TPDO4_UPIDS_4]
+            .map(|entry| self.od.get(entry).unwrap_or_default())
+    }
+
     /// "The controller automatically maps those parameters to the PDOs" (9.1.1): 1A03h gets one
     /// entry per UPID of 4F08h sub 1..4, pointing at that sub-index with the UPID's bit length,
     /// which the UPID's object (2000h + UPID) gives.
     fn map_upids(&mut self) {
-        let upids = [
-            (1, self.od.tpdo4_upid_mapping_tpdo4_upids_1),
-            (2, self.od.tpdo4_upid_mapping_tpdo4_upids_2),
-            (3, self.od.tpdo4_upid_mapping_tpdo4_upids_3),
-            (4, self.od.tpdo4_upid_mapping_tpdo4_upids_4),
-        ];
         let mut n = 0u8;
-        for (sub, id) in upids {
+        for (sub, id) in (1..).zip(self.upids()) {
             let Some(ram) = upid::param(id, upid::Op::Ram) else { continue };
             let Some(bits) = upid::lookup(ram).and_then(|e| e.data_type.bits()) else { continue };
             n += 1;
@@ -190,15 +191,8 @@ impl LinMot {
             // The UPIDs' values, in the mapped order.
             let mut data = Vec::new();
             for e in entries.iter().filter(|e| e.index == 0x4F08) {
-                let id = [
-                    self.od.tpdo4_upid_mapping_tpdo4_upids_1,
-                    self.od.tpdo4_upid_mapping_tpdo4_upids_2,
-                    self.od.tpdo4_upid_mapping_tpdo4_upids_3,
-                    self.od.tpdo4_upid_mapping_tpdo4_upids_4,
-                ]
-                .get(usize::from(e.sub).saturating_sub(1))
-                .copied()
-                .unwrap_or(0);
+                let id =
+                    self.upids().get(usize::from(e.sub).saturating_sub(1)).copied().unwrap_or(0);
                 let Some(ObjectAddr { index, sub }) = upid::param(id, upid::Op::Ram) else {
                     continue;
                 };

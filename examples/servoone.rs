@@ -53,28 +53,29 @@ const _: () = {
     );
 };
 
-/// The firmware's names for the objects it drives: the generated dictionary's fields.
+/// The firmware's names for the objects it drives: the generated descriptors, read and set
+/// typed in the dictionary (which has every entry of `od`, so neither fails).
 impl Cia402Device for slave::Dictionary {
     fn controlword(&self) -> Controlword {
-        self.controlword
+        self.get(od::CONTROLWORD).unwrap_or_default()
     }
     fn set_statusword(&mut self, statusword: Statusword) {
-        self.statusword = statusword;
+        let _ = self.set(od::STATUSWORD, statusword);
     }
     fn mode_of_operation(&self) -> i8 {
-        self.modes_of_operation
+        self.get(od::MODES_OF_OPERATION).unwrap_or_default()
     }
     fn set_mode_of_operation_display(&mut self, mode: i8) {
-        self.modes_of_operation_display = mode;
+        let _ = self.set(od::MODES_OF_OPERATION_DISPLAY, mode);
     }
     fn target_position(&self) -> i32 {
-        self.target_position
+        self.get(od::TARGET_POSITION).unwrap_or_default()
     }
     fn profile_velocity(&self) -> u32 {
-        self.profile_velocity
+        self.get(od::PROFILE_VELOCITY).unwrap_or_default()
     }
     fn set_position_actual_value(&mut self, position: i32) {
-        self.position_actual_value = position;
+        let _ = self.set(od::POSITION_ACTUAL_VALUE, position);
     }
 }
 
@@ -114,7 +115,10 @@ pub fn main() -> Result<(), Error> {
     println!("-- target reached after {syncs} SYNCs");
     m.nmt(NmtCommand::Stop)?;
     drop(m);
-    let od = drive.join().map_err(|_| "the drive thread panicked")??;
-    println!("-- the drive's dictionary: position actual value {}", od.position_actual_value);
+    let dict = drive.join().map_err(|_| "the drive thread panicked")??;
+    println!(
+        "-- the drive's dictionary: position actual value {}",
+        dict.get(od::POSITION_ACTUAL_VALUE)?
+    );
     Ok(())
 }

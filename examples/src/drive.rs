@@ -27,8 +27,9 @@ use odc::slave::ObjectDictionary;
 use crate::bus::{Closed, Port};
 use crate::pdo;
 
-/// The objects the firmware reads and writes directly: the fields of a generated
-/// `slave::Dictionary`, which differ in name from one device file to the next.
+/// The objects the firmware reads and writes directly in a generated `slave::Dictionary`
+/// (`get`/`set` with a descriptor of its `od`, which differ in name from one device file to the
+/// next).
 pub trait Cia402Device: ObjectDictionary {
     /// 0x6040.
     fn controlword(&self) -> Controlword;

@@ -143,8 +143,8 @@ build() {  # $1: features ("" or "device"); prints the image path
 printf '%s' "" >"$WORK/src/dev.rs"
 read -r bt br bd bb < <(sections "$(build "")")
 echo "target $TARGET, opt-level s. Baseline image without dictionary: text $bt, rodata $br, data $bd, bss $bb bytes."
-echo "Sections: bytes beyond the baseline. Symbols: the tables (ENTRIES 0 = not linked) and the storage."
-printf '%-36s %7s | %7s %7s %7s %7s | %6s %6s %7s %7s\n' device entries text rodata data bss KEYS ACCESS ENTRIES storage
+echo "Sections: bytes beyond the baseline. Symbols: the table of rows and the storage."
+printf '%-36s %7s | %7s %7s %7s %7s | %7s %7s\n' device entries text rodata data bss TABLE storage
 for file in "${FILES[@]}"; do
     "$ODC" generate "$file" --role slave -o "$WORK/src/dev.rs"
     img=$(build device)
@@ -154,8 +154,8 @@ for file in "${FILES[@]}"; do
         hex=$(nm -S "$img" | awk -v re="$1" '$4 ~ re && !n++ { print $2 }')
         echo $((16#${hex:-0}))
     }
-    n=$(grep -m1 -oE 'pub static KEYS: \[u32; [0-9]+\]' "$WORK/src/dev.rs" | grep -oE '[0-9]+\]' | tr -d ']')
-    printf '%-36s %7s | %7d %7d %7d %7d | %6d %6d %7d %7d\n' "$(basename "$file")" "${n:-0}" \
+    n=$(grep -m1 -oE 'pub static TABLE: [:a-z_]*Table<[0-9]+>' "$WORK/src/dev.rs" | grep -oE '[0-9]+>' | tr -d '>')
+    printf '%-36s %7s | %7d %7d %7d %7d | %7d %7d\n' "$(basename "$file")" "${n:-0}" \
         $((t - bt)) $((r - br)) $((d - bd)) $((b - bb)) \
-        "$(sym 'slave4KEYS')" "$(sym 'slave6ACCESS')" "$(sym 'slave7ENTRIES')" "$(sym '^OD_STORAGE$')"
+        "$(sym 'slave5TABLE')" "$(sym '^OD_STORAGE$')"
 done

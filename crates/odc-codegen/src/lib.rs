@@ -15,9 +15,10 @@
 //!   index, mapping values, COB-ID rule and transmission type (CANopen) or sync-manager
 //!   placement (EtherCAT);
 //! - `cia402`: the modes of operation the device supports, when it declares the profile;
-//! - `slave` (role slave): a heap-free object dictionary with typed storage and SDO checks,
-//!   laid out for small flash (4-byte search keys, 1-byte access rights, one `const` initial
-//!   dictionary, one call per entry in `read` and `write`);
+//! - `slave` (role slave): a heap-free object dictionary with SDO checks, as a table: one
+//!   `odc::slave::Row` per typed entry naming its descriptor, the values as bytes, and the
+//!   runtime's one read and one write path (no code per entry); typed `get`/`set` by
+//!   descriptor for the firmware;
 //! - `master` (role master): the SDO writes that configure the default PDO mapping;
 //! - one module per vendor parameter scheme of the overlay (see [`Scheme`]): the maker's
 //!   parameter numbers (`lenze::code(11)`, `lenze::C00011`) mapped to typed entries;

@@ -17,8 +17,6 @@ pub struct EntryName {
     pub module: Option<Ident>,
     /// The constant.
     pub konst: Ident,
-    /// A unique snake-case name, for storage fields.
-    pub field: Ident,
     /// Its Rust type.
     pub ty: RustTy,
 }
@@ -79,16 +77,11 @@ impl OdNames {
             mod_pos.iter().map(|(&i, &p)| (i, ident(&mods[p]))).collect();
 
         let mut entries = BTreeMap::new();
-        let mut fields = Namer::new();
-        let mut field_pos = Vec::new();
         for (&index, object) in &device.objects {
             if let Some(&p) = var_pos.get(&index) {
                 let Some((sub, ty)) = typed_subs(object, cia402).next() else { continue };
-                let name = &consts[p];
-                let rank = standard::rank(index, &object.name);
-                let suffix = format!("obj_{index:04x}");
-                field_pos.push(fields.propose_ranked(names::snake(name), suffix, rank));
-                entries.insert((index, sub.sub_index), (None, ident(name), ty));
+                let konst = ident(&consts[p]);
+                entries.insert((index, sub.sub_index), EntryName { module: None, konst, ty });
             } else if let Some(module) = modules.get(&index) {
                 let mut subs = Namer::new();
                 let typed: Vec<_> = typed_subs(object, cia402).collect();
@@ -96,23 +89,12 @@ impl OdNames {
                     subs.propose(names::screaming(&sub.name), format!("SUB_{:02X}", sub.sub_index));
                 }
                 for ((sub, ty), name) in typed.iter().zip(subs.finish("_", &[])) {
-                    let field = names::snake(&format!("{module} {name}"));
-                    let suffix = format!("obj_{index:04x}_{:02x}", sub.sub_index);
-                    let rank = u8::from(standard::is_standard_area(index));
-                    field_pos.push(fields.propose_ranked(field, suffix, rank));
-                    entries
-                        .insert((index, sub.sub_index), (Some(module.clone()), ident(&name), *ty));
+                    let name =
+                        EntryName { module: Some(module.clone()), konst: ident(&name), ty: *ty };
+                    entries.insert((index, sub.sub_index), name);
                 }
             }
         }
-        let fields = fields.finish("_", &[]);
-        let entries = entries
-            .into_iter()
-            .zip(fields)
-            .map(|((addr, (module, konst, ty)), field)| {
-                (addr, EntryName { module, konst, field: ident(&field), ty })
-            })
-            .collect();
         OdNames { entries, modules, cia402 }
     }
 }

@@ -282,27 +282,6 @@ impl RustTy {
             },
         })
     }
-
-    /// A `const` expression of the type's zero value, for storage of sub-objects without default.
-    pub fn zero_expr(self, rt: &TokenStream) -> TokenStream {
-        let ty = self.tokens(rt);
-        match self {
-            RustTy::Bool => quote!(false),
-            RustTy::F32 | RustTy::F64 => quote!(0.0),
-            RustTy::Unsigned(_) | RustTy::Signed(_) if self.is_native_int() => quote!(0),
-            RustTy::Text(_) => {
-                let path = self.expr_path(rt);
-                quote!(#path::EMPTY)
-            }
-            RustTy::Bytes(n) => {
-                let n = Literal::usize_unsuffixed(n);
-                quote!(#rt::OctetString([0; #n]))
-            }
-            RustTy::Controlword | RustTy::Statusword => quote!(#ty(0)),
-            // U24..U56, I24..I56, TimeOfDay, TimeDifference.
-            _ => quote!(#ty::ZERO),
-        }
-    }
 }
 
 /// A value expression: of the type itself, or of `Option` when a checked constructor builds it.

@@ -93,7 +93,7 @@ fn error_response_bytes() {
 fn read_parameter() {
     let mut b = bench(5);
     // The device measures 43 °C.
-    b.wire.od.c00061_heatsink_temperature = 43;
+    b.wire.od.set(lenze::C00061, 43).unwrap();
     assert_eq!(b.read(&lenze::C00061), 43);
     assert_same(
         &b.wire.log,
@@ -107,7 +107,7 @@ fn write_parameter() {
     let mut b = bench(2);
     let raw = (10.2f64 * 10.0).round() as u32;
     b.write(&lenze::C00088, raw);
-    assert_eq!(b.wire.od.c00088_motor_current, 102);
+    assert_eq!(b.wire.od.get(lenze::C00088), Ok(102));
     assert_same(
         &b.wire.log,
         &[printed("602 / 23 A7 5F 00 66 00 00 00"), printed("582 / 60 A7 5F 00 00 00 00 00")],

@@ -51,7 +51,8 @@ impl ObjectDictionary for Drive {
     fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
         self.0.write(index, sub, data)?;
         if odc::ObjectAddr::new(index, sub) == od::MODES_OF_OPERATION.addr {
-            self.0.modes_of_operation_display = self.0.modes_of_operation;
+            let mode = self.0.get(od::MODES_OF_OPERATION)?;
+            self.0.set(od::MODES_OF_OPERATION_DISPLAY, mode)?;
         }
         Ok(())
     }

@@ -6,17 +6,16 @@
 //! second, and 1,000 / (Melem/s) is the time of one lookup in ns. The goal is ≤ 20 ns per
 //! lookup in a 500-object dictionary.
 //!
-//! - `find`: the binary search of the dictionary's `KEYS` alone (`odc::slave::find`), which
-//!   every read and write starts with;
-//! - `read`: a whole SDO upload (`Dictionary::read`: lookup, access check, encode into a
-//!   buffer);
+//! - `read`: a whole SDO upload (`Dictionary::read`: the binary search of the table's rows,
+//!   access check, copy into a buffer);
 //! - `read_missing`: uploads of addresses that do not exist (the abort path).
 //!
 //! Measured 21 November 2026 (x86-64, rustc 1.95, 2 shared cores at load 3–4;
 //! `cargo bench -p odc-tests-generated --bench slave`): `find` 7.5 ns, `read` 7.3 ns,
 //! `read_missing` 7.6 ns per lookup in the 500-object dictionary; 7.9, 11.4 and 8.5 ns in
 //! lenze's 787 entries. The generator before the `KEYS` table (binary search of `ENTRIES`,
-//! 24-byte entries) took 30 and 33 ns.
+//! 24-byte entries) took 30 and 33 ns. Since then the dictionary is a table of 24-byte rows
+//! (`odc::slave::Table`) searched directly, and `find` over `KEYS` is gone; not measured again.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)] // bench code: a panic is a failure report
 #![allow(missing_docs)] // criterion's macros generate undocumented items
 
@@ -39,7 +38,7 @@ mod lenze_e94aycca {
 const N: usize = 1024;
 
 /// `N` addresses of `table`, in a fixed pseudo-random order.
-fn addresses(table: &[odc::EntryInfo]) -> Vec<(u16, u8)> {
+fn addresses(table: &[odc::slave::Row]) -> Vec<(u16, u8)> {
     let mut x: u64 = 0x9E37_79B9_7F4A_7C15;
     (0..N)
         .map(|_| {
@@ -47,21 +46,15 @@ fn addresses(table: &[odc::EntryInfo]) -> Vec<(u16, u8)> {
             x ^= x >> 7;
             x ^= x << 17;
             let e = &table[(x % table.len() as u64) as usize];
-            (e.addr.index, e.addr.sub)
+            (e.addr().index, e.addr().sub)
         })
         .collect()
 }
 
 macro_rules! dictionary_benches {
     ($c:expr, $name:literal, $m:ident) => {{
-        let table: &[odc::EntryInfo] = &$m::slave::ENTRIES;
-        let keys: &[u32] = &$m::slave::KEYS;
+        let table = $m::slave::TABLE.rows();
         let addrs = addresses(table);
-        // Every address is found, at its own position.
-        for &(i, s) in &addrs {
-            let pos = odc::slave::find(keys, i, s).unwrap();
-            assert_eq!((table[pos].addr.index, table[pos].addr.sub), (i, s));
-        }
         // Misses: sub-indexes past the end of existing objects, and indexes nobody uses.
         let missing: Vec<(u16, u8)> = addrs
             .iter()
@@ -69,17 +62,16 @@ macro_rules! dictionary_benches {
             .map(|(n, &(i, _))| if n % 2 == 0 { (i, 0xFE) } else { (0x5F00 + n as u16, 0) })
             .collect();
         let dict = $m::slave::Dictionary::new(5);
+        // Every address is found.
+        let mut buf = [0u8; 256];
+        for &(i, s) in &addrs {
+            assert!(!matches!(
+                dict.read(i, s, &mut buf),
+                Err(odc::SdoAbort::NoSuchObject | odc::SdoAbort::NoSuchSub)
+            ));
+        }
         let mut g = $c.benchmark_group(concat!("slave_", $name, "_x1024"));
         g.throughput(Throughput::Elements(N as u64));
-        g.bench_function("find", |b| {
-            b.iter(|| {
-                let mut acc = 0usize;
-                for &(i, s) in black_box(&addrs) {
-                    acc = acc.wrapping_add(odc::slave::find(keys, i, s).unwrap_or(0));
-                }
-                black_box(acc)
-            })
-        });
         g.bench_function("read", |b| {
             let mut buf = [0u8; 256];
             b.iter(|| {
@@ -107,7 +99,7 @@ macro_rules! dictionary_benches {
 }
 
 fn bench(c: &mut Criterion) {
-    assert_eq!(bench500::slave::ENTRIES.len(), 900);
+    assert_eq!(bench500::slave::TABLE.len(), 900);
     dictionary_benches!(c, "bench500", bench500);
     dictionary_benches!(c, "lenze_e94aycca", lenze_e94aycca);
 }

@@ -48,8 +48,8 @@ fn descriptors_keep_the_wire_type() {
 fn the_slave_stores_typed_words() {
     let mut d = lxm23a::slave::Dictionary::new(1);
     assert_eq!(d.write(0x6040, 0, &[0x0F, 0x00]), Ok(()));
-    assert_eq!(d.controlword, Controlword::ENABLE_OPERATION);
-    d.statusword = State::OperationEnabled.statusword();
+    assert_eq!(d.get(lxm23a::od::CONTROLWORD), Ok(Controlword::ENABLE_OPERATION));
+    assert_eq!(d.set(lxm23a::od::STATUSWORD, State::OperationEnabled.statusword()), Ok(()));
     let mut buf = [0u8; 2];
     assert_eq!(d.read(0x6041, 0, &mut buf), Ok(2));
     assert_eq!(u16::from_le_bytes(buf), 0x0027);

@@ -61,14 +61,14 @@ fn modes_follow_0x6502() {
 #[test]
 fn slave_reads_and_writes() {
     let mut d = slave::Dictionary::new(5);
-    assert_eq!(d.cob_id_emcy, 0x85);
+    assert_eq!(d.get(od::COB_ID_EMCY), Ok(0x85));
     let mut buf = [0u8; 8];
     assert_eq!(d.read(0x1018, 1, &mut buf), Ok(4));
     assert_eq!(&buf[..4], &[0xDD, 0x01, 0, 0]);
     assert_eq!(d.read(0x1008, 0, &mut buf), Ok(3));
     assert_eq!(&buf[..3], b"MD1");
     assert_eq!(d.write(0x6040, 0, &[0x06, 0x00]), Ok(()));
-    assert_eq!(d.controlword, Controlword::SHUTDOWN);
+    assert_eq!(d.get(od::CONTROLWORD), Ok(Controlword::SHUTDOWN));
     // Abort codes.
     let code = |r: Result<(), SdoAbort>| r.err().map(SdoAbort::to_u32);
     assert_eq!(code(d.write(0x1000, 0, &[0; 4])), Some(0x0601_0002));
@@ -79,7 +79,7 @@ fn slave_reads_and_writes() {
     assert_eq!(code(d.write(0x607A, 0, &200_000i32.to_le_bytes())), Some(0x0609_0031));
     assert_eq!(code(d.write(0x607A, 0, &(-200_000i32).to_le_bytes())), Some(0x0609_0032));
     assert_eq!(d.write(0x607A, 0, &1000i32.to_le_bytes()), Ok(()));
-    assert_eq!(d.target_position, 1000);
+    assert_eq!(d.get(od::TARGET_POSITION), Ok(1000));
     assert_eq!(d.read(0x9999, 0, &mut buf), Err(SdoAbort::NoSuchObject));
 }
 
@@ -92,7 +92,8 @@ fn dictionaries_compare_field_by_field() {
     assert_ne!(a, slave::Dictionary::new(6));
     assert_eq!(a.write(0x607A, 0, &1000i32.to_le_bytes()), Ok(()));
     assert_ne!(a, b);
-    assert_eq!(a.write(0x607A, 0, &b.target_position.to_le_bytes()), Ok(()));
+    let target = b.get(od::TARGET_POSITION).unwrap();
+    assert_eq!(a.write(0x607A, 0, &target.to_le_bytes()), Ok(()));
     assert_eq!(a, b);
 }
 
@@ -111,7 +112,7 @@ fn write_hook_sees_and_vetoes() {
     let mut hook = Hook(Vec::new());
     assert_eq!(d.write_with(0x6040, 0, &[0x0F, 0], &mut hook), Ok(()));
     assert_eq!(d.write_with(0x6060, 0, &[8], &mut hook), Err(SdoAbort::DeviceState));
-    assert_eq!(d.modes_of_operation, 1);
+    assert_eq!(d.get(od::MODES_OF_OPERATION), Ok(1));
     assert_eq!(hook.0, [ObjectAddr::new(0x6040, 0)]);
     let generic: &mut dyn odc::slave::ObjectDictionary = &mut d;
     assert_eq!(generic.write(0x6040, 0, &[0x07, 0]), Ok(()));

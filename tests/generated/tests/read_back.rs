@@ -12,14 +12,14 @@ mod lenze_e94aycca {
     odc::include_od!("lenze_e94aycca");
 }
 
-fn read_back_all(name: &str, table: &[odc::EntryInfo], dict: &mut impl ObjectDictionary) {
+fn read_back_all(name: &str, table: &[odc::slave::Row], dict: &mut impl ObjectDictionary) {
     let mut buf = [0u8; 1024];
     let mut written = 0;
     for e in table {
-        let (i, s) = (e.addr.index, e.addr.sub);
+        let (i, s) = (e.addr().index, e.addr().sub);
         match dict.read(i, s, &mut buf) {
             Ok(n) => {
-                if e.access.writable() {
+                if e.access().writable() {
                     let value = buf[..n].to_vec();
                     assert_eq!(dict.write(i, s, &value), Ok(()), "{name} {i:04X}:{s:02X}");
                     written += 1;
@@ -27,7 +27,7 @@ fn read_back_all(name: &str, table: &[odc::EntryInfo], dict: &mut impl ObjectDic
             }
             Err(abort) => {
                 assert_eq!(abort, SdoAbort::ReadOfWriteOnly, "{name} {i:04X}:{s:02X}");
-                assert!(!e.access.readable());
+                assert!(!e.access().readable());
             }
         }
     }
@@ -39,35 +39,38 @@ fn initial_values_are_accepted_back() {
     for node in [1, 5, 127] {
         read_back_all(
             "mini_drive",
-            &mini_drive::slave::ENTRIES,
+            mini_drive::slave::TABLE.rows(),
             &mut mini_drive::slave::Dictionary::new(node),
         );
-        read_back_all("lxm23a", &lxm23a::slave::ENTRIES, &mut lxm23a::slave::Dictionary::new(node));
+        read_back_all(
+            "lxm23a",
+            lxm23a::slave::TABLE.rows(),
+            &mut lxm23a::slave::Dictionary::new(node),
+        );
         read_back_all(
             "lexium_mdrive",
-            &lexium_mdrive::slave::ENTRIES,
+            lexium_mdrive::slave::TABLE.rows(),
             &mut lexium_mdrive::slave::Dictionary::new(node),
         );
         read_back_all(
             "servoone",
-            &servoone::slave::ENTRIES,
+            servoone::slave::TABLE.rows(),
             &mut servoone::slave::Dictionary::new(node),
         );
         read_back_all(
             "lenze_e94aycca",
-            &lenze_e94aycca::slave::ENTRIES,
+            lenze_e94aycca::slave::TABLE.rows(),
             &mut lenze_e94aycca::slave::Dictionary::new(node),
         );
     }
 }
 
 #[test]
-fn keys_and_access_follow_entries() {
-    for (e, (&k, &a)) in
-        lxm23a::slave::ENTRIES.iter().zip(lxm23a::slave::KEYS.iter().zip(&lxm23a::slave::ACCESS))
-    {
-        assert_eq!(k, odc::slave::key(e.addr.index, e.addr.sub));
-        assert_eq!(a, e.access);
-    }
-    assert!(lxm23a::slave::KEYS.windows(2).all(|w| w[0] < w[1]));
+fn rows_follow_the_descriptors() {
+    let rows = lxm23a::slave::TABLE.rows();
+    assert_eq!(rows.len(), lxm23a::slave::TABLE.len());
+    assert!(rows.windows(2).all(|w| w[0].addr() < w[1].addr()));
+    let row = rows.iter().find(|r| r.addr() == lxm23a::od::CONTROLWORD.addr).unwrap();
+    assert_eq!(row.access(), lxm23a::od::CONTROLWORD.access);
+    assert_eq!(row.data_type(), lxm23a::od::CONTROLWORD.data_type());
 }

@@ -5,7 +5,6 @@
 //! each CAN frame is one 16-byte record (see [`wire`] and `python/socketbus.py`).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use odc::EntryInfo;
 use odc::can::CanFrame;
 use odc::plan::SdoWrite;
 use odc::slave::ObjectDictionary;
@@ -242,8 +241,8 @@ pub struct Device {
     pub name: &'static str,
     /// The device file.
     pub path: PathBuf,
-    /// The slave's entry table (`slave::ENTRIES`).
-    pub entries: &'static [EntryInfo],
+    /// The rows of the slave's table (`slave::TABLE`).
+    pub entries: &'static [odc::slave::Row],
     /// A fresh slave dictionary (`slave::Dictionary::new`) for a node id.
     pub slave: fn(u8) -> Box<dyn ObjectDictionary + Send>,
     /// The master's configuration plan (`master::plan`) for a node id.
@@ -271,7 +270,7 @@ macro_rules! devices {
                 v.push(Device {
                     name: stringify!($module),
                     path: $path,
-                    entries: &$module::slave::ENTRIES,
+                    entries: $module::slave::TABLE.rows(),
                     slave: |n| Box::new($module::slave::Dictionary::new(n)),
                     plan: |n| $module::master::plan(n).to_vec(),
                     device_type: &$module::od::DEVICE_TYPE,

@@ -215,8 +215,8 @@ fn drive(py: &std::path::Path, dev: &Device) -> Master {
     m.read += 1;
 
     // Every readable entry, byte for byte against odc's own slave at its defaults.
-    for e in dev.entries.iter().filter(|e| e.access.readable()) {
-        let (i, s) = (e.addr.index, e.addr.sub);
+    for e in dev.entries.iter().filter(|e| e.access().readable()) {
+        let (i, s) = (e.addr().index, e.addr().sub);
         let mut want = [0u8; BUF];
         let n = reference.read(i, s, &mut want).unwrap();
         m.read += 1;
@@ -224,26 +224,26 @@ fn drive(py: &std::path::Path, dev: &Device) -> Master {
             Ok(got) if got == &want[..n] => m.matched += 1,
             // Strings: python-canopen pads nothing, odc may hold a shorter capacity; compare text.
             Ok(got) => {
-                m.failures.push(format!("{}: got {got:02X?}, want {:02X?}", e.addr, &want[..n]))
+                m.failures.push(format!("{}: got {got:02X?}, want {:02X?}", e.addr(), &want[..n]))
             }
             Err(SdoError::Remote(SdoAbort::NoResource)) => m.no_default += 1,
             Err(SdoError::Remote(SdoAbort::NoData)) if n == 0 => m.matched += 1,
-            Err(err) => m.failures.push(format!("{}: {err:?}", e.addr)),
+            Err(err) => m.failures.push(format!("{}: {err:?}", e.addr())),
         }
     }
 
     // Aborts from LocalNode reach odc's client as remote aborts with their codes: a write to
     // every entry the file makes read-only, a read and a write of a missing object.
-    for e in dev.entries.iter().filter(|e| !e.access.writable()) {
+    for e in dev.entries.iter().filter(|e| !e.access().writable()) {
         let mut cur = [0u8; BUF];
-        let n = reference.read(e.addr.index, e.addr.sub, &mut cur).unwrap_or(4).max(1);
-        match client.download(bus, e.addr.index, e.addr.sub, &cur[..n]) {
+        let n = reference.read(e.addr().index, e.addr().sub, &mut cur).unwrap_or(4).max(1);
+        match client.download(bus, e.addr().index, e.addr().sub, &cur[..n]) {
             Err(SdoError::Remote(SdoAbort::WriteOfReadOnly)) => m.aborts += 1,
-            other => m.failures.push(format!("write of read-only {}: {other:?}", e.addr)),
+            other => m.failures.push(format!("write of read-only {}: {other:?}", e.addr())),
         }
     }
     for index in [0x1FFFu16, 0x5FFF, 0x9FFF] {
-        if dev.entries.iter().any(|e| e.addr.index == index) {
+        if dev.entries.iter().any(|e| e.addr().index == index) {
             continue;
         }
         match client.upload(bus, index, 0) {

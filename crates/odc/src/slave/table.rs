@@ -1,0 +1,378 @@
+//! The table of a generated dictionary and the one read and write path that serves every
+//! entry of it.
+
+use core::fmt;
+
+use super::{WriteHook, initial_value, key, search};
+use crate::{Access, DataType, DefaultValue, Entry, ObjValue, ObjectAddr, SdoAbort};
+
+/// What the dictionary needs of an entry's value beyond its address and access: the limits
+/// and the default of its descriptor, typed, without its name. [`Entry::spec`] makes it, and
+/// the [`row!`](crate::slave::row) of generated code keeps it in a promoted `static`, where
+/// entries with the same type, limits and default share one copy.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Spec<T> {
+    low: Option<T>,
+    high: Option<T>,
+    default: Option<DefaultValue<T>>,
+}
+
+impl<T: ObjValue> Entry<T> {
+    /// The limits and default of the entry, for its [`Row`].
+    pub const fn spec(&self) -> Spec<T> {
+        Spec { low: self.low, high: self.high, default: self.default }
+    }
+}
+
+/// What the shared paths need of one entry's value type, implemented once per type (for
+/// [`Spec<T>`]): the typed work of an SDO download and of the initial value.
+///
+/// Private: a [`Row`] is made only from an `Entry`, so every stored value went through the
+/// entry's type. Every method of a trait object is linked with it: it has only what needs the
+/// type (an upload copies the stored encoding, see [`Table::read`]; no name, no formatting).
+trait Slot: Sync {
+    /// Decodes `data` as a value of the type and checks it against the limits.
+    fn check(&self, data: &[u8]) -> Result<(), SdoAbort>;
+    /// Stores the initial value on node `node_id` into zeroed `stored`.
+    fn init(&self, stored: &mut [u8], node_id: u8);
+    /// The encoded size of the type: the bytes the value takes in the storage.
+    fn len(&self) -> usize;
+    /// The CiA 301 data type.
+    fn data_type(&self) -> DataType;
+}
+
+impl<T> Slot for Spec<T>
+where
+    T: ObjValue + PartialOrd + Sync + 'static,
+{
+    fn check(&self, data: &[u8]) -> Result<(), SdoAbort> {
+        crate::check_range(&T::decode(data)?, self.low.as_ref(), self.high.as_ref())
+    }
+
+    fn init(&self, stored: &mut [u8], node_id: u8) {
+        // Zeroed storage decodes as the type's zero (0, false, 0.0, the empty string); the
+        // storage is the type's encoded size, so the encoding fits.
+        if let Ok(zero) = T::decode(stored) {
+            let value = initial_value(self.default, self.low, self.high, node_id, zero);
+            let _ = value.encode(stored);
+        }
+    }
+
+    fn len(&self) -> usize {
+        T::MAX_LEN
+    }
+
+    fn data_type(&self) -> DataType {
+        T::DATA_TYPE
+    }
+}
+
+/// Copies checked download `data` into the `stored` bytes of its entry: the encoding the type
+/// decoded it from, a string without the zeros that may pad it (padded with zeros to the
+/// capacity instead), a time without the 4 reserved bits CiA 301 says to ignore.
+fn store(data_type: DataType, data: &[u8], stored: &mut [u8]) {
+    let mut src = data.iter().copied();
+    for d in stored.iter_mut() {
+        *d = src.next().unwrap_or(0);
+    }
+    if matches!(data_type, DataType::TimeOfDay | DataType::TimeDifference)
+        && let Some(ms_high) = stored.get_mut(3)
+    {
+        *ms_high &= 0x0F;
+    }
+}
+
+/// One entry of a generated dictionary: its address, access right, the [`Spec`] of its value
+/// and where the value is stored; 16 bytes on a 32-bit target.
+///
+/// A row is a table entry, not code: the dictionary's read and write paths ([`Table::read`],
+/// [`Table::write`]) serve every row. Generated code writes `row!(od::CONTROLWORD)`.
+#[derive(Clone, Copy)]
+pub struct Row {
+    spec: &'static dyn Slot,
+    /// [`key`] of the address in the low 24 bits, the access right in the high 8.
+    key: u32,
+    /// Offset of the value in the dictionary's storage ([`Row::new`] puts its length here,
+    /// [`Table::new`] the offset).
+    at: u32,
+}
+
+/// The access rights by their code in [`Row::key`].
+const ACCESS: [Access; 6] =
+    [Access::Ro, Access::Wo, Access::Rw, Access::Rwr, Access::Rww, Access::Const];
+
+impl Row {
+    /// The row of `entry`, whose limits and default are `spec` (`entry.spec()`: see
+    /// [`row!`](crate::slave::row)).
+    pub const fn new<T>(entry: &Entry<T>, spec: &'static Spec<T>) -> Row
+    where
+        T: ObjValue + PartialOrd + Sync + 'static,
+    {
+        let access = entry.access as u32;
+        let key = key(entry.addr.index, entry.addr.sub) | access << 24;
+        Row { spec, key, at: T::MAX_LEN as u32 }
+    }
+
+    /// The entry's address.
+    pub const fn addr(&self) -> ObjectAddr {
+        ObjectAddr::new((self.key >> 8) as u16, self.key as u8)
+    }
+
+    /// The entry's access right.
+    pub fn access(&self) -> Access {
+        match ACCESS.get((self.key >> 24) as usize) {
+            Some(&a) => a,
+            // Unreachable: `Row::new` stores the code of an `Access`.
+            None => Access::Ro,
+        }
+    }
+
+    /// The entry's CiA 301 data type.
+    pub fn data_type(&self) -> DataType {
+        self.spec.data_type()
+    }
+
+    /// The stored bytes of this row in `values`.
+    fn of<'v>(&self, values: &'v [u8]) -> Result<&'v [u8], SdoAbort> {
+        let at = self.at as usize;
+        // `values` is a dictionary's storage, `Table::size` bytes long: always `Some`.
+        values.get(at..at + self.spec.len()).ok_or(SdoAbort::General)
+    }
+
+    fn of_mut<'v>(&self, values: &'v mut [u8]) -> Result<&'v mut [u8], SdoAbort> {
+        let at = self.at as usize;
+        values.get_mut(at..at + self.spec.len()).ok_or(SdoAbort::General)
+    }
+}
+
+impl fmt::Debug for Row {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Row")
+            .field("addr", &self.addr())
+            .field("access", &self.access())
+            .field("data_type", &self.data_type())
+            .field("at", &self.at)
+            .finish()
+    }
+}
+
+/// The rows of a generated dictionary, sorted by address, with their search keys and the
+/// storage layout: what `Dictionary` needs besides its stored bytes.
+///
+/// Generated code builds it in a `const` (`Table::new([row!(od::DEVICE_TYPE), …])`) and
+/// keeps the values in a `[u8; TABLE.size()]`; every SDO transfer goes through [`Table::read`]
+/// and [`Table::write`], the firmware's own accesses through [`Table::get`] and
+/// [`Table::set`].
+#[derive(Clone, Copy, Debug)]
+pub struct Table<const N: usize> {
+    rows: [Row; N],
+    size: usize,
+}
+
+impl<const N: usize> Table<N> {
+    /// The table of `rows`, which must be sorted by address without duplicates (generated
+    /// tables are); lays the values out one after the other in row order.
+    pub const fn new(mut rows: [Row; N]) -> Self {
+        let mut at = 0;
+        let mut i = 0;
+        // `i < N`: the indexing cannot fail.
+        while i < N {
+            let len = rows[i].at;
+            rows[i].at = at;
+            at += len;
+            i += 1;
+        }
+        Table { rows, size: at as usize }
+    }
+
+    /// The size of the storage in bytes: the encoded sizes of every entry's type.
+    pub const fn size(&self) -> usize {
+        self.size
+    }
+
+    /// The number of entries.
+    pub const fn len(&self) -> usize {
+        N
+    }
+
+    /// Whether the table has no entry.
+    pub const fn is_empty(&self) -> bool {
+        N == 0
+    }
+
+    /// The rows, in address order.
+    pub const fn rows(&self) -> &[Row] {
+        &self.rows
+    }
+
+    /// Fills `values` (zeroed, [`Table::size`] bytes) with every entry's initial value on
+    /// node `node_id`: its default (`$NODEID` applied), else zero moved into its limits (see
+    /// [`initial`](super::initial)).
+    pub fn init(&self, values: &mut [u8], node_id: u8) {
+        for row in &self.rows {
+            if let Ok(stored) = row.of_mut(values) {
+                row.spec.init(stored, node_id);
+            }
+        }
+    }
+
+    fn row(&self, index: u16, sub: u8) -> Result<&Row, SdoAbort> {
+        let pos = search(&self.rows, |r| r.key & 0xFF_FFFF, index, sub)?;
+        self.rows.get(pos).ok_or(SdoAbort::NoSuchObject)
+    }
+
+    /// SDO upload of `index:sub` from `values` into `buf`; returns the length.
+    ///
+    /// # Errors
+    ///
+    /// [`SdoAbort::NoSuchObject`] or [`SdoAbort::NoSuchSub`] (see [`Table::read`]),
+    /// [`SdoAbort::ReadOfWriteOnly`], [`SdoAbort::TooShort`] when `buf` cannot hold the value.
+    pub fn read(
+        &self,
+        values: &[u8],
+        index: u16,
+        sub: u8,
+        buf: &mut [u8],
+    ) -> Result<usize, SdoAbort> {
+        let row = self.row(index, sub)?;
+        if !row.access().readable() {
+            return Err(SdoAbort::ReadOfWriteOnly);
+        }
+        let stored = row.of(values)?;
+        // The stored bytes are the encoding, but for the zeros that pad a shorter string.
+        let len = match row.data_type() {
+            DataType::VisibleString => stored.iter().rposition(|&b| b != 0).map_or(0, |p| p + 1),
+            _ => stored.len(),
+        };
+        let (src, dst) = (stored.get(..len), buf.get_mut(..len));
+        let (Some(src), Some(dst)) = (src, dst) else { return Err(SdoAbort::TooShort) };
+        for (d, s) in dst.iter_mut().zip(src) {
+            *d = *s;
+        }
+        Ok(len)
+    }
+
+    /// SDO download of `data` into `index:sub` of `values`: the checks, then `hook` before
+    /// and after the value is stored.
+    ///
+    /// # Errors
+    ///
+    /// In this order: [`SdoAbort::NoSuchObject`] or [`SdoAbort::NoSuchSub`],
+    /// [`SdoAbort::WriteOfReadOnly`], the length or value error of decoding `data`
+    /// ([`SdoAbort::TooShort`], `TooLong`, `InvalidValue`), the limits
+    /// ([`SdoAbort::MaxLessThanMin`], `ValueTooHigh`, `ValueTooLow`, see
+    /// [`crate::check_range`]), or what `hook.before_write` answered; the value is then
+    /// unchanged.
+    pub fn write(
+        &self,
+        values: &mut [u8],
+        index: u16,
+        sub: u8,
+        data: &[u8],
+        hook: &mut dyn WriteHook,
+    ) -> Result<(), SdoAbort> {
+        let row = self.row(index, sub)?;
+        if !row.access().writable() {
+            return Err(SdoAbort::WriteOfReadOnly);
+        }
+        row.spec.check(data)?;
+        let addr = row.addr();
+        hook.before_write(addr, data)?;
+        store(row.data_type(), data, row.of_mut(values)?);
+        hook.after_write(addr);
+        Ok(())
+    }
+
+    /// The row of a typed descriptor, if the table has its address with its type.
+    fn typed<T: ObjValue>(&self, entry: &Entry<T>) -> Result<&Row, SdoAbort> {
+        let row = self.row(entry.addr.index, entry.addr.sub)?;
+        if row.data_type() != T::DATA_TYPE || row.spec.len() != T::MAX_LEN {
+            return Err(SdoAbort::LengthMismatch);
+        }
+        Ok(row)
+    }
+
+    /// The value of `entry` in `values`, for the firmware: no access check.
+    ///
+    /// # Errors
+    ///
+    /// [`SdoAbort::NoSuchObject`] or [`SdoAbort::NoSuchSub`] when the table has no entry at
+    /// that address, [`SdoAbort::LengthMismatch`] when it has one of another type: `entry` is
+    /// not from this dictionary's `od` module.
+    pub fn get<T: ObjValue>(&self, values: &[u8], entry: &Entry<T>) -> Result<T, SdoAbort> {
+        Ok(T::decode(self.typed(entry)?.of(values)?)?)
+    }
+
+    /// Stores `value` for `entry` in `values`, for the firmware: no access or limit check,
+    /// no hook (a drive sets its read-only statusword this way).
+    ///
+    /// # Errors
+    ///
+    /// As for [`Table::get`], or the encoding error of a time value out of range.
+    pub fn set<T: ObjValue>(
+        &self,
+        values: &mut [u8],
+        entry: &Entry<T>,
+        value: T,
+    ) -> Result<(), SdoAbort> {
+        let stored = self.typed(entry)?.of_mut(values)?;
+        stored.fill(0);
+        value.encode(stored)?;
+        Ok(())
+    }
+
+    /// Shows `values` as a map from address to typed value, for `Debug`.
+    ///
+    /// # Errors
+    ///
+    /// The formatter's.
+    pub fn fmt_values(&self, values: &[u8], f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        struct Shown<'a>(&'a Row, &'a [u8]);
+        impl fmt::Debug for Shown<'_> {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                match self.0.of(self.1) {
+                    Ok(stored) => show(self.0.data_type(), stored, f),
+                    Err(_) => f.write_str("<missing>"),
+                }
+            }
+        }
+        struct Addr(ObjectAddr);
+        impl fmt::Debug for Addr {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                fmt::Display::fmt(&self.0, f)
+            }
+        }
+        f.debug_map().entries(self.rows.iter().map(|r| (Addr(r.addr()), Shown(r, values)))).finish()
+    }
+}
+
+/// Shows stored bytes by their data type: numbers and strings as such, the rest as bytes.
+/// Untyped, so that `Debug` of a dictionary links no formatting per value type.
+fn show(data_type: DataType, stored: &[u8], f: &mut fmt::Formatter<'_>) -> fmt::Result {
+    let mut le = [0u8; 8];
+    for (d, s) in le.iter_mut().zip(stored) {
+        *d = *s;
+    }
+    let raw = u64::from_le_bytes(le);
+    let bits = u32::try_from(stored.len() * 8).unwrap_or(64).min(64);
+    match data_type {
+        DataType::Boolean => write!(f, "{}", raw != 0),
+        DataType::Real32 => write!(f, "{:?}", f32::from_bits(raw as u32)),
+        DataType::Real64 => write!(f, "{:?}", f64::from_bits(raw)),
+        DataType::Integer8
+        | DataType::Integer16
+        | DataType::Integer24
+        | DataType::Integer32
+        | DataType::Integer40
+        | DataType::Integer48
+        | DataType::Integer56
+        | DataType::Integer64 => write!(f, "{}", crate::bits::sign_extend(raw, bits)),
+        DataType::VisibleString => {
+            let end = stored.iter().position(|&b| b == 0).unwrap_or(stored.len());
+            let text = stored.get(..end).and_then(|b| core::str::from_utf8(b).ok());
+            write!(f, "{:?}", text.unwrap_or(""))
+        }
+        _ if data_type.bits().is_some() && stored.len() <= 8 => write!(f, "{raw}"),
+        _ => write!(f, "{stored:02X?}"),
+    }
+}
