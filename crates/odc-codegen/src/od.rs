@@ -141,8 +141,9 @@ fn access_tokens(a: Access, rt: &TokenStream) -> TokenStream {
     }
 }
 
-/// The doc comment of a descriptor: name, then address, type, access, limits, default.
-fn entry_doc(ctx: &Ctx<'_>, index: u16, sub: &SubObject, ty: RustTy) -> String {
+/// The doc comment of a descriptor: name, then in one paragraph address, type, access,
+/// limits, default. (The source file is named once, in the `od` module's documentation.)
+fn entry_doc(index: u16, sub: &SubObject, ty: RustTy) -> String {
     let mut facts = vec![
         format!("`0x{index:04X}:{:02X}`", sub.sub_index),
         sub.data_type.name().into_owned(),
@@ -151,7 +152,7 @@ fn entry_doc(ctx: &Ctx<'_>, index: u16, sub: &SubObject, ty: RustTy) -> String {
     if sub.pdo_mapping.is_mappable() {
         facts.push("PDO-mappable".to_string());
     }
-    let mut lines = vec![sub.name.to_string(), String::new(), facts.join(", ") + "."];
+    let mut facts = vec![facts.join(", ") + "."];
     let rt = quote!(::odc);
     let mut notes = Vec::new();
     let limit = |v: Option<&odc_model::Spanned<Value>>| {
@@ -176,15 +177,8 @@ fn entry_doc(ctx: &Ctx<'_>, index: u16, sub: &SubObject, ty: RustTy) -> String {
             if ok { "." } else { " (not a value of the type; not used)." }
         ));
     }
-    if !notes.is_empty() {
-        lines.push(String::new());
-        lines.push(notes.join(" "));
-    }
-    if !ctx.source.is_empty() {
-        lines.push(String::new());
-        lines.push(format!("From `{}`.", ctx.source));
-    }
-    lines.join("\n")
+    facts.extend(notes);
+    format!("{}\n\n{}", sub.name, facts.join(" "))
 }
 
 fn descriptor(ctx: &Ctx<'_>, index: u16, sub: &SubObject, name: &EntryName) -> TokenStream {
@@ -196,25 +190,21 @@ fn descriptor(ctx: &Ctx<'_>, index: u16, sub: &SubObject, name: &EntryName) -> T
     let pname = sub.name.as_str();
     let access = access_tokens(sub.access, rt);
     let mappable = sub.pdo_mapping.is_mappable();
-    let none = quote!(None);
-    let low = sub
-        .low_limit
-        .as_ref()
-        .and_then(|v| name.ty.option_expr(&v.value, rt))
-        .unwrap_or_else(|| none.clone());
-    let high = sub
-        .high_limit
-        .as_ref()
-        .and_then(|v| name.ty.option_expr(&v.value, rt))
-        .unwrap_or_else(|| none.clone());
-    let default =
-        sub.initial_value().and_then(|v| name.ty.default_expr(&v.value, rt)).unwrap_or(none);
-    let docs = doc(&entry_doc(ctx, index, sub, name.ty));
+    let low = sub.low_limit.as_ref().and_then(|v| name.ty.option_expr(&v.value, rt));
+    let high = sub.high_limit.as_ref().and_then(|v| name.ty.option_expr(&v.value, rt));
+    let default = sub.initial_value().and_then(|v| name.ty.default_builder(&v.value, rt));
+    // Only what the file says: limits and a default are added to the plain descriptor when
+    // there are any.
+    let limits = (low.is_some() || high.is_some()).then(|| {
+        let none = quote!(None);
+        let (low, high) = (low.unwrap_or_else(|| none.clone()), high.unwrap_or(none));
+        quote!(.with_limits(#low, #high))
+    });
+    let docs = doc(&entry_doc(index, sub, name.ty));
     quote! {
         #docs
-        pub const #konst: #rt::Entry<#ty> = #rt::Entry::full(
-            #idx, #sidx, #pname, #access, #mappable, #low, #high, #default,
-        );
+        pub const #konst: #rt::Entry<#ty> =
+            #rt::Entry::new(#idx, #sidx, #pname, #access, #mappable) #limits #default;
     }
 }
 

@@ -284,6 +284,24 @@ impl RustTy {
     }
 }
 
+impl RustTy {
+    /// The builder call that gives a descriptor its default (`.with_default(…)`), or `None` as
+    /// for [`RustTy::default_expr`].
+    pub fn default_builder(self, value: &Value, rt: &TokenStream) -> Option<TokenStream> {
+        if let Value::NodeIdPlus(off) = value {
+            if !matches!(self, RustTy::Unsigned(_) | RustTy::Signed(_)) {
+                return None;
+            }
+            let lit = int_literal(u64::from(u32::try_from(*off).ok()?));
+            return Some(quote!(.with_default(#rt::DefaultValue::NodeIdPlus(#lit))));
+        }
+        Some(match self.value_expr(value, rt)? {
+            ValueExpr::Plain(e) => quote!(.with_default(#rt::DefaultValue::Value(#e))),
+            ValueExpr::Checked(e) => quote!(.with_default_checked(#e)),
+        })
+    }
+}
+
 /// A value expression: of the type itself, or of `Option` when a checked constructor builds it.
 enum ValueExpr {
     Plain(TokenStream),

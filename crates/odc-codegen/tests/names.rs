@@ -6,12 +6,18 @@ mod common;
 
 use odc_codegen::{Options, generate};
 
-/// The identifier declared just before `0x<index>,` in a descriptor: `pub const NAME: …`.
+/// The identifier of the descriptor of `index`: `pub const NAME: … Entry::new(<index>, …`,
+/// however the formatter broke its lines.
 fn const_for(code: &str, index: &str) -> String {
-    let at = code.find(&format!("Entry::full(\n        {index},")).expect("descriptor generated");
-    let head = &code[..at];
-    let start = head.rfind("pub const ").expect("a const") + "pub const ".len();
-    head[start..].split(':').next().unwrap_or_default().to_string()
+    let needle = format!("Entry::new({index},");
+    code.split("pub const ")
+        .find(|item| {
+            let item = item.split(';').next().unwrap_or_default();
+            item.split_whitespace().collect::<String>().contains(&needle)
+        })
+        .and_then(|item| item.split(':').next())
+        .expect("descriptor generated")
+        .to_string()
 }
 
 #[test]

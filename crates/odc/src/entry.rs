@@ -156,6 +156,18 @@ impl<T: ObjValue> Entry<T> {
         )
     }
 
+    /// The same descriptor with `value` as its default when there is one: for a value a
+    /// checked constructor makes (`VisibleString::new`), which generated code has checked.
+    pub const fn with_default_checked(self, value: Option<T>) -> Self
+    where
+        T: Copy,
+    {
+        match value {
+            Some(v) => self.with_default(DefaultValue::Value(v)),
+            None => self,
+        }
+    }
+
     /// The CiA 301 data type.
     pub const fn data_type(&self) -> DataType {
         T::DATA_TYPE
