@@ -219,7 +219,9 @@ impl Config {
     /// by object), sets severities of configured rules, turns warnings into errors when strict,
     /// and sorts by position.
     pub fn apply(&self, device: &Device, diags: Vec<Diagnostic>) -> Vec<Diagnostic> {
-        let sections = SectionIndex::new(device);
+        // Which object a diagnostic concerns is asked only by per-object allowances; the index
+        // of sections that answers it for front-end diagnostics is built on first need.
+        let mut sections: Option<SectionIndex> = None;
         let mut out = Vec::with_capacity(diags.len());
         for mut d in diags {
             let info = self.registry.get(d.code);
@@ -235,9 +237,13 @@ impl Config {
                     }
                     Some(Level::Warn) | None => {}
                 }
-                let object = d.object.or_else(|| sections.object_at(&d));
-                if self.allowed_for(info, object) {
-                    continue;
+                if !self.allow_object.is_empty() {
+                    let object = d.object.or_else(|| {
+                        sections.get_or_insert_with(|| SectionIndex::new(device)).object_at(&d)
+                    });
+                    if self.allowed_for(info, object) {
+                        continue;
+                    }
                 }
             }
             if self.strict && d.severity == Severity::Warning {

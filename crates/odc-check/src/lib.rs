@@ -179,7 +179,8 @@ pub fn rules() -> Registry {
 
 /// This crate's rule with this code, if it is one.
 fn own_rule(code: &str) -> Option<&'static Rule> {
-    RULES.iter().find(|r| r.info.code == code)
+    // RULES is in code order (a test holds it so).
+    RULES.binary_search_by(|r| r.info.code.cmp(code)).ok().and_then(|i| RULES.get(i))
 }
 
 /// Runs every enabled rule on `device`, applies `config` and returns the diagnostics sorted by

@@ -477,14 +477,23 @@ impl Sources {
         (longest > MAX_SNIPPET_LINE).then_some(longest)
     }
 
-    fn emit(&self, d: &Diagnostic, config: &term::Config, color: bool) -> String {
-        use term::termcolor::Buffer;
-        let mut buffer = if color { Buffer::ansi() } else { Buffer::no_color() };
+    /// Appends one rendered diagnostic to `out`.
+    fn emit(&self, d: &Diagnostic, config: &term::Config, color: bool, out: &mut Vec<u8>) {
+        use term::termcolor::{Ansi, NoColor};
+        let start = out.len();
+        let diagnostic = self.to_codespan(d);
+        let written = if color {
+            term::emit_to_write_style(&mut Ansi::new(&mut *out), config, self, &diagnostic)
+        } else {
+            term::emit_to_write_style(&mut NoColor::new(&mut *out), config, self, &diagnostic)
+        };
         // Labels are filtered to files in this set, so rendering cannot fail on a missing file;
         // should it fail anyway (a span past the end of the text), fall back to the bare message.
-        match term::emit_to_write_style(&mut buffer, config, self, &self.to_codespan(d)) {
-            Ok(()) => String::from_utf8_lossy(buffer.as_slice()).into_owned(),
-            Err(_) => format!("{}[{}]: {}\n", d.severity.as_str(), d.code, d.message),
+        if written.is_err() {
+            out.truncate(start);
+            out.extend_from_slice(
+                format!("{}[{}]: {}\n", d.severity.as_str(), d.code, d.message).as_bytes(),
+            );
         }
     }
 }
@@ -496,7 +505,15 @@ pub const MAX_SNIPPET_LINE: usize = 1000;
 /// Renders diagnostics the way rustc does: header, source snippet, underlined span, notes.
 pub fn render_human(sources: &Sources, diags: &[Diagnostic], color: bool) -> String {
     let config = term::Config::default();
-    diags.iter().map(|d| sources.emit(d, &config, color)).collect::<Vec<_>>().join("\n")
+    // One buffer for every diagnostic, a blank line between two.
+    let mut out = Vec::new();
+    for (i, d) in diags.iter().enumerate() {
+        if i > 0 {
+            out.push(b'\n');
+        }
+        sources.emit(d, &config, color, &mut out);
+    }
+    String::from_utf8(out).unwrap_or_else(|e| String::from_utf8_lossy(e.as_bytes()).into_owned())
 }
 
 /// Renders one line per diagnostic: `path:line:col: error[CODE]: message`.
