@@ -78,6 +78,7 @@
 #[cfg(feature = "std")]
 extern crate std;
 
+mod abort;
 pub mod bits;
 pub mod can;
 pub mod cia402;
@@ -93,9 +94,9 @@ pub mod slave;
 mod types;
 mod value;
 
+pub use abort::SdoAbort;
 pub use entry::{DefaultValue, Entry, EntryInfo, check_range};
 pub use pdo::{MappingEntry, PackError, Pdo, PdoValue, UnpackError};
-pub use sdo::SdoAbort;
 pub use types::{Access, DataType, ObjectAddr};
 pub use value::{
     I24, I40, I48, I56, ObjValue, OctetString, TimeDifference, TimeOfDay, U24, U40, U48, U56,
