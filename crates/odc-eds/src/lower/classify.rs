@@ -171,16 +171,42 @@ pub(super) struct ObjB<'s> {
 /// object's sections, roles in order, sub-objects by sub-index. All object sections of a file
 /// go into one vector that is sorted once (files list them in order, so it usually already
 /// is): no map and no vector per object.
-pub(super) fn section_key(owner: u32, index: u16, role: u8, sub: u8) -> u64 {
+pub(super) fn section_key(owner: u32, index: u16, role: Role, sub: u8) -> u64 {
+    let role = role as u8;
     (u64::from(owner) << 32) | (u64::from(index) << 16) | (u64::from(role) << 8) | u64::from(sub)
 }
 
-pub(super) const ROLE_MAIN: u8 = 0;
-pub(super) const ROLE_SUB: u8 = 1;
-pub(super) const ROLE_NAME: u8 = 2;
-pub(super) const ROLE_VALUE: u8 = 3;
-pub(super) const ROLE_DENOTATION: u8 = 4;
-pub(super) const ROLE_LINKS: u8 = 5;
+/// What a section is to its object, in the order the key sorts them.
+#[derive(Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+pub(super) enum Role {
+    /// `[IIII]`.
+    Main = 0,
+    /// `[IIIIsubS]`.
+    Sub = 1,
+    /// `[IIIIName]`.
+    Name = 2,
+    /// `[IIIIValue]`.
+    Value = 3,
+    /// `[IIIIDenotation]`.
+    Denotation = 4,
+    /// `[IIIIObjectLinks]`.
+    Links = 5,
+}
+
+impl Role {
+    /// The role a [`section_key`] holds.
+    fn of_key(key: u64) -> Role {
+        match (key >> 8) as u8 {
+            0 => Role::Main,
+            1 => Role::Sub,
+            2 => Role::Name,
+            3 => Role::Value,
+            4 => Role::Denotation,
+            _ => Role::Links,
+        }
+    }
+}
 
 /// The sub-object sections of one object: a run of the sorted section vector, `(key,
 /// section)` by sub-index. A sub-index given twice (spelt differently: `sub1`, `sub01`) is
@@ -230,18 +256,18 @@ pub(super) fn group_objects<'s>(
         let mut b = ObjB::default();
         let (mut sub_start, mut sub_end) = (0, 0);
         for (j, &(key, i)) in group.iter().enumerate() {
-            match (key >> 8) as u8 {
-                ROLE_MAIN => b.main = Some(i),
-                ROLE_SUB => {
+            match Role::of_key(key) {
+                Role::Main => b.main = Some(i),
+                Role::Sub => {
                     if sub_end == 0 {
                         sub_start = j;
                     }
                     sub_end = j + 1;
                 }
-                ROLE_NAME => b.name = Some(i),
-                ROLE_VALUE => b.value = Some(i),
-                ROLE_DENOTATION => b.denotation = Some(i),
-                _ => b.links = Some(i),
+                Role::Name => b.name = Some(i),
+                Role::Value => b.value = Some(i),
+                Role::Denotation => b.denotation = Some(i),
+                Role::Links => b.links = Some(i),
             }
         }
         b.subs = SubSections(&group[sub_start..sub_end]);

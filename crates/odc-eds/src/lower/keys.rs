@@ -24,7 +24,8 @@ pub(super) enum K {
     ObjExtend,
 }
 
-pub(super) const N_KEYS: usize = 17;
+/// How many keys `K` names: the last one's number plus one.
+pub(super) const N_KEYS: usize = K::ObjExtend as usize + 1;
 
 /// The keys of a CompactSubObj object's section that every implied sub-object takes.
 pub(super) const COMPACT_TEMPLATE: [K; 10] = [

@@ -170,25 +170,25 @@ impl<'r, 'a> Lower<'r, 'a> {
                     if x <= 0x025F {
                         self.defined_types.push(x);
                     }
-                    secs.push((section_key(0, x, ROLE_MAIN, 0), i));
+                    secs.push((section_key(0, x, Role::Main, 0), i));
                 }
-                Kind::Sub(x, s) => secs.push((section_key(0, x, ROLE_SUB, s), i)),
-                Kind::Name(x) => secs.push((section_key(0, x, ROLE_NAME, 0), i)),
+                Kind::Sub(x, s) => secs.push((section_key(0, x, Role::Sub, s), i)),
+                Kind::Name(x) => secs.push((section_key(0, x, Role::Name, 0), i)),
                 Kind::Value(x) => {
                     has_value_sections = true;
-                    secs.push((section_key(0, x, ROLE_VALUE, 0), i));
+                    secs.push((section_key(0, x, Role::Value, 0), i));
                 }
-                Kind::Denotation(x) => secs.push((section_key(0, x, ROLE_DENOTATION, 0), i)),
-                Kind::Links(x) => secs.push((section_key(0, x, ROLE_LINKS, 0), i)),
+                Kind::Denotation(x) => secs.push((section_key(0, x, Role::Denotation, 0), i)),
+                Kind::Links(x) => secs.push((section_key(0, x, Role::Links, 0), i)),
                 Kind::ModInfo(m) => modules.entry(m).or_default().info = Some(i),
                 Kind::ModFixedObjects(m) => modules.entry(m).or_default().fixed_list = Some(i),
                 Kind::ModFixed(m, x) => {
                     modules.entry(m).or_default();
-                    secs.push((section_key(u32::from(m) + 1, x, ROLE_MAIN, 0), i));
+                    secs.push((section_key(u32::from(m) + 1, x, Role::Main, 0), i));
                 }
                 Kind::ModFixedSub(m, x, s) => {
                     modules.entry(m).or_default();
-                    secs.push((section_key(u32::from(m) + 1, x, ROLE_SUB, s), i));
+                    secs.push((section_key(u32::from(m) + 1, x, Role::Sub, s), i));
                 }
                 Kind::ModSubExtends(m) => modules.entry(m).or_default().sub_ext_list = Some(i),
                 Kind::ModSubExt(m, x) => {
