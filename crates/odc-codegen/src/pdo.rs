@@ -205,7 +205,8 @@ pub fn sm_layout(pdos: &[Pdo]) -> (Vec<Option<usize>>, SmImages) {
             let sm = pdo.sync_manager?;
             let slot = sms.entry(sm).or_default();
             let offset = slot.0;
-            slot.0 += (pdo.bits() as usize).div_ceil(8);
+            // Each PDO takes whole bytes of the image (the layout engine's rule).
+            slot.0 += odc_layout::bytes_for_bits(pdo.bits()) as usize;
             slot.1.push(i);
             Some(offset)
         })
