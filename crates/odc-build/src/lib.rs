@@ -94,8 +94,6 @@ impl From<odc_pipeline::Error> for Error {
             odc_pipeline::Error::Overlay { path, message } => Error::Overlay { path, message },
             odc_pipeline::Error::UnknownRule(e) => Error::UnknownRule(e),
             odc_pipeline::Error::Select { path, message } => Error::NoSuchDevice { path, message },
-            // `odc_pipeline::Error` is non-exhaustive: a future kind keeps its message.
-            other => Error::Overlay { path: PathBuf::new(), message: other.to_string() },
         }
     }
 }
@@ -251,11 +249,9 @@ impl Config {
             };
             let loaded = odc_pipeline::load(&input.path, &options).map_err(Error::from)?;
             out.read.extend(loaded.read.iter().cloned());
-            if let Err(refused) = loaded.gate() {
-                let errors: Vec<Diagnostic> = loaded.errors().cloned().collect();
-                let report = format!("{}error: {refused}\n", loaded.render(&errors));
-                return Err(Error::Diagnostics { path: input.path.clone(), report });
-            }
+            loaded
+                .gate_report()
+                .map_err(|report| Error::Diagnostics { path: input.path.clone(), report })?;
             let warnings: Vec<Diagnostic> = loaded.warnings().cloned().collect();
             out.warnings
                 .extend(diag::render_short(&loaded.sources, &warnings).lines().map(String::from));

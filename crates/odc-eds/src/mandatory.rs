@@ -28,21 +28,21 @@ pub fn add_mandatory_objects(device: &mut Device) -> Vec<u16> {
     let device_type = device.ethercat.as_ref().and_then(|ec| ec.profiles.first()).map_or(0, |p| {
         (p.profile_no.unwrap_or(0) & 0xFFFF) | (p.add_info.unwrap_or(0) & 0xFFFF) << 16
     });
-    for index in [0x1000, 0x1001, 0x1018] {
+    let mut identity_record =
+        Object::new(0x1018, "Identity object", ObjectKind::Record, Span::DUMMY);
+    identity_record.subs.insert(0, sub(0, "Number of entries", DataType::Unsigned8, 3));
+    for (i, name, value) in identity {
+        identity_record.subs.insert(i, sub(i, name, DataType::Unsigned32, u64::from(value)));
+    }
+    let mandatory = [
+        var(0x1000, "Device type", DataType::Unsigned32, device_type),
+        var(0x1001, "Error register", DataType::Unsigned8, 0),
+        identity_record,
+    ];
+    for object in mandatory {
+        let index = object.index;
         if let std::collections::btree_map::Entry::Vacant(slot) = device.objects.entry(index) {
-            slot.insert(match index {
-                0x1000 => var(index, "Device type", DataType::Unsigned32, device_type),
-                0x1001 => var(index, "Error register", DataType::Unsigned8, 0),
-                _ => {
-                    let mut record =
-                        Object::new(index, "Identity object", ObjectKind::Record, Span::DUMMY);
-                    record.subs.insert(0, sub(0, "Number of entries", DataType::Unsigned8, 3));
-                    for (i, name, value) in identity {
-                        record.subs.insert(i, sub(i, name, DataType::Unsigned32, u64::from(value)));
-                    }
-                    record
-                }
-            });
+            slot.insert(object);
             added.push(index);
         }
     }

@@ -153,10 +153,7 @@ fn expand(args: &Args) -> syn::Result<TokenStream> {
 
 /// Passes the error gate and generates; the error is the rendered report.
 fn generate(loaded: &odc_pipeline::Loaded, role: Role) -> Result<String, String> {
-    if let Err(refused) = loaded.gate() {
-        let errors: Vec<_> = loaded.errors().cloned().collect();
-        return Err(format!("{}error: {refused}\n", loaded.render(&errors)));
-    }
+    loaded.gate_report()?;
     let device = loaded.device().map_err(|e| e.to_string())?;
     loaded.generate(device, role, "::odc").map_err(|d| loaded.render(&d))
 }

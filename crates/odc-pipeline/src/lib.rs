@@ -111,7 +111,6 @@ impl Options {
 
 /// Why a file could not be loaded at all (its content's problems are diagnostics instead).
 #[derive(Debug, thiserror::Error)]
-#[non_exhaustive]
 pub enum Error {
     /// A file could not be read.
     #[error("cannot read {}: {source}", path.display())]
@@ -185,9 +184,8 @@ impl fmt::Display for Refused {
         let n = self.errors;
         let plural = if n == 1 { "" } else { "s" };
         write!(f, "{}: refused: {n} error{plural}", self.path.display())?;
-        let allowable: Vec<&str> =
-            self.codes.iter().copied().filter(|c| registry().get(c).is_some()).collect();
-        match allowable.first() {
+        // The first code a level can be set for (generator codes cannot be allowed).
+        match self.codes.iter().find(|c| registry().get(c).is_some()) {
             Some(first) => write!(
                 f,
                 " ({}); fix the file, or allow a rule: `{first} = \"allow\"` under [rules] in \
@@ -239,6 +237,19 @@ impl Loaded {
             None => beside,
         };
         Err(Refused { path: name.to_path_buf(), errors, codes, overlay })
+    }
+
+    /// The error gate for a driver that reports in text (build script, macro): the error-level
+    /// diagnostics rendered like rustc's, then the refusal's line.
+    ///
+    /// # Errors
+    ///
+    /// That report, when a diagnostic is at error level.
+    pub fn gate_report(&self) -> Result<(), String> {
+        self.gate().map_err(|refused| {
+            let errors: Vec<Diagnostic> = self.errors().cloned().collect();
+            format!("{}error: {refused}\n", self.render(&errors))
+        })
     }
 
     /// The one device a command works on.
@@ -326,13 +337,17 @@ pub fn parse(sources: &mut Sources, name: &str, path: &Path, bytes: Vec<u8>) -> 
 
 /// Applies `config` to the front-end's diagnostics and runs the checks on every device: the
 /// diagnostics of a parsed file at their configured levels, sorted.
-pub fn check(parsed: &Parsed, config: &CheckConfig) -> Vec<Diagnostic> {
+pub fn check(
+    devices: &[Device],
+    front_end: Vec<Diagnostic>,
+    config: &CheckConfig,
+) -> Vec<Diagnostic> {
     let empty = Device::default();
     // The front-end's diagnostics are the file's, whichever device they concern; the first
     // device only serves to find the EDS section a diagnostic lies in.
-    let first = parsed.devices.first().unwrap_or(&empty);
-    let mut all = config.apply(first, parsed.diagnostics.clone());
-    for device in &parsed.devices {
+    let first = devices.first().unwrap_or(&empty);
+    let mut all = config.apply(first, front_end);
+    for device in devices {
         all.extend(odc_check::check(device, config));
     }
     diag::sort(&mut all);
@@ -375,19 +390,20 @@ pub fn load(path: &Path, options: &Options) -> Result<Loaded, Error> {
     let mut sources = Sources::new();
     let sha256 = if options.source_hash { sha256_hex(&bytes) } else { String::new() };
     let name = options.name.clone().unwrap_or_else(|| path.display().to_string());
-    let mut parsed = parse(&mut sources, &name, path, bytes);
-    let unread = parsed.devices.is_empty();
-    parsed.devices = options
-        .select
-        .apply(std::mem::take(&mut parsed.devices))
-        .map_err(|message| Error::Select { path: PathBuf::from(&name), message })
-        .or_else(|e| if unread { Ok(Vec::new()) } else { Err(e) })?;
-    let diagnostics = check(&parsed, &config);
+    let parsed = parse(&mut sources, &name, path, bytes);
+    // A file read as no device has nothing to select: its diagnostics say why.
+    let devices = if parsed.devices.is_empty() {
+        parsed.devices
+    } else {
+        let select = options.select.apply(parsed.devices);
+        select.map_err(|message| Error::Select { path: PathBuf::from(&name), message })?
+    };
+    let diagnostics = check(&devices, parsed.diagnostics, &config);
     Ok(Loaded {
         path: path.to_path_buf(),
         name,
         sources,
-        devices: parsed.devices,
+        devices,
         diagnostics,
         read,
         overlay: overlay_path,
