@@ -193,3 +193,48 @@ fn dcf_values_are_kept_or_counted_in_a_warning() {
     }
     assert_eq!(std::fs::read_to_string(&dcf).unwrap(), text);
 }
+
+/// An EtherCAT device whose PDO is longer than a CAN frame's 64 bits is no CANopen device:
+/// `convert` to EDS refuses it (exit 1, nothing written) and names the rule; allowed by the
+/// rule, it is written, and `check` with the same allowance passes the output.
+#[test]
+fn esi_device_that_is_no_canopen_device_is_refused_unless_allowed() {
+    let dir = tempdir("not-canopen");
+    let entry = |sub: u8| {
+        format!(
+            "<Entry><Index>#x6000</Index><SubIndex>{sub}</SubIndex><BitLen>32</BitLen>\
+             <Name>In {sub}</Name><DataType>UDINT</DataType></Entry>"
+        )
+    };
+    let entries: String = (1..=3).map(entry).collect();
+    let esi = format!(
+        r##"<?xml version="1.0" ?>
+<EtherCATInfo>
+  <Vendor><Id>2</Id><Name>Wide IO</Name></Vendor>
+  <Descriptions><Devices><Device Physics="YY">
+    <Type ProductCode="#x1" RevisionNo="#x1">WIDE</Type>
+    <Name>Three 32-bit inputs in one PDO</Name>
+    <Sm ControlByte="#x00" Enable="1" StartAddress="#x1000">Inputs</Sm>
+    <TxPdo Fixed="1" Sm="0"><Index>#x1a00</Index><Name>Inputs</Name>{entries}</TxPdo>
+  </Device></Devices></Descriptions>
+</EtherCATInfo>"##
+    );
+    let input = dir.join("wide.xml");
+    std::fs::write(&input, esi).unwrap();
+    let (input, output) = (input.display().to_string(), dir.join("wide.eds"));
+    let out_name = output.display().to_string();
+
+    let refused = odc(&["convert", &input, "-o", &out_name]);
+    assert_eq!(refused.status.code(), Some(1), "{}", stderr(&refused));
+    let text = stderr(&refused);
+    assert!(text.contains("error[C304]: TPDO 0x1A00 maps 96 bits"), "{text}");
+    assert!(text.contains("refused: 1 error (C304)") && text.contains("`-A C304`"), "{text}");
+    assert!(!output.exists(), "nothing written");
+
+    let allowed = odc(&["convert", &input, "-A", "C304", "-o", &out_name]);
+    assert!(allowed.status.success(), "{}", stderr(&allowed));
+    let checked = odc(&["check", "-A", "C304", &out_name]);
+    assert_eq!(checked.status.code(), Some(0), "{}", stderr(&checked));
+    let unallowed = odc(&["check", &out_name]);
+    assert!(stderr(&unallowed).contains("error[C304]"), "{}", stderr(&unallowed));
+}

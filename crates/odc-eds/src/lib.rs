@@ -103,7 +103,7 @@ pub mod raw;
 mod rules;
 mod write;
 
-pub use mandatory::{add_mandatory_objects, pdo_directions_by_index};
+pub use mandatory::{add_mandatory_objects, as_canopen, pdo_directions_by_index};
 pub use odc_model::Diagnostic;
 pub use rules::{RULES, codes};
 pub use write::{DcfOnly, dcf_only};

@@ -75,6 +75,22 @@ pub fn pdo_directions_by_index(device: &Device) -> Vec<&Pdo> {
         .collect()
 }
 
+/// The device an EDS written from `device` describes, for checking it before it is written:
+/// a CANopen device (format EDS, so the CiA 301 rules that do not apply to EtherCAT do), with
+/// each PDO in the direction its mapping index gives ([`pdo_directions_by_index`]).
+pub fn as_canopen(device: &Device) -> Device {
+    let mut canopen = device.clone();
+    canopen.format = Some(Format::Eds);
+    for pdo in &mut canopen.pdos {
+        if (0x1600..=0x17FF).contains(&pdo.mapping_index) {
+            pdo.direction = Direction::Rx;
+        } else if (0x1A00..=0x1BFF).contains(&pdo.mapping_index) {
+            pdo.direction = Direction::Tx;
+        }
+    }
+    canopen
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

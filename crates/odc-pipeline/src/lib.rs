@@ -161,6 +161,9 @@ pub struct Loaded {
     pub overlay: Option<PathBuf>,
     /// What the overlay adds to generated code.
     pub codegen: odc_codegen::Overlay,
+    /// The checker's configuration that applied (overlay or `--config`, then the levels), for
+    /// a command that checks a device it derives from the file (`odc convert` of an ESI).
+    pub config: CheckConfig,
     /// SHA-256 of the device file's bytes, lower-case hex; empty when
     /// [`Options::source_hash`] was off.
     pub sha256: String,
@@ -217,9 +220,19 @@ impl Loaded {
     ///
     /// [`Refused`], naming the codes and where to allow them.
     pub fn gate(&self) -> Result<(), Refused> {
+        self.refuse(&self.diagnostics)
+    }
+
+    /// The error gate over other diagnostics of this file (say, those of a device derived from
+    /// it): `Ok` when none is at error level.
+    ///
+    /// # Errors
+    ///
+    /// [`Refused`], naming the codes and where to allow them.
+    pub fn refuse(&self, diagnostics: &[Diagnostic]) -> Result<(), Refused> {
         let mut codes = Vec::new();
         let mut errors = 0;
-        for d in self.errors() {
+        for d in diagnostics.iter().filter(|d| d.is_error()) {
             errors += 1;
             if !codes.contains(&d.code) {
                 codes.push(d.code);
@@ -408,6 +421,7 @@ pub fn load(path: &Path, options: &Options) -> Result<Loaded, Error> {
         read,
         overlay: overlay_path,
         codegen: overlay.map(|o| o.codegen).unwrap_or_default(),
+        config,
         sha256,
     })
 }

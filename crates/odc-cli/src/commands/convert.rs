@@ -12,7 +12,9 @@ use crate::input;
 /// The output format follows `--to`, else the extension of `-o`; a file holding DCF values
 /// (ParameterValue, Denotation, [DeviceComissioning], [ConnectedModules]) stays a DCF unless
 /// `--to eds` asks for an EDS, which leaves them out with a warning that counts them. Keys and
-/// sections odc does not interpret are carried over. The output file is replaced only when
+/// sections odc does not interpret are carried over. The output is read back and checked
+/// first: a file `odc check` would refuse at the same levels is not written (an ESI device that
+/// breaks CiA 301 as a CANopen device, say a 96-bit PDO). The output file is replaced only when
 /// writing succeeded.
 #[derive(clap::Args)]
 pub struct Args {
@@ -48,6 +50,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
              from <Profile>, identity from <Type>)",
             list.join(", ")
         );
+    }
+    if loaded.device()?.format == Some(Format::Esi) {
+        gate_as_canopen(&loaded, &device)?;
     }
     for pdo in odc_eds::pdo_directions_by_index(&device) {
         let (was, becomes) = match pdo.direction {
@@ -88,9 +93,65 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         );
     }
     let text = odc_eds::write(device, target);
+    gate_output(&loaded, &text, args.output.as_deref())?;
     match &args.output {
         Some(path) => input::write_atomic(path, text.as_bytes())?,
         None => super::out(&text)?,
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// An EtherCAT device written as EDS or DCF is a CANopen device, and is judged as one: by the
+/// CiA 301 rules that do not apply to EtherCAT (a PDO fits a CAN frame's 64 bits, maps objects
+/// the dictionary has, with their lengths and access; modules are CiA 306's), each PDO in the
+/// direction its index gives in an EDS. Refused like any file when
+/// that judgement has an error at the levels that apply, so that what `convert` writes passes
+/// `odc check`; `-A`/`-W` with the rule writes it anyway, and `check` with the same levels passes.
+fn gate_as_canopen(
+    loaded: &odc_pipeline::Loaded,
+    device: &odc_model::Device,
+) -> anyhow::Result<()> {
+    let canopen = odc_eds::as_canopen(device);
+    // Only the errors: the warnings of the EDS syntax rules (C115, SubNumber) concern text the
+    // writer makes right, and the rest are reported by `check` on the output.
+    let errors: Vec<_> =
+        odc_pipeline::check(std::slice::from_ref(&canopen), Vec::new(), &loaded.config)
+            .into_iter()
+            .filter(odc_model::Diagnostic::is_error)
+            .collect();
+    if !errors.is_empty() {
+        eprintln!(
+            "note: written as EDS/DCF, the EtherCAT device is a CANopen device and is checked by \
+             CiA 301's rules; the errors below are of the device taken as CANopen"
+        );
+    }
+    super::gate_over(loaded, &errors)
+}
+
+/// What `convert` writes passes `odc check` at the levels that apply: the text is read back
+/// and checked before it is written. An ESI whose mapping objects (0x1600/0x1A00 defaults)
+/// map other objects than its `<RxPdo>`/`<TxPdo>` elements passes [`gate_as_canopen`] and
+/// fails here, since an EDS gives its PDOs by those objects alone.
+fn gate_output(
+    loaded: &odc_pipeline::Loaded,
+    text: &str,
+    output: Option<&std::path::Path>,
+) -> anyhow::Result<()> {
+    let mut sources = odc_model::Sources::new();
+    let name = match output {
+        Some(path) => format!("{} (not written)", path.display()),
+        None => "<output> (not written)".to_owned(),
+    };
+    let back = odc_eds::parse(&mut sources, &name, text.as_bytes());
+    let diagnostics =
+        odc_pipeline::check(std::slice::from_ref(&back.device), back.diagnostics, &loaded.config);
+    let errors: Vec<_> = diagnostics.into_iter().filter(odc_model::Diagnostic::is_error).collect();
+    if errors.is_empty() {
+        return Ok(());
+    }
+    eprintln!(
+        "note: the converted file, read back, fails odc check at these levels; it was not written"
+    );
+    super::print_diagnostics(&sources, &errors, super::DiagFormat::Human, super::Color::Auto)?;
+    loaded.refuse(&errors).map_err(|refused| super::HasErrors(refused).into())
 }

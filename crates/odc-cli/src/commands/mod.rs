@@ -91,8 +91,13 @@ impl std::error::Error for HasErrors {}
 /// The error gate of the commands that need a usable model (generate, info, dump, convert):
 /// prints the file's errors and warnings, and fails with [`HasErrors`] when one is an error.
 pub fn gate(loaded: &odc_pipeline::Loaded) -> anyhow::Result<()> {
+    gate_over(loaded, &loaded.diagnostics)
+}
+
+/// [`gate`] over other diagnostics of the loaded file (those of a device derived from it).
+pub fn gate_over(loaded: &odc_pipeline::Loaded, diagnostics: &[Diagnostic]) -> anyhow::Result<()> {
     let shown: Vec<Diagnostic> =
-        loaded.diagnostics.iter().filter(|d| d.severity != Severity::Note).cloned().collect();
+        diagnostics.iter().filter(|d| d.severity != Severity::Note).cloned().collect();
     print_diagnostics(&loaded.sources, &shown, DiagFormat::Human, Color::Auto)?;
-    loaded.gate().map_err(|refused| HasErrors(refused).into())
+    loaded.refuse(diagnostics).map_err(|refused| HasErrors(refused).into())
 }
