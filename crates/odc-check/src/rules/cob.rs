@@ -66,21 +66,21 @@ impl Cob<'_> {
     }
 
     /// The COB-ID for each node-ID it depends on: `[(0, v)]` for a fixed value.
-    fn resolved(&self) -> Vec<(u8, u32)> {
-        match self.value.value {
-            Value::NodeIdPlus(k) => NODE_IDS
-                .filter_map(|n| u32::try_from(k + i64::from(n)).ok().map(|v| (n, v)))
-                .collect(),
-            ref v => match v.as_i128(0).and_then(|i| u32::try_from(i).ok()) {
-                Some(v) => vec![(0, v)],
-                None => Vec::new(),
-            },
-        }
+    fn resolved(&self) -> impl Iterator<Item = (u8, u32)> {
+        // A fixed value is the value at node-ID 0; one that is no number resolves to nothing.
+        let (nodes, base) = match self.value.value {
+            Value::NodeIdPlus(k) => (NODE_IDS, Some(i128::from(k))),
+            ref v => (0..=0, v.as_i128(0)),
+        };
+        nodes.filter_map(move |n| {
+            let v = u32::try_from(base? + i128::from(n)).ok()?;
+            Some((n, v))
+        })
     }
 
     /// Whether the service is in use (bit 31 clear), for every node-ID.
     fn is_valid(&self) -> bool {
-        !self.kind.has_valid_bit() || self.resolved().iter().all(|&(_, v)| v & 0x8000_0000 == 0)
+        !self.kind.has_valid_bit() || self.resolved().all(|(_, v)| v & 0x8000_0000 == 0)
     }
 }
 
@@ -150,17 +150,9 @@ fn restricted_cob_id(dev: &Device, ctx: &mut Ctx) {
         if matches!(c.kind, Kind::SdoRx(_) | Kind::SdoTx(_)) || !c.is_valid() {
             continue;
         }
-        let resolved = c.resolved();
-        let bad: Vec<u8> = resolved
-            .iter()
-            .filter(|&&(_, v)| v & (1 << 29) == 0 && restricted(v & 0x7FF))
-            .map(|&(n, _)| n)
-            .collect();
-        let Some(&(node, example)) =
-            resolved.iter().find(|&&(n, v)| bad.first() == Some(&n) && restricted(v & 0x7FF))
-        else {
-            continue;
-        };
+        let restricted_at = |&(_, v): &(u8, u32)| v & (1 << 29) == 0 && restricted(v & 0x7FF);
+        let Some((node, example)) = c.resolved().find(restricted_at) else { continue };
+        let bad: Vec<u8> = c.resolved().filter(restricted_at).map(|(n, _)| n).collect();
         let what = if c.value.value.is_node_relative() {
             format!(
                 "resolves to a restricted CAN-ID for {} (0x{:03X} at node-ID {node})",
@@ -201,7 +193,7 @@ fn cob_id_reserved_bits(dev: &Device, ctx: &mut Ctx) {
         return;
     }
     for c in cobs(dev) {
-        let bad = c.resolved().into_iter().find_map(|(_, v)| {
+        let bad = c.resolved().find_map(|(_, v)| {
             if v & (1 << 29) == 0 && (v >> 11) & 0x3_FFFF != 0 {
                 Some(format!("0x{v:08X} has bits 11–28 set with an 11-bit CAN-ID"))
             } else if c.kind == Kind::Emcy && v & (1 << 30) != 0 {

@@ -207,6 +207,15 @@ fn nodeid_value_out_of_range(dev: &Device, ctx: &mut Ctx) {
             if !v.value.is_node_relative() {
                 continue;
             }
+            // `$NODEID+k` takes the values k+1..=k+127, and the values a type accepts (written
+            // as unsigned or signed) form one interval: when the first and the last node-ID
+            // fit, all do.
+            let (first, last) = (*NODE_IDS.start(), *NODE_IDS.end());
+            if misfit(s.data_type, &v.value, first).is_none()
+                && misfit(s.data_type, &v.value, last).is_none()
+            {
+                continue;
+            }
             let bad: Vec<u8> =
                 NODE_IDS.filter(|&n| misfit(s.data_type, &v.value, n).is_some()).collect();
             if let Some(&first) = bad.first() {
