@@ -86,6 +86,7 @@ pub mod cob;
 pub mod emcy;
 mod entry;
 mod include;
+pub mod lss;
 pub mod nmt;
 mod pdo;
 pub mod plan;
