@@ -109,8 +109,9 @@ impl StoreResult {
 }
 
 /// The table indexes of CiA 301's bit timing table a slave takes by default: 0–4 (1000–125
-/// kbit/s) and 6–8 (50, 20, 10 kbit/s). Index 5 (100 kbit/s in DSP 305 v1, reserved since) and
-/// 9 (automatic detection) only when the device says so ([`LssSlave::with_bit_timings`]).
+/// kbit/s) and 6–8 (50, 20, 10 kbit/s). Index 5 (100 kbit/s in some older tables, such as the
+/// Lexium MDrive manual's; reserved in CANopenNode's) and 9 (automatic detection) only when
+/// the device says so ([`LssSlave::with_bit_timings`]).
 pub const DEFAULT_BIT_TIMINGS: u16 = 0b1_1101_1111;
 
 /// An LSS slave: one per node, fed the frames of CAN-ID 0x7E5.

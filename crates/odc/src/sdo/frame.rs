@@ -168,7 +168,7 @@ fn tail(b: &[u8; 8]) -> [u8; 4] {
 
 /// The 8 bytes of a frame; a shorter frame is zero-padded (CiA 301 wants 8, some devices send
 /// fewer for short answers).
-fn pad(bytes: &[u8]) -> [u8; 8] {
+pub(crate) fn pad(bytes: &[u8]) -> [u8; 8] {
     let mut b = [0u8; 8];
     let n = bytes.len().min(8);
     if let (Some(dst), Some(src)) = (b.get_mut(..n), bytes.get(..n)) {

@@ -1,7 +1,7 @@
 //! The SDO server: answers a client's requests from an [`ObjectDictionary`].
 
 use super::block::{self, BlockRequest, BlockResponse, BlockSegment, MAX_BLKSIZE};
-use super::frame::{Init, Request, Response, Segment};
+use super::frame::{Init, Request, Response, Segment, pad};
 use crate::can::CanFrame;
 use crate::slave::ObjectDictionary;
 use crate::{ObjectAddr, SdoAbort};
@@ -204,13 +204,7 @@ impl<const N: usize> Server<N> {
             return None;
         }
         let deadline = now_ms.saturating_add(self.timeout_ms);
-        let current = match self.state {
-            State::Idle => ObjectAddr::new(0, 0),
-            State::Download { addr, .. }
-            | State::Upload { addr, .. }
-            | State::BlockDownload { addr, .. }
-            | State::BlockUpload { addr, .. } => addr,
-        };
+        let current = self.current();
         // Sub-block segments have no command specifier: while they are due, every frame but
         // an abort (byte 0 = 0x80, which is no segment: sequence numbers start at 1) is one.
         if let State::BlockDownload { last: false, .. } = self.state
@@ -439,13 +433,7 @@ impl<const N: usize> Server<N> {
         else {
             return None;
         };
-        let mut bytes = [0u8; 8];
-        if let (Some(dst), Some(src)) =
-            (bytes.get_mut(..frame.bytes().len()), frame.bytes().get(..8))
-        {
-            dst.copy_from_slice(src);
-        }
-        let Some(seg) = BlockSegment::decode(&bytes) else {
+        let Some(seg) = BlockSegment::decode(&pad(frame.bytes())) else {
             return self.abort(addr, SdoAbort::InvalidSequence);
         };
         let mut last = false;
@@ -512,6 +500,7 @@ impl<const N: usize> Server<N> {
         }
     }
 
+    /// The object of the transfer under way (0000:00 when idle).
     fn current(&self) -> ObjectAddr {
         match self.state {
             State::Idle => ObjectAddr::new(0, 0),

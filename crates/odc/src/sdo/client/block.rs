@@ -4,7 +4,7 @@
 use super::{Bus, Client, SdoError, State, Step};
 use crate::can::CanFrame;
 use crate::sdo::block::{self, BlockRequest, BlockResponse, BlockSegment, MAX_BLKSIZE};
-use crate::sdo::frame::Request;
+use crate::sdo::frame::{Request, pad};
 use crate::{ObjectAddr, SdoAbort};
 
 impl<const N: usize> Client<N> {
@@ -142,6 +142,7 @@ impl<const N: usize> Client<N> {
                     sending: true,
                     deadline,
                 };
+                // `sending` is set: a segment is due (the arm is for the type, not reachable).
                 match self.next_block_segment() {
                     Some(f) => Step::Send(f),
                     None => self.fail(addr, SdoAbort::General),
@@ -177,6 +178,7 @@ impl<const N: usize> Client<N> {
                     sending: true,
                     deadline,
                 };
+                // `sending` is set: a segment is due (the arm is for the type, not reachable).
                 match self.next_block_segment() {
                     Some(f) => Step::Send(f),
                     None => self.fail(addr, SdoAbort::General),
@@ -238,13 +240,7 @@ impl<const N: usize> Client<N> {
         let State::BlockUpload { crc, size, ackseq, .. } = self.state else {
             return Some(self.fail(addr, SdoAbort::InvalidCommand));
         };
-        let mut bytes = [0u8; 8];
-        if let (Some(dst), Some(src)) =
-            (bytes.get_mut(..frame.bytes().len()), frame.bytes().get(..8))
-        {
-            dst.copy_from_slice(src);
-        }
-        let Some(seg) = BlockSegment::decode(&bytes) else {
+        let Some(seg) = BlockSegment::decode(&pad(frame.bytes())) else {
             return Some(self.fail(addr, SdoAbort::InvalidSequence));
         };
         let (mut ackseq, mut last) = (ackseq, false);
