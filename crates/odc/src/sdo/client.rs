@@ -145,6 +145,11 @@ enum State {
 /// [`Client::read`] and [`Client::write`] on generated descriptors, and [`Client::execute`]
 /// on generated configuration plans.
 ///
+/// Block transfer (CiA 301, with the CRC): [`Client::upload_block`] and
+/// [`Client::download_block`], or [`Client::start_block_upload`] /
+/// [`Client::start_block_download`] at frame level, where [`Client::poll`] also gives the
+/// segments of a sub-block, one a call.
+///
 /// A [`Bus`] is whatever carries frames and tells the time; here an in-memory one with a
 /// device on it (an SDO [`Server`](super::Server) and a one-entry dictionary), answering each
 /// request as it is sent. With a real interface, `send` writes the frame to the CAN socket and
