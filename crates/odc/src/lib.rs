@@ -9,6 +9,7 @@
 //!   wrong value type to an object does not compile;
 //! - [`Pdo`], [`PdoValue`], [`bits`]: process-data packing, LSB0 little-endian at any bit offset;
 //! - [`sdo`]: SDO server and client on [`can::CanFrame`]s, driven by the caller's clock;
+//! - [`lss`]: the LSS slave (CiA 305) and the LSS frames of both sides;
 //! - [`SdoAbort`], [`emcy`], [`cia402`], [`cob`], [`nmt`]: CiA 301 / CiA 402 vocabulary.
 //!
 //! ```
@@ -86,6 +87,7 @@ pub mod cob;
 pub mod emcy;
 mod entry;
 mod include;
+pub mod lss;
 pub mod nmt;
 mod pdo;
 pub mod plan;

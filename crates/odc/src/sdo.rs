@@ -4,9 +4,11 @@
 //! Everything works on [`CanFrame`](crate::can::CanFrame)s as plain data and on a
 //! millisecond clock the caller passes in, so the same code runs in firmware (an interrupt
 //! handler feeding [`Server::handle`]) and on a PC master (a [`Bus`] with the blocking
-//! [`Client`] calls). Expedited and segmented transfers in both directions; block transfer is
-//! not implemented (the server refuses it with [`SdoAbort::InvalidCommand`], as CiA 301 lets it).
+//! [`Client`] calls). Expedited, segmented and block transfers in both directions; block
+//! transfers check the CRC of CiA 301 and repeat lost segments from the acknowledged one
+//! ([`block`] has the frames).
 
+pub mod block;
 mod client;
 pub mod frame;
 #[cfg(test)]

@@ -9,7 +9,7 @@
 //! accepts. The homing example sends 10 downloads with command byte 0x22 (expedited, size not
 //! indicated), which odc's client does not produce; they are built with odc's frame codec.
 //!
-//! Count (67 frames printed): 55 reproduced, 12 not:
+//! Count (67 frames printed): 55 reproduced here, the 12 of LSS in `lexium_mdrive_lss.rs`:
 //! - Figure 3.8 (1 frame): the SDO response reading the device type; the print's byte order is
 //!   garbled (`43 00 00 01 00029210`). Rebuilt as the LXM23A manual prints the same figure of
 //!   the same template, `43 00 10 00 92 01 02 00`: the same eight bytes in CANopen's order, and
@@ -18,7 +18,7 @@
 //!   The print lost a digit in `A0 86 01 0` (100000 = 0x000186A0): `A0 86 01 00`.
 //! - EMCY, Figure 3.24 (1): reproduced with the manual's layout (bytes 3–4 reserved, 5 PDO
 //!   number, 6–7 vendor code) in the runtime's 5-byte manufacturer field.
-//! - LSS, 5.5–5.6 (12 frames on 7E5h/7E4h): not reproduced; odc's runtime has no LSS service.
+//! - LSS, 5.5–5.6 (12 frames on 7E5h/7E4h): rebuilt with odc's `LssSlave` in `lexium_mdrive_lss.rs`.
 //!
 //! Where the text and the frames disagree the frames are trusted: the homing example
 //! "demonstrates home method 18" but writes 0x13 = 19 (its own action column says 19); the

@@ -1,6 +1,8 @@
 //! The SDO client: uploads and downloads against one node's server, frame by frame or over a
 //! [`Bus`].
 
+mod block;
+
 use super::frame::{Init, Request, Response, Segment};
 use super::server::DEFAULT_TIMEOUT_MS;
 use crate::can::CanFrame;
@@ -66,6 +68,9 @@ pub enum Step {
     Send(CanFrame),
     /// The transfer is complete (an upload's value is in [`Client::data`]).
     Done,
+    /// Send this last frame; the transfer is then complete (a block upload's end response,
+    /// which the server does not answer).
+    Finish(CanFrame),
     /// The transfer failed; send the abort frame if there is one (none when the server
     /// aborted).
     Failed(SdoError, Option<CanFrame>),
@@ -74,10 +79,61 @@ pub enum Step {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum State {
     Idle,
-    InitDownload { addr: ObjectAddr, segmented: bool, deadline: u64 },
-    Download { addr: ObjectAddr, sent: usize, toggle: bool, last: bool, deadline: u64 },
-    InitUpload { addr: ObjectAddr, deadline: u64 },
-    Upload { addr: ObjectAddr, size: Option<usize>, toggle: bool, deadline: u64 },
+    InitDownload {
+        addr: ObjectAddr,
+        segmented: bool,
+        deadline: u64,
+    },
+    Download {
+        addr: ObjectAddr,
+        sent: usize,
+        toggle: bool,
+        last: bool,
+        deadline: u64,
+    },
+    InitUpload {
+        addr: ObjectAddr,
+        deadline: u64,
+    },
+    Upload {
+        addr: ObjectAddr,
+        size: Option<usize>,
+        toggle: bool,
+        deadline: u64,
+    },
+    InitBlockDownload {
+        addr: ObjectAddr,
+        deadline: u64,
+    },
+    /// Block download of the buffer's `len` bytes: `acked` segments acknowledged, `sent` of
+    /// the current sub-block of `blksize` sent; `sending` while more of it are due.
+    BlockDownload {
+        addr: ObjectAddr,
+        crc: bool,
+        blksize: u8,
+        acked: usize,
+        sent: u8,
+        sending: bool,
+        deadline: u64,
+    },
+    EndBlockDownload {
+        addr: ObjectAddr,
+        deadline: u64,
+    },
+    InitBlockUpload {
+        addr: ObjectAddr,
+        deadline: u64,
+    },
+    /// Block upload: `self.len` bytes of whole segments received, `ackseq` of the current
+    /// sub-block; `last` once the final segment came (then the end frame is due).
+    BlockUpload {
+        addr: ObjectAddr,
+        crc: bool,
+        size: Option<usize>,
+        ackseq: u8,
+        last: bool,
+        deadline: u64,
+    },
 }
 
 /// The SDO client for one server (node), with an `N`-byte transfer buffer: the largest value
@@ -88,6 +144,11 @@ enum State {
 /// blocking calls do all of that: [`Client::upload`], [`Client::download`], the typed
 /// [`Client::read`] and [`Client::write`] on generated descriptors, and [`Client::execute`]
 /// on generated configuration plans.
+///
+/// Block transfer (CiA 301, with the CRC): [`Client::upload_block`] and
+/// [`Client::download_block`], or [`Client::start_block_upload`] /
+/// [`Client::start_block_download`] at frame level, where [`Client::poll`] also gives the
+/// segments of a sub-block, one a call.
 ///
 /// A [`Bus`] is whatever carries frames and tells the time; here an in-memory one with a
 /// device on it (an SDO [`Server`](super::Server) and a one-entry dictionary), answering each
@@ -250,13 +311,22 @@ impl<const N: usize> Client<N> {
     }
 
     /// Checks the response timeout; on expiry the transfer fails with a local
-    /// [`SdoAbort::Timeout`] and the abort frame to send.
+    /// [`SdoAbort::Timeout`] and the abort frame to send. During a block download sub-block,
+    /// gives its next segment instead ([`Step::Send`]), one a call: call again until `None`.
     pub fn poll(&mut self, now_ms: u64) -> Option<Step> {
+        if let Some(f) = self.next_block_segment() {
+            return Some(Step::Send(f));
+        }
         match self.state {
             State::InitDownload { addr, deadline, .. }
             | State::Download { addr, deadline, .. }
             | State::InitUpload { addr, deadline }
             | State::Upload { addr, deadline, .. }
+            | State::InitBlockDownload { addr, deadline }
+            | State::BlockDownload { addr, deadline, .. }
+            | State::EndBlockDownload { addr, deadline }
+            | State::InitBlockUpload { addr, deadline }
+            | State::BlockUpload { addr, deadline, .. }
                 if now_ms > deadline =>
             {
                 Some(self.fail(addr, SdoAbort::Timeout))
@@ -272,12 +342,18 @@ impl<const N: usize> Client<N> {
             State::InitDownload { deadline, .. }
             | State::Download { deadline, .. }
             | State::InitUpload { deadline, .. }
-            | State::Upload { deadline, .. } => Some(deadline),
+            | State::Upload { deadline, .. }
+            | State::InitBlockDownload { deadline, .. }
+            | State::BlockDownload { deadline, .. }
+            | State::EndBlockDownload { deadline, .. }
+            | State::InitBlockUpload { deadline, .. }
+            | State::BlockUpload { deadline, .. } => Some(deadline),
         }
     }
 
-    /// Handles a received frame; `None` when it is not a response of this client's server or
-    /// no transfer is under way.
+    /// Handles a received frame; `None` when it is not a response of this client's server, no
+    /// transfer is under way, or it needs no answer (a segment inside a block upload's
+    /// sub-block).
     pub fn handle(&mut self, frame: &CanFrame, now_ms: u64) -> Option<Step> {
         if frame.id != self.response_id() {
             return None;
@@ -288,8 +364,20 @@ impl<const N: usize> Client<N> {
             State::InitDownload { addr, .. }
             | State::Download { addr, .. }
             | State::InitUpload { addr, .. }
-            | State::Upload { addr, .. } => addr,
+            | State::Upload { addr, .. }
+            | State::InitBlockDownload { addr, .. }
+            | State::BlockDownload { addr, .. }
+            | State::EndBlockDownload { addr, .. }
+            | State::InitBlockUpload { addr, .. }
+            | State::BlockUpload { addr, .. } => addr,
         };
+        // Sub-block segments have no command specifier: while they are due, every frame but
+        // an abort (byte 0 = 0x80; sequence numbers start at 1) is one.
+        if let State::BlockUpload { last: false, .. } = self.state
+            && frame.bytes().first() != Some(&0x80)
+        {
+            return self.block_upload_segment(addr, frame, deadline);
+        }
         let resp = match Response::decode(frame.bytes()) {
             Ok(r) => r,
             Err(code) => return Some(self.fail(addr, code)),
@@ -371,6 +459,13 @@ impl<const N: usize> Client<N> {
                 self.state = State::Idle;
                 Step::Done
             }
+            // CiA 301 lets a server answer a block upload with the normal upload protocol
+            // (python-canopen's LocalNode always does): carry on as a normal upload.
+            (State::InitBlockUpload { .. }, Response::InitiateUpload(..)) => {
+                self.state = State::InitUpload { addr, deadline };
+                return self.handle(frame, now_ms);
+            }
+            (_, Response::Block(r)) => self.block_response(addr, r, deadline),
             _ => self.fail(addr, SdoAbort::InvalidCommand),
         })
     }
@@ -401,8 +496,18 @@ impl<const N: usize> Client<N> {
             };
             match step {
                 None => {}
-                Some(Step::Send(f)) => bus.send(&f).map_err(SdoError::Bus)?,
+                Some(Step::Send(f)) => {
+                    bus.send(&f).map_err(SdoError::Bus)?;
+                    // The rest of a block download's sub-block.
+                    while let Some(f) = self.next_block_segment() {
+                        bus.send(&f).map_err(SdoError::Bus)?;
+                    }
+                }
                 Some(Step::Done) => return Ok(()),
+                Some(Step::Finish(f)) => {
+                    bus.send(&f).map_err(SdoError::Bus)?;
+                    return Ok(());
+                }
                 Some(Step::Failed(e, abort)) => {
                     if let Some(f) = abort {
                         bus.send(&f).map_err(SdoError::Bus)?;

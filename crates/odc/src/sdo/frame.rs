@@ -11,11 +11,12 @@
 //! | `010…` | initiate upload | initiate upload response (`nn e s`) |
 //! | `011…` | upload segment request (`t` bit 4) | initiate download response |
 //! | `100…` | abort | abort |
-//! | `101…`, `110…` | block upload, block download | block download, block upload |
+//! | `101…`, `110…` | block upload, block download ([`super::block`]) | block download, block upload |
 //!
 //! `e` = expedited, `s` = size indicated, `nn` = bytes of the 4 that hold no data (valid when
 //! `e` and `s`), `t` = toggle, `nnn` = bytes of the 7 that hold no data, `c` = last segment.
 
+use super::block::{BlockRequest, BlockResponse};
 use crate::{ObjectAddr, SdoAbort};
 
 /// What an initiate frame says about the data: the 4 bytes themselves or the total size.
@@ -129,8 +130,9 @@ pub enum Request {
     UploadSegment(bool),
     /// ccs 4: abort transfer.
     Abort(ObjectAddr, SdoAbort),
-    /// ccs 5 or 6: a block transfer request (this runtime does not serve them).
-    Block(u8),
+    /// ccs 5 or 6: a block transfer request other than a sub-block segment (segments carry
+    /// no command specifier; see [`super::block`]).
+    Block(BlockRequest),
 }
 
 /// A response, server → client (CAN-ID 0x580 + node).
@@ -147,8 +149,8 @@ pub enum Response {
     UploadSegment(Segment),
     /// scs 4: abort transfer.
     Abort(ObjectAddr, SdoAbort),
-    /// scs 5 or 6: a block transfer response (this runtime does not use them).
-    Block(u8),
+    /// scs 5 or 6: a block transfer response other than a sub-block segment.
+    Block(BlockResponse),
 }
 
 fn mux(b: &[u8; 8]) -> ObjectAddr {
@@ -166,7 +168,7 @@ fn tail(b: &[u8; 8]) -> [u8; 4] {
 
 /// The 8 bytes of a frame; a shorter frame is zero-padded (CiA 301 wants 8, some devices send
 /// fewer for short answers).
-fn pad(bytes: &[u8]) -> [u8; 8] {
+pub(crate) fn pad(bytes: &[u8]) -> [u8; 8] {
     let mut b = [0u8; 8];
     let n = bytes.len().min(8);
     if let (Some(dst), Some(src)) = (b.get_mut(..n), bytes.get(..n)) {
@@ -187,7 +189,7 @@ impl Request {
             Self::InitiateUpload(a) => with_mux(0x40, a, [0; 4]),
             Self::UploadSegment(t) => [0x60 | (u8::from(t) << 4), 0, 0, 0, 0, 0, 0, 0],
             Self::Abort(a, code) => with_mux(0x80, a, code.to_u32().to_le_bytes()),
-            Self::Block(cs) => [(cs & 0b111) << 5, 0, 0, 0, 0, 0, 0, 0],
+            Self::Block(r) => r.encode(),
         }
     }
 
@@ -195,7 +197,7 @@ impl Request {
     ///
     /// # Errors
     ///
-    /// [`SdoAbort::InvalidCommand`] for ccs 7 or an empty frame.
+    /// [`SdoAbort::InvalidCommand`] for ccs 7, an unknown block sub-command or an empty frame.
     pub fn decode(bytes: &[u8]) -> Result<Self, SdoAbort> {
         if bytes.is_empty() {
             return Err(SdoAbort::InvalidCommand);
@@ -207,7 +209,7 @@ impl Request {
             2 => Self::InitiateUpload(mux(&b)),
             3 => Self::UploadSegment(b[0] & 0x10 != 0),
             4 => Self::Abort(mux(&b), SdoAbort::from_u32(u32::from_le_bytes(tail(&b)))),
-            cs @ (5 | 6) => Self::Block(cs),
+            5 | 6 => Self::Block(BlockRequest::decode(&b)?),
             _ => return Err(SdoAbort::InvalidCommand),
         })
     }
@@ -225,7 +227,7 @@ impl Response {
             }
             Self::UploadSegment(s) => s.encode(0),
             Self::Abort(a, code) => with_mux(0x80, a, code.to_u32().to_le_bytes()),
-            Self::Block(cs) => [(cs & 0b111) << 5, 0, 0, 0, 0, 0, 0, 0],
+            Self::Block(r) => r.encode(),
         }
     }
 
@@ -233,7 +235,7 @@ impl Response {
     ///
     /// # Errors
     ///
-    /// [`SdoAbort::InvalidCommand`] for scs 7 or an empty frame.
+    /// [`SdoAbort::InvalidCommand`] for scs 7, an unknown block sub-command or an empty frame.
     pub fn decode(bytes: &[u8]) -> Result<Self, SdoAbort> {
         if bytes.is_empty() {
             return Err(SdoAbort::InvalidCommand);
@@ -245,7 +247,7 @@ impl Response {
             2 => Self::InitiateUpload(mux(&b), Init::decode(b[0], tail(&b))),
             3 => Self::InitiateDownload(mux(&b)),
             4 => Self::Abort(mux(&b), SdoAbort::from_u32(u32::from_le_bytes(tail(&b)))),
-            cs @ (5 | 6) => Self::Block(cs),
+            5 | 6 => Self::Block(BlockResponse::decode(&b)?),
             _ => return Err(SdoAbort::InvalidCommand),
         })
     }
@@ -351,8 +353,15 @@ mod tests {
     fn invalid_and_block_commands() {
         assert_eq!(Request::decode(&[0xE0, 0, 0, 0, 0, 0, 0, 0]), Err(SdoAbort::InvalidCommand));
         assert_eq!(Request::decode(&[]), Err(SdoAbort::InvalidCommand));
-        assert_eq!(Request::decode(&[0xC6, 0, 0, 0, 0, 0, 0, 0]), Ok(Request::Block(6)));
-        assert_eq!(Response::decode(&[0xA4]), Ok(Response::Block(5)));
+        assert_eq!(
+            Request::decode(&[0xC4, 0, 0x20, 0, 0, 0, 0, 0]),
+            Ok(Request::Block(BlockRequest::InitiateDownload {
+                addr: ObjectAddr::new(0x2000, 0),
+                crc: true,
+                size: None
+            }))
+        );
+        assert_eq!(Response::decode(&[0xA1]), Ok(Response::Block(BlockResponse::EndDownload)));
         // Short frames are zero-padded.
         assert_eq!(
             Request::decode(&[0x40, 0x00, 0x10]),

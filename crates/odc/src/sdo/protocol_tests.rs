@@ -145,10 +145,11 @@ fn server_aborts() {
     // The abort frame echoes the multiplexer.
     let f = s.handle(&mut od, &req([0x23, 0x00, 0x10, 0x00, 0, 0, 0, 0]), 0);
     assert_eq!(f, resp([0x80, 0x00, 0x10, 0x00, 0x02, 0x00, 0x01, 0x06]));
-    // Block download and upload are refused; ccs 7 is no command at all.
+    // Block download to a missing object, block upload with blksize 0 (block transfer is in
+    // protocol_tests/block.rs); ccs 7 is no command at all.
     let mut ask = |b| abort_code(s.handle(&mut od, &req(b), 0));
-    assert_eq!(ask([0xC6, 0x00, 0x20, 0x00, 1, 0, 0, 0]), Some(0x0504_0001));
-    assert_eq!(ask([0xA0, 0x00, 0x20, 0x00, 0, 0, 0, 0]), Some(0x0504_0001));
+    assert_eq!(ask([0xC6, 0x00, 0x30, 0x00, 1, 0, 0, 0]), Some(0x0602_0000));
+    assert_eq!(ask([0xA0, 0x00, 0x20, 0x00, 0, 0, 0, 0]), Some(0x0504_0002));
     assert_eq!(ask([0xE0, 0x00, 0x20, 0x00, 0, 0, 0, 0]), Some(0x0504_0001));
     // A segment without an initiated transfer.
     assert_eq!(ask([0x60, 0, 0, 0, 0, 0, 0, 0]), Some(0x0504_0001));
@@ -366,3 +367,5 @@ fn client_timeout_toggle_and_busy() {
     );
     assert_eq!(c.data(), &[9, 0, 0, 0]);
 }
+
+mod block;
