@@ -9,6 +9,7 @@
 //!   wrong value type to an object does not compile;
 //! - [`Pdo`], [`PdoValue`], [`bits`]: process-data packing, LSB0 little-endian at any bit offset;
 //! - [`sdo`]: SDO server and client on [`can::CanFrame`]s, driven by the caller's clock;
+//! - [`transport`]: the [`transport::Bus`] trait and its adapters;
 //! - [`SdoAbort`], [`emcy`], [`cia402`], [`cob`], [`nmt`]: CiA 301 / CiA 402 vocabulary.
 //!
 //! ```
@@ -69,7 +70,8 @@
 //! ```
 //!
 //! Features: `derive` (default) re-exports `#[derive(Pdo)]` and `#[derive(PdoValue)]`; `std`
-//! links std; `serde` and `defmt` add derives on the plain data types.
+//! links std (and the in-memory bus, [`transport::mem`]); `embedded-can` and `socketcan` add
+//! those transports; `serde` and `defmt` add derives on the plain data types.
 #![no_std]
 // Bad input is a diagnostic, never a panic: no unwrap, expect or panic outside tests. A
 // proven invariant may opt out with an `#[allow]` and a comment saying why.
@@ -91,6 +93,7 @@ mod pdo;
 pub mod plan;
 pub mod sdo;
 pub mod slave;
+pub mod transport;
 mod types;
 mod value;
 
