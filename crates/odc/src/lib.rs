@@ -9,7 +9,9 @@
 //!   wrong value type to an object does not compile;
 //! - [`Pdo`], [`PdoValue`], [`bits`]: process-data packing, LSB0 little-endian at any bit offset;
 //! - [`sdo`]: SDO server and client on [`can::CanFrame`]s, driven by the caller's clock;
-//! - [`transport`]: the [`transport::Bus`] trait and its adapters;
+//! - [`node`]: a whole CANopen node (NMT, heartbeat, guarding, SYNC, PDOs, EMCY, SDO) over
+//!   any [`slave::ObjectDictionary`]; [`transport`]: the [`transport::Bus`] trait and its
+//!   adapters;
 //! - [`SdoAbort`], [`emcy`], [`cia402`], [`cob`], [`nmt`]: CiA 301 / CiA 402 vocabulary.
 //!
 //! ```
@@ -89,6 +91,7 @@ pub mod emcy;
 mod entry;
 mod include;
 pub mod nmt;
+pub mod node;
 mod pdo;
 pub mod plan;
 pub mod sdo;
