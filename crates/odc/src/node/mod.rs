@@ -170,8 +170,8 @@ struct View<'a, D: ?Sized> {
     emcy: &'a mut emcy::Emcy,
     dirty: &'a mut Dirty,
     written: bool,
-    /// TPDO mapping objects of valid TPDOs / RPDO of valid RPDOs may not be changed
-    /// (CiA 301 7.5.2.36): bit n of word 0 for TPDO n+1, of word 1 for RPDO n+1.
+    /// The mappings of these PDOs may not change (CiA 301 7.5.2.36: only while the PDO is
+    /// invalid): bit n of word 0 for TPDO n+1, of word 1 for RPDO n+1.
     locked: [u64; 2],
 }
 
@@ -416,8 +416,13 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         emcy: &'a mut emcy::Emcy,
         dirty: &'a mut Dirty,
         pdo: &pdo::PdoEngine<R, T>,
+        state: Option<NmtState>,
     ) -> View<'a, D> {
-        View { dict, emcy, dirty, written: false, locked: pdo.valid() }
+        // Mappings of valid PDOs are locked in operational only: in pre-operational no PDO
+        // runs, so a remap cannot put a half-written mapping on the bus, and devices whose
+        // file makes the COB-ID read-only (the LinMot E1200's) can still be remapped.
+        let locked = if state == Some(NmtState::Operational) { pdo.valid() } else { [0; 2] };
+        View { dict, emcy, dirty, written: false, locked }
     }
 
     /// One received frame: NMT, node guarding RTR, heartbeats of other nodes, SYNC, SDO
@@ -458,7 +463,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
             return ev;
         }
         if frame.is_data(self.sdo.request_id()) {
-            let mut view = Self::view(dict, &mut self.emcy, &mut self.dirty, &self.pdo);
+            let mut view = Self::view(dict, &mut self.emcy, &mut self.dirty, &self.pdo, self.state);
             let reply = self.sdo.handle(&mut view, frame, now_us / 1000);
             ev.sdo_written = view.written;
             if let Some(r) = reply {
@@ -470,7 +475,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
             return ev;
         }
         if state == NmtState::Operational {
-            let mut view = Self::view(dict, &mut self.emcy, &mut self.dirty, &self.pdo);
+            let mut view = Self::view(dict, &mut self.emcy, &mut self.dirty, &self.pdo, self.state);
             if let Some(o) = self.pdo.receive(&mut view, frame, now_us, out) {
                 ev.merge(o);
                 if let Some(code) = o.length_emcy {
@@ -524,7 +529,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
     ) {
         ev.sync = Some(counter);
         if self.state == Some(NmtState::Operational) {
-            let mut view = Self::view(dict, &mut self.emcy, &mut self.dirty, &self.pdo);
+            let mut view = Self::view(dict, &mut self.emcy, &mut self.dirty, &self.pdo, self.state);
             let o = self.pdo.sync(&mut view, counter, now_us, out);
             ev.merge(o);
         }
@@ -603,7 +608,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         }
         self.emcy.poll(now_us, out);
         if state == NmtState::Operational {
-            let view = Self::view(dict, &mut self.emcy, &mut self.dirty, &self.pdo);
+            let view = Self::view(dict, &mut self.emcy, &mut self.dirty, &self.pdo, self.state);
             let o = self.pdo.poll(&view, now_us, out);
             ev.merge(o);
         }

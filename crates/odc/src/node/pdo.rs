@@ -112,6 +112,9 @@ struct Tpdo {
     triggered: bool,
     /// When the last PDO went out.
     last_sent_us: Option<u64>,
+    /// When the event timer last started: the time it was due when it caused the PDO (so
+    /// a late poll does not stretch the period), else the time the PDO went out.
+    timer_from_us: u64,
     /// What it carried, to detect a change of the mapped data.
     last: Option<Data>,
     /// Data sampled at the last SYNC (type 252).
@@ -317,6 +320,7 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
         }
         t.last = Some(data);
         t.last_sent_us = Some(now_us);
+        t.timer_from_us = now_us;
         t.triggered = false;
     }
 
@@ -469,11 +473,15 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
             if !t.valid || !t.is_event() || t.inhibited(now_us) {
                 continue;
             }
-            let timer = t.event_us != 0
-                && t.last_sent_us.is_some_and(|s| now_us >= s.saturating_add(t.event_us));
+            let due = t.timer_from_us.saturating_add(t.event_us);
+            let timer = t.event_us != 0 && t.last_sent_us.is_some() && now_us >= due;
             match pack(dict, 0x1A00 + i as u16) {
                 Ok(d) if t.triggered || timer || t.last != Some(d) => {
+                    let by_timer = timer && !t.triggered && t.last == Some(d);
                     Self::send(t, i, d, now_us, out, &mut o);
+                    if by_timer && now_us < due.saturating_add(t.event_us) {
+                        t.timer_from_us = due;
+                    }
                 }
                 Ok(_) => {}
                 Err(abort) => {
@@ -495,7 +503,7 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
             .filter_map(|t| {
                 let sent = t.last_sent_us?;
                 let inhibit = sent.saturating_add(t.inhibit_us);
-                let event = (t.event_us != 0).then(|| sent.saturating_add(t.event_us));
+                let event = (t.event_us != 0).then(|| t.timer_from_us.saturating_add(t.event_us));
                 Some(if t.triggered { inhibit } else { event?.max(inhibit) })
             })
             .min()

@@ -520,3 +520,39 @@ fn extended_and_remote_frames_are_not_data() {
     assert_eq!(b.dict.get(0x2000, 0), [0, 0]);
     assert_eq!(b.take(), []);
 }
+
+#[test]
+fn event_timer_keeps_its_period_when_polls_are_late() {
+    let mut b = Bench::new();
+    b.dict.set(0x1800, 5, &50u16.to_le_bytes());
+    b.dict.set(0x1801, 1, &(0x8000_0285u32).to_le_bytes());
+    b.node.reload_parameters(&b.dict, 0);
+    b.nmt(0x01);
+    b.take();
+    // A caller that polls every 7 ms: the PDOs still come every 50 ms on average.
+    let mut times = Vec::new();
+    while b.now < 1001 * MS {
+        b.now += 7 * MS;
+        let sent = &mut b.sent;
+        b.node.poll(&mut b.dict, b.now, &mut |f| sent.push(f));
+        if !b.take().is_empty() {
+            times.push(b.now / MS);
+        }
+    }
+    assert_eq!(times.len(), 20, "{times:?}");
+    assert_eq!(&times[..3], [7, 63, 112]);
+}
+
+#[test]
+fn a_valid_pdo_can_be_remapped_in_pre_operational() {
+    let mut b = Bench::new();
+    // TPDO 1 is valid; in pre-operational no PDO runs, so its mapping may change.
+    assert_eq!(b.sdo_write(0x1A00, 0, &[0])[0], 0x60);
+    assert_eq!(b.sdo_write(0x1A00, 1, &0x2001_0008u32.to_le_bytes())[0], 0x60);
+    assert_eq!(b.sdo_write(0x1A00, 0, &[1])[0], 0x60);
+    b.dict.set(0x2001, 0, &[0x42]);
+    b.nmt(0x01);
+    b.take();
+    b.run_to(1);
+    assert_eq!(b.take()[0], data(0x185, &[0x42]));
+}
