@@ -109,7 +109,7 @@ fn default_pdos_of_the_eds() {
 fn remap_type_and_event_timer_over_sdo() {
     let mut d = Drive::boot();
     d.od.set(lxm23a::od::STATUSWORD, 0x0237u16.into()).unwrap();
-    d.od.set(lxm23a::od::MODES_OF_OPERATION_DISPLAY, 1i8.into()).unwrap();
+    d.od.set(lxm23a::od::MODES_OF_OPERATION_DISPLAY, 1i8).unwrap();
     // What python-canopen's pdo.save() sends: disable, type, timer, mapping, enable.
     let ok = [0x60, 0x00, 0x18, 0x01, 0, 0, 0, 0];
     assert_eq!(d.write(0x1800, 1, &0x8000_0185u32.to_le_bytes()), ok);
