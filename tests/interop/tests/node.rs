@@ -320,3 +320,71 @@ fn socketcan_vcan0() {
     assert!((9..=11).contains(&beats.len()), "{beats:?}");
     assert!(beats.iter().skip(1).all(|&b| b == 0x05), "{beats:?}");
 }
+
+/// The node in a thread on `odc::transport::mem`, odc's SDO client on another port, a third
+/// port listening: the boot-up reaches both, the client reads the device type and configures
+/// the heartbeat, NMT start gives operational heartbeats. What `odc simulate` and a test of a
+/// master do without a CAN interface.
+#[test]
+fn node_and_sdo_client_on_the_in_memory_bus() {
+    use odc::transport::mem::MemBus;
+    let bus = MemBus::new();
+    let (mut wire, mut master, mut sniffer) = (bus.port(), bus.port(), bus.port());
+    let dev = devices().into_iter().next().unwrap();
+    let slave = dev.slave;
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let stop_node = stop.clone();
+    let runner = std::thread::spawn(move || {
+        let mut od = slave(NODE);
+        let mut node: Node<BUF> = Node::new(NODE);
+        let mut out = Vec::new();
+        let us = |p: &mut odc::transport::mem::MemPort| p.now_ms() * 1000;
+        let now = us(&mut wire);
+        node.start(od.as_mut(), now, &mut |f| out.push(f));
+        while !stop_node.load(std::sync::atomic::Ordering::Relaxed) {
+            let ms = wire.now_ms();
+            if let Some(f) = wire.recv(ms + 1).unwrap() {
+                let now = us(&mut wire);
+                node.handle(od.as_mut(), &f, now, &mut |f| out.push(f));
+            }
+            let now = us(&mut wire);
+            node.poll(od.as_mut(), now, &mut |f| out.push(f));
+            for f in out.drain(..) {
+                wire.send(&f).unwrap();
+            }
+        }
+    });
+    let boot = |p: &mut odc::transport::mem::MemPort| {
+        let deadline = p.now_ms() + 2000;
+        loop {
+            match p.recv(deadline).unwrap() {
+                Some(f) if f.id == 0x705 => break Some(f.bytes().to_vec()),
+                Some(_) => {}
+                None => break None,
+            }
+        }
+    };
+    assert_eq!(boot(&mut master), Some(vec![0]));
+    assert_eq!(boot(&mut sniffer), Some(vec![0]));
+    let mut sdo = odc::sdo::Client::<64>::new(NODE);
+    let device_type: u32 = sdo.read(&mut master, dev.device_type).unwrap();
+    assert_eq!(Some(device_type), dev.device_type.default.and_then(|d| d.resolve(NODE)));
+    sdo.download(&mut master, 0x1017, 0, &20u16.to_le_bytes()).unwrap();
+    master.send(&odc::can::CanFrame::from_slice(0, &[0x01, NODE]).unwrap()).unwrap();
+    let t0 = sniffer.now_ms();
+    let mut beats = Vec::new();
+    let mut requests = 0;
+    while sniffer.now_ms() < t0 + 210 {
+        match sniffer.recv(t0 + 210).unwrap() {
+            Some(f) if f.id == 0x705 => beats.push(f.data[0]),
+            Some(f) if f.id == 0x605 => requests += 1,
+            _ => {}
+        }
+    }
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    runner.join().unwrap();
+    // The sniffer gets the master's frames too: the two expedited SDO requests.
+    assert_eq!(requests, 2);
+    let operational = beats.iter().filter(|&&b| b == 0x05).count();
+    assert!((9..=11).contains(&operational), "{beats:?}");
+}

@@ -231,8 +231,8 @@ struct Consumer {
 ///
 /// `N`: bytes of the SDO server's buffer (the largest value of a segmented transfer); `R`
 /// and `T`: receive and transmit PDOs served (0x1400/0x1800 onward; 8 each by default, the
-/// devices in `eds/` have 4). Every buffer is inside the node: about
-/// `N + 56·T + 24·R + 300` bytes.
+/// devices in `eds/` have 4). Every buffer is inside the node: `Node<64>` is 1312 bytes on
+/// x86_64, `Node<64, 4, 4>` 960 (measured with `size_of`; the SDO buffer is `N` of them).
 #[derive(Clone, Debug)]
 pub struct Node<const N: usize, const R: usize = 8, const T: usize = 8> {
     node_id: u8,
