@@ -163,6 +163,49 @@ impl Dirty {
     }
 }
 
+impl<D: ObjectDictionary + ?Sized> View<'_, D> {
+    /// CiA 301's rules for values of communication objects that depend on other values.
+    fn check_parameter(&self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
+        let new = || {
+            let mut le = [0u8; 4];
+            for (d, s) in le.iter_mut().zip(data) {
+                *d = *s;
+            }
+            u32::from_le_bytes(le)
+        };
+        match (index, sub) {
+            // A PDO's CAN-ID may change only while it is invalid (CiA 301 7.5.2.35/37:
+            // 0x06090030 otherwise).
+            (0x1400..=0x15FF | 0x1800..=0x19FF, 1) => {
+                let old = get_u32(&*self.dict, index, 1);
+                let valid = |c: u32| c & (1 << 31) == 0;
+                if let Some(old) = old
+                    && valid(old)
+                    && valid(new())
+                    && old & 0x3FFF_FFFF != new() & 0x3FFF_FFFF
+                {
+                    return Err(SdoAbort::InvalidValue);
+                }
+            }
+            // Two heartbeat consumer entries for one node (CiA 301 7.5.2.14: 0x06040043).
+            (0x1016, s) if s > 0 => {
+                let node = new() >> 16 & 0xFF;
+                let time = new() & 0xFFFF;
+                let count = get_u8(&*self.dict, 0x1016, 0).unwrap_or(0);
+                let clash = (1..=count).filter(|&o| o != s).any(|o| {
+                    get_u32(&*self.dict, 0x1016, o)
+                        .is_some_and(|v| v >> 16 & 0xFF == node && v & 0xFFFF != 0)
+                });
+                if time != 0 && node != 0 && clash {
+                    return Err(SdoAbort::ParameterIncompatible);
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+}
+
 /// The dictionary as the SDO server and the PDO engine see it: the node answers 0x1001 and
 /// 0x1003 itself, and notes writes to the communication objects.
 struct View<'a, D: ?Sized> {
@@ -187,6 +230,7 @@ impl<D: ObjectDictionary + ?Sized> ObjectDictionary for View<'_, D> {
         if (index, sub) == (0x1003, 0) && self.emcy.read(0x1003, 0, &mut [0]).is_some() {
             return self.emcy.write_history_count(data);
         }
+        self.check_parameter(index, sub, data)?;
         if let Some((word, n)) = match index {
             0x1600..=0x17FF => Some((1, index - 0x1600)),
             0x1A00..=0x1BFF => Some((0, index - 0x1A00)),

@@ -556,3 +556,21 @@ fn a_valid_pdo_can_be_remapped_in_pre_operational() {
     b.run_to(1);
     assert_eq!(b.take()[0], data(0x185, &[0x42]));
 }
+
+#[test]
+fn dependent_parameters_are_checked() {
+    let mut b = Bench::new();
+    // A valid TPDO's CAN-ID cannot change (0x06090030); invalid first, then it can.
+    assert_eq!(
+        b.sdo_write(0x1800, 1, &0x0000_0190u32.to_le_bytes())[4..],
+        [0x30, 0x00, 0x09, 0x06]
+    );
+    assert_eq!(b.sdo_write(0x1800, 1, &0x8000_0185u32.to_le_bytes())[0], 0x60);
+    assert_eq!(b.sdo_write(0x1800, 1, &0x0000_0190u32.to_le_bytes())[0], 0x60);
+    // Two consumer entries for node 3 (0x06040043); time 0 makes an entry unused.
+    let entry = |n, t| crate::nmt::heartbeat_consumer_entry(n, t).to_le_bytes();
+    assert_eq!(b.sdo_write(0x1016, 1, &entry(3, 100))[0], 0x60);
+    assert_eq!(b.sdo_write(0x1016, 2, &entry(3, 200))[4..], [0x43, 0x00, 0x04, 0x06]);
+    assert_eq!(b.sdo_write(0x1016, 2, &entry(3, 0))[0], 0x60);
+    assert_eq!(b.sdo_write(0x1016, 2, &entry(4, 200))[0], 0x60);
+}
