@@ -72,7 +72,7 @@
 //! ```
 //!
 //! Features: `derive` (default) re-exports `#[derive(Pdo)]` and `#[derive(PdoValue)]`; `std`
-//! links std (and the in-memory bus, [`transport::mem`]); `embedded-can` and `socketcan` add
+//! links std (and the in-memory bus, `transport::mem`); `embedded-can` and `socketcan` add
 //! those transports; `serde` and `defmt` add derives on the plain data types.
 #![no_std]
 // Bad input is a diagnostic, never a panic: no unwrap, expect or panic outside tests. A

@@ -18,7 +18,7 @@ pub const MAX_ACTIVE: usize = 8;
 /// has fewer sub-indexes.
 pub const MAX_HISTORY: usize = 8;
 /// EMCY frames waiting for the inhibit time to pass; when full, the oldest waiting one is
-/// replaced and [`Emcy::overflowed`] says so.
+/// replaced and [`Node::emcy_overflowed`](super::Node::emcy_overflowed) says so.
 pub const QUEUE: usize = 4;
 
 #[derive(Clone, Debug)]

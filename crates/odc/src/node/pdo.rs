@@ -2,7 +2,7 @@
 //! *current* communication (0x1400/0x1800 + n) and mapping (0x1600/0x1A00 + n) objects of the
 //! dictionary.
 //!
-//! The communication parameters are cached ([`PdoEngine::load`]) and re-read when the node
+//! The communication parameters are cached (`PdoEngine::load`) and re-read when the node
 //! sees an SDO write into 0x1400–0x1BFF and at reset communication. The mapping is read from
 //! the dictionary each time a PDO is packed or unpacked, so a remap over SDO (disable the
 //! PDO, write sub 0 = 0, the entries, sub 0 = count, enable) takes effect with no copy to keep

@@ -1,10 +1,10 @@
 //! Transports: how frames reach a CAN bus. One small trait, [`Bus`], and adapters behind
 //! features, so the SDO client (and a node's main loop) is written once for any interface.
 //!
-//! - [`mem`] (`std`): an in-memory bus with any number of ports, for tests and simulation;
-//! - [`embedded_can`] (`embedded-can`): any MCU HAL that implements the `embedded_can`
+//! - `mem` (`std`): an in-memory bus with any number of ports, for tests and simulation;
+//! - `embedded_can` (`embedded-can`): any MCU HAL that implements the `embedded_can`
 //!   traits, with the conversions between [`CanFrame`] and `embedded_can::Frame` types;
-//! - [`socketcan`] (`socketcan`, Linux): a SocketCAN interface (`can0`, `vcan0`);
+//! - `socketcan` (`socketcan`, Linux): a SocketCAN interface (`can0`, `vcan0`);
 //! - `tcp` (`std`): the 16-byte SocketCAN-layout records over TCP of `tests/interop`.
 
 use crate::can::CanFrame;
