@@ -21,6 +21,7 @@ fn main() -> Result<(), odc_build::Error> {
     println!("cargo::rustc-check-cfg=cfg(odc_interop_corpus)");
     println!("cargo:rerun-if-env-changed=ODC_CORPUS");
     find_python();
+    find_vcan();
     let mut config = odc_build::Config::new();
     config.role(odc_build::Role::Both);
     for name in ["lxm23a", "lexium-mdrive", "servoone", "lenze-e94aycca", "linmot-e1200"] {
@@ -71,5 +72,16 @@ fn find_python() {
         }
     } else if std::env::var_os("ODC_INTEROP_REQUIRED").is_none() {
         println!("cargo:rustc-cfg=odc_interop_no_python");
+    }
+}
+
+/// Sets `cfg(odc_vcan0)` when a SocketCAN interface `vcan0` exists (the node test over
+/// SocketCAN runs then, and is shown ignored otherwise). Looked for at every build: an
+/// interface comes and goes without any file of the crate changing.
+fn find_vcan() {
+    println!("cargo::rustc-check-cfg=cfg(odc_vcan0)");
+    println!("cargo:rerun-if-changed=/sys/class/net");
+    if Path::new("/sys/class/net/vcan0").exists() {
+        println!("cargo:rustc-cfg=odc_vcan0");
     }
 }

@@ -10,6 +10,9 @@
 //! - [`Pdo`], [`PdoValue`], [`bits`]: process-data packing, LSB0 little-endian at any bit offset;
 //! - [`sdo`]: SDO server and client on [`can::CanFrame`]s, driven by the caller's clock;
 //! - [`lss`]: the LSS slave (CiA 305) and the LSS frames of both sides;
+//! - [`node`]: a whole CANopen node (NMT, heartbeat, guarding, SYNC, PDOs, EMCY, SDO) over
+//!   any [`slave::ObjectDictionary`]; [`transport`]: the [`transport::Bus`] trait and its
+//!   adapters;
 //! - [`SdoAbort`], [`emcy`], [`cia402`], [`cob`], [`nmt`]: CiA 301 / CiA 402 vocabulary.
 //!
 //! ```
@@ -70,7 +73,8 @@
 //! ```
 //!
 //! Features: `derive` (default) re-exports `#[derive(Pdo)]` and `#[derive(PdoValue)]`; `std`
-//! links std; `serde` and `defmt` add derives on the plain data types.
+//! links std (and the in-memory bus, `transport::mem`); `embedded-can` and `socketcan` add
+//! those transports; `serde` and `defmt` add derives on the plain data types.
 #![no_std]
 // Bad input is a diagnostic, never a panic: no unwrap, expect or panic outside tests. A
 // proven invariant may opt out with an `#[allow]` and a comment saying why.
@@ -89,10 +93,12 @@ mod entry;
 mod include;
 pub mod lss;
 pub mod nmt;
+pub mod node;
 mod pdo;
 pub mod plan;
 pub mod sdo;
 pub mod slave;
+pub mod transport;
 mod types;
 mod value;
 

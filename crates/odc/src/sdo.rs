@@ -15,7 +15,8 @@ pub mod frame;
 mod protocol_tests;
 mod server;
 
-pub use client::{Bus, Client, SdoError, Step};
+pub use crate::transport::Bus;
+pub use client::{Client, SdoError, Step};
 pub use server::{DEFAULT_TIMEOUT_MS, Server};
 
 pub use crate::SdoAbort;

@@ -29,10 +29,11 @@ pub mod wire {
     /// Bytes per frame.
     pub const LEN: usize = 16;
 
-    /// The record of `f` (standard identifiers only: every CANopen frame of these tests).
+    /// The record of `f`.
     pub fn encode(f: &CanFrame) -> [u8; LEN] {
         let mut r = [0u8; LEN];
-        r[..4].copy_from_slice(&(f.id & 0x1FFF_FFFF).to_le_bytes());
+        let flags = u32::from(f.extended) << 31 | u32::from(f.remote) << 30;
+        r[..4].copy_from_slice(&(f.id & 0x1FFF_FFFF | flags).to_le_bytes());
         r[4] = f.len.min(8);
         r[8..].copy_from_slice(&f.data);
         r
@@ -40,12 +41,15 @@ pub mod wire {
 
     /// The frame of a record; `None` for a length over 8.
     pub fn decode(r: &[u8; LEN]) -> Option<CanFrame> {
-        let id = u32::from_le_bytes([r[0], r[1], r[2], r[3]]) & 0x1FFF_FFFF;
+        let raw = u32::from_le_bytes([r[0], r[1], r[2], r[3]]);
+        let (id, extended, remote) = (raw & 0x1FFF_FFFF, raw >> 31 == 1, raw >> 30 & 1 == 1);
         let len = r[4];
         (len <= 8).then(|| {
             let mut data = [0u8; 8];
-            data[..usize::from(len)].copy_from_slice(&r[8..8 + usize::from(len)]);
-            CanFrame { id, len, data }
+            if !remote {
+                data[..usize::from(len)].copy_from_slice(&r[8..8 + usize::from(len)]);
+            }
+            CanFrame { id, extended, remote, len, data }
         })
     }
 }

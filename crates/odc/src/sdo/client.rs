@@ -7,6 +7,7 @@ use super::frame::{Init, Request, Response, Segment};
 use super::server::DEFAULT_TIMEOUT_MS;
 use crate::can::CanFrame;
 use crate::plan::SdoWrite;
+use crate::transport::Bus;
 use crate::{Entry, ObjValue, ObjectAddr, SdoAbort};
 use core::fmt;
 
@@ -605,28 +606,4 @@ impl<const N: usize> Client<N> {
         }
         Ok(())
     }
-}
-
-/// What the blocking client calls need from a CAN interface and a clock.
-pub trait Bus {
-    /// The interface's error.
-    type Error;
-
-    /// Sends a frame.
-    ///
-    /// # Errors
-    ///
-    /// When the interface fails.
-    fn send(&mut self, frame: &CanFrame) -> Result<(), Self::Error>;
-
-    /// The next received frame, waiting until the clock reaches `deadline_ms` at the latest;
-    /// `None` if nothing arrived by then.
-    ///
-    /// # Errors
-    ///
-    /// When the interface fails.
-    fn recv(&mut self, deadline_ms: u64) -> Result<Option<CanFrame>, Self::Error>;
-
-    /// A monotonic clock in milliseconds.
-    fn now_ms(&mut self) -> u64;
 }

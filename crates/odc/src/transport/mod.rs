@@ -1,0 +1,44 @@
+//! Transports: how frames reach a CAN bus. One small trait, [`Bus`], and adapters behind
+//! features, so the SDO client (and a node's main loop) is written once for any interface.
+//!
+//! - `mem` (`std`): an in-memory bus with any number of ports, for tests and simulation;
+//! - `embedded_can` (`embedded-can`): any MCU HAL that implements the `embedded_can`
+//!   traits, with the conversions between [`CanFrame`] and `embedded_can::Frame` types;
+//! - `socketcan` (`socketcan`, Linux): a SocketCAN interface (`can0`, `vcan0`);
+//! - `tcp` (`std`): the 16-byte SocketCAN-layout records over TCP of `tests/interop`.
+
+use crate::can::CanFrame;
+
+#[cfg(feature = "embedded-can")]
+pub mod embedded_can;
+#[cfg(feature = "std")]
+pub mod mem;
+#[cfg(all(feature = "socketcan", target_os = "linux"))]
+pub mod socketcan;
+// tcp: helper C writes transport/tcp.rs; the lead enables this line at the merge.
+// #[cfg(feature = "std")]
+// pub mod tcp;
+
+/// What the blocking SDO client (and a node's loop) need from a CAN interface and a clock.
+pub trait Bus {
+    /// The interface's error.
+    type Error;
+
+    /// Sends a frame.
+    ///
+    /// # Errors
+    ///
+    /// When the interface fails.
+    fn send(&mut self, frame: &CanFrame) -> Result<(), Self::Error>;
+
+    /// The next received frame, waiting until the clock reaches `deadline_ms` at the latest;
+    /// `None` if nothing arrived by then.
+    ///
+    /// # Errors
+    ///
+    /// When the interface fails.
+    fn recv(&mut self, deadline_ms: u64) -> Result<Option<CanFrame>, Self::Error>;
+
+    /// A monotonic clock in milliseconds.
+    fn now_ms(&mut self) -> u64;
+}

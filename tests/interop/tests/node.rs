@@ -1,0 +1,390 @@
+//! odc's `node::Node` over each device's generated `slave::Dictionary`, driven by
+//! python-canopen as NMT master (`python/node.py`), for every device of
+//! `odc_tests_interop::devices`: NMT (reset node and reset communication give a boot-up;
+//! stopped silences SDO; pre-operational has no PDOs), the heartbeat written over SDO to
+//! 0x1017 (period and state), TPDO 1 configured with `pdo.save()` as type 1, type 5 and type
+//! 254 with a 50 ms event timer, a remap (length and content on the wire), RPDO 1 from
+//! python-canopen into the dictionary, EMCY 0x8210 (an RPDO one byte short) decoded by
+//! python-canopen's EMCY consumer, node guarding with python-canopen's guarding, and the
+//! life-guarding loss when it stops.
+//!
+//! Ignored, with the reason in `cargo test`'s output, when the build found no python with
+//! `canopen` (see `python.rs`). One line of counts per device (`--nocapture`).
+//!
+//! `socketcan_vcan0`: the node and odc's SDO client on a SocketCAN `vcan0`, shown ignored
+//! where the machine has none.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use odc::node::{Events, Node, Reset};
+use odc::sdo::Bus;
+use odc_tests_interop::{Device, Peer, devices, python};
+use serde_json::Value;
+use std::time::{Duration, Instant};
+
+const NODE: u8 = 5;
+/// SDO buffer: larger than any value of the device files under test.
+const BUF: usize = 1024;
+/// A bound on one device's session (about 8 s of python's steps).
+const SESSION: Duration = Duration::from_secs(120);
+
+/// What the node reported to the application during a session.
+#[derive(Debug, Default)]
+struct Seen {
+    resets: usize,
+    life_guarding_lost: usize,
+    rpdos: usize,
+    pdo_errors: Vec<String>,
+}
+
+impl Seen {
+    fn note(&mut self, ev: &Events) {
+        self.resets += usize::from(ev.reset.is_some());
+        self.life_guarding_lost += usize::from(ev.life_guarding_lost);
+        self.rpdos += ev.rpdo.count_ones() as usize;
+        if let Some(e) = ev.pdo_error {
+            self.pdo_errors.push(format!("{e:?}"));
+        }
+    }
+}
+
+/// Runs `dev` as a node on the loopback bus until the python master is done.
+fn session(py: &std::path::Path, dev: &Device) -> (Value, Seen) {
+    let path = dev.path.to_str().unwrap();
+    let mut peer =
+        Peer::start(py, "node.py", &["--eds", path, "--node", "5", "--device", dev.name]);
+    let mut od = (dev.slave)(NODE);
+    let mut node: Node<BUF> = Node::new(NODE);
+    let start = Instant::now();
+    let now_us = || u64::try_from(start.elapsed().as_micros()).unwrap();
+    let mut out = Vec::new();
+    let mut seen = Seen::default();
+    node.start(od.as_mut(), now_us(), &mut |f| out.push(f));
+    let end = Instant::now() + SESSION;
+    'run: loop {
+        assert!(Instant::now() < end, "{}: session over {SESSION:?}", dev.name);
+        let ms = peer.bus.now_ms();
+        let frame = match peer.bus.recv(ms + 1) {
+            Ok(f) => f,
+            Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => break,
+            Err(e) => panic!("{}: {e}", dev.name),
+        };
+        if let Some(f) = frame {
+            let ev = node.handle(od.as_mut(), &f, now_us(), &mut |f| out.push(f));
+            seen.note(&ev);
+            // The application's part of a reset: the dictionary back to its defaults (both
+            // kinds here: a generated dictionary has no separate communication defaults).
+            if matches!(ev.reset, Some(Reset::Node | Reset::Communication)) {
+                od = (dev.slave)(NODE);
+            }
+        }
+        let ev = node.poll(od.as_mut(), now_us(), &mut |f| out.push(f));
+        seen.note(&ev);
+        for f in out.drain(..) {
+            if peer.bus.send(&f).is_err() {
+                break 'run;
+            }
+        }
+        if frame.is_none() && peer.exited() {
+            break;
+        }
+    }
+    let (stdout, _err) = peer.finish(Duration::from_secs(30));
+    let line = stdout
+        .lines()
+        .rev()
+        .find(|l| l.starts_with('{'))
+        .unwrap_or_else(|| panic!("no JSON in:\n{stdout}"));
+    (serde_json::from_str(line).unwrap(), seen)
+}
+
+fn int(v: &Value) -> i64 {
+    v.as_i64().unwrap_or(-1)
+}
+
+/// Checks one device's report; the failures, as text.
+fn check(r: &Value, seen: &Seen) -> Vec<String> {
+    let mut bad = Vec::new();
+    let mut want = |ok: bool, what: String| {
+        if !ok {
+            bad.push(what);
+        }
+    };
+    for e in r["errors"].as_array().into_iter().flatten() {
+        want(false, format!("python: {e}"));
+    }
+    want(seen.pdo_errors.is_empty(), format!("node PDO errors {:?}", seen.pdo_errors));
+    // NMT.
+    want(int(&r["bootups"]) == 2, format!("boot-ups after the two resets: {}", r["bootups"]));
+    want(seen.resets == 2, format!("reset events {}", seen.resets));
+    for (k, v) in
+        [("sdo_preop", true), ("sdo_stopped", false), ("sdo_op", true), ("sdo_preop_again", true)]
+    {
+        want(r[k] == v, format!("{k} = {}", r[k]));
+    }
+    want(int(&r["tpdo_preop"]) == 0, format!("TPDOs in pre-operational: {}", r["tpdo_preop"]));
+    // Heartbeat 100 ms over SDO, counted for 1.02 s.
+    let hb = int(&r["heartbeat_preop"]);
+    want((9..=11).contains(&hb), format!("heartbeats in 1.02 s at 100 ms: {hb}"));
+    let period = int(&r["heartbeat_period_ms"]);
+    want((90..=110).contains(&period), format!("heartbeat period {period} ms"));
+    want(
+        r["heartbeat_states_preop"] == serde_json::json!([0x7F]),
+        format!("pre-op states {}", r["heartbeat_states_preop"]),
+    );
+    want(
+        r["heartbeat_states_op"] == serde_json::json!([0x05]),
+        format!("op states {}", r["heartbeat_states_op"]),
+    );
+    want(r["python_state_op"] == "OPERATIONAL", format!("python's state {}", r["python_state_op"]));
+    // TPDO types.
+    want(
+        int(&r["type1_per_10_syncs"]) == 10,
+        format!("type 1: {} per 10 SYNCs", r["type1_per_10_syncs"]),
+    );
+    want(
+        int(&r["type5_per_20_syncs"]) == 4,
+        format!("type 5: {} per 20 SYNCs", r["type5_per_20_syncs"]),
+    );
+    // A file without 0x1800:05 (maxon EPOS4) has no event timer to set.
+    if r["event_timer"] != false {
+        let ev = int(&r["type254_50ms_per_second"]);
+        want((18..=22).contains(&ev), format!("type 254, 50 ms: {ev} per second"));
+    }
+    let lengths: Vec<i64> = r["remap_lengths"].as_array().into_iter().flatten().map(int).collect();
+    want(lengths.len() == 2 && lengths[0] < lengths[1], format!("remap lengths {lengths:?}"));
+    want(
+        r["remap_content_ok"]
+            .as_array()
+            .is_some_and(|a| a.len() == 2 && a.iter().all(|v| v == true)),
+        format!("remap content {}", r["remap_content_ok"]),
+    );
+    // RPDO and EMCY.
+    want(
+        r["rpdo_written"] == true,
+        format!("RPDO into {}: {}", r["rpdo_object"], r["rpdo_written"]),
+    );
+    want(seen.rpdos >= 1, format!("RPDO events {}", seen.rpdos));
+    want(int(&r["emcy"]["code"]) == 0x8210, format!("EMCY {}", r["emcy"]));
+    // Error register: generic (bit 0) and communication (bit 4), CiA 301 7.5.2.2.
+    want(int(&r["emcy"]["register"]) & 0x11 == 0x11, format!("EMCY register {}", r["emcy"]));
+    if let Some(h) = r["history_0x1003"].as_array() {
+        want(
+            h.len() == 2 && int(&h[0]) >= 1 && int(&h[1]) & 0xFFFF == 0x8210,
+            format!("0x1003 {h:?}"),
+        );
+        want(r["history_cleared"] == true, "0x1003:0 = 0 did not clear".into());
+    }
+    // Node guarding at 100 ms for 1.02 s, in pre-operational.
+    let g = int(&r["guarding_answers"]);
+    want((9..=11).contains(&g), format!("guarding answers {g}"));
+    want(
+        r["guarding_states"] == serde_json::json!([0x7F]),
+        format!("guarding states {}", r["guarding_states"]),
+    );
+    want(r["guarding_toggles_ok"] == true, "guarding toggle did not alternate".into());
+    want(
+        r["python_state_guarded"] == "PRE-OPERATIONAL",
+        format!("python's state {}", r["python_state_guarded"]),
+    );
+    if r["life_guarding"] == true {
+        want(
+            seen.life_guarding_lost == 1,
+            format!("life-guarding losses {}", seen.life_guarding_lost),
+        );
+    }
+    bad
+}
+
+#[test]
+#[cfg_attr(
+    odc_interop_no_python,
+    ignore = "needs python3 with canopen and python-can: set ODC_INTEROP_PYTHON (tests/interop/README.md)"
+)]
+fn our_node_their_nmt_master() {
+    let py = python();
+    println!(
+        "our node, their master (odc node::Node + generated slave, python-canopen RemoteNode)"
+    );
+    println!(
+        "{:<16} {:>4} {:>3} {:>6} {:>3} {:>3} {:>5} {:>6} {:>5} {:>6} {:>5}  notes",
+        "device", "boot", "hb", "hb-ms", "t1", "t5", "t254", "remap", "rpdo", "emcy", "guard"
+    );
+    let mut failures = Vec::new();
+    for dev in devices() {
+        let (r, seen) = session(&py, &dev);
+        if std::env::var_os("ODC_INTEROP_DEBUG").is_some() {
+            eprintln!("{r:#}\n{seen:?}");
+        }
+        let lengths: Vec<String> =
+            r["remap_lengths"].as_array().into_iter().flatten().map(|v| v.to_string()).collect();
+        let mut notes = Vec::new();
+        if r["tpdo_configured_by"] == serde_json::json!(["sdo"]) {
+            notes.push("COB-ID read-only: configured by SDO, not pdo.save()");
+        }
+        if r["tpdo_mappable_in_eds"] == false {
+            notes.push("no object flagged PDOMapping=1: mapped unflagged ones");
+        }
+        if r["event_timer"] == false {
+            notes.push("no 0x1800:05");
+        }
+        if r["life_guarding"] == false {
+            notes.push("no 0x100C/0x100D");
+        }
+        println!(
+            "{:<16} {:>4} {:>3} {:>6} {:>3} {:>3} {:>5} {:>6} {:>5} {:>6} {:>5}  {}",
+            dev.name,
+            r["bootups"],
+            r["heartbeat_preop"],
+            r["heartbeat_period_ms"],
+            r["type1_per_10_syncs"],
+            r["type5_per_20_syncs"],
+            if r["event_timer"] == false {
+                "none".into()
+            } else {
+                r["type254_50ms_per_second"].to_string()
+            },
+            lengths.join("→"),
+            seen.rpdos,
+            format!("{:04X}", int(&r["emcy"]["code"])),
+            format!("{}/{}", r["guarding_answers"], seen.life_guarding_lost),
+            notes.join("; "),
+        );
+        let bad = check(&r, &seen);
+        if !bad.is_empty() {
+            failures.push(format!("{}: {}", dev.name, bad.join("; ")));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The node and odc's SDO client on a SocketCAN `vcan0`: boot-up, an SDO upload of the device
+/// type, NMT start and a heartbeat written over SDO.
+#[test]
+#[cfg(target_os = "linux")]
+#[cfg_attr(
+    not(odc_vcan0),
+    ignore = "needs a SocketCAN vcan0 interface (ip link add dev vcan0 type vcan && ip link set up vcan0)"
+)]
+fn socketcan_vcan0() {
+    use odc::transport::socketcan::SocketCan;
+    let dev = devices().into_iter().next().unwrap();
+    let mut master = SocketCan::open("vcan0").unwrap();
+    let mut wire = SocketCan::open("vcan0").unwrap();
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let stop_node = stop.clone();
+    let slave = dev.slave;
+    let runner = std::thread::spawn(move || {
+        let mut od = slave(NODE);
+        let mut node: Node<BUF> = Node::new(NODE);
+        let start = Instant::now();
+        let now_us = || u64::try_from(start.elapsed().as_micros()).unwrap();
+        let mut out = Vec::new();
+        std::thread::sleep(Duration::from_millis(50));
+        node.start(od.as_mut(), now_us(), &mut |f| out.push(f));
+        while !stop_node.load(std::sync::atomic::Ordering::Relaxed) {
+            let ms = wire.now_ms();
+            if let Some(f) = wire.recv(ms + 1).unwrap() {
+                node.handle(od.as_mut(), &f, now_us(), &mut |f| out.push(f));
+            }
+            node.poll(od.as_mut(), now_us(), &mut |f| out.push(f));
+            for f in out.drain(..) {
+                wire.send(&f).unwrap();
+            }
+        }
+    });
+    let deadline = master.now_ms() + 2000;
+    let boot = loop {
+        match master.recv(deadline).unwrap() {
+            Some(f) if f.id == 0x705 => break Some(f),
+            Some(_) => {}
+            None => break None,
+        }
+    };
+    assert_eq!(boot.map(|f| f.bytes().to_vec()), Some(vec![0]));
+    let mut sdo = odc::sdo::Client::<64>::new(NODE);
+    let device_type: u32 = sdo.read(&mut master, dev.device_type).unwrap();
+    assert_eq!(Some(device_type), dev.device_type.default.and_then(|d| d.resolve(NODE)));
+    sdo.download(&mut master, 0x1017, 0, &50u16.to_le_bytes()).unwrap();
+    master.send(&odc::can::CanFrame::from_slice(0, &[0x01, NODE]).unwrap()).unwrap();
+    let t0 = master.now_ms();
+    let mut beats = Vec::new();
+    while master.now_ms() < t0 + 520 {
+        if let Some(f) = master.recv(t0 + 520).unwrap()
+            && f.id == 0x705
+        {
+            beats.push(f.data[0]);
+        }
+    }
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    runner.join().unwrap();
+    assert!((9..=11).contains(&beats.len()), "{beats:?}");
+    assert!(beats.iter().skip(1).all(|&b| b == 0x05), "{beats:?}");
+}
+
+/// The node in a thread on `odc::transport::mem`, odc's SDO client on another port, a third
+/// port listening: the boot-up reaches both, the client reads the device type and configures
+/// the heartbeat, NMT start gives operational heartbeats. What `odc simulate` and a test of a
+/// master do without a CAN interface.
+#[test]
+fn node_and_sdo_client_on_the_in_memory_bus() {
+    use odc::transport::mem::MemBus;
+    let bus = MemBus::new();
+    let (mut wire, mut master, mut sniffer) = (bus.port(), bus.port(), bus.port());
+    let dev = devices().into_iter().next().unwrap();
+    let slave = dev.slave;
+    let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let stop_node = stop.clone();
+    let runner = std::thread::spawn(move || {
+        let mut od = slave(NODE);
+        let mut node: Node<BUF> = Node::new(NODE);
+        let mut out = Vec::new();
+        let us = |p: &mut odc::transport::mem::MemPort| p.now_ms() * 1000;
+        let now = us(&mut wire);
+        node.start(od.as_mut(), now, &mut |f| out.push(f));
+        while !stop_node.load(std::sync::atomic::Ordering::Relaxed) {
+            let ms = wire.now_ms();
+            if let Some(f) = wire.recv(ms + 1).unwrap() {
+                let now = us(&mut wire);
+                node.handle(od.as_mut(), &f, now, &mut |f| out.push(f));
+            }
+            let now = us(&mut wire);
+            node.poll(od.as_mut(), now, &mut |f| out.push(f));
+            for f in out.drain(..) {
+                wire.send(&f).unwrap();
+            }
+        }
+    });
+    let boot = |p: &mut odc::transport::mem::MemPort| {
+        let deadline = p.now_ms() + 2000;
+        loop {
+            match p.recv(deadline).unwrap() {
+                Some(f) if f.id == 0x705 => break Some(f.bytes().to_vec()),
+                Some(_) => {}
+                None => break None,
+            }
+        }
+    };
+    assert_eq!(boot(&mut master), Some(vec![0]));
+    assert_eq!(boot(&mut sniffer), Some(vec![0]));
+    let mut sdo = odc::sdo::Client::<64>::new(NODE);
+    let device_type: u32 = sdo.read(&mut master, dev.device_type).unwrap();
+    assert_eq!(Some(device_type), dev.device_type.default.and_then(|d| d.resolve(NODE)));
+    sdo.download(&mut master, 0x1017, 0, &20u16.to_le_bytes()).unwrap();
+    master.send(&odc::can::CanFrame::from_slice(0, &[0x01, NODE]).unwrap()).unwrap();
+    let t0 = sniffer.now_ms();
+    let mut beats = Vec::new();
+    let mut requests = 0;
+    while sniffer.now_ms() < t0 + 210 {
+        match sniffer.recv(t0 + 210).unwrap() {
+            Some(f) if f.id == 0x705 => beats.push(f.data[0]),
+            Some(f) if f.id == 0x605 => requests += 1,
+            _ => {}
+        }
+    }
+    stop.store(true, std::sync::atomic::Ordering::Relaxed);
+    runner.join().unwrap();
+    // The sniffer gets the master's frames too: the two expedited SDO requests.
+    assert_eq!(requests, 2);
+    let operational = beats.iter().filter(|&&b| b == 0x05).count();
+    assert!((9..=11).contains(&operational), "{beats:?}");
+}
