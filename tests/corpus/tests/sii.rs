@@ -256,3 +256,69 @@ fn corpus_sii_images() {
         );
     }
 }
+
+/// A value siitool prints as `Label: ...... 0x1234` (the `nth` such line).
+fn siitool_value(text: &str, label: &str, nth: usize) -> Option<u32> {
+    let line = text.lines().filter(|l| l.trim_start().starts_with(label)).nth(nth)?;
+    let v = line.rsplit(' ').next()?;
+    match v.strip_prefix("0x") {
+        Some(hex) => u32::from_str_radix(hex, 16).ok(),
+        None => v.parse().ok(),
+    }
+}
+
+/// siitool (synapticon, C; build it from github.com/synapticon/siitool and point ODC_SIITOOL at
+/// the binary) reads odc's images of every 25th corpus device with an image: its checksum
+/// verdict, identity and standard mailbox must be the ESI's.
+#[test]
+#[ignore = "needs siitool: build it, set ODC_SIITOOL to the binary and ODC_CORPUS, run with --ignored"]
+fn siitool_reads_odc_images() {
+    let tool = std::env::var_os("ODC_SIITOOL").expect("ODC_SIITOOL: path of the siitool binary");
+    let dir = odc_tests_corpus::dir();
+    let tmp = std::env::temp_dir().join(format!("odc-sii-{}.bin", std::process::id()));
+    let (mut n, mut read) = (0usize, 0usize);
+    let mut problems = Vec::new();
+    for f in odc_tests_corpus::files(&["esi"]) {
+        let bytes = std::fs::read(dir.join(&f)).unwrap();
+        let parsed = odc_esi::parse(&mut Sources::new(), &f, &bytes);
+        for dev in &parsed.devices {
+            let Ok(image) = odc_sii::write(dev) else { continue };
+            n += 1;
+            if n % 25 != 1 {
+                continue;
+            }
+            let ec = dev.ethercat.as_deref().unwrap();
+            std::fs::write(&tmp, &image).unwrap();
+            let out = std::process::Command::new(&tool).arg("-p").arg(&tmp).output().unwrap();
+            let text = String::from_utf8_lossy(&out.stdout);
+            read += 1;
+            let mbox = ec.sync_managers.iter().find(|s| s.usage == SmUsage::MBoxOut);
+            let want = [
+                ("Vendor ID", 0, ec.vendor_id.unwrap_or(0)),
+                ("Product ID", 0, ec.product_code.unwrap_or(0)),
+                ("Revision ID", 0, ec.revision.unwrap_or(0)),
+                (
+                    "Received Mailbox Offset",
+                    1,
+                    mbox.and_then(|s| s.start_address.as_deref().copied()).map_or(0, u32::from),
+                ),
+            ];
+            for (label, nth, value) in want {
+                if siitool_value(&text, label, nth) != Some(value) {
+                    problems.push(format!(
+                        "{f} {}: {label} siitool {:?}, ESI {value:#x}",
+                        dev.name(),
+                        siitool_value(&text, label, nth)
+                    ));
+                }
+            }
+            if !text.lines().any(|l| l.contains("Checksum of Preamble") && l.contains("(ok)")) {
+                problems.push(format!("{f} {}: siitool does not find the checksum ok", dev.name()));
+            }
+        }
+    }
+    let _ = std::fs::remove_file(&tmp);
+    eprintln!("siitool read {read} of odc's {n} corpus images; {} problems", problems.len());
+    assert!(read > 0);
+    assert!(problems.is_empty(), "{problems:#?}");
+}
