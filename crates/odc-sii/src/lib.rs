@@ -41,22 +41,23 @@
 //!   (`Info/Electrical/EBusCurrent`, mA, signed; 0 when absent), physical ports (`Device@Physics`,
 //!   one nibble a port: `Y` MII 1, `K` E-bus 3, `H` fast hot connect 4, other 0),
 //!   physical memory address (`Info/IdentificationAdo`, else 0), the rest 0.
-//! - **FMMU (40)**: one byte per `Fmmu`: `Outputs` 1, `Inputs` 2, `MBoxState` 3, other 0; an odd
-//!   count is padded with 0xFF (not a usage, so a reader does not take it for an FMMU).
+//! - **FMMU (40)**: one byte per `Fmmu`: `Outputs` 1, `Inputs` 2, `MBoxState` 3, other 0 (an
+//!   unknown text with a [`Note`]); an odd count is padded with 0xFF (read as unused, as
+//!   ethercrab does).
 //! - **SyncManager (41)**: 8 bytes per `Sm`: `@StartAddress`, length (`@DefaultSize`, else 0 =
 //!   the master computes it), `@ControlByte`, status 0, enable byte (bit 0 `@Enable`, bit 2
-//!   `@Virtual`, bit 3 `@OpOnly`), type (`MBoxOut` 1, `MBoxIn` 2, `Outputs` 3, `Inputs` 4, other 0).
+//!   `@Virtual`, bit 3 `@OpOnly`), type (`MBoxOut` 1, `MBoxIn` 2, `Outputs` 3, `Inputs` 4, other 0, an unknown text with a [`Note`]).
 //! - **TxPDO (50)** and **RxPDO (51)**: per PDO 8 bytes (index, entry count, sync manager
 //!   (`@Sm`, 0xFF when the ESI assigns the PDO to none), DC synchronisation 0 (the ESI gives it
-//!   per op mode, not per PDO), name index, flags: bit 0 `@Mandatory`, bit 1 assigned by default
-//!   (`@Sm` given), bit 4 `@Fixed`), then 8 bytes per entry (index, sub-index, name index, CoE
+//!   per op mode, not per PDO), name index, flags (ETG.2010 table 14): bit 0 `@Mandatory`, bit 1
+//!   PdoDefault (`@Sm` given), bit 4 `@Fixed`; the others 0), then 8 bytes per entry (index, sub-index, name index, CoE
 //!   data type code of `DataType` (0 for a gap or a type without one), bit length, flags 0).
 //!   Written only when the device has PDOs of that direction.
 //! - **DC (60)**, only when the ESI has `Dc/OpMode`s: 24 bytes per op mode: `CycleTimeSync0`,
 //!   `ShiftTimeSync0`, `ShiftTimeSync1` (u32), `CycleTimeSync1@Factor` (i16), `AssignActivate`
 //!   (u16), `CycleTimeSync0@Factor` (i16), name and description (`Desc`) indexes, 4 reserved
 //!   bytes 0. ETG.2010 has no field for `CycleTimeSync1`'s own value (siitool adds one, which
-//!   the standard does not have).
+//!   the standard does not have): a non-zero one is left out with a [`Note`].
 //! - **Vendor categories**: every `Eeprom/Category` as written: `CatNo` as the type word, its
 //!   data verbatim (an odd length padded with 0).
 //!

@@ -33,6 +33,23 @@ pub enum Note {
     },
     /// `ByteSize` is not a whole number of KiBit (128 bytes): the size word rounds down.
     SizeNotWholeKibit(u32),
+    /// An `Fmmu` or `Sm` whose text is none of the usages ETG.2010 codes: written as 0
+    /// (unused).
+    UnknownUsage {
+        /// `Fmmu` or `Sm`.
+        element: &'static str,
+        /// Its position (0-based).
+        number: usize,
+        /// Its text.
+        text: String,
+    },
+    /// A DC op mode's `CycleTimeSync1` value: the DC category has a field for its factor only.
+    Sync1CycleTimeDropped {
+        /// The op mode's name.
+        op_mode: String,
+        /// The value left out.
+        value: u32,
+    },
 }
 
 impl fmt::Display for Note {
@@ -50,6 +67,15 @@ impl fmt::Display for Note {
             Note::NoTypeCode { index, sub } => write!(
                 f,
                 "entry 0x{index:04X}:{sub:02X}: its data type has no one-byte CoE code, written as 0"
+            ),
+            Note::UnknownUsage { element, number, text } => write!(
+                f,
+                "{element} {number}: `{text}` is not a usage the SII codes, written as 0 (unused)"
+            ),
+            Note::Sync1CycleTimeDropped { op_mode, value } => write!(
+                f,
+                "DC op mode `{op_mode}`: `CycleTimeSync1` {value} has no field in the SII DC \
+                 category (only its factor), left out"
             ),
             Note::SizeNotWholeKibit(n) => write!(
                 f,
@@ -91,16 +117,17 @@ pub fn write_with_notes(device: &Device) -> Result<(Vec<u8>, Vec<Note>), Error> 
     let general = general(device, ec, &extras, &mut strings);
     let tx = pdo_category(device, Direction::Tx, &mut strings, &mut notes)?;
     let rx = pdo_category(device, Direction::Rx, &mut strings, &mut notes)?;
-    let dc = dc_category(ec, &mut strings)?;
+    let dc = dc_category(ec, &mut strings, &mut notes)?;
     notes.append(&mut strings.notes);
 
     push_category(&mut image, category::STRINGS, &strings.bytes(), None)?;
     push_category(&mut image, category::GENERAL, &general, None)?;
     if !ec.fmmus.is_empty() {
-        push_category(&mut image, category::FMMU, &fmmus(ec), None)?;
+        push_category(&mut image, category::FMMU, &fmmus(ec, &mut notes), None)?;
     }
     if !ec.sync_managers.is_empty() {
-        push_category(&mut image, category::SYNC_MANAGER, &sync_managers(ec), None)?;
+        let sms = sync_managers(ec, &mut notes);
+        push_category(&mut image, category::SYNC_MANAGER, &sms, None)?;
     }
     for (kind, data) in [(category::TX_PDO, tx), (category::RX_PDO, rx), (category::DC, dc)] {
         if let Some(data) = data {
@@ -303,26 +330,37 @@ fn general(device: &Device, ec: &EtherCat, extras: &InfoValues, strings: &mut St
     g
 }
 
-fn fmmus(ec: &EtherCat) -> Vec<u8> {
-    let mut out: Vec<u8> = ec
-        .fmmus
-        .iter()
-        .map(|f| match f.usage {
+/// An unknown usage text, noted (an empty `Fmmu`/`Sm` element is plainly unused).
+fn unknown_usage(element: &'static str, number: usize, usage: &SmUsage, notes: &mut Vec<Note>) {
+    if let SmUsage::Other(text) = usage
+        && !text.is_empty()
+    {
+        notes.push(Note::UnknownUsage { element, number, text: text.clone() });
+    }
+}
+
+fn fmmus(ec: &EtherCat, notes: &mut Vec<Note>) -> Vec<u8> {
+    let mut out = Vec::with_capacity(ec.fmmus.len() + 1);
+    for (i, f) in ec.fmmus.iter().enumerate() {
+        out.push(match f.usage {
             SmUsage::Outputs => 1,
             SmUsage::Inputs => 2,
             SmUsage::MBoxState => 3,
-            _ => 0,
-        })
-        .collect();
+            ref other => {
+                unknown_usage("Fmmu", i, other, notes);
+                0
+            }
+        });
+    }
     if out.len() % 2 == 1 {
         out.push(0xFF);
     }
     out
 }
 
-fn sync_managers(ec: &EtherCat) -> Vec<u8> {
+fn sync_managers(ec: &EtherCat, notes: &mut Vec<Note>) -> Vec<u8> {
     let mut out = Vec::with_capacity(8 * ec.sync_managers.len());
-    for sm in &ec.sync_managers {
+    for (i, sm) in ec.sync_managers.iter().enumerate() {
         out.extend_from_slice(&sm.start_address.as_deref().copied().unwrap_or(0).to_le_bytes());
         let length = u16::try_from(sm.default_size.unwrap_or(0)).unwrap_or(u16::MAX);
         out.extend_from_slice(&length.to_le_bytes());
@@ -334,7 +372,10 @@ fn sync_managers(ec: &EtherCat) -> Vec<u8> {
             SmUsage::MBoxIn => 2,
             SmUsage::Outputs => 3,
             SmUsage::Inputs => 4,
-            _ => 0,
+            ref other => {
+                unknown_usage("Sm", i, other, notes);
+                0
+            }
         });
     }
     out
@@ -399,10 +440,17 @@ fn pdo_category(
     Ok(Some(out))
 }
 
-fn dc_category(ec: &EtherCat, strings: &mut Strings) -> Result<Option<Vec<u8>>, Error> {
+fn dc_category(
+    ec: &EtherCat,
+    strings: &mut Strings,
+    notes: &mut Vec<Note>,
+) -> Result<Option<Vec<u8>>, Error> {
     let Some(dc) = ec.dc.as_ref().filter(|dc| !dc.op_modes.is_empty()) else { return Ok(None) };
     let mut out = Vec::with_capacity(24 * dc.op_modes.len());
     for m in &dc.op_modes {
+        if let Some(value) = m.cycle_time_sync1.filter(|&v| v != 0) {
+            notes.push(Note::Sync1CycleTimeDropped { op_mode: m.name.clone(), value });
+        }
         let out_of_range = |what: &str| {
             input(
                 format!("DC op mode `{}`: {what} does not fit the SII field", m.name),

@@ -205,3 +205,23 @@ fn malformed_images_are_errors() {
     no_end.truncate(200);
     assert!(odc_sii::read(&no_end).is_err());
 }
+
+#[test]
+fn unknown_usages_and_sync1_cycle_time_are_noted() {
+    let odd = ESI
+        .replace("<Fmmu>MBoxState</Fmmu>", "<Fmmu>OrbitaState</Fmmu>")
+        .replace("<CycleTimeSync1 Factor=\"-2\">0<", "<CycleTimeSync1 Factor=\"-2\">1000<");
+    let (image, notes) = odc_sii::write_with_notes(&device(&odd)).unwrap();
+    assert_eq!(category(&image, 40).unwrap(), [1, 2, 0, 0xFF]);
+    assert!(notes.contains(&odc_sii::Note::UnknownUsage {
+        element: "Fmmu",
+        number: 2,
+        text: "OrbitaState".into()
+    }));
+    assert!(
+        notes.contains(&odc_sii::Note::Sync1CycleTimeDropped { op_mode: "DC".into(), value: 1000 }),
+        "{notes:?}"
+    );
+    let (_, notes) = odc_sii::write_with_notes(&device(ESI)).unwrap();
+    assert!(notes.is_empty(), "{notes:?}");
+}

@@ -195,6 +195,7 @@ fn corpus_sii_images() {
     let mut failures = BTreeMap::<String, Vec<String>>::new();
     let mut tally = Tally::default();
     let mut whole = Vec::new();
+    let mut notes = BTreeMap::<String, usize>::new();
     for f in odc_tests_corpus::files(&["esi"]) {
         let bytes = std::fs::read(dir.join(&f)).unwrap();
         let parsed = odc_esi::parse(&mut Sources::new(), &f, &bytes);
@@ -207,8 +208,13 @@ fn corpus_sii_images() {
                 !e.config_data.is_empty() || !e.boot_strap.is_empty() || !e.categories.is_empty()
             });
             with_eeprom_parts += usize::from(carries);
-            match odc_sii::write(dev) {
-                Ok(image) => {
+            match odc_sii::write_with_notes(dev) {
+                Ok((image, image_notes)) => {
+                    for n in image_notes {
+                        let kind = format!("{n:?}");
+                        let kind = kind.split([' ', '(', '{']).next().unwrap_or("").to_string();
+                        *notes.entry(kind).or_default() += 1;
+                    }
                     images += 1;
                     if carries {
                         checked += 1;
@@ -241,6 +247,7 @@ fn corpus_sii_images() {
     for (what, (ok, bad)) in &tally.checks {
         eprintln!("  {what}: {ok} agree, {bad} differ");
     }
+    eprintln!("notes on the images written: {notes:?}");
     eprintln!("{} devices give a whole Eeprom/Data image", whole.len());
     for (who, (same, diff)) in &whole {
         eprintln!("  {who}: {same}/64 info-area words agree; {}", diff.join("; "));
