@@ -72,7 +72,7 @@ mod write;
 pub use read::{
     Category, DcOpMode, General, InfoArea, MailboxArea, Sii, SiiPdo, SiiPdoEntry, SyncManager, read,
 };
-pub use write::{Note, write, write_with_notes};
+pub use write::{Note, write, write_from_description, write_with_notes};
 
 use odc_model::Span;
 

@@ -92,9 +92,11 @@ pub fn write(device: &Device) -> Result<Vec<u8>, Error> {
 }
 
 /// [`write`], with what the image could not carry exactly as the ESI says.
+///
+/// A device whose ESI gives the whole image (`Eeprom/Data`, without `ConfigData`) gets that
+/// image as it is; [`write_from_description`] builds one from the description instead.
 pub fn write_with_notes(device: &Device) -> Result<(Vec<u8>, Vec<Note>), Error> {
     let ec = device.ethercat.as_deref().ok_or(Error::NotEtherCat)?;
-    let mut notes = Vec::new();
     if let Some(ee) = &ec.eeprom
         && !ee.data.is_empty()
         && ee.config_data.is_empty()
@@ -108,8 +110,16 @@ pub fn write_with_notes(device: &Device) -> Result<(Vec<u8>, Vec<Note>), Error> 
                 ee.spans.data,
             ));
         }
-        return Ok((ee.data.clone(), notes));
+        return Ok((ee.data.clone(), Vec::new()));
     }
+    write_from_description(device)
+}
+
+/// The image built from the device's description (identity, `ConfigData`, SMs, PDOs, ...),
+/// even where the ESI also gives a whole image (`Eeprom/Data`): to compare the two.
+pub fn write_from_description(device: &Device) -> Result<(Vec<u8>, Vec<Note>), Error> {
+    let ec = device.ethercat.as_deref().ok_or(Error::NotEtherCat)?;
+    let mut notes = Vec::new();
     let mut image = info_area(ec, &mut notes)?;
     let extras = info_values(ec);
     let mut strings = Strings::default();

@@ -225,3 +225,22 @@ fn unknown_usages_and_sync1_cycle_time_are_noted() {
     let (_, notes) = odc_sii::write_with_notes(&device(ESI)).unwrap();
     assert!(notes.is_empty(), "{notes:?}");
 }
+
+#[test]
+fn a_whole_image_in_the_esi_is_taken_as_it_is() {
+    // ETG.2000 `EepromType`: `Data` (the whole image) instead of ByteSize/ConfigData/...
+    let mut whole = vec![0u8; 128];
+    whole[0x7E] = 1;
+    whole.extend_from_slice(&[0xFF, 0xFF]);
+    let hex: String = whole.iter().map(|b| format!("{b:02X}")).collect();
+    let start = ESI.find("<Eeprom>").unwrap();
+    let end = ESI.find("</Eeprom>").unwrap();
+    let given = format!("{}<Eeprom><Data>{hex}</Data>{}", &ESI[..start], &ESI[end..]);
+    let dev = device(&given);
+    assert_eq!(odc_sii::write(&dev).unwrap(), whole);
+    // Built from the description instead: the identity the ESI's `Type` gives.
+    let (built, _) = odc_sii::write_from_description(&dev).unwrap();
+    assert_eq!(odc_sii::read(&built).unwrap().info.product_code, 0x1234_5678);
+    let short = given.replace(&hex, "0011");
+    assert!(odc_sii::write(&device(&short)).is_err());
+}

@@ -220,8 +220,11 @@ fn corpus_sii_images() {
                         checked += 1;
                     }
                     check_device(dev, ec, &image, &mut tally, &who);
-                    if let Some(data) = ee.map(|e| &e.data).filter(|d| !d.is_empty()) {
-                        whole.push((who, compare_with_esi_image(&image, data)));
+                    // The ESI's own whole image against odc's, built from the description.
+                    if let Some(data) = ee.map(|e| &e.data).filter(|d| !d.is_empty())
+                        && let Ok((built, _)) = odc_sii::write_from_description(dev)
+                    {
+                        whole.push((who, compare_with_esi_image(&built, data)));
                     }
                 }
                 Err(e) => {
