@@ -82,6 +82,14 @@ pub enum Error {
         /// What is wrong, with its position.
         message: String,
     },
+    /// The SII EEPROM image asked for ([`Config::sii_image`]) cannot be made.
+    #[error("{}: SII image: {message}", path.display())]
+    Sii {
+        /// The device file.
+        path: PathBuf,
+        /// Why (not an ESI device, or a part of the ESI that does not fit the SII).
+        message: String,
+    },
     /// No output directory: `OUT_DIR` is not set (not in a build script) and none was given.
     #[error("OUT_DIR is not set: call compile() from a build script, or set out_dir()")]
     NotInBuildScript,
@@ -110,6 +118,7 @@ struct Input {
     path: PathBuf,
     module: Option<String>,
     device: usize,
+    sii: bool,
 }
 
 /// The code generated for one device file.
@@ -121,6 +130,8 @@ pub struct Generated {
     pub code: String,
     /// The device file.
     pub path: PathBuf,
+    /// The SII EEPROM image (ETG.2010), when asked for with [`Config::sii_image`].
+    pub sii: Option<Vec<u8>>,
 }
 
 /// The result of [`Config::generate`]: code, and what a build script reports to cargo.
@@ -180,7 +191,12 @@ impl Config {
     /// Adds a device file (EDS, DCF or ESI), relative to the build script's working directory
     /// (the package root).
     pub fn device(&mut self, path: impl AsRef<Path>) -> &mut Self {
-        self.inputs.push(Input { path: path.as_ref().to_path_buf(), module: None, device: 0 });
+        self.inputs.push(Input {
+            path: path.as_ref().to_path_buf(),
+            module: None,
+            device: 0,
+            sii: false,
+        });
         self
     }
 
@@ -198,6 +214,16 @@ impl Config {
     pub fn select_device(&mut self, index: usize) -> &mut Self {
         if let Some(last) = self.inputs.last_mut() {
             last.device = index;
+        }
+        self
+    }
+
+    /// Also writes the SII EEPROM image (ETG.2010, see `odc_sii`) of the ESI device added
+    /// last, as `<module>.sii.bin` beside its code: firmware that emulates its EEPROM can
+    /// `include_bytes!` it. A device that is not an ESI device is an [`Error::Sii`].
+    pub fn sii_image(&mut self) -> &mut Self {
+        if let Some(last) = self.inputs.last_mut() {
+            last.sii = true;
         }
         self
     }
@@ -260,7 +286,14 @@ impl Config {
                 Error::Diagnostics { path: input.path.clone(), report: loaded.render(&diags) }
             })?;
             let module = input.module.clone().unwrap_or_else(|| module_name(&input.path));
-            out.generated.push(Generated { module, code, path: input.path.clone() });
+            let sii = match input.sii {
+                true => Some(odc_sii::write(device).map_err(|e| Error::Sii {
+                    path: input.path.clone(),
+                    message: e.to_string(),
+                })?),
+                false => None,
+            };
+            out.generated.push(Generated { module, code, path: input.path.clone(), sii });
         }
         Ok(out)
     }
@@ -293,6 +326,9 @@ impl Config {
         }
         for g in &output.generated {
             write_if_changed(&out_dir.join(format!("{}.rs", g.module)), g.code.as_bytes())?;
+            if let Some(image) = &g.sii {
+                write_if_changed(&out_dir.join(format!("{}.sii.bin", g.module)), image)?;
+            }
         }
         Ok(())
     }
@@ -456,6 +492,28 @@ mod tests {
         let _ = std::fs::write(dir.join("lxm23a.odc.toml"), "[[scheme]]\nmodule = 1\n");
         let e = Config::new().device(&eds).generate().err().map(|e| e.to_string());
         assert!(e.is_some_and(|e| e.contains("lxm23a.odc.toml")));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn sii_image_beside_the_code() {
+        let dir = std::env::temp_dir().join(format!("odc-build-sii-{}", std::process::id()));
+        let _ = std::fs::create_dir_all(&dir);
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+        let r = Config::new()
+            .device(root.join("esi/servoone.xml"))
+            .sii_image()
+            .out_dir(&dir)
+            .emit_rerun_if_changed(false)
+            .compile();
+        assert!(r.is_ok(), "{r:?}");
+        let image = std::fs::read(dir.join("servoone.sii.bin")).unwrap_or_default();
+        // ETG.2010: a 2048-byte EEPROM (ByteSize) with version 1 at word 0x3F.
+        assert_eq!(image.len(), 2048);
+        assert_eq!(image.get(0x7E..0x80), Some(&[1u8, 0][..]));
+        // Not an ESI device: refused, naming the file.
+        let e = Config::new().device(root.join("eds/lxm23a.eds")).sii_image().generate().err();
+        assert!(matches!(e, Some(Error::Sii { .. })), "{e:?}");
         let _ = std::fs::remove_dir_all(&dir);
     }
 

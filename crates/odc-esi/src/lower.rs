@@ -19,10 +19,12 @@ use crate::num;
 use crate::xml::{Attr, Element};
 use odc_model::trim::trim;
 
+mod eeprom;
 mod ethercat;
 mod objects;
 mod types;
 
+use eeprom::*;
 use ethercat::*;
 use objects::*;
 use types::*;
@@ -547,21 +549,7 @@ fn lower_device(d: Element<'_>, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Devic
     if let Some(dc) = dc_el {
         ec.dc = Some(lower_dc(dc, ctx));
     }
-    if let Some(e) = eeprom_el {
-        let mut ee = Eeprom { span: e.span(), ..Eeprom::default() };
-        ee.byte_size = ctx.child_u32(e, "ByteSize");
-        if let Some(c) = e.child("ConfigData") {
-            ee.config_data = ctx.hex(c);
-        }
-        if let Some(c) = e.child("BootStrap") {
-            ee.boot_strap = ctx.hex(c);
-        }
-        if let Some(c) = e.child("Data") {
-            ee.data = ctx.hex(c);
-        }
-        ee.categories = e.children_named("Category").map(|c| ctx.raw("Eeprom", c)).collect();
-        ec.eeprom = Some(ee);
-    }
+    ec.eeprom = eeprom_el.map(|e| lower_eeprom(e, ctx));
     if let Some(s) = slots_el {
         ec.slots = Some(lower_slots(s, ctx));
     }

@@ -403,22 +403,65 @@ pub struct DcOpMode {
     pub span: Span,
 }
 
-/// The `Eeprom` element.
+/// The `Eeprom` element: what the device's SII EEPROM holds (ETG.2000 §5.3.4, ETG.2010).
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct Eeprom {
-    /// `ByteSize`.
+    /// `ByteSize`: the EEPROM's size in bytes.
     pub byte_size: Option<u32>,
-    /// `ConfigData` bytes.
+    /// `ConfigData` bytes: the SII's first words (PDI control, PDI configuration, sync impulse
+    /// length, extended PDI configuration, station alias), in EEPROM byte order.
     #[serde(serialize_with = "hex")]
     pub config_data: Vec<u8>,
-    /// `BootStrap` bytes.
+    /// `BootStrap` bytes: SII words 0x14..0x17 (bootstrap mailbox offsets and sizes).
     #[serde(serialize_with = "hex")]
     pub boot_strap: Vec<u8>,
     /// `Data`: the whole EEPROM image, when given instead.
     #[serde(serialize_with = "hex")]
     pub data: Vec<u8>,
-    /// `Category` elements, kept as raw XML.
-    pub categories: Vec<RawXml>,
+    /// `Category` elements: vendor categories to put into the SII as they are.
+    pub categories: Vec<EepromCategory>,
+    /// `@AssignToPdi`: the EEPROM is handed to the PDI after start-up.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub assign_to_pdi: Option<bool>,
+    /// Span of the `ByteSize`, `ConfigData`, `BootStrap` and `Data` texts, when given (for
+    /// diagnostics about the SII image built from them).
+    #[serde(skip_serializing_if = "EepromSpans::is_empty")]
+    pub spans: EepromSpans,
+    /// Span of the element.
+    pub span: Span,
+}
+
+/// Where the parts of an [`Eeprom`] are written.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct EepromSpans {
+    /// `ByteSize` text.
+    pub byte_size: Option<Span>,
+    /// `ConfigData` text.
+    pub config_data: Option<Span>,
+    /// `BootStrap` text.
+    pub boot_strap: Option<Span>,
+    /// `Data` text.
+    pub data: Option<Span>,
+}
+
+impl EepromSpans {
+    /// Whether no part is given (nothing to serialise).
+    pub fn is_empty(&self) -> bool {
+        *self == EepromSpans::default()
+    }
+}
+
+/// An `Eeprom/Category`: a category the vendor wants in the SII (e.g. Beckhoff's category 1).
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct EepromCategory {
+    /// `CatNo`: the category type word.
+    pub cat_no: u16,
+    /// The category's bytes: `Data` as written, `DataString` as its text's bytes, `DataUINT` and
+    /// `DataUDINT` as 2 and 4 little-endian bytes.
+    #[serde(serialize_with = "hex")]
+    pub data: Vec<u8>,
+    /// `@PreserveOnlineData`: a tool writing the EEPROM keeps the device's own category.
+    pub preserve_online_data: bool,
     /// Span of the element.
     pub span: Span,
 }

@@ -13,7 +13,7 @@ use crate::input;
 /// device unless `--device` picks one.
 #[derive(clap::Args)]
 pub struct Args {
-    /// EDS, DCF or ESI file.
+    /// EDS, DCF or ESI file, or an SII EEPROM image (`.bin`).
     file: PathBuf,
     /// Levels, configuration and `--device`.
     #[command(flatten)]
@@ -21,6 +21,12 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    // An SII EEPROM image (`odc sii`'s output) is read back instead.
+    if let Ok(bytes) = std::fs::read(&args.file)
+        && super::sii::is_image(&args.file, &bytes)
+    {
+        return super::sii::info(&args.file, &bytes);
+    }
     let loaded = input::load(&args.file, &args.levels)?;
     super::gate(&loaded)?;
     if loaded.devices.len() > 1 {
