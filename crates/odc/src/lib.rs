@@ -91,6 +91,7 @@ mod pdo;
 pub mod plan;
 pub mod sdo;
 pub mod slave;
+pub mod transport;
 mod types;
 mod value;
 
