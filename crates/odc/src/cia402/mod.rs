@@ -3,7 +3,9 @@
 //!
 //! A master walks a drive to "operation enabled" by reading the state from the statusword and
 //! sending the controlword that leads on; [`State::after`] is the drive's side of the same
-//! state machine (what a simulated or slave-side drive does with a controlword):
+//! state machine (what a simulated or slave-side drive does with a controlword). The drive's
+//! side as a whole, the objects it reads and sets, the state machine with its fault and quick
+//! stop reactions, and a simple axis, is [`Drive`] over [`DriveObjects`]:
 //!
 //! ```
 //! use odc::cia402::{Controlword, ModeOfOperation, State, Statusword, SupportedModes};
@@ -36,11 +38,13 @@
 //! # Ok::<(), &str>(())
 //! ```
 
+mod device;
 mod modes;
 mod state;
 mod values;
 mod words;
 
+pub use device::{Axis, DeviceControl, Drive, DriveObjects, transition};
 pub use modes::{ModeOfOperation, SupportedModes};
 pub use state::State;
 pub use words::{Command, Controlword, Statusword};
