@@ -1,0 +1,15 @@
+//! Device simulation for odc: any device file becomes a live device to test a master against.
+//!
+//! - [`ModelDictionary`]: the object dictionary of a device, built from its model at run time
+//!   with the semantics of the generated `slave::Dictionary` (so a file needs no build step
+//!   to be served);
+//! - CiA 402 drives run [`odc::cia402::Drive`] over it (the state machine and a simple axis).
+//!
+//! A crate of its own because simulation is std-only and model-driven, unlike the `no_std`
+//! runtime; EtherCAT simulation will join it.
+#![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used, clippy::panic))]
+
+mod dictionary;
+mod value;
+
+pub use dictionary::ModelDictionary;
