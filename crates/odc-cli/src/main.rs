@@ -45,6 +45,7 @@ enum Command {
     Convert(commands::convert::Args),
     Generate(commands::generate::Args),
     Info(commands::info::Args),
+    Simulate(commands::simulate::Args),
     Explain(commands::explain::Args),
     Lints(commands::explain::LintsArgs),
 }
@@ -57,6 +58,7 @@ fn main() -> ExitCode {
         Command::Convert(args) => commands::convert::run(args),
         Command::Generate(args) => commands::generate::run(args),
         Command::Info(args) => commands::info::run(args),
+        Command::Simulate(args) => commands::simulate::run(args),
         Command::Explain(args) => commands::explain::run(args),
         Command::Lints(args) => commands::explain::lints(args),
     };

@@ -6,6 +6,7 @@ pub mod dump;
 pub mod explain;
 pub mod generate;
 pub mod info;
+pub mod simulate;
 
 use std::io::IsTerminal;
 
