@@ -9,6 +9,8 @@
 //!   wrong value type to an object does not compile;
 //! - [`Pdo`], [`PdoValue`], [`bits`]: process-data packing, LSB0 little-endian at any bit offset;
 //! - [`sdo`]: SDO server and client on [`can::CanFrame`]s, driven by the caller's clock;
+//! - [`transport`]: how frames reach a bus (with `std`: `transport::tcp`, SocketCAN-layout
+//!   records over TCP);
 //! - [`SdoAbort`], [`emcy`], [`cia402`], [`cob`], [`nmt`]: CiA 301 / CiA 402 vocabulary.
 //!
 //! ```
