@@ -169,9 +169,32 @@ where
 }
 
 /// A VISIBLE_STRING of at most `cap` bytes (`VisibleString<N>` with `N` known at run time).
+/// Limits compare as `VisibleString<N>` orders: the bytes zero-padded to the capacity.
 struct Text {
     cap: usize,
     default: Option<Box<[u8]>>,
+    low: Option<Vec<u8>>,
+    high: Option<Vec<u8>>,
+}
+
+/// `s` as a value of `VisibleString<cap>` (at most `cap` bytes of visible ASCII), padded.
+fn text_value(v: &Value, cap: usize) -> Option<Vec<u8>> {
+    match v {
+        Value::Text(s) if s.len() <= cap && s.bytes().all(|b| (0x20..=0x7E).contains(&b)) => {
+            let mut padded = s.as_bytes().to_vec();
+            padded.resize(cap, 0);
+            Some(padded)
+        }
+        _ => None,
+    }
+}
+
+/// `b` as a value of `OctetString<len>` (exactly `len` bytes).
+fn octet_value(v: &Value, len: usize) -> Option<Vec<u8>> {
+    match v {
+        Value::Bytes(b) if b.len() == len => Some(b.to_vec()),
+        _ => None,
+    }
 }
 
 impl Slot for Text {
@@ -188,7 +211,9 @@ impl Slot for Text {
         if !text.iter().all(|b| (0x20..=0x7E).contains(b)) {
             return Err(ValueError::Invalid.into());
         }
-        Ok(())
+        let mut padded = text.to_vec();
+        padded.resize(self.cap, 0);
+        odc::check_range(&padded, self.low.as_ref(), self.high.as_ref())
     }
 
     fn init(&self, stored: &mut [u8], _: u8) {
@@ -208,10 +233,12 @@ impl Slot for Text {
     }
 }
 
-/// An OCTET_STRING of exactly `len` bytes (`OctetString<N>`).
+/// An OCTET_STRING of exactly `len` bytes (`OctetString<N>`); limits compare bytewise.
 struct Octets {
     len: usize,
     default: Option<Box<[u8]>>,
+    low: Option<Vec<u8>>,
+    high: Option<Vec<u8>>,
 }
 
 impl Slot for Octets {
@@ -219,7 +246,7 @@ impl Slot for Octets {
         match data.len() {
             n if n < self.len => Err(ValueError::TooShort.into()),
             n if n > self.len => Err(ValueError::TooLong.into()),
-            _ => Ok(()),
+            _ => odc::check_range(&data.to_vec(), self.low.as_ref(), self.high.as_ref()),
         }
     }
 
@@ -274,22 +301,62 @@ pub fn slot(sub: &SubObject, ty: RustTy) -> Box<dyn Slot> {
         RustTy::TimeOfDay => typed::<TimeOfDay>(sub),
         RustTy::TimeDifference => typed::<TimeDifference>(sub),
         RustTy::Text(cap) => {
-            let default = match default {
-                Some(Value::Text(s))
-                    if s.len() <= cap && s.bytes().all(|b| (0x20..=0x7E).contains(&b)) =>
-                {
-                    Some(s.as_bytes().into())
-                }
-                _ => None,
-            };
-            Box::new(Text { cap, default })
+            let limit = |v: Option<&odc_model::Spanned<Value>>| text_value(&v?.value, cap);
+            Box::new(Text {
+                cap,
+                default: default.and_then(|v| text_value(v, cap)).map(Into::into),
+                low: limit(sub.low_limit.as_deref()),
+                high: limit(sub.high_limit.as_deref()),
+            })
         }
         RustTy::Bytes(len) => {
-            let default = match default {
-                Some(Value::Bytes(b)) if b.len() == len => Some(b.clone()),
-                _ => None,
-            };
-            Box::new(Octets { len, default })
+            let limit = |v: Option<&odc_model::Spanned<Value>>| octet_value(&v?.value, len);
+            Box::new(Octets {
+                len,
+                default: default.and_then(|v| octet_value(v, len)).map(Into::into),
+                low: limit(sub.low_limit.as_deref()),
+                high: limit(sub.high_limit.as_deref()),
+            })
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use odc::{Entry, OctetString, VisibleString};
+    use odc_model::{Access, DataType, Span, Spanned};
+
+    fn spanned(v: Value) -> Option<Box<Spanned<Value>>> {
+        Some(Box::new(Spanned::new(v, Span::DUMMY)))
+    }
+
+    /// String and octet limits behave as the runtime's `VisibleString<N>`/`OctetString<N>`
+    /// descriptors with the same limits (no device file of eds/ has any, so the differential
+    /// test does not reach them).
+    #[test]
+    fn string_limits_as_the_runtime_types() {
+        let mut sub = SubObject::new(0, "Name", DataType::VisibleString, Access::Rw);
+        sub.low_limit = spanned(Value::Text("B".into()));
+        sub.high_limit = spanned(Value::Text("M".into()));
+        let ours = slot(&sub, RustTy::Text(4));
+        let theirs = Entry::<VisibleString<4>>::new(0x2000, 0, "Name", odc::Access::Rw, false)
+            .with_limits(VisibleString::new("B"), VisibleString::new("M"));
+        for data in [&b"A"[..], b"B", b"BA", b"M", b"MA", b"Z", b"", b"ABCDE", b"C\0\0", b"\x01"] {
+            let want = theirs.decode_download(data).map(|_| ());
+            assert_eq!(ours.check(data), want, "{data:?}");
+        }
+        let mut sub = SubObject::new(0, "Key", DataType::OctetString, Access::Rw);
+        sub.low_limit = spanned(Value::Bytes(vec![0x10, 0x00].into()));
+        sub.high_limit = spanned(Value::Bytes(vec![0x20, 0xFF].into()));
+        let ours = slot(&sub, RustTy::Bytes(2));
+        let theirs = Entry::<OctetString<2>>::new(0x2001, 0, "Key", odc::Access::Rw, false)
+            .with_limits(Some(OctetString([0x10, 0x00])), Some(OctetString([0x20, 0xFF])));
+        for data in
+            [&[0x0F, 0xFF][..], &[0x10, 0x00], &[0x20, 0xFF], &[0x21, 0x00], &[0x15], &[1, 2, 3]]
+        {
+            let want = theirs.decode_download(data).map(|_| ());
+            assert_eq!(ours.check(data), want, "{data:02X?}");
         }
     }
 }
