@@ -127,3 +127,39 @@ impl SimDevice {
         }
     }
 }
+
+/// Runs `device` on any [`Bus`](odc::sdo::Bus) (a SocketCAN interface, one end of a TCP
+/// link) until `stop` returns true or the bus fails: the boot-up, then each received frame
+/// through [`SimDevice::handle`] and a [`SimDevice::poll`] every `tick_ms`.
+///
+/// # Errors
+///
+/// The bus's, on a send or receive.
+pub fn run_on_bus<B: odc::sdo::Bus>(
+    bus: &mut B,
+    device: &mut SimDevice,
+    tick_ms: u64,
+    mut stop: impl FnMut() -> bool,
+) -> Result<(), B::Error> {
+    let mut out = Vec::new();
+    device.start(bus.now_ms(), &mut |f| out.push(f));
+    let mut next_tick = bus.now_ms() + tick_ms;
+    while !stop() {
+        for f in out.drain(..) {
+            bus.send(&f)?;
+        }
+        if let Some(frame) = bus.recv(next_tick)? {
+            let now = bus.now_ms();
+            device.handle(&frame, now, &mut |f| out.push(f));
+        }
+        let now = bus.now_ms();
+        if now >= next_tick {
+            device.poll(now, &mut |f| out.push(f));
+            next_tick = now + tick_ms;
+        }
+    }
+    for f in out.drain(..) {
+        bus.send(&f)?;
+    }
+    Ok(())
+}

@@ -18,5 +18,5 @@ mod dictionary;
 mod value;
 
 pub use bus::{StopHandle, TICK, VirtualBus};
-pub use device::{SDO_BUFFER, SimDevice};
+pub use device::{SDO_BUFFER, SimDevice, run_on_bus};
 pub use dictionary::ModelDictionary;

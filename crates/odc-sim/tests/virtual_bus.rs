@@ -84,3 +84,29 @@ fn clients_see_each_other_and_the_device() {
     let device = runner.join().unwrap();
     assert_eq!(device.node_id(), 5);
 }
+
+/// The same device loop on a plain [`Bus`] (what `--can` runs on SocketCAN): here one end of
+/// a TCP link, the test's master on the other.
+#[test]
+fn device_loop_on_any_bus() {
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicBool, Ordering};
+
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../eds/lenze-e94aycca.eds");
+    let loaded = odc_pipeline::load(&path, &odc_pipeline::Options::new()).unwrap();
+    let mut device = SimDevice::new(loaded.device().unwrap(), 9);
+    let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+    let mut master = TcpCan::connect(listener.local_addr().unwrap()).unwrap();
+    let mut link = TcpCan::new(listener.accept().unwrap().0).unwrap();
+    let stop = Arc::new(AtomicBool::new(false));
+    let stopped = Arc::clone(&stop);
+    let runner = thread::spawn(move || {
+        odc_sim::run_on_bus(&mut link, &mut device, 10, || stopped.load(Ordering::Relaxed))
+    });
+    assert_eq!(next(&mut master), Some(CanFrame::from_slice(0x709, &[0]).unwrap()), "boot-up");
+    master.send(&CanFrame::new(0x609, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0])).unwrap();
+    let answer = next(&mut master).unwrap();
+    assert_eq!((answer.id, answer.data[0]), (0x589, 0x43), "{answer:02X?}");
+    stop.store(true, Ordering::Relaxed);
+    runner.join().unwrap().unwrap();
+}

@@ -83,9 +83,9 @@ fn tcp(addr: SocketAddr, device: &mut SimDevice) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// MERGE: with helper A's `socketcan` feature of `odc`, the lead enables `socketcan` here
-/// and runs the device loop over `odc::transport::socketcan` (the same `start`, `handle` per
-/// received frame, `poll` per tick as [`VirtualBus::run`]).
+/// MERGE: with helper A's `socketcan` feature of `odc`, the lead enables `socketcan` here:
+/// open the interface with `odc::transport::socketcan` and call
+/// `odc_sim::run_on_bus(&mut bus, device, 10, || false)` (the device loop over any `Bus`).
 #[cfg(not(feature = "socketcan"))]
 fn can(iface: &str, _device: &mut SimDevice) -> anyhow::Result<ExitCode> {
     bail!("--can {iface}: this odc was built without SocketCAN (cargo feature `socketcan`)")
@@ -93,5 +93,5 @@ fn can(iface: &str, _device: &mut SimDevice) -> anyhow::Result<ExitCode> {
 
 #[cfg(feature = "socketcan")]
 fn can(iface: &str, _device: &mut SimDevice) -> anyhow::Result<ExitCode> {
-    compile_error!("wire odc::transport::socketcan into `odc simulate --can` (see the MERGE note)");
+    compile_error!("wire odc::transport::socketcan into `odc simulate --can` (see the MERGE note)")
 }
