@@ -99,7 +99,10 @@ impl SimDevice {
                         self.od.reset(self.node_id);
                         self.start(now_ms, out);
                     }
-                    Some(NmtCommand::ResetCommunication) => self.start(now_ms, out),
+                    Some(NmtCommand::ResetCommunication) => {
+                        self.od.reset_communication(self.node_id);
+                        self.start(now_ms, out);
+                    }
                     None => {}
                 }
             }

@@ -84,11 +84,21 @@ impl ModelDictionary {
         od
     }
 
-    /// Every entry back to its initial value on node `node_id` (what a reset does).
+    /// Every entry back to its initial value on node `node_id` (NMT reset node).
     pub fn reset(&mut self, node_id: u8) {
-        self.values.fill(0);
-        for row in &self.rows {
+        self.reset_where(node_id, |_| true);
+    }
+
+    /// The communication profile area 0x1000–0x1FFF back to its initial values (NMT reset
+    /// communication, CiA 301 §7.3.2.2.1); the application's values stay.
+    pub fn reset_communication(&mut self, node_id: u8) {
+        self.reset_where(node_id, |index| (0x1000..=0x1FFF).contains(&index));
+    }
+
+    fn reset_where(&mut self, node_id: u8, which: impl Fn(u16) -> bool) {
+        for row in self.rows.iter().filter(|r| which(r.addr.index)) {
             if let Some(stored) = self.values.get_mut(row.at..row.at + row.slot.len()) {
+                stored.fill(0);
                 row.slot.init(stored, node_id);
             }
         }

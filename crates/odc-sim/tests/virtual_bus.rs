@@ -110,3 +110,40 @@ fn device_loop_on_any_bus() {
     stop.store(true, Ordering::Relaxed);
     runner.join().unwrap().unwrap();
 }
+
+/// NMT reset communication restores 0x1000–0x1FFF and keeps the application's values; reset
+/// node restores both (CiA 301 §7.3.2.2.1).
+#[test]
+fn resets_restore_their_areas() {
+    use odc::slave::ObjectDictionary;
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../eds/lxm23a.eds");
+    let loaded = odc_pipeline::load(&path, &odc_pipeline::Options::new()).unwrap();
+    let mut device = SimDevice::new(loaded.device().unwrap(), 5);
+    let mut out = Vec::new();
+    device.start(0, &mut |f| out.push(f));
+    // Expedited SDO download of `data` (1–4 bytes) to `index`:00.
+    let write = |d: &mut SimDevice, index: u16, data: &[u8]| {
+        let mut out = Vec::new();
+        let [lo, hi] = index.to_le_bytes();
+        let mut frame = [0x23 | ((4 - data.len() as u8) << 2), lo, hi, 0, 0, 0, 0, 0];
+        frame[4..4 + data.len()].copy_from_slice(data);
+        d.handle(&CanFrame::new(0x605, frame), 0, &mut |f| out.push(f));
+        assert_eq!(out[0].data[0], 0x60, "{index:04X}: {:02X?}", out[0]);
+    };
+    let read = |d: &SimDevice, index: u16| {
+        let mut b = [0u8; 4];
+        d.dictionary().read(index, 0, &mut b).unwrap();
+        u32::from_le_bytes(b)
+    };
+    let (heartbeat, target) = (read(&device, 0x1017), read(&device, 0x607A));
+    write(&mut device, 0x1017, &500u16.to_le_bytes()); // producer heartbeat time
+    write(&mut device, 0x607A, &1234i32.to_le_bytes()); // target position
+    out.clear();
+    device.handle(&CanFrame::from_slice(0, &[0x82, 5]).unwrap(), 0, &mut |f| out.push(f));
+    assert_eq!(out, [CanFrame::from_slice(0x705, &[0]).unwrap()]);
+    assert_eq!((read(&device, 0x1017), read(&device, 0x607A)), (heartbeat, 1234));
+    write(&mut device, 0x1017, &500u16.to_le_bytes());
+    device.handle(&CanFrame::from_slice(0, &[0x81, 0]).unwrap(), 0, &mut |f| out.push(f));
+    assert_eq!((read(&device, 0x1017), read(&device, 0x607A)), (heartbeat, target));
+    assert_ne!(heartbeat, 500);
+}

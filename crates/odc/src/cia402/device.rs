@@ -302,7 +302,9 @@ impl Axis {
             _ => self.velocity = 0,
         }
         if !enabled {
+            // Leaving "operation enabled" drops the set-point: no motion resumes on its own.
             self.velocity = 0;
+            self.target = None;
         }
         self.last = cw;
     }
