@@ -9,7 +9,7 @@
 //! node takes over (`Node::handle` and `Node::poll`; `Node::start` for the boot-up).
 
 use odc::can::CanFrame;
-use odc::cia402::Drive;
+use odc::cia402::{DeviceControl, Drive};
 use odc::nmt::{NmtCommand, NmtState};
 use odc::sdo::Server;
 use odc_model::Device;
@@ -75,7 +75,11 @@ impl SimDevice {
         self.nmt = NmtState::PreOperational;
         self.last_tick_ms = now_ms;
         if let Some(drive) = &mut self.drive {
-            *drive = Drive::new();
+            // 0x605A quick stop option code (INTEGER16), as the dictionary holds it now;
+            // CiA 402's default 2 without it.
+            let option = self.od.get::<i16>(0x605A, 0).unwrap_or(2);
+            let control = DeviceControl::new().with_quick_stop_option(option);
+            *drive = Drive::new().with_control(control);
             drive.start(&mut self.od);
         }
         if let Some(boot_up) =
