@@ -7,9 +7,9 @@
 
 use std::thread;
 
-use odc::cia402::{Controlword, Statusword};
+use odc::cia402::Controlword;
 use odc::nmt::NmtCommand;
-use odc_examples::drive::{Cia402Device, Drive};
+use odc_examples::drive::Drive;
 use odc_examples::master::{self, Master, PositionPdos};
 use odc_examples::{Error, bus};
 
@@ -21,32 +21,6 @@ mod lxm23a {
 use lxm23a::{cia402::Mode, od, pdo, slave};
 
 const NODE: u8 = 1;
-
-/// The firmware's names for the objects it drives: the generated descriptors, read and set
-/// typed in the dictionary (which has every entry of `od`, so neither fails).
-impl Cia402Device for slave::Dictionary {
-    fn controlword(&self) -> Controlword {
-        self.get(od::CONTROLWORD).unwrap_or_default()
-    }
-    fn set_statusword(&mut self, statusword: Statusword) {
-        let _ = self.set(od::STATUSWORD, statusword);
-    }
-    fn mode_of_operation(&self) -> i8 {
-        self.get(od::MODES_OF_OPERATION).unwrap_or_default()
-    }
-    fn set_mode_of_operation_display(&mut self, mode: i8) {
-        let _ = self.set(od::MODES_OF_OPERATION_DISPLAY, mode);
-    }
-    fn target_position(&self) -> i32 {
-        self.get(od::TARGET_POSITION).unwrap_or_default()
-    }
-    fn profile_velocity(&self) -> u32 {
-        self.get(od::PROFILE_VELOCITY).unwrap_or_default()
-    }
-    fn set_position_actual_value(&mut self, position: i32) {
-        let _ = self.set(od::POSITION_ACTUAL_VALUE, position);
-    }
-}
 
 /// The program: the drive in a thread, the master in this one.
 pub fn main() -> Result<(), Error> {

@@ -6,20 +6,16 @@
 //! - PDO: RPDOs written into, TPDOs read from the dictionary as its mapping objects say
 //!   ([`crate::pdo`]); event-driven TPDOs (types 254, 255) go out when their data changes,
 //!   synchronous ones (0–240) on SYNC;
-//! - CiA 402: the state machine ([`State::after`] on each new controlword), the statusword,
-//!   modes of operation display following modes of operation, and a profile-position axis:
-//!   a new set-point (controlword bit 4 rising, absolute or relative by bit 6) is acknowledged
-//!   (statusword bit 12) and the axis moves at the profile velocity by one SYNC period per
-//!   SYNC until it reaches the target (statusword bit 10).
-//!
-//! The dictionary's typed fields are the drive's memory; [`Cia402Device`] is the few lines
-//! that name them for this generic firmware.
+//! - CiA 402: odc's [`Drive`] (the state machine on each new controlword, the statusword,
+//!   modes of operation display following modes of operation, and a profile-position axis
+//!   that moves at the profile velocity by one SYNC period per SYNC) over the generated
+//!   dictionary, which implements [`DriveObjects`] itself.
 
 use std::collections::BTreeMap;
 use std::time::Duration;
 
 use odc::can::CanFrame;
-use odc::cia402::{Controlword, ModeOfOperation, State, Statusword};
+use odc::cia402::{self, DriveObjects};
 use odc::nmt::{NmtCommand, NmtState};
 use odc::sdo::Server;
 use odc::slave::ObjectDictionary;
@@ -27,43 +23,18 @@ use odc::slave::ObjectDictionary;
 use crate::bus::{Closed, Port};
 use crate::pdo;
 
-/// The objects the firmware reads and writes directly in a generated `slave::Dictionary`
-/// (`get`/`set` with a descriptor of its `od`, which differ in name from one device file to the
-/// next).
-pub trait Cia402Device: ObjectDictionary {
-    /// 0x6040.
-    fn controlword(&self) -> Controlword;
-    /// 0x6041 (read-only over SDO; the firmware sets it).
-    fn set_statusword(&mut self, statusword: Statusword);
-    /// 0x6060.
-    fn mode_of_operation(&self) -> i8;
-    /// 0x6061 (read-only over SDO).
-    fn set_mode_of_operation_display(&mut self, mode: i8);
-    /// 0x607A.
-    fn target_position(&self) -> i32;
-    /// 0x6081, in position units per second.
-    fn profile_velocity(&self) -> u32;
-    /// 0x6064 (read-only over SDO).
-    fn set_position_actual_value(&mut self, position: i32);
-}
-
 /// The simulated drive.
 pub struct Drive<D> {
     od: D,
     node: u8,
     server: Server<64>,
     nmt: NmtState,
-    state: State,
-    last_controlword: Controlword,
-    position: i64,
-    target: i64,
-    moving: bool,
-    acknowledged: bool,
-    cycle_ms: i64,
+    drive: cia402::Drive,
+    cycle_ms: u32,
     sent: BTreeMap<u16, Vec<u8>>,
 }
 
-impl<D: Cia402Device> Drive<D> {
+impl<D: ObjectDictionary + DriveObjects> Drive<D> {
     /// A drive with node id `node` around `od`, moving by `cycle_ms` of profile velocity per
     /// SYNC.
     pub fn new(od: D, node: u8, cycle_ms: u32) -> Self {
@@ -72,13 +43,8 @@ impl<D: Cia402Device> Drive<D> {
             node,
             server: Server::new(node),
             nmt: NmtState::BootUp,
-            state: State::NotReadyToSwitchOn,
-            last_controlword: Controlword::DISABLE_VOLTAGE,
-            position: 0,
-            target: 0,
-            moving: false,
-            acknowledged: false,
-            cycle_ms: i64::from(cycle_ms),
+            drive: cia402::Drive::new(),
+            cycle_ms,
             sent: BTreeMap::new(),
         }
     }
@@ -111,10 +77,10 @@ impl<D: Cia402Device> Drive<D> {
     /// Initialisation: the drive leaves "not ready to switch on" by itself (transition 1),
     /// enters pre-operational and sends its boot-up message.
     pub fn boot(&mut self) -> Vec<CanFrame> {
-        self.state = State::SwitchOnDisabled;
+        self.drive = cia402::Drive::new();
+        self.drive.start(&mut self.od);
         self.nmt = NmtState::PreOperational;
         self.sent.clear();
-        self.update();
         CanFrame::from_slice(0x700 + u32::from(self.node), &[NmtState::BootUp.to_u8()])
             .into_iter()
             .collect()
@@ -144,7 +110,7 @@ impl<D: Cia402Device> Drive<D> {
             }
         } else if sync {
             if self.nmt == NmtState::Operational {
-                self.step();
+                self.drive.step(&mut self.od, self.cycle_ms);
             }
         } else if frame.id == self.server.request_id() {
             if self.nmt.sdo_allowed() {
@@ -153,7 +119,7 @@ impl<D: Cia402Device> Drive<D> {
         } else if self.nmt == NmtState::Operational {
             self.receive_pdo(frame);
         }
-        self.update();
+        self.drive.update(&mut self.od);
         out.extend(self.transmit_pdos(sync));
         out
     }
@@ -168,63 +134,6 @@ impl<D: Cia402Device> Drive<D> {
                 }
             }
         }
-    }
-
-    /// The firmware's reaction to the values the master wrote: the state machine, the mode,
-    /// the set-point handshake, and the statusword and actual position it reports.
-    fn update(&mut self) {
-        let cw = self.od.controlword();
-        let last = self.last_controlword;
-        if cw != last {
-            self.state = self.state.after(cw, cw.bit(7) && !last.bit(7));
-            let profile_position = ModeOfOperation::from_i8(self.od.mode_of_operation())
-                == ModeOfOperation::ProfilePosition;
-            if cw.bit(4)
-                && !last.bit(4)
-                && self.state == State::OperationEnabled
-                && profile_position
-            {
-                let target = i64::from(self.od.target_position());
-                self.target = if cw.bit(6) { self.position + target } else { target };
-                self.moving = self.target != self.position;
-                self.acknowledged = true;
-            }
-            if !cw.bit(4) {
-                self.acknowledged = false;
-            }
-            self.last_controlword = cw;
-        }
-        if self.state != State::OperationEnabled {
-            self.moving = false;
-        }
-        self.od.set_mode_of_operation_display(self.od.mode_of_operation());
-        let powered = matches!(
-            self.state,
-            State::ReadyToSwitchOn
-                | State::SwitchedOn
-                | State::OperationEnabled
-                | State::QuickStopActive
-        );
-        let sw = self
-            .state
-            .statusword()
-            .with_voltage_enabled(powered)
-            .with_remote(true)
-            .with_target_reached(!self.moving)
-            .with_setpoint_ack(self.acknowledged);
-        self.od.set_statusword(sw);
-        self.od.set_position_actual_value(i32::try_from(self.position).unwrap_or(i32::MAX));
-    }
-
-    /// One SYNC period of motion.
-    fn step(&mut self) {
-        if !self.moving {
-            return;
-        }
-        let per_cycle = (i64::from(self.od.profile_velocity()) * self.cycle_ms / 1000).max(1);
-        let remaining = self.target - self.position;
-        self.position += remaining.clamp(-per_cycle, per_cycle);
-        self.moving = self.position != self.target;
     }
 
     fn transmit_pdos(&mut self, sync: bool) -> Vec<CanFrame> {

@@ -46,6 +46,7 @@ enum Command {
     Generate(commands::generate::Args),
     Info(commands::info::Args),
     Sii(commands::sii::Args),
+    Simulate(commands::simulate::Args),
     Explain(commands::explain::Args),
     Lints(commands::explain::LintsArgs),
 }
@@ -59,6 +60,7 @@ fn main() -> ExitCode {
         Command::Generate(args) => commands::generate::run(args),
         Command::Info(args) => commands::info::run(args),
         Command::Sii(args) => commands::sii::run(args),
+        Command::Simulate(args) => commands::simulate::run(args),
         Command::Explain(args) => commands::explain::run(args),
         Command::Lints(args) => commands::explain::lints(args),
     };

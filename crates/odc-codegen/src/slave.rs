@@ -10,7 +10,86 @@
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
+use crate::types::RustTy;
 use crate::{Ctx, doc};
+
+/// `impl odc::cia402::DriveObjects for Dictionary` when the device is a CiA 402 drive whose
+/// controlword and statusword are typed as the profile types them; the optional objects are
+/// implemented for those the file has as VARs with the profile's type (the trait's defaults
+/// say "absent" for the others).
+fn drive_objects(ctx: &Ctx<'_>) -> TokenStream {
+    let rt = &ctx.rt;
+    // The descriptor of a VAR at `index` with type `ty`, as the slave module names it.
+    let var = |index: u16, ty: RustTy| {
+        let name = ctx.names.entries.get(&(index, 0))?;
+        let k = &name.konst;
+        (name.module.is_none() && name.ty == ty).then(|| quote!(od::#k))
+    };
+    let (Some(cw), Some(sw)) = (var(0x6040, RustTy::Controlword), var(0x6041, RustTy::Statusword))
+    else {
+        return TokenStream::new();
+    };
+    let mut methods = vec![
+        quote! {
+            fn controlword(&self) -> #rt::cia402::Controlword {
+                self.get(#cw).unwrap_or_default()
+            }
+        },
+        quote! {
+            fn set_statusword(&mut self, statusword: #rt::cia402::Statusword) {
+                let _ = self.set(#sw, statusword);
+            }
+        },
+    ];
+    if let Some(e) = var(0x6060, RustTy::Signed(8)) {
+        methods.push(quote! {
+            fn modes_of_operation(&self) -> Option<#rt::cia402::ModeOfOperation> {
+                self.get(#e).ok().map(#rt::cia402::ModeOfOperation::from_i8)
+            }
+        });
+    }
+    if let Some(e) = var(0x6061, RustTy::Signed(8)) {
+        methods.push(quote! {
+            fn set_modes_of_operation_display(&mut self, mode: #rt::cia402::ModeOfOperation) {
+                let _ = self.set(#e, mode.to_i8());
+            }
+        });
+    }
+    for (index, ty, method) in [
+        (0x607A, RustTy::Signed(32), quote!(target_position)),
+        (0x60FF, RustTy::Signed(32), quote!(target_velocity)),
+        (0x6081, RustTy::Unsigned(32), quote!(profile_velocity)),
+    ] {
+        if let Some(e) = var(index, ty) {
+            let t = ty.tokens(rt);
+            methods.push(quote! {
+                fn #method(&self) -> Option<#t> {
+                    self.get(#e).ok()
+                }
+            });
+        }
+    }
+    for (index, method, arg) in [
+        (0x6064, quote!(set_position_actual_value), quote!(position)),
+        (0x606C, quote!(set_velocity_actual_value), quote!(velocity)),
+    ] {
+        if let Some(e) = var(index, RustTy::Signed(32)) {
+            methods.push(quote! {
+                fn #method(&mut self, #arg: i32) {
+                    let _ = self.set(#e, #arg);
+                }
+            });
+        }
+    }
+    quote! {
+        /// The CiA 402 objects of the drive, for `odc::cia402::Drive` or the firmware's own
+        /// state machine. The descriptors are this dictionary's own, so `get` and `set`
+        /// cannot fail.
+        impl #rt::cia402::DriveObjects for Dictionary {
+            #(#methods)*
+        }
+    }
+}
 
 /// The `slave` module.
 pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
@@ -45,6 +124,7 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
          `dict.get(od::X)`, `dict.set(od::X, value)`.",
         ctx.device.name()
     ));
+    let drive = drive_objects(ctx);
     quote! {
         #docs
         pub mod slave {
@@ -149,6 +229,8 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
                     Dictionary::write(self, index, sub, data)
                 }
             }
+
+            #drive
         }
     }
 }

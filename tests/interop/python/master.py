@@ -382,6 +382,8 @@ def main():
     ap.add_argument("--node", type=int, default=5)
     ap.add_argument("--device", default="")
     ap.add_argument("--max-seconds", type=float, default=200.0)
+    ap.add_argument("--boot-up", action="store_true",
+                    help="first reset the node (NMT 0x81) and wait for its boot-up message")
     args = ap.parse_args()
     logging.basicConfig(level=logging.ERROR, stream=sys.stderr)
     # A bound of its own, should the Rust side vanish without closing the socket.
@@ -396,6 +398,14 @@ def main():
     node.sdo.RESPONSE_TIMEOUT = 2.0
     run = Run(node, args.device or args.eds)
     try:
+        if args.boot_up:
+            # Listen before sending: NmtBase.wait_for_bootup only sees a boot-up that comes
+            # after it was called, and a fast node answers before that.
+            booted = threading.Event()
+            network.subscribe(0x700 + args.node,
+                              lambda _id, data, _t: booted.set() if bytes(data) == b"\0" else None)
+            node.nmt.send_command(0x81)
+            run.out["boot_up"] = booted.wait(10)
         run.read_all()
         run.write_all()
         run.out_of_range()

@@ -2,118 +2,19 @@
 //! processes, and the generated code of every device under test.
 //!
 //! Transport: the Rust test listens on 127.0.0.1 (a free port), the Python script connects;
-//! each CAN frame is one 16-byte record (see [`wire`] and `python/socketbus.py`).
+//! each CAN frame is one 16-byte record ([`odc::transport::tcp`], `python/socketbus.py`).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use odc::can::CanFrame;
 use odc::plan::SdoWrite;
 use odc::slave::ObjectDictionary;
-use std::io::{self, Read, Write};
-use std::net::{TcpListener, TcpStream};
+use std::io::{self, Read};
+use std::net::TcpListener;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-/// The frame record both sides use: Linux SocketCAN's `struct can_frame`, little-endian.
-///
-/// | bytes | field |
-/// |---|---|
-/// | 0–3 | CAN-ID, u32 LE; bit 31 = 29-bit identifier, bit 30 = remote frame |
-/// | 4 | data length, 0–8 |
-/// | 5–7 | zero |
-/// | 8–15 | data, zero-padded |
-pub mod wire {
-    use odc::can::CanFrame;
-
-    /// Bytes per frame.
-    pub const LEN: usize = 16;
-
-    /// The record of `f`.
-    pub fn encode(f: &CanFrame) -> [u8; LEN] {
-        let mut r = [0u8; LEN];
-        let flags = u32::from(f.extended) << 31 | u32::from(f.remote) << 30;
-        r[..4].copy_from_slice(&(f.id & 0x1FFF_FFFF | flags).to_le_bytes());
-        r[4] = f.len.min(8);
-        r[8..].copy_from_slice(&f.data);
-        r
-    }
-
-    /// The frame of a record; `None` for a length over 8.
-    pub fn decode(r: &[u8; LEN]) -> Option<CanFrame> {
-        let raw = u32::from_le_bytes([r[0], r[1], r[2], r[3]]);
-        let (id, extended, remote) = (raw & 0x1FFF_FFFF, raw >> 31 == 1, raw >> 30 & 1 == 1);
-        let len = r[4];
-        (len <= 8).then(|| {
-            let mut data = [0u8; 8];
-            if !remote {
-                data[..usize::from(len)].copy_from_slice(&r[8..8 + usize::from(len)]);
-            }
-            CanFrame { id, extended, remote, len, data }
-        })
-    }
-}
-
-/// One end of the loopback CAN link, with a millisecond clock: an [`odc::sdo::Bus`].
-pub struct TcpCan {
-    stream: TcpStream,
-    pending: Vec<u8>,
-    start: Instant,
-    /// Frames sent and received, for the report.
-    pub frames: usize,
-}
-
-impl TcpCan {
-    /// Wraps an accepted connection.
-    pub fn new(stream: TcpStream) -> io::Result<Self> {
-        stream.set_nodelay(true)?;
-        Ok(Self { stream, pending: Vec::new(), start: Instant::now(), frames: 0 })
-    }
-}
-
-impl odc::sdo::Bus for TcpCan {
-    type Error = io::Error;
-
-    fn send(&mut self, frame: &CanFrame) -> io::Result<()> {
-        self.frames += 1;
-        self.stream.write_all(&wire::encode(frame))
-    }
-
-    /// `Err(UnexpectedEof)` once the peer closed the connection.
-    fn recv(&mut self, deadline_ms: u64) -> io::Result<Option<CanFrame>> {
-        loop {
-            if self.pending.len() >= wire::LEN {
-                let rec: [u8; wire::LEN] = self.pending[..wire::LEN].try_into().unwrap();
-                self.pending.drain(..wire::LEN);
-                self.frames += 1;
-                return wire::decode(&rec)
-                    .map(Some)
-                    .ok_or_else(|| io::Error::new(io::ErrorKind::InvalidData, "DLC over 8"));
-            }
-            let now = self.now_ms();
-            if now >= deadline_ms {
-                return Ok(None);
-            }
-            self.stream.set_read_timeout(Some(Duration::from_millis(deadline_ms - now)))?;
-            let mut buf = [0u8; 1024];
-            match self.stream.read(&mut buf) {
-                Ok(0) => return Err(io::ErrorKind::UnexpectedEof.into()),
-                Ok(n) => self.pending.extend_from_slice(&buf[..n]),
-                Err(e)
-                    if matches!(e.kind(), io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut) =>
-                {
-                    return Ok(None);
-                }
-                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
-                Err(e) => return Err(e),
-            }
-        }
-    }
-
-    fn now_ms(&mut self) -> u64 {
-        u64::try_from(self.start.elapsed().as_millis()).unwrap_or(u64::MAX)
-    }
-}
+pub use odc::transport::tcp::TcpCan;
 
 /// The python interpreter with `canopen`: `ODC_INTEROP_PYTHON`, else `python3`.
 ///
@@ -207,7 +108,7 @@ impl Peer {
     /// Closes the link, waits for the script (at most `limit`, then kills it) and returns
     /// its stdout and stderr; panics when it failed.
     pub fn finish(mut self, limit: Duration) -> (String, String) {
-        let _ = self.bus.stream.shutdown(std::net::Shutdown::Both);
+        let _ = self.bus.shutdown();
         let deadline = Instant::now() + limit;
         let status = loop {
             if let Some(s) = self.child.try_wait().unwrap() {

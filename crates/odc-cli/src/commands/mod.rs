@@ -7,6 +7,7 @@ pub mod explain;
 pub mod generate;
 pub mod info;
 pub mod sii;
+pub mod simulate;
 
 use std::io::IsTerminal;
 

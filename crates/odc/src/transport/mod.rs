@@ -15,9 +15,8 @@ pub mod embedded_can;
 pub mod mem;
 #[cfg(all(feature = "socketcan", target_os = "linux"))]
 pub mod socketcan;
-// tcp: helper C writes transport/tcp.rs; the lead enables this line at the merge.
-// #[cfg(feature = "std")]
-// pub mod tcp;
+#[cfg(feature = "std")]
+pub mod tcp;
 
 /// What the blocking SDO client (and a node's loop) need from a CAN interface and a clock.
 pub trait Bus {

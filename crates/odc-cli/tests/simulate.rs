@@ -1,0 +1,108 @@
+//! `odc simulate --tcp` as a process, with python-canopen as the master over the virtual bus
+//! (tests/interop/python/master.py through socketbus.py): it resets the node and sees the
+//! boot-up, uploads every readable object and compares it with the file's default, downloads
+//! to every writable one and reads it back, checks limits, read-only, write-only and missing
+//! objects, and saves PDO mappings, all over SDO.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Command, Stdio};
+
+fn repo(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(path)
+}
+
+/// Runs master.py against `odc simulate FILE --node-id 5 --tcp 127.0.0.1:0`; returns the
+/// script's JSON report.
+fn session(python: &Path, file: &str) -> serde_json::Value {
+    let eds = repo(file);
+    let mut sim = Command::new(env!("CARGO_BIN_EXE_odc"))
+        .args(["simulate", eds.to_str().unwrap(), "--node-id", "5", "--tcp", "127.0.0.1:0"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .unwrap();
+    let mut first = String::new();
+    BufReader::new(sim.stdout.take().unwrap()).read_line(&mut first).unwrap();
+    let addr = first.trim().strip_prefix("listening on ").unwrap_or_else(|| panic!("{first:?}"));
+    let master = Command::new(python)
+        .arg(repo("tests/interop/python/master.py"))
+        .args(["--connect", addr, "--eds", eds.to_str().unwrap(), "--node", "5"])
+        .args(["--boot-up", "--max-seconds", "200"])
+        .env("PYTHONDONTWRITEBYTECODE", "1")
+        .output()
+        .unwrap();
+    // The end of standard input stops the simulation.
+    drop(sim.stdin.take());
+    let status = sim.wait().unwrap();
+    let out = String::from_utf8_lossy(&master.stdout);
+    assert!(
+        master.status.success(),
+        "{file}: master.py failed:\n{}\n{out}",
+        String::from_utf8_lossy(&master.stderr)
+    );
+    assert!(status.success(), "{file}: odc simulate exited with {status}");
+    let line = out.lines().rev().find(|l| l.starts_with('{')).unwrap();
+    serde_json::from_str(line).unwrap()
+}
+
+#[test]
+#[cfg_attr(
+    odc_cli_no_python,
+    ignore = "needs python3 with canopen and python-can: set ODC_INTEROP_PYTHON (tests/interop/README.md)"
+)]
+fn python_canopen_masters_the_simulated_device() {
+    let python = PathBuf::from(std::env::var_os("ODC_INTEROP_PYTHON").unwrap_or("python3".into()));
+    for file in ["eds/lxm23a.eds", "eds/lexium-mdrive.eds", "eds/linmot-e1200.eds"] {
+        let r = session(&python, file);
+        let n = |k: &str| r[k].as_u64().unwrap_or(0);
+        println!(
+            "{file}: boot-up {}, read {}, written {}, aborts {} {}, PDO maps compared {}, saved {}",
+            r["boot_up"],
+            n("read"),
+            n("written"),
+            n("aborts"),
+            r["abort_codes"],
+            n("pdo_compared"),
+            r["saved"].as_array().map_or(0, Vec::len)
+        );
+        assert_eq!(r["boot_up"], true, "{file}: no boot-up after NMT reset node");
+        assert!(n("read") > 50 && n("written") > 20, "{file}: {r}");
+        // A running drive sets its statusword: after the boot-up it is "switch on disabled"
+        // (0x40 under mask 0x6F, CiA 402), not the file's default. Nothing else may differ.
+        for d in r["disagreements"].as_array().unwrap() {
+            let is_statusword =
+                d["addr"] == "0x6041:00" && d["kind"] == "read differs from default";
+            assert!(is_statusword, "{file}: {d}");
+            let got = u16::from_str_radix(d["got"].as_str().unwrap(), 16).unwrap().swap_bytes();
+            assert_eq!(got & 0x6F, 0x40, "{file}: statusword {got:#06x}");
+        }
+    }
+}
+
+#[test]
+fn can_without_socketcan_is_a_clear_error() {
+    let out = Command::new(env!("CARGO_BIN_EXE_odc"))
+        .args(["simulate", repo("eds/lxm23a.eds").to_str().unwrap(), "--node-id", "5"])
+        .args(["--can", "vcan0"])
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("built without SocketCAN"), "{err}");
+}
+
+#[test]
+fn node_id_must_be_1_to_127() {
+    let out = Command::new(env!("CARGO_BIN_EXE_odc"))
+        .args(["simulate", repo("eds/lxm23a.eds").to_str().unwrap(), "--node-id", "128"])
+        .args(["--tcp", "127.0.0.1:0"])
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("128"));
+}

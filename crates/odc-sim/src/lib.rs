@@ -1,0 +1,22 @@
+//! Device simulation for odc: any device file becomes a live device to test a master against.
+//!
+//! - [`ModelDictionary`]: the object dictionary of a device, built from its model at run time
+//!   with the semantics of the generated `slave::Dictionary` (so a file needs no build step
+//!   to be served);
+//! - [`SimDevice`]: the dictionary as a node (boot-up, NMT, SDO server); CiA 402 drives run
+//!   [`odc::cia402::Drive`] over it (the state machine and a simple axis);
+//! - [`VirtualBus`]: a CAN bus over TCP on which every client is a node, with the device on it
+//!   (`odc simulate --tcp`).
+//!
+//! A crate of its own because simulation is std-only and model-driven, unlike the `no_std`
+//! runtime; EtherCAT simulation will join it.
+#![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used, clippy::panic))]
+
+mod bus;
+mod device;
+mod dictionary;
+mod value;
+
+pub use bus::{StopHandle, TICK, VirtualBus};
+pub use device::{SDO_BUFFER, SimDevice, run_on_bus};
+pub use dictionary::ModelDictionary;

@@ -1,0 +1,255 @@
+//! The device-side state machine against CiA 402-2 §6.2 (IEC 61800-7-201): the transition
+//! table, the controlword commands of its table "device control commands", and the state
+//! coding of the statusword (mask 0x6F: bits 0–3, 5, 6).
+
+use super::*;
+
+/// The objects of a drive, as plain fields.
+#[derive(Debug, Default)]
+struct Objects {
+    cw: Controlword,
+    sw: Statusword,
+    mode: Option<ModeOfOperation>,
+    display: Option<ModeOfOperation>,
+    target: i32,
+    target_velocity: i32,
+    profile_velocity: u32,
+    position: i32,
+    velocity: i32,
+}
+
+impl DriveObjects for Objects {
+    fn controlword(&self) -> Controlword {
+        self.cw
+    }
+    fn set_statusword(&mut self, sw: Statusword) {
+        self.sw = sw;
+    }
+    fn modes_of_operation(&self) -> Option<ModeOfOperation> {
+        self.mode
+    }
+    fn set_modes_of_operation_display(&mut self, mode: ModeOfOperation) {
+        self.display = Some(mode);
+    }
+    fn target_position(&self) -> Option<i32> {
+        Some(self.target)
+    }
+    fn target_velocity(&self) -> Option<i32> {
+        Some(self.target_velocity)
+    }
+    fn profile_velocity(&self) -> Option<u32> {
+        Some(self.profile_velocity)
+    }
+    fn set_position_actual_value(&mut self, position: i32) {
+        self.position = position;
+    }
+    fn set_velocity_actual_value(&mut self, velocity: i32) {
+        self.velocity = velocity;
+    }
+}
+
+// The commands, CiA 402-2 table "device control commands" (bits 7, 3, 2, 1, 0).
+const SHUTDOWN: u16 = 0b0_0110;
+const SWITCH_ON: u16 = 0b0_0111;
+const DISABLE_VOLTAGE: u16 = 0b0_0000;
+const QUICK_STOP: u16 = 0b0_0010;
+const DISABLE_OPERATION: u16 = 0b0_0111;
+const ENABLE_OPERATION: u16 = 0b0_1111;
+const FAULT_RESET: u16 = 0b1000_0000;
+
+// The state coding, CiA 402-2 table "statusword state coding", under mask 0x6F (bit 5 of
+// "fault" and "fault reaction active" is "x" in the standard; these are masked with 0x4F).
+const NOT_READY: u16 = 0x00;
+const SWITCH_ON_DISABLED: u16 = 0x40;
+const READY_TO_SWITCH_ON: u16 = 0x21;
+const SWITCHED_ON: u16 = 0x23;
+const OPERATION_ENABLED: u16 = 0x27;
+const QUICK_STOP_ACTIVE: u16 = 0x07;
+const FAULT_REACTION_ACTIVE: u16 = 0x0F;
+const FAULT: u16 = 0x08;
+
+fn coded(sw: Statusword, expected: u16) -> bool {
+    let mask = if matches!(expected, FAULT | FAULT_REACTION_ACTIVE) { 0x4F } else { 0x6F };
+    sw.bits() & mask == expected
+}
+
+/// A started drive and its objects, after the controlwords of `path`.
+fn after(path: &[u16], quick_stop_option: i16) -> (Drive, Objects) {
+    let mut od = Objects::default();
+    let control = DeviceControl::new().with_quick_stop_option(quick_stop_option);
+    let mut drive = Drive::new().with_control(control);
+    assert!(coded(od.sw, NOT_READY));
+    drive.start(&mut od);
+    for &cw in path {
+        od.cw = Controlword(cw);
+        drive.update(&mut od);
+    }
+    (drive, od)
+}
+
+#[test]
+fn transition_table_of_cia402() {
+    // (path to the start state, command, transition number, statusword state coding after).
+    let rows: &[(&[u16], u16, u8, u16)] = &[
+        (&[], SHUTDOWN, 2, READY_TO_SWITCH_ON),
+        (&[SHUTDOWN], SWITCH_ON, 3, SWITCHED_ON),
+        (&[SHUTDOWN, SWITCH_ON], ENABLE_OPERATION, 4, OPERATION_ENABLED),
+        (&[SHUTDOWN, SWITCH_ON, ENABLE_OPERATION], DISABLE_OPERATION, 5, SWITCHED_ON),
+        (&[SHUTDOWN, SWITCH_ON], SHUTDOWN, 6, READY_TO_SWITCH_ON),
+        (&[SHUTDOWN], DISABLE_VOLTAGE, 7, SWITCH_ON_DISABLED),
+        (&[SHUTDOWN], QUICK_STOP, 7, SWITCH_ON_DISABLED),
+        (&[SHUTDOWN, SWITCH_ON, ENABLE_OPERATION], SHUTDOWN, 8, READY_TO_SWITCH_ON),
+        (&[SHUTDOWN, SWITCH_ON, ENABLE_OPERATION], DISABLE_VOLTAGE, 9, SWITCH_ON_DISABLED),
+        (&[SHUTDOWN, SWITCH_ON], DISABLE_VOLTAGE, 10, SWITCH_ON_DISABLED),
+        (&[SHUTDOWN, SWITCH_ON], QUICK_STOP, 10, SWITCH_ON_DISABLED),
+        (&[SHUTDOWN, SWITCH_ON, ENABLE_OPERATION], QUICK_STOP, 11, QUICK_STOP_ACTIVE),
+        (
+            &[SHUTDOWN, SWITCH_ON, ENABLE_OPERATION, QUICK_STOP],
+            DISABLE_VOLTAGE,
+            12,
+            SWITCH_ON_DISABLED,
+        ),
+    ];
+    for (i, &(path, cw, number, coding)) in rows.iter().enumerate() {
+        let (mut drive, mut od) = after(path, 2);
+        od.cw = Controlword(cw);
+        assert_eq!(drive.update(&mut od), Some(number), "row {i}: {path:?} then {cw:#06x}");
+        assert!(coded(od.sw, coding), "row {i}: statusword {:#06x}, want {coding:#04x}", od.sw.0);
+        assert_eq!(od.sw.state(), Some(drive.control().state()), "row {i}");
+    }
+}
+
+#[test]
+fn commands_without_a_transition_change_nothing() {
+    // Switch on in "switch on disabled", enable operation there, quick stop in "switch on
+    // disabled": no transition (the table has none).
+    for cw in [SWITCH_ON, ENABLE_OPERATION, QUICK_STOP, DISABLE_VOLTAGE] {
+        let (mut drive, mut od) = after(&[], 2);
+        od.cw = Controlword(cw);
+        assert_eq!(drive.update(&mut od), None, "{cw:#06x}");
+        assert!(coded(od.sw, SWITCH_ON_DISABLED));
+    }
+    // A repeated controlword takes no second transition.
+    let (mut drive, mut od) = after(&[SHUTDOWN], 2);
+    assert_eq!(drive.update(&mut od), None);
+    assert!(coded(od.sw, READY_TO_SWITCH_ON));
+}
+
+#[test]
+fn quick_stop_ends_by_its_option_code() {
+    let enabled = [SHUTDOWN, SWITCH_ON, ENABLE_OPERATION, QUICK_STOP];
+    // Option code 2 (the default of 0x605A): stop on the ramp, then "switch on disabled"
+    // (transition 12) without a command.
+    let (mut drive, mut od) = after(&enabled, 2);
+    assert!(coded(od.sw, QUICK_STOP_ACTIVE));
+    assert_eq!(drive.step(&mut od, 10), Some(12));
+    assert!(coded(od.sw, SWITCH_ON_DISABLED));
+    // Option code 6: stay in "quick stop active"; enable operation goes back (16).
+    let (mut drive, mut od) = after(&enabled, 6);
+    assert_eq!(drive.step(&mut od, 10), None);
+    assert!(coded(od.sw, QUICK_STOP_ACTIVE));
+    od.cw = Controlword(ENABLE_OPERATION);
+    assert_eq!(drive.update(&mut od), Some(16));
+    assert!(coded(od.sw, OPERATION_ENABLED));
+    // Transition 16 does not exist for option code 2.
+    let (mut drive, mut od) = after(&enabled, 2);
+    od.cw = Controlword(ENABLE_OPERATION);
+    assert_eq!(drive.update(&mut od), None);
+    assert!(coded(od.sw, QUICK_STOP_ACTIVE));
+}
+
+#[test]
+fn fault_reaction_fault_and_reset() {
+    let (mut drive, mut od) = after(&[SHUTDOWN, SWITCH_ON, ENABLE_OPERATION], 2);
+    assert_eq!(drive.fault(&mut od), Some(13));
+    assert!(coded(od.sw, FAULT_REACTION_ACTIVE));
+    assert!(od.sw.fault());
+    assert_eq!(drive.step(&mut od, 1), Some(14));
+    assert!(coded(od.sw, FAULT));
+    // Commands do nothing in "fault"; fault reset acts on the rising edge of bit 7 (15).
+    od.cw = Controlword(ENABLE_OPERATION);
+    assert_eq!(drive.update(&mut od), None);
+    od.cw = Controlword(FAULT_RESET);
+    assert_eq!(drive.update(&mut od), Some(15));
+    assert!(coded(od.sw, SWITCH_ON_DISABLED));
+    // A fault from "fault" again is no transition; bit 7 held high resets nothing twice.
+    assert_eq!(drive.fault(&mut od), Some(13));
+    assert_eq!(drive.step(&mut od, 1), Some(14));
+    assert_eq!(drive.fault(&mut od), None);
+    assert_eq!(drive.update(&mut od), None, "bit 7 still set: no edge");
+    od.cw = Controlword(0);
+    drive.update(&mut od);
+    od.cw = Controlword(FAULT_RESET);
+    assert_eq!(drive.update(&mut od), Some(15));
+}
+
+#[test]
+fn statusword_values_of_a_controlword_sequence() {
+    // Whole statuswords: state coding, voltage enabled (bit 4) with the power stage on,
+    // remote (bit 9), target reached (bit 10) with no mode running.
+    let (mut drive, mut od) = after(&[], 2);
+    let mut seen = [od.sw.0; 6];
+    for (i, cw) in
+        [SHUTDOWN, SWITCH_ON, ENABLE_OPERATION, QUICK_STOP, DISABLE_VOLTAGE].into_iter().enumerate()
+    {
+        od.cw = Controlword(cw);
+        drive.update(&mut od);
+        seen[i + 1] = od.sw.0;
+    }
+    assert_eq!(seen, [0x0640, 0x0631, 0x0633, 0x0637, 0x0617, 0x0640]);
+}
+
+#[test]
+fn profile_position_moves_to_the_target() {
+    let (mut drive, mut od) = after(&[], 2);
+    od.mode = Some(ModeOfOperation::ProfilePosition);
+    od.profile_velocity = 2000;
+    for cw in [SHUTDOWN, SWITCH_ON, ENABLE_OPERATION] {
+        od.cw = Controlword(cw);
+        drive.update(&mut od);
+    }
+    assert_eq!(od.display, Some(ModeOfOperation::ProfilePosition));
+    od.target = -500;
+    od.cw = Controlword(ENABLE_OPERATION).with_new_setpoint(true);
+    drive.update(&mut od);
+    assert!(od.sw.setpoint_ack() && !od.sw.target_reached());
+    drive.step(&mut od, 100);
+    assert_eq!((od.position, od.velocity), (-200, -2000));
+    drive.step(&mut od, 1000);
+    assert_eq!((od.position, od.velocity), (-500, 0));
+    assert!(od.sw.target_reached());
+    // Relative (bit 6): 100 more from here.
+    od.cw = Controlword(ENABLE_OPERATION);
+    drive.update(&mut od);
+    assert!(!od.sw.setpoint_ack());
+    od.target = 100;
+    od.cw = Controlword(ENABLE_OPERATION).with_new_setpoint(true).with_relative(true);
+    drive.update(&mut od);
+    drive.step(&mut od, 1000);
+    assert_eq!(od.position, -400);
+    // No motion outside "operation enabled".
+    od.cw = Controlword(ENABLE_OPERATION);
+    drive.update(&mut od);
+    od.target = 0;
+    od.cw = Controlword(SWITCH_ON).with_new_setpoint(true);
+    drive.update(&mut od);
+    drive.step(&mut od, 1000);
+    assert_eq!(od.position, -400);
+}
+
+#[test]
+fn profile_velocity_follows_the_target_velocity() {
+    let (mut drive, mut od) = after(&[SHUTDOWN, SWITCH_ON, ENABLE_OPERATION], 2);
+    od.mode = Some(ModeOfOperation::ProfileVelocity);
+    od.target_velocity = 300;
+    drive.update(&mut od);
+    assert!(!od.sw.setpoint_ack(), "bit 12 in pv: speed is not zero");
+    drive.step(&mut od, 500);
+    assert_eq!((od.position, od.velocity), (150, 300));
+    // Halt (bit 8) stops it; speed zero (bit 12) set.
+    od.cw = Controlword(ENABLE_OPERATION).with_halt(true);
+    drive.update(&mut od);
+    drive.step(&mut od, 500);
+    assert_eq!((od.position, od.velocity), (150, 0));
+    assert!(od.sw.setpoint_ack());
+}
