@@ -2,7 +2,7 @@
 
 use std::collections::BTreeMap;
 
-use odc_model::{Diagnostic, Direction, Pdo, Value};
+use odc_model::{Diagnostic, Direction, Pdo, PdoEntry, Value};
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::quote;
 
@@ -71,33 +71,8 @@ fn fields(ctx: &Ctx<'_>, pdo: &Pdo, errors: &mut Vec<Diagnostic>) -> (Vec<Field>
             pad += u32::from(entry.bits);
             continue;
         }
-        let sub = ctx.device.sub(entry.index, entry.sub);
         let bits = u32::from(entry.bits);
-        // The descriptor's type when `od` has one (so the field and `od::X` agree, CiA 402
-        // words included), else the data type's.
-        let declared = ctx
-            .names
-            .entries
-            .get(&(entry.index, entry.sub))
-            .map(|e| e.ty)
-            .or_else(|| sub.and_then(RustTy::of))
-            .or_else(|| {
-                entry
-                    .data_type
-                    .map(|dt| odc_model::SubObject::new(0, "", dt, odc_model::Access::Rw))
-                    .as_ref()
-                    .and_then(RustTy::of)
-            });
-        let natural = declared.and_then(RustTy::natural_bits);
-        let ty = match (declared, natural) {
-            (Some(t), Some(n))
-                if t.is_pdo_value() && bits <= n && (bits == n || t != RustTy::Bool) =>
-            {
-                Some(t)
-            }
-            _ => RustTy::raw(bits),
-        };
-        let Some(ty) = ty else {
+        let Some(ty) = field_type(ctx, entry) else {
             errors.push(
                 Diagnostic::error(
                     "G603",
@@ -111,21 +86,8 @@ fn fields(ctx: &Ctx<'_>, pdo: &Pdo, errors: &mut Vec<Diagnostic>) -> (Vec<Field>
             );
             continue;
         };
-        let object = ctx.device.objects.get(&entry.index);
-        let (base, label) = match (object, sub) {
-            (Some(o), Some(s)) if o.kind.has_subs() => {
-                (names::snake(&format!("{} {}", o.name, s.name)), format!("{}: {}", o.name, s.name))
-            }
-            (Some(o), _) => (names::snake(&o.name), o.name.clone()),
-            (None, _) => {
-                let n = entry.name.clone().unwrap_or_default();
-                (names::snake(&n), n)
-            }
-        };
-        let rank = match object {
-            Some(o) if !o.kind.has_subs() => standard::rank(entry.index, &o.name),
-            _ => u8::from(standard::is_standard_area(entry.index)),
-        };
+        let FieldName { base, label, rank } = field_name(ctx, entry);
+        let sub = ctx.device.sub(entry.index, entry.sub);
         let suffix = format!("obj_{:04x}_{:02x}", entry.index, entry.sub);
         let name = namer.propose_ranked(base, suffix, rank);
         let mut doc = format!("{label} (`0x{:04X}:{:02X}`, {bits} bits", entry.index, entry.sub);
@@ -150,6 +112,63 @@ fn fields(ctx: &Ctx<'_>, pdo: &Pdo, errors: &mut Vec<Diagnostic>) -> (Vec<Field>
         })
         .collect();
     (fields, pad)
+}
+
+/// The Rust type of a mapped entry: the descriptor's type when `od` has one (so the field and
+/// `od::X` agree, CiA 402 words included), else the data type's, else an unsigned integer of
+/// the mapped width; `None` for an entry wider than 64 bits.
+pub(crate) fn field_type(ctx: &Ctx<'_>, entry: &PdoEntry) -> Option<RustTy> {
+    let sub = ctx.device.sub(entry.index, entry.sub);
+    let bits = u32::from(entry.bits);
+    let declared = ctx
+        .names
+        .entries
+        .get(&(entry.index, entry.sub))
+        .map(|e| e.ty)
+        .or_else(|| sub.and_then(RustTy::of))
+        .or_else(|| {
+            entry
+                .data_type
+                .map(|dt| odc_model::SubObject::new(0, "", dt, odc_model::Access::Rw))
+                .as_ref()
+                .and_then(RustTy::of)
+        });
+    let natural = declared.and_then(RustTy::natural_bits);
+    match (declared, natural) {
+        (Some(t), Some(n)) if t.is_pdo_value() && bits <= n && (bits == n || t != RustTy::Bool) => {
+            Some(t)
+        }
+        _ => RustTy::raw(bits),
+    }
+}
+
+/// How a field for a mapped entry is named: a snake-case base, the label for its doc, and the
+/// rank that decides who keeps a name two entries share.
+pub(crate) struct FieldName {
+    pub base: String,
+    pub label: String,
+    pub rank: u8,
+}
+
+/// The name of the field for `entry`: object and sub-object name, else the ESI entry name.
+pub(crate) fn field_name(ctx: &Ctx<'_>, entry: &PdoEntry) -> FieldName {
+    let sub = ctx.device.sub(entry.index, entry.sub);
+    let object = ctx.device.objects.get(&entry.index);
+    let (base, label) = match (object, sub) {
+        (Some(o), Some(s)) if o.kind.has_subs() => {
+            (names::snake(&format!("{} {}", o.name, s.name)), format!("{}: {}", o.name, s.name))
+        }
+        (Some(o), _) => (names::snake(&o.name), o.name.clone()),
+        (None, _) => {
+            let n = entry.name.clone().unwrap_or_default();
+            (names::snake(&n), n)
+        }
+    };
+    let rank = match object {
+        Some(o) if !o.kind.has_subs() => standard::rank(entry.index, &o.name),
+        _ => u8::from(standard::is_standard_area(entry.index)),
+    };
+    FieldName { base, label, rank }
 }
 
 /// `cob_id(node_id)` for a CANopen PDO, with the text of its rule.

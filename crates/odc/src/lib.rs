@@ -85,6 +85,7 @@ pub mod cia402;
 pub mod cob;
 pub mod emcy;
 mod entry;
+pub mod ethercat;
 mod include;
 pub mod nmt;
 mod pdo;

@@ -1,0 +1,157 @@
+//! `pdi`: the process data image of an EtherCAT device as the master maps it, one struct per
+//! direction (`Outputs`, `Inputs`), laid out by [`crate::image`].
+//!
+//! Where `pdo` has one struct per PDO, a master sees the SubDevice's bytes as one block per
+//! direction (ethercrab's `inputs_raw()`/`outputs_raw()`): these structs unpack that block
+//! whole. They are `#[derive(odc::Pdo)]` structs (`LEN`, `pack`, `pack_into`, `unpack` with a
+//! length check), and with the runtime's feature `ethercrab` they implement `ethercrab_wire`'s
+//! read, write and sized traits.
+
+use odc_model::{Direction, Pdo};
+use proc_macro2::{Ident, Literal, Span, TokenStream};
+use quote::quote;
+
+use crate::image::{self, Image};
+use crate::names::Namer;
+use crate::pdo::{FieldName, field_name, field_type};
+use crate::types::{index_literal, sub_literal};
+use crate::{Ctx, doc};
+
+/// The struct for one image, or nothing when no PDO is assigned.
+fn image_struct(ctx: &Ctx<'_>, name: &Ident, img: &Image) -> TokenStream {
+    if img.is_empty() {
+        return TokenStream::new();
+    }
+    let rt = &ctx.rt;
+    let pdos: &[Pdo] = &ctx.device.pdos;
+    let mut namer = Namer::new();
+    // (name slot, type, index, sub, bits, gap before, doc)
+    let mut out = Vec::new();
+    let mut untyped = Vec::new();
+    let mut end = 0u32;
+    for seg in &img.segments {
+        for placed in &seg.entries {
+            let Some(entry) = pdos.get(placed.pdo).and_then(|p| p.entries.get(placed.entry)) else {
+                continue;
+            };
+            let ty = if entry.is_gap() { None } else { field_type(ctx, entry) };
+            let Some(ty) = ty else {
+                if !entry.is_gap() {
+                    untyped.push(format!(
+                        "`0x{:04X}:{:02X}` ({} bits at bit {}) is wider than any field type and \
+                         is skipped.",
+                        entry.index, entry.sub, entry.bits, placed.range.offset
+                    ));
+                }
+                continue;
+            };
+            let FieldName { base, label, rank } = field_name(ctx, entry);
+            let suffix = format!("obj_{:04x}_{:02x}", entry.index, entry.sub);
+            let slot = namer.propose_ranked(base, suffix, rank);
+            let pdo = pdos.get(placed.pdo).map_or(0, |p| p.mapping_index);
+            let text = format!(
+                "{label} (`0x{:04X}:{:02X}`, {} bits; PDO `0x{pdo:04X}`, sync manager {}, bit {}).",
+                entry.index, entry.sub, entry.bits, seg.sm, placed.range.offset
+            );
+            out.push((slot, ty.tokens(rt), entry, placed.range.offset - end, text));
+            end = placed.range.end();
+        }
+        // The segment's rounding up to whole bytes is a gap before the next segment.
+    }
+    let names = namer.finish("_", &[]);
+    let total = Literal::usize_unsuffixed(img.len() * 8);
+    let fields = out.iter().map(|(slot, ty, entry, gap, text)| {
+        let name = Ident::new(&names[*slot], Span::call_site());
+        let docs = doc(text);
+        let idx = index_literal(entry.index);
+        let sub = sub_literal(entry.sub);
+        let bits = Literal::u16_unsuffixed(entry.bits);
+        let pad = (*gap > 0).then(|| {
+            let p = Literal::u32_unsuffixed(*gap);
+            quote!(pad_bits = #p,)
+        });
+        quote! {
+            #docs
+            #[pdo(#pad index = #idx, sub = #sub, bits = #bits)]
+            pub #name: #ty,
+        }
+    });
+    let (what, raw) = match img.direction {
+        Direction::Rx => ("Outputs (master → device)", "outputs_raw_mut()"),
+        Direction::Tx => ("Inputs (device → master)", "inputs_raw()"),
+    };
+    let layout: Vec<String> = img
+        .segments
+        .iter()
+        .map(|s| {
+            let list: Vec<String> = s
+                .pdos
+                .iter()
+                .filter_map(|&p| pdos.get(p))
+                .map(|p| format!("`0x{:04X}`", p.mapping_index))
+                .collect();
+            format!(
+                "- sync manager {}: bytes {}..{}, PDOs {}",
+                s.sm,
+                s.byte_offset,
+                s.byte_offset + s.bytes,
+                list.join(", ")
+            )
+        })
+        .collect();
+    let mut text = format!(
+        "{what} of the default PDO assignment, {} bytes, as the master maps them (ethercrab's \
+         `{raw}`):\n\n{}",
+        img.len(),
+        layout.join("\n")
+    );
+    for u in &untyped {
+        text.push_str(&format!("\n\n{u}"));
+    }
+    let docs = doc(&text);
+    let crate_path = rt.to_string().replace(' ', "");
+    let krate = (crate_path != "::odc").then(|| quote!(, crate = #crate_path));
+    quote! {
+        #docs
+        #[derive(Clone, Copy, Debug, Default, PartialEq, #rt::Pdo)]
+        #[pdo(bits = #total, max_bits = #total #krate)]
+        pub struct #name {
+            #(#fields)*
+        }
+        #rt::impl_wire!(#name);
+    }
+}
+
+/// The `pdi` module of an EtherCAT device; nothing for a CANopen device, or when the default
+/// assignment names PDOs the device lacks (the checker reports that).
+pub(crate) fn generate(ctx: &Ctx<'_>) -> TokenStream {
+    if ctx.device.ethercat.is_none() {
+        return TokenStream::new();
+    }
+    let Ok((outputs, inputs)) = image::default_images(ctx.device) else {
+        return TokenStream::new();
+    };
+    let out_name = Ident::new("Outputs", Span::call_site());
+    let in_name = Ident::new("Inputs", Span::call_site());
+    let out_struct = image_struct(ctx, &out_name, &outputs);
+    let in_struct = image_struct(ctx, &in_name, &inputs);
+    let out_len = Literal::usize_unsuffixed(outputs.len());
+    let in_len = Literal::usize_unsuffixed(inputs.len());
+    let docs = doc(&format!(
+        "Process data image of {} as an EtherCAT master maps it: sync managers in index \
+         order, PDOs in assignment order, entries bit-packed, each sync manager rounded up to \
+         whole bytes.",
+        ctx.device.name()
+    ));
+    quote! {
+        #docs
+        pub mod pdi {
+            /// Bytes of the outputs (0 when no RxPDO is assigned by default).
+            pub const OUTPUT_LEN: usize = #out_len;
+            /// Bytes of the inputs (0 when no TxPDO is assigned by default).
+            pub const INPUT_LEN: usize = #in_len;
+            #out_struct
+            #in_struct
+        }
+    }
+}
