@@ -43,7 +43,7 @@ const ESI: &str = r##"<?xml version="1.0"?>
     <Mailbox><CoE PdoAssign="1" PdoConfig="1">
       <InitCmd><Transition>PS</Transition><Index>#x8000</Index><SubIndex>2</SubIndex><Data>0100</Data></InitCmd>
       <InitCmd><Transition>IP</Transition><Index>#x8000</Index><SubIndex>1</SubIndex><Data>05</Data></InitCmd>
-      <InitCmd><Transition>SO</Transition><Index>#x8000</Index><SubIndex>3</SubIndex><Data>07</Data></InitCmd>
+      <InitCmd><Transition>SO</Transition><Index>#x8000</Index><SubIndex>3</SubIndex><Data>5A</Data></InitCmd>
     </CoE></Mailbox>
     <Dc><OpMode><Name>DC</Name><AssignActivate>#x300</AssignActivate></OpMode></Dc>
   </Device></Devices></Descriptions>
@@ -122,5 +122,5 @@ fn generated_pdi_and_startup() {
             "0x1C13", "0x1C13", "0x1C13", "0x1C13", // 0, 0x1A00, 0x1A01, count
         ]
     );
-    assert!(!plan.contains("0x07"), "the SO command is not part of PRE-OP");
+    assert!(!plan.contains("0x5A"), "the SO command is not part of PRE-OP");
 }
