@@ -49,9 +49,11 @@ fn image_struct(ctx: &Ctx<'_>, name: &Ident, img: &Image) -> TokenStream {
             let suffix = format!("obj_{:04x}_{:02x}", entry.index, entry.sub);
             let slot = namer.propose_ranked(base, suffix, rank);
             let pdo = pdos.get(placed.pdo).map_or(0, |p| p.mapping_index);
+            let width =
+                if entry.bits == 1 { "1 bit".to_string() } else { format!("{} bits", entry.bits) };
             let text = format!(
-                "{label} (`0x{:04X}:{:02X}`, {} bits; PDO `0x{pdo:04X}`, sync manager {}, bit {}).",
-                entry.index, entry.sub, entry.bits, seg.sm, placed.range.offset
+                "{label} (`0x{:04X}:{:02X}`, {width}; PDO `0x{pdo:04X}`, sync manager {}, bit {}).",
+                entry.index, entry.sub, seg.sm, placed.range.offset
             );
             out.push((slot, ty.tokens(rt), entry, placed.range.offset - end, text));
             end = placed.range.end();
