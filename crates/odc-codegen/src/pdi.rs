@@ -24,41 +24,58 @@ fn image_struct(ctx: &Ctx<'_>, name: &Ident, img: &Image) -> TokenStream {
     }
     let rt = &ctx.rt;
     let pdos: &[Pdo] = &ctx.device.pdos;
-    let mut namer = Namer::new();
-    // (name slot, type, index, sub, bits, gap before, doc)
-    let mut out = Vec::new();
+    // (entry, placed, segment's sync manager, type, name), gaps and untyped entries aside.
+    let mut typed = Vec::new();
     let mut untyped = Vec::new();
-    let mut end = 0u32;
     for seg in &img.segments {
         for placed in &seg.entries {
-            let Some(entry) = pdos.get(placed.pdo).and_then(|p| p.entries.get(placed.entry)) else {
+            let Some(pdo) = pdos.get(placed.pdo) else { continue };
+            let Some(entry) = pdo.entries.get(placed.entry) else { continue };
+            if entry.is_gap() {
                 continue;
-            };
-            let ty = if entry.is_gap() { None } else { field_type(ctx, entry) };
-            let Some(ty) = ty else {
-                if !entry.is_gap() {
-                    untyped.push(format!(
-                        "`0x{:04X}:{:02X}` ({} bits at bit {}) is wider than any field type and \
-                         is skipped.",
-                        entry.index, entry.sub, entry.bits, placed.range.offset
-                    ));
-                }
-                continue;
-            };
-            let FieldName { base, label, rank } = field_name(ctx, entry);
-            let suffix = format!("obj_{:04x}_{:02x}", entry.index, entry.sub);
-            let slot = namer.propose_ranked(base, suffix, rank);
-            let pdo = pdos.get(placed.pdo).map_or(0, |p| p.mapping_index);
-            let width =
-                if entry.bits == 1 { "1 bit".to_string() } else { format!("{} bits", entry.bits) };
-            let text = format!(
-                "{label} (`0x{:04X}:{:02X}`, {width}; PDO `0x{pdo:04X}`, sync manager {}, bit {}).",
-                entry.index, entry.sub, seg.sm, placed.range.offset
-            );
-            out.push((slot, ty.tokens(rt), entry, placed.range.offset - end, text));
-            end = placed.range.end();
+            }
+            match field_type(ctx, entry) {
+                Some(ty) => typed.push((pdo, entry, placed, seg.sm, ty, field_name(ctx, entry))),
+                None => untyped.push(format!(
+                    "`0x{:04X}:{:02X}` ({} bits at bit {}) is wider than any field type and is \
+                     skipped.",
+                    entry.index, entry.sub, entry.bits, placed.range.offset
+                )),
+            }
         }
-        // The segment's rounding up to whole bytes is a gap before the next segment.
+    }
+    // Channels of one terminal map objects of one name ("Output" in each of 16 PDOs): where a
+    // name repeats, the PDO's name ("Channel 1") goes in front.
+    let mut seen = std::collections::HashMap::<&str, usize>::new();
+    for t in &typed {
+        *seen.entry(t.5.base.as_str()).or_default() += 1;
+    }
+    let repeated: std::collections::HashSet<String> =
+        seen.into_iter().filter(|(_, n)| *n > 1).map(|(b, _)| b.to_string()).collect();
+    let mut namer = Namer::new();
+    let mut out = Vec::new();
+    let mut end = 0u32;
+    for (pdo, entry, placed, sm, ty, name) in typed {
+        let FieldName { base, label, rank } = name;
+        let base = if repeated.contains(&base) && !pdo.name.is_empty() {
+            crate::names::snake(&format!(
+                "{} {}",
+                pdo.name,
+                entry.name.as_deref().unwrap_or(&label)
+            ))
+        } else {
+            base
+        };
+        let suffix = format!("obj_{:04x}_{:02x}", entry.index, entry.sub);
+        let slot = namer.propose_ranked(base, suffix, rank);
+        let width =
+            if entry.bits == 1 { "1 bit".to_string() } else { format!("{} bits", entry.bits) };
+        let text = format!(
+            "{label} (`0x{:04X}:{:02X}`, {width}; PDO `0x{:04X}`, sync manager {sm}, bit {}).",
+            entry.index, entry.sub, pdo.mapping_index, placed.range.offset
+        );
+        out.push((slot, ty.tokens(rt), entry, placed.range.offset - end, text));
+        end = placed.range.end();
     }
     let names = namer.finish("_", &[]);
     let total = Literal::usize_unsuffixed(img.len() * 8);
