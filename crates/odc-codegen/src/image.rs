@@ -170,3 +170,88 @@ pub fn default_images(device: &Device) -> Result<(Image, Image), ImageError> {
     let a = default_assignment(device);
     Ok((image(device, &a, Direction::Rx)?, image(device, &a, Direction::Tx)?))
 }
+
+/// Where an alternative assignment comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Origin {
+    /// A `Dc/OpMode` with `Sm` elements of its own.
+    DcOpMode,
+    /// A Beckhoff `AlternativeSmMapping`.
+    AlternativeSmMapping,
+}
+
+/// An assignment other than the default one that the ESI names.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Variant {
+    /// The ESI's name for it (op-mode `Name`, mapping `Name`; may be empty).
+    pub name: String,
+    /// Where it comes from.
+    pub origin: Origin,
+    /// The assignment: the default one with the sync managers the variant lists replaced.
+    pub assignment: Assignment,
+}
+
+/// Why a variant of the ESI has no image of its own.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Skipped {
+    /// The ESI's name for it.
+    pub name: String,
+    /// Where it comes from.
+    pub origin: Origin,
+    /// Why.
+    pub reason: String,
+}
+
+/// The DC op-modes and alternative mappings whose assignment differs from the default, in
+/// file order (op-modes first), and those left out with the reason: an assignment equal to
+/// the default one (or an earlier variant's), an oversampling factor above 1 (the entries of
+/// an oversampled PDO repeat with index steps, `OSIndexInc`, which this layout does not
+/// model), an unknown sync manager, or a PDO the device does not declare. Virtual sync
+/// managers are left out as in [`default_assignment`].
+pub fn variants(device: &Device) -> (Vec<Variant>, Vec<Skipped>) {
+    let Some(ec) = device.ethercat.as_deref() else { return (Vec::new(), Vec::new()) };
+    let default = default_assignment(device);
+    let mut lists: Vec<(&str, Origin, &[odc_model::ethercat::SmAssignment])> = Vec::new();
+    if let Some(dc) = &ec.dc {
+        for m in dc.op_modes.iter().filter(|m| !m.sms.is_empty()) {
+            lists.push((&m.name, Origin::DcOpMode, &m.sms));
+        }
+    }
+    for m in &ec.alternative_sm_mappings {
+        lists.push((&m.name, Origin::AlternativeSmMapping, &m.sms));
+    }
+    let (mut out, mut skipped) = (Vec::new(), Vec::new());
+    for (name, origin, sms) in lists {
+        let skip = |reason: String| Skipped { name: name.to_string(), origin, reason };
+        let mut assignment = default.clone();
+        let mut reason = None;
+        for sm in sms {
+            match ec.sync_managers.iter().find(|s| s.number == sm.number) {
+                None => reason = Some(format!("sync manager {} is not declared", sm.number)),
+                // Left out as in the default assignment.
+                Some(s) if s.virtual_sm => continue,
+                Some(_) => {}
+            }
+            if let Some(&(pdo, Some(f))) = sm.pdos.iter().find(|(_, f)| f.is_some_and(|f| f > 1)) {
+                reason = Some(format!("PDO 0x{pdo:04X} is oversampled {f} times"));
+            }
+            if let Some(&(pdo, _)) =
+                sm.pdos.iter().find(|(p, _)| !device.pdos.iter().any(|d| d.mapping_index == *p))
+            {
+                reason = Some(format!("PDO 0x{pdo:04X} is not declared"));
+            }
+            assignment.insert(sm.number, sm.pdos.iter().map(|(p, _)| *p).collect());
+        }
+        assignment.retain(|_, pdos| !pdos.is_empty());
+        let twin = out.iter().find(|v: &&Variant| v.assignment == assignment);
+        match (reason, twin) {
+            (Some(r), _) => skipped.push(skip(r)),
+            (None, _) if assignment == default => {
+                skipped.push(skip("the same assignment as the default".to_string()));
+            }
+            (None, Some(t)) => skipped.push(skip(format!("the same assignment as `{}`", t.name))),
+            (None, None) => out.push(Variant { name: name.to_string(), origin, assignment }),
+        }
+    }
+    (out, skipped)
+}

@@ -17,8 +17,9 @@ use crate::pdo::{FieldName, field_name, field_type};
 use crate::types::{index_literal, sub_literal};
 use crate::{Ctx, doc};
 
-/// The struct for one image, or nothing when no PDO is assigned.
-fn image_struct(ctx: &Ctx<'_>, name: &Ident, img: &Image) -> TokenStream {
+/// The struct for one image, or nothing when no PDO is assigned; `assignment` says which
+/// assignment it is of, for the doc.
+fn image_struct(ctx: &Ctx<'_>, name: &Ident, img: &Image, assignment: &str) -> TokenStream {
     if img.is_empty() {
         return TokenStream::new();
     }
@@ -119,8 +120,7 @@ fn image_struct(ctx: &Ctx<'_>, name: &Ident, img: &Image) -> TokenStream {
         })
         .collect();
     let mut text = format!(
-        "{what} of the default PDO assignment, {} bytes, as the master maps them (ethercrab's \
-         `{raw}`):\n\n{}",
+        "{what} of {assignment}, {} bytes, as the master maps them (ethercrab's `{raw}`):\n\n{}",
         img.len(),
         layout.join("\n")
     );
@@ -141,36 +141,88 @@ fn image_struct(ctx: &Ctx<'_>, name: &Ident, img: &Image) -> TokenStream {
     }
 }
 
+/// `OUTPUT_LEN`, `INPUT_LEN`, `Outputs` and `Inputs` of one assignment.
+fn image_items(ctx: &Ctx<'_>, assignment: &image::Assignment, what: &str) -> Option<TokenStream> {
+    let outputs = image::image(ctx.device, assignment, Direction::Rx).ok()?;
+    let inputs = image::image(ctx.device, assignment, Direction::Tx).ok()?;
+    let out_struct = image_struct(ctx, &Ident::new("Outputs", Span::call_site()), &outputs, what);
+    let in_struct = image_struct(ctx, &Ident::new("Inputs", Span::call_site()), &inputs, what);
+    let out_len = Literal::usize_unsuffixed(outputs.len());
+    let in_len = Literal::usize_unsuffixed(inputs.len());
+    Some(quote! {
+        /// Bytes of the outputs (0 when no RxPDO is assigned).
+        pub const OUTPUT_LEN: usize = #out_len;
+        /// Bytes of the inputs (0 when no TxPDO is assigned).
+        pub const INPUT_LEN: usize = #in_len;
+        #out_struct
+        #in_struct
+    })
+}
+
+/// The module names of the variants, in [`image::variants`] order.
+pub(crate) fn variant_names(variants: &[image::Variant]) -> Vec<Ident> {
+    let mut namer = Namer::new();
+    for (i, v) in variants.iter().enumerate() {
+        let base = crate::names::snake(&v.name);
+        let base = if base.is_empty() { format!("mapping_{}", i + 1) } else { base };
+        namer.propose(base, format!("{}", i + 1));
+    }
+    namer
+        .finish("_", &["outputs", "inputs"])
+        .iter()
+        .map(|n| Ident::new(n, Span::call_site()))
+        .collect()
+}
+
+/// How a variant's doc names it.
+pub(crate) fn variant_text(v: &image::Variant) -> String {
+    match v.origin {
+        image::Origin::DcOpMode => format!("the PDO assignment of DC op-mode `{}`", v.name),
+        image::Origin::AlternativeSmMapping => {
+            format!("the alternative PDO assignment `{}` (TwinCAT `AlternativeSmMapping`)", v.name)
+        }
+    }
+}
+
 /// The `pdi` module of an EtherCAT device; nothing for a CANopen device, or when the default
 /// assignment names PDOs the device lacks (the checker reports that).
 pub(crate) fn generate(ctx: &Ctx<'_>) -> TokenStream {
     if ctx.device.ethercat.is_none() {
         return TokenStream::new();
     }
-    let Ok((outputs, inputs)) = image::default_images(ctx.device) else {
+    let default = image::default_assignment(ctx.device);
+    let Some(items) = image_items(ctx, &default, "the default PDO assignment") else {
         return TokenStream::new();
     };
-    let out_name = Ident::new("Outputs", Span::call_site());
-    let in_name = Ident::new("Inputs", Span::call_site());
-    let out_struct = image_struct(ctx, &out_name, &outputs);
-    let in_struct = image_struct(ctx, &in_name, &inputs);
-    let out_len = Literal::usize_unsuffixed(outputs.len());
-    let in_len = Literal::usize_unsuffixed(inputs.len());
-    let docs = doc(&format!(
+    let (variants, skipped) = image::variants(ctx.device);
+    let names = variant_names(&variants);
+    let modules = variants.iter().zip(&names).filter_map(|(v, name)| {
+        let what = variant_text(v);
+        let items = image_items(ctx, &v.assignment, &what)?;
+        let docs = doc(&format!("The process image with {what}."));
+        Some(quote! {
+            #docs
+            pub mod #name {
+                #items
+            }
+        })
+    });
+    let mut text = format!(
         "Process data image of {} as an EtherCAT master maps it: sync managers in index \
          order, PDOs in assignment order, entries bit-packed, each sync manager rounded up to \
-         whole bytes.",
+         whole bytes. The default assignment here; one module per DC op-mode or alternative \
+         mapping of the ESI that assigns other PDOs.",
         ctx.device.name()
-    ));
+    );
+    for s in &skipped {
+        text.push_str(&format!("\n\nNo module for `{}`: {}.", s.name, s.reason));
+    }
+    let docs = doc(&text);
     quote! {
         #docs
         pub mod pdi {
-            /// Bytes of the outputs (0 when no RxPDO is assigned by default).
-            pub const OUTPUT_LEN: usize = #out_len;
-            /// Bytes of the inputs (0 when no TxPDO is assigned by default).
-            pub const INPUT_LEN: usize = #in_len;
-            #out_struct
-            #in_struct
+            #items
+            #(#modules)*
         }
     }
 }

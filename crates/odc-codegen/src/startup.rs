@@ -134,11 +134,44 @@ pub(crate) fn generate(ctx: &Ctx<'_>) -> TokenStream {
     }
     let rt = &ctx.rt;
     let assignment = image::default_assignment(ctx.device);
-    let downloads = downloads(ctx, ec, &assignment);
+    let default_downloads = downloads(ctx, ec, &assignment);
     let modes = dc_modes(ctx, ec);
     let vendor = hex_literal(u64::from(vendor), 8);
     let product = hex_literal(u64::from(product), 8);
     let revision = hex_literal(u64::from(revision), 8);
+    let identity = quote! {
+        #rt::ethercat::Identity {
+            vendor_id: #vendor,
+            product_code: #product,
+            revision: #revision,
+        }
+    };
+    // One plan per variant `pdi` has a module for, named after it.
+    let (variants, _) = image::variants(ctx.device);
+    let names = crate::pdi::variant_names(&variants);
+    let variant_plans = variants.iter().zip(&names).filter_map(|(v, module)| {
+        image::image(ctx.device, &v.assignment, odc_model::Direction::Rx).ok()?;
+        image::image(ctx.device, &v.assignment, odc_model::Direction::Tx).ok()?;
+        let downloads = downloads(ctx, ec, &v.assignment);
+        let name = proc_macro2::Ident::new(
+            &crate::names::screaming(&module.to_string()),
+            proc_macro2::Span::call_site(),
+        );
+        let docs = doc(&format!(
+            "The start-up for {} (`pdi::{module}`): run it with the runtime's \
+             `ethercat::ethercrab::configure(subdevice, &startup::{name})`.",
+            crate::pdi::variant_text(v)
+        ));
+        Some(quote! {
+            #docs
+            pub const #name: #rt::ethercat::Startup = #rt::ethercat::Startup {
+                identity: #identity,
+                downloads: &[#(#downloads),*],
+                output_len: super::pdi::#module::OUTPUT_LEN,
+                input_len: super::pdi::#module::INPUT_LEN,
+            };
+        })
+    });
     let docs = doc(&format!(
         "Start-up of {} for the default process data of `pdi`: the SDO downloads a master \
          sends in PRE-OP, in order (the ESI's init commands of IP and PS, the mapping of \
@@ -151,17 +184,14 @@ pub(crate) fn generate(ctx: &Ctx<'_>) -> TokenStream {
         pub mod startup {
             /// The identity, the SDO downloads and the image sizes.
             pub const PLAN: #rt::ethercat::Startup = #rt::ethercat::Startup {
-                identity: #rt::ethercat::Identity {
-                    vendor_id: #vendor,
-                    product_code: #product,
-                    revision: #revision,
-                },
-                downloads: &[#(#downloads),*],
+                identity: #identity,
+                downloads: &[#(#default_downloads),*],
                 output_len: super::pdi::OUTPUT_LEN,
                 input_len: super::pdi::INPUT_LEN,
             };
             /// The distributed-clocks operation modes of the ESI (`Dc/OpMode`), in file order.
             pub const DC_OP_MODES: &[#rt::ethercat::DcOpMode] = &[#(#modes),*];
+            #(#variant_plans)*
             #rt::configure_fn!(PLAN);
         }
     }

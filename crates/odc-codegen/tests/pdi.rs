@@ -13,6 +13,12 @@ const ESI: &str = r##"<?xml version="1.0"?>
   <Devices><Device>
     <Type ProductCode="#x03F03052" RevisionNo="#x00120000">EL1008</Type>
     <Name>Test device</Name>
+    <Info><VendorSpecific><TwinCAT>
+      <AlternativeSmMapping Default="1"><Name>Standard</Name>
+        <Sm No="3"><Pdo>#x1A00</Pdo><Pdo>#x1A01</Pdo></Sm></AlternativeSmMapping>
+      <AlternativeSmMapping><Name>Short counter</Name>
+        <Sm No="3"><Pdo>#x1A00</Pdo><Pdo>#x1A02</Pdo></Sm></AlternativeSmMapping>
+    </TwinCAT></VendorSpecific></Info>
     <GroupType>T</GroupType>
     <Sm StartAddress="#x1000" ControlByte="#x26" Enable="1">MBoxOut</Sm>
     <Sm StartAddress="#x1080" ControlByte="#x22" Enable="1">MBoxIn</Sm>
@@ -45,7 +51,8 @@ const ESI: &str = r##"<?xml version="1.0"?>
       <InitCmd><Transition>IP</Transition><Index>#x8000</Index><SubIndex>1</SubIndex><Data>05</Data></InitCmd>
       <InitCmd><Transition>SO</Transition><Index>#x8000</Index><SubIndex>3</SubIndex><Data>5A</Data></InitCmd>
     </CoE></Mailbox>
-    <Dc><OpMode><Name>DC</Name><AssignActivate>#x300</AssignActivate></OpMode></Dc>
+    <Dc><OpMode><Name>DC</Name><AssignActivate>#x300</AssignActivate>
+      <Sm No="3"><Pdo>#x1A00</Pdo><Pdo OSFac="2">#x1A01</Pdo></Sm></OpMode></Dc>
   </Device></Devices></Descriptions>
 </EtherCATInfo>"##;
 
@@ -90,6 +97,29 @@ fn entries_are_bit_packed_and_segments_byte_rounded() {
 }
 
 #[test]
+fn variants_replace_the_sync_managers_they_list() {
+    let dev = device();
+    let (variants, skipped) = image::variants(&dev);
+    assert_eq!(variants.len(), 1);
+    assert_eq!(variants[0].name, "Short counter");
+    let expected: Assignment = [(2, vec![0x1600]), (3, vec![0x1A00, 0x1A02])].into();
+    assert_eq!(variants[0].assignment, expected);
+    // Two 1-bit inputs and the 16-bit counter at bit 2: 18 bits, 3 bytes.
+    let inputs = image::image(&dev, &variants[0].assignment, Direction::Tx).unwrap();
+    assert_eq!(offsets(&dev, &inputs), [(0x6000, 0, 1), (0x6000, 1, 1), (0x6010, 2, 16)]);
+    assert_eq!(inputs.len(), 3);
+    let reasons: Vec<(&str, &str)> =
+        skipped.iter().map(|s| (s.name.as_str(), s.reason.as_str())).collect();
+    assert_eq!(
+        reasons,
+        [
+            ("DC", "PDO 0x1A01 is oversampled 2 times"),
+            ("Standard", "the same assignment as the default"),
+        ]
+    );
+}
+
+#[test]
 fn generated_pdi_and_startup() {
     let dev = device();
     let code = odc_codegen::generate(&dev, &odc_codegen::Options::default()).unwrap();
@@ -101,12 +131,17 @@ fn generated_pdi_and_startup() {
         "::odc::impl_wire!(Inputs);",
         "::odc::configure_fn!(PLAN);",
         "assign_activate: 0x0300,",
+        "pub mod short_counter {",
+        "pub const SHORT_COUNTER: ::odc::ethercat::Startup",
+        "output_len: super::pdi::short_counter::OUTPUT_LEN,",
     ] {
         assert!(code.contains(want), "missing `{want}` in:\n{code}");
     }
     // The start-up: IP before PS, SO left out; the mapping of the configurable 0x1600 and
     // 0x1A01 (0x1A00 is Fixed); then 0x1C12 = [0x1600], 0x1C13 = [0x1A00, 0x1A01].
-    let plan = &code[code.find("pub const PLAN").unwrap()..];
+    let start = code.find("pub const PLAN").unwrap();
+    let end = code.find("pub const DC_OP_MODES").unwrap();
+    let plan = &code[start..end];
     let order: Vec<&str> = plan
         .lines()
         .filter_map(|l| l.trim().strip_prefix("index: "))
