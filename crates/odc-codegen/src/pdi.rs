@@ -17,6 +17,27 @@ use crate::pdo::{FieldName, field_name, field_type};
 use crate::types::{index_literal, sub_literal};
 use crate::{Ctx, doc};
 
+/// [`field_name`], without the object's name where the sub-object's repeats it (a dictionary
+/// synthesised from the PDOs names object and sub-object alike: `Output 1`, `Output 1`).
+fn short_name(ctx: &Ctx<'_>, entry: &odc_model::PdoEntry) -> FieldName {
+    let mut name = field_name(ctx, entry);
+    let synthesised = ctx.device.ethercat.as_ref().is_some_and(|e| e.dictionary_synthesised);
+    if let (true, Some(n)) = (synthesised, &entry.name) {
+        // The objects were made from the entries: the entry's own name is the better one.
+        name.base = crate::names::snake(n);
+        return name;
+    }
+    let object = ctx.device.objects.get(&entry.index);
+    let sub = ctx.device.sub(entry.index, entry.sub);
+    if let (Some(o), Some(s)) = (object, sub) {
+        let (o_snake, s_snake) = (crate::names::snake(&o.name), crate::names::snake(&s.name));
+        if o.kind.has_subs() && !o_snake.is_empty() && s_snake.starts_with(&o_snake) {
+            name.base = s_snake;
+        }
+    }
+    name
+}
+
 /// The struct for one image, or nothing when no PDO is assigned; `assignment` says which
 /// assignment it is of, for the doc.
 fn image_struct(ctx: &Ctx<'_>, name: &Ident, img: &Image, assignment: &str) -> TokenStream {
@@ -36,7 +57,7 @@ fn image_struct(ctx: &Ctx<'_>, name: &Ident, img: &Image, assignment: &str) -> T
                 continue;
             }
             match field_type(ctx, entry) {
-                Some(ty) => typed.push((pdo, entry, placed, seg.sm, ty, field_name(ctx, entry))),
+                Some(ty) => typed.push((pdo, entry, placed, seg.sm, ty, short_name(ctx, entry))),
                 None => untyped.push(format!(
                     "`0x{:04X}:{:02X}` ({} bits at bit {}) is wider than any field type and is \
                      skipped.",

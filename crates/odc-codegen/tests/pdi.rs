@@ -6,59 +6,17 @@
 use odc_codegen::image::{self, Assignment};
 use odc_model::{Device, Direction, Sources};
 
-const ESI: &str = r##"<?xml version="1.0"?>
-<EtherCATInfo>
-  <Vendor><Id>#x00000002</Id><Name>Test</Name></Vendor>
-  <Descriptions><Groups><Group><Type>T</Type><Name>T</Name></Group></Groups>
-  <Devices><Device>
-    <Type ProductCode="#x03F03052" RevisionNo="#x00120000">EL1008</Type>
-    <Name>Test device</Name>
-    <Info><VendorSpecific><TwinCAT>
-      <AlternativeSmMapping Default="1"><Name>Standard</Name>
-        <Sm No="3"><Pdo>#x1A00</Pdo><Pdo>#x1A01</Pdo></Sm></AlternativeSmMapping>
-      <AlternativeSmMapping><Name>Short counter</Name>
-        <Sm No="3"><Pdo>#x1A00</Pdo><Pdo>#x1A02</Pdo></Sm></AlternativeSmMapping>
-    </TwinCAT></VendorSpecific></Info>
-    <GroupType>T</GroupType>
-    <Sm StartAddress="#x1000" ControlByte="#x26" Enable="1">MBoxOut</Sm>
-    <Sm StartAddress="#x1080" ControlByte="#x22" Enable="1">MBoxIn</Sm>
-    <Sm DefaultSize="3" StartAddress="#x1100" ControlByte="#x64" Enable="1">Outputs</Sm>
-    <Sm DefaultSize="7" StartAddress="#x1180" ControlByte="#x20" Enable="1">Inputs</Sm>
-    <Sm StartAddress="#x0981" Virtual="true">Outputs</Sm>
-    <RxPdo Sm="2"><Index>#x1600</Index><Name>Out</Name>
-      <Entry><Index>#x7000</Index><SubIndex>1</SubIndex><BitLen>1</BitLen><Name>Output 1</Name><DataType>BOOL</DataType></Entry>
-      <Entry><Index>#x0</Index><BitLen>7</BitLen></Entry>
-      <Entry><Index>#x7010</Index><SubIndex>1</SubIndex><BitLen>16</BitLen><Name>Value</Name><DataType>UINT</DataType></Entry>
-    </RxPdo>
-    <RxPdo Sm="4"><Index>#x1610</Index><Name>Virtual</Name>
-      <Entry><Index>#x1d09</Index><SubIndex>#x81</SubIndex><BitLen>8</BitLen><Name>Activate</Name><DataType>USINT</DataType></Entry>
-    </RxPdo>
-    <TxPdo Sm="3" Fixed="1"><Index>#x1A00</Index><Name>Status</Name>
-      <Entry><Index>#x6000</Index><SubIndex>1</SubIndex><BitLen>1</BitLen><Name>Input 1</Name><DataType>BOOL</DataType></Entry>
-      <Entry><Index>#x6000</Index><SubIndex>2</SubIndex><BitLen>1</BitLen><Name>Input 2</Name><DataType>BOOL</DataType></Entry>
-    </TxPdo>
-    <TxPdo Sm="3"><Index>#x1A01</Index><Name>Counter</Name><Exclude>#x1A02</Exclude>
-      <Entry><Index>#x6010</Index><SubIndex>1</SubIndex><BitLen>32</BitLen><Name>Counter</Name><DataType>DINT</DataType></Entry>
-    </TxPdo>
-    <TxPdo Sm="3"><Index>#x1A02</Index><Name>Counter 16</Name><Exclude>#x1A01</Exclude>
-      <Entry><Index>#x6010</Index><SubIndex>2</SubIndex><BitLen>16</BitLen><Name>Counter 16</Name><DataType>INT</DataType></Entry>
-    </TxPdo>
-    <TxPdo><Index>#x1A03</Index><Name>Optional</Name>
-      <Entry><Index>#x6020</Index><SubIndex>1</SubIndex><BitLen>8</BitLen><Name>Extra</Name><DataType>USINT</DataType></Entry>
-    </TxPdo>
-    <Mailbox><CoE PdoAssign="1" PdoConfig="1">
-      <InitCmd><Transition>PS</Transition><Index>#x8000</Index><SubIndex>2</SubIndex><Data>0100</Data></InitCmd>
-      <InitCmd><Transition>IP</Transition><Index>#x8000</Index><SubIndex>1</SubIndex><Data>05</Data></InitCmd>
-      <InitCmd><Transition>SO</Transition><Index>#x8000</Index><SubIndex>3</SubIndex><Data>5A</Data></InitCmd>
-    </CoE></Mailbox>
-    <Dc><OpMode><Name>DC</Name><AssignActivate>#x300</AssignActivate>
-      <Sm No="3"><Pdo>#x1A00</Pdo><Pdo OSFac="2">#x1A01</Pdo></Sm></OpMode></Dc>
-  </Device></Devices></Descriptions>
-</EtherCATInfo>"##;
+/// A made-up terminal: two process-data SMs, padding, a virtual SM, `Exclude`, an
+/// alternative mapping, an oversampled DC op-mode, CoE init commands.
+const ESI: &str = include_str!("fixtures/pdi-terminal.xml");
 
 fn device() -> Device {
+    parse(ESI)
+}
+
+fn parse(text: &str) -> Device {
     let mut sources = Sources::new();
-    let mut parsed = odc_esi::parse(&mut sources, "test.xml", ESI.as_bytes());
+    let mut parsed = odc_esi::parse(&mut sources, "test.xml", text.as_bytes());
     assert_eq!(parsed.devices.len(), 1, "{:?}", parsed.diagnostics);
     parsed.devices.remove(0)
 }
@@ -72,12 +30,21 @@ fn offsets(dev: &Device, img: &image::Image) -> Vec<(u16, u32, u32)> {
 }
 
 #[test]
-fn default_assignment_follows_sm_exclude_and_virtual() {
+fn default_assignment_follows_sm_and_virtual() {
     let dev = device();
     let a = image::default_assignment(&dev);
-    // 0x1A02 excludes 0x1A01, listed before it; 0x1A03 has no `Sm`; SM4 is virtual.
+    // 0x1A02 and 0x1A03 have no `Sm`; SM4 is virtual.
     let expected: Assignment = [(2, vec![0x1600]), (3, vec![0x1A00, 0x1A01])].into();
     assert_eq!(a, expected);
+}
+
+#[test]
+fn an_excluded_pdo_is_not_assigned_with_the_one_before_it() {
+    // Both with `Sm` (the checker's T611): the first listed wins, as in TwinCAT.
+    let dev = parse(&ESI.replace("<TxPdo><Index>#x1A02", "<TxPdo Sm=\"3\"><Index>#x1A02"));
+    let expected: Assignment = [(2, vec![0x1600]), (3, vec![0x1A00, 0x1A01])].into();
+    assert_eq!(image::default_assignment(&dev), expected);
+    assert_eq!(dev.pdos.iter().filter(|p| p.sync_manager == Some(3)).count(), 3);
 }
 
 #[test]
