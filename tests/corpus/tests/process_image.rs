@@ -7,7 +7,7 @@ use std::collections::BTreeMap;
 
 use odc_codegen::image::{self, Image};
 use odc_model::ethercat::SmUsage;
-use odc_model::{Device, Direction, Sources};
+use odc_model::{Device, Direction, Sources, Value};
 
 /// Bit offsets of the default process data, computed from ETG.2000 alone (not from
 /// `odc_codegen::image` nor `odc-layout`): a PDO's `Sm` attribute is the sync manager it is
@@ -61,6 +61,19 @@ fn etg2000_offsets(dev: &Device) -> BTreeMap<(bool, u16, usize), u32> {
     out
 }
 
+/// The dictionary's default assignment of sync manager `sm` (0x1C10 + sm, sub-index 0 the
+/// count, 1.. the PDO indexes), when the ESI gives every value: what a device starts with.
+fn dictionary_assignment(dev: &Device, sm: u8) -> Option<Vec<u16>> {
+    let object = dev.objects.get(&(0x1C10 + u16::from(sm)))?;
+    let number = |sub: u8| match &object.sub(sub)?.initial_value()?.value {
+        Value::Unsigned(v) => Some(*v),
+        Value::Signed(v) => u64::try_from(*v).ok(),
+        _ => None,
+    };
+    let count = number(0)?;
+    (1..=count).map(|i| number(u8::try_from(i).ok()?).and_then(|v| u16::try_from(v).ok())).collect()
+}
+
 fn placed(dev: &Device, img: &Image) -> BTreeMap<(bool, u16, usize), u32> {
     let rx = img.direction == Direction::Rx;
     img.segments
@@ -80,6 +93,7 @@ fn corpus_default_process_images() {
     let files = odc_tests_corpus::files(&["esi"]);
     let (mut devices, mut with_image, mut nonempty, mut entries) = (0usize, 0, 0, 0usize);
     let (mut size_agree, mut size_disagree) = (0usize, 0usize);
+    let (mut dict_agree, mut dict_disagree) = (0usize, Vec::new());
     let (mut offset_agree, mut offset_disagree) = (0usize, Vec::new());
     let mut mandatory_only = 0usize;
     let (mut variant_images, mut variant_failures) = (0usize, Vec::new());
@@ -155,6 +169,27 @@ fn corpus_default_process_images() {
                     SmUsage::Inputs => &inputs,
                     _ => continue,
                 };
+                if !sm.virtual_sm {
+                    let assigned = image::default_assignment(dev).remove(&sm.number);
+                    if let Some(dict) = dictionary_assignment(dev, sm.number) {
+                        if assigned.clone().unwrap_or_default() == dict {
+                            dict_agree += 1;
+                        } else {
+                            let assign = ec
+                                .mailbox
+                                .as_ref()
+                                .and_then(|m| m.coe.as_ref())
+                                .is_some_and(|c| c.pdo_assign);
+                            dict_disagree.push(format!(
+                                "{f} {}: SM{} 0x1C1x default {dict:04X?}, Sm attributes {:04X?}{}",
+                                dev.name(),
+                                sm.number,
+                                assigned.unwrap_or_default(),
+                                if assign { "" } else { " (no PdoAssign)" }
+                            ));
+                        }
+                    }
+                }
                 let Some(default) = sm.default_size.filter(|_| !sm.virtual_sm) else { continue };
                 let bytes = img.segments.iter().find(|s| s.sm == sm.number).map_or(0, |s| s.bytes);
                 if bytes == default {
@@ -178,6 +213,13 @@ fn corpus_default_process_images() {
     );
     println!("SM DefaultSize vs image: {size_agree} agree, {size_disagree} disagree");
     for d in &disagreements {
+        println!("  {d}");
+    }
+    println!(
+        "default assignment vs the dictionary's 0x1C1x defaults: {dict_agree} agree, {} disagree",
+        dict_disagree.len()
+    );
+    for d in &dict_disagree {
         println!("  {d}");
     }
     println!(
