@@ -101,6 +101,9 @@ fn generated_pdi_and_startup() {
         "pub mod short_counter {",
         "pub const SHORT_COUNTER: ::odc::ethercat::Startup",
         "output_len: super::pdi::short_counter::OUTPUT_LEN,",
+        // `pdo`: the counter PDO after two 1-bit inputs, SM3 of 5 bytes, as in `pdi`.
+        "pub const SM_BIT_OFFSET: u32 = 2;",
+        "pub const SIZE: usize = 5;",
     ] {
         assert!(code.contains(want), "missing `{want}` in:\n{code}");
     }
@@ -125,4 +128,6 @@ fn generated_pdi_and_startup() {
         ]
     );
     assert!(!plan.contains("0x5A"), "the SO command is not part of PRE-OP");
+    // Nothing is assigned to the virtual SM 4, in either plan.
+    assert!(!code.contains("0x1C14"), "a virtual sync manager has no 0x1C14");
 }
