@@ -1,5 +1,5 @@
-//! The process image of an EtherCAT device as a master lays it out (ETG.1000.4 §6.7, ETG.2000
-//! §5.4.4): the sync managers of one direction in index order, in each the assigned PDOs in
+//! The process image of an EtherCAT device as a master lays it out (ETG.1000.4 sync
+//! managers and FMMUs, ETG.2000 `PdoType@Sm`): the sync managers of one direction in index order, in each the assigned PDOs in
 //! assignment order, their entries bit-packed in PDO order, padding entries as gaps, and each
 //! sync manager's segment rounded up to whole bytes (its length register counts bytes).
 //!

@@ -2,7 +2,7 @@
 //! default process data of `pdi`, as `odc::ethercat::Startup` data, and the device's
 //! distributed-clocks modes.
 //!
-//! The order is a master's (ETG.2000 §5.4.4 and §5.5): the ESI's CoE init commands of the
+//! The order is a master's (ETG.2000 `InitCmd`, ETG.1000.6 0x1C10+n): the ESI's CoE init commands of the
 //! INIT→PRE-OP transition, then those of PRE-OP→SAFE-OP, then the mapping of each assigned PDO
 //! the device lets the master configure (`Mailbox/CoE@PdoConfig`, not `Fixed`), then the
 //! assignment 0x1C10+n of each process-data sync manager (`@PdoAssign`).

@@ -1,5 +1,5 @@
 //! The process image of ESI devices (`image`, `pdi`, `startup`) against layouts worked out by
-//! hand from ETG.2000 §5.4.4 and ETG.1000.4 §6.7: sync managers in index order, PDOs in
+//! hand from ETG.2000 (`PdoType@Sm`) and ETG.1000.4 (sync managers): sync managers in index order, PDOs in
 //! assignment order, entries bit-packed, each sync manager rounded up to whole bytes.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 

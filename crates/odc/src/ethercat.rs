@@ -2,9 +2,9 @@
 //!
 //! A master brings a SubDevice from PRE-OP to SAFE-OP by writing, over CoE, the ESI's init
 //! commands, the mapping of each configurable PDO and the sync managers' PDO assignment
-//! (ETG.2000 §5.4.4, ETG.1020 §6.7). [`Startup`] is that sequence as `const` data, with the
+//! (ETG.2000 `InitCmd`s, ETG.1000.6 0x1C10+n). [`Startup`] is that sequence as `const` data, with the
 //! identity to check first; any master can run it, and with the feature `ethercrab` the
-//! [`ethercrab`](mod@self::ethercrab) module runs it on an ethercrab SubDevice.
+//! `ethercrab` module runs it on an ethercrab SubDevice.
 
 #[cfg(feature = "ethercrab")]
 pub mod ethercrab;

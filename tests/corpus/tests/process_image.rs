@@ -11,11 +11,11 @@ use odc_model::{Device, Direction, Sources, Value};
 
 /// Bit offsets of the default process data, computed from ETG.2000 alone (not from
 /// `odc_codegen::image` nor `odc-layout`): a PDO's `Sm` attribute is the sync manager it is
-/// assigned to by default (ETG.2000 §5.4.4, Table 27 `PdoType@Sm`); a master appends the
+/// assigned to by default (ETG.2000 `PdoType@Sm`); a master appends the
 /// sync managers of one direction in ascending number, and in each the PDOs in the order the
 /// ESI lists them and their entries one after another with their `BitLen` (padding entries,
-/// index 0, take their length too); a sync manager's length is whole bytes (ETG.1000.4
-/// §6.7.2, register 0x0802 counts bytes). A sync manager marked `Virtual` (ETG.2000 Table 22
+/// index 0, take their length too); a sync manager's length is whole bytes (ETG.1000.4:
+/// the length register, 0x0802 for SM0, counts bytes). A sync manager marked `Virtual` (ETG.2000
 /// `Sm@Virtual`) is no sync manager of the ESC and carries no segment. Of two PDOs that
 /// `Exclude` each other only the one listed first is assigned. Keyed by (direction,
 /// PDO index, entry number).
