@@ -6,15 +6,17 @@
 //! assigns nothing, manual 8.3), so after the generated `startup::configure` the program maps
 //! its own cyclic-synchronous-position image (controlword and target position out, statusword
 //! and actual position in) with the structs below, whose mapping values come from the same
-//! `#[derive(odc::Pdo)]` that packs them. Then: CSP mode (0x6060 = 8), OP, the CiA 402 walk to
-//! "operation enabled", and a slow ramp of the target position, one step per cycle.
+//! `#[derive(odc::Pdo)]` that packs them. Then: CSP mode (0x6060 = 8), distributed clocks
+//! from the ESI's `DC` op-mode (SYNC0 every millisecond), OP, the CiA 402 walk to "operation
+//! enabled", and a slow ramp of the target position, one step per cycle.
 
 use std::error::Error;
 use std::sync::Arc;
 use std::time::Duration;
 
 use ethercrab::std::{ethercat_now, tx_rx_task};
-use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, SubDeviceRef, Timeouts};
+use ethercrab::subdevice_group::{CycleInfo, DcConfiguration};
+use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, SubDeviceRef, Timeouts, TxRxResponse};
 use odc::Pdo;
 use odc::cia402::{Controlword, ModeOfOperation, State, Statusword};
 use odc::ethercat::ethercrab::{self as ec, wire::EtherCrabWireRead, wire::EtherCrabWireWrite};
@@ -50,6 +52,8 @@ const MAX_SUBDEVICES: usize = 16;
 const MAX_PDU_DATA: usize = PduStorage::element_size(1100);
 const MAX_FRAMES: usize = 16;
 const PDI_LEN: usize = 64;
+/// The bus cycle and SYNC0 period (the ServoOne takes multiples of 125 µs).
+const CYCLE: Duration = Duration::from_millis(1);
 static PDU_STORAGE: PduStorage<MAX_FRAMES, MAX_PDU_DATA> = PduStorage::new();
 
 /// Maps `T`'s entries into the mapping object `pdo` and assigns it alone to sync manager
@@ -88,9 +92,11 @@ async fn run(interface: &str) -> Result<(), Box<dyn Error>> {
     smol::spawn(tx_rx_task(interface, tx, rx)?).detach();
 
     // INIT → PRE-OP: the mailbox works, the process data do not yet.
-    let group = maindevice.init_single_group::<MAX_SUBDEVICES, PDI_LEN>(ethercat_now).await?;
+    let mut group = maindevice.init_single_group::<MAX_SUBDEVICES, PDI_LEN>(ethercat_now).await?;
+    // The ESI's distributed-clocks mode named `DC` (AssignActivate 0x0300: SYNC0).
+    let dc = startup::DC_OP_MODES.iter().find(|m| m.name == "DC").ok_or("no DC op-mode")?;
     let mut drive = None;
-    for (i, sd) in group.iter(&maindevice).enumerate() {
+    for (i, mut sd) in group.iter_mut(&maindevice).enumerate() {
         // Checks vendor, product and revision against the ESI, then writes its start-up.
         match startup::configure(&sd).await {
             Ok(()) => {
@@ -99,6 +105,7 @@ async fn run(interface: &str) -> Result<(), Box<dyn Error>> {
                 // Typed by the generated descriptor: 0x6060 is an i8.
                 let csp = ModeOfOperation::CyclicSyncPosition.to_i8();
                 ec::sdo_write(&sd, &od::MODES_OF_OPERATION, csp).await?;
+                sd.set_dc_sync(ec::dc_sync(dc, CYCLE));
                 drive = Some(i);
             }
             Err(ec::ConfigureError::WrongDevice { .. }) => {}
@@ -107,12 +114,26 @@ async fn run(interface: &str) -> Result<(), Box<dyn Error>> {
     }
     let drive = drive.ok_or("no ServoOne on the bus")?;
 
-    // PRE-OP → SAFE-OP → OP: ethercrab reads the mapping back and sizes the image.
-    let group = group.into_op(&maindevice).await?;
+    // PRE-OP with process data (ethercrab reads the mapping back and sizes the image), the
+    // SYNC0 pulses, SAFE-OP, then OP once every SubDevice follows the clock.
+    let group = group.into_pre_op_pdi(&maindevice).await?;
+    let group = group
+        .configure_dc_sync(
+            &maindevice,
+            DcConfiguration {
+                start_delay: Duration::from_millis(100),
+                sync0_period: CYCLE,
+                sync0_shift: CYCLE / 2,
+            },
+        )
+        .await?;
+    let group = group.into_safe_op(&maindevice).await?;
+    let group = group.request_into_op(&maindevice).await?;
     let mut target = None;
-    let mut tick = smol::Timer::interval(Duration::from_millis(1));
     for _cycle in 0..20_000 {
-        group.tx_rx(&maindevice).await?;
+        let now = std::time::Instant::now();
+        let TxRxResponse { extra: CycleInfo { next_cycle_wait, .. }, .. } =
+            group.tx_rx_dc(&maindevice).await?;
         let sd = group.subdevice(&maindevice, drive)?;
         let inputs = CspInputs::unpack_from_slice(&sd.inputs_raw())?;
         let state = inputs.statusword.state();
@@ -128,7 +149,7 @@ async fn run(interface: &str) -> Result<(), Box<dyn Error>> {
         };
         let outputs = CspOutputs { controlword, target_position: position };
         outputs.pack_to_slice(&mut sd.outputs_raw_mut())?;
-        smol::stream::StreamExt::next(&mut tick).await;
+        smol::Timer::at(now + next_cycle_wait).await;
     }
     let group = group.into_safe_op(&maindevice).await?;
     let group = group.into_pre_op(&maindevice).await?;

@@ -12,11 +12,11 @@
 
 use core::fmt;
 
-pub use ethercrab::{SubDevice, SubDeviceRef, SubIndex};
+pub use ethercrab::{DcSync, SubDevice, SubDeviceRef, SubIndex};
 pub use ethercrab_wire as wire;
 use ethercrab_wire::{EtherCrabWireRead, EtherCrabWireSized, WireError};
 
-use super::{Identity, Startup};
+use super::{DcOpMode, Identity, Startup};
 use crate::{Entry, ObjValue};
 
 /// Why [`configure`] stopped.
@@ -108,6 +108,25 @@ where
         })?;
     }
     Ok(())
+}
+
+/// The SYNC signals of a DC op-mode (its `AssignActivate`, whose high byte goes to the ESC's
+/// register 0x0981: bit 0 cyclic operation, bit 1 SYNC0, bit 2 SYNC1) as ethercrab's
+/// [`DcSync`], for `SubDeviceRef::set_dc_sync` in PRE-OP. SYNC1's period is the op-mode's
+/// `CycleTimeSync1` when it gives one, else `sync1_period`.
+pub fn dc_sync(mode: &DcOpMode, sync1_period: core::time::Duration) -> DcSync {
+    let activate = (mode.assign_activate >> 8) as u8;
+    let cyclic_sync0 = activate & 0b011 == 0b011;
+    match (cyclic_sync0, activate & 0b100 != 0) {
+        (false, _) => DcSync::Disabled,
+        (true, false) => DcSync::Sync0,
+        (true, true) => DcSync::Sync01 {
+            sync1_period: match mode.cycle_time_sync1 {
+                0 => sync1_period,
+                ns => core::time::Duration::from_nanos(u64::from(ns)),
+            },
+        },
+    }
 }
 
 /// Reads the object `entry` describes, as its value type.
@@ -255,4 +274,35 @@ macro_rules! configure_fn {
             $crate::ethercat::ethercrab::configure(subdevice, &$plan).await
         }
     };
+}
+
+#[cfg(test)]
+mod tests {
+    use core::time::Duration;
+
+    use super::*;
+
+    fn mode(assign_activate: u16, cycle_time_sync1: u32) -> DcOpMode {
+        DcOpMode {
+            name: "m",
+            assign_activate,
+            cycle_time_sync0: 0,
+            shift_time_sync0: 0,
+            cycle_time_sync1,
+        }
+    }
+
+    #[test]
+    fn assign_activate_to_dc_sync() {
+        let bus = Duration::from_millis(1);
+        assert_eq!(dc_sync(&mode(0x0000, 0), bus), DcSync::Disabled);
+        // SYNC0 without cyclic operation does not run.
+        assert_eq!(dc_sync(&mode(0x0200, 0), bus), DcSync::Disabled);
+        assert_eq!(dc_sync(&mode(0x0300, 0), bus), DcSync::Sync0);
+        assert_eq!(dc_sync(&mode(0x0700, 0), bus), DcSync::Sync01 { sync1_period: bus });
+        assert_eq!(
+            dc_sync(&mode(0x0700, 250_000), bus),
+            DcSync::Sync01 { sync1_period: Duration::from_micros(250) }
+        );
+    }
 }
