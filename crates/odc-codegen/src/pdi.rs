@@ -25,6 +25,7 @@ fn short_name(ctx: &Ctx<'_>, entry: &odc_model::PdoEntry) -> FieldName {
     if let (true, Some(n)) = (synthesised, &entry.name) {
         // The objects were made from the entries: the entry's own name is the better one.
         name.base = crate::names::snake(n);
+        name.label.clone_from(n);
         return name;
     }
     let object = ctx.device.objects.get(&entry.index);
@@ -33,6 +34,7 @@ fn short_name(ctx: &Ctx<'_>, entry: &odc_model::PdoEntry) -> FieldName {
         let (o_snake, s_snake) = (crate::names::snake(&o.name), crate::names::snake(&s.name));
         if o.kind.has_subs() && !o_snake.is_empty() && s_snake.starts_with(&o_snake) {
             name.base = s_snake;
+            name.label = s.name.to_string();
         }
     }
     name
@@ -151,10 +153,12 @@ fn image_struct(ctx: &Ctx<'_>, name: &Ident, img: &Image, assignment: &str) -> T
     let docs = doc(&text);
     let crate_path = rt.to_string().replace(' ', "");
     let krate = (crate_path != "::odc").then(|| quote!(, crate = #crate_path));
+    // The derive's limit is a CAN frame's 64 bits unless raised.
+    let max = (img.len() * 8 > 64).then(|| quote!(, max_bits = #total));
     quote! {
         #docs
         #[derive(Clone, Copy, Debug, Default, PartialEq, #rt::Pdo)]
-        #[pdo(bits = #total, max_bits = #total #krate)]
+        #[pdo(bits = #total #max #krate)]
         pub struct #name {
             #(#fields)*
         }
@@ -162,22 +166,42 @@ fn image_struct(ctx: &Ctx<'_>, name: &Ident, img: &Image, assignment: &str) -> T
     }
 }
 
-/// `OUTPUT_LEN`, `INPUT_LEN`, `Outputs` and `Inputs` of one assignment.
-fn image_items(ctx: &Ctx<'_>, assignment: &image::Assignment, what: &str) -> Option<TokenStream> {
+/// `OUTPUT_LEN`, `INPUT_LEN`, `Outputs` and `Inputs` of one assignment; where `default`
+/// (the default assignment's images) has the same image, a variant re-exports it.
+fn image_items(
+    ctx: &Ctx<'_>,
+    assignment: &image::Assignment,
+    what: &str,
+    default: Option<&(Image, Image)>,
+) -> Option<TokenStream> {
     let outputs = image::image(ctx.device, assignment, Direction::Rx).ok()?;
     let inputs = image::image(ctx.device, assignment, Direction::Tx).ok()?;
-    let out_struct = image_struct(ctx, &Ident::new("Outputs", Span::call_site()), &outputs, what);
-    let in_struct = image_struct(ctx, &Ident::new("Inputs", Span::call_site()), &inputs, what);
-    let out_len = Literal::usize_unsuffixed(outputs.len());
-    let in_len = Literal::usize_unsuffixed(inputs.len());
-    Some(quote! {
-        /// Bytes of the outputs (0 when no RxPDO is assigned).
-        pub const OUTPUT_LEN: usize = #out_len;
-        /// Bytes of the inputs (0 when no TxPDO is assigned).
-        pub const INPUT_LEN: usize = #in_len;
-        #out_struct
-        #in_struct
-    })
+    let one = |img: &Image, default: Option<&Image>, name: &str, len_name: &str| {
+        let ident = Ident::new(name, Span::call_site());
+        let len_ident = Ident::new(len_name, Span::call_site());
+        let (dir, kind) =
+            if img.direction == Direction::Rx { ("outputs", "RxPDO") } else { ("inputs", "TxPDO") };
+        if default == Some(img) {
+            let docs = doc(&format!("Bytes of the {dir}: the default assignment's."));
+            let reuse = (!img.is_empty()).then(|| quote!(pub use super::#ident;));
+            return quote! {
+                #docs
+                pub const #len_ident: usize = super::#len_ident;
+                #reuse
+            };
+        }
+        let len = Literal::usize_unsuffixed(img.len());
+        let docs = doc(&format!("Bytes of the {dir} (0 when no {kind} is assigned)."));
+        let item = image_struct(ctx, &ident, img, what);
+        quote! {
+            #docs
+            pub const #len_ident: usize = #len;
+            #item
+        }
+    };
+    let out_items = one(&outputs, default.map(|d| &d.0), "Outputs", "OUTPUT_LEN");
+    let in_items = one(&inputs, default.map(|d| &d.1), "Inputs", "INPUT_LEN");
+    Some(quote! { #out_items #in_items })
 }
 
 /// The module names of the variants, in [`image::variants`] order.
@@ -212,14 +236,17 @@ pub(crate) fn generate(ctx: &Ctx<'_>) -> TokenStream {
         return TokenStream::new();
     }
     let default = image::default_assignment(ctx.device);
-    let Some(items) = image_items(ctx, &default, "the default PDO assignment") else {
+    let Some(items) = image_items(ctx, &default, "the default PDO assignment", None) else {
+        return TokenStream::new();
+    };
+    let Ok(default_images) = image::default_images(ctx.device) else {
         return TokenStream::new();
     };
     let (variants, skipped) = image::variants(ctx.device);
     let names = variant_names(&variants);
     let modules = variants.iter().zip(&names).filter_map(|(v, name)| {
         let what = variant_text(v);
-        let items = image_items(ctx, &v.assignment, &what)?;
+        let items = image_items(ctx, &v.assignment, &what, Some(&default_images))?;
         let docs = doc(&format!("The process image with {what}."));
         Some(quote! {
             #docs

@@ -15,19 +15,28 @@ use crate::image::{self, Assignment};
 use crate::types::{hex_literal, index_literal, sub_literal};
 use crate::{Ctx, doc};
 
-/// One SDO download as tokens.
-fn download(rt: &TokenStream, index: u16, sub: u8, ca: bool, data: &[u8]) -> TokenStream {
+/// One SDO download as tokens; `data` is an expression of type `&[u8]` (a struct literal
+/// field, so that `&0x7000_0101u32.to_le_bytes()` lives as long as the constant).
+fn download(rt: &TokenStream, index: u16, sub: u8, ca: bool, data: TokenStream) -> TokenStream {
     let index = index_literal(index);
     let sub = sub_literal(sub);
-    let bytes = data.iter().map(|b| hex_literal(u64::from(*b), 2));
     quote! {
-        #rt::ethercat::SdoDownload {
-            index: #index,
-            sub: #sub,
-            complete_access: #ca,
-            data: &[#(#bytes),*],
-        }
+        #rt::ethercat::SdoDownload { index: #index, sub: #sub, complete_access: #ca, data: #data }
     }
+}
+
+/// Bytes as written in the ESI (init commands), or a count.
+fn bytes(data: &[u8]) -> TokenStream {
+    let bytes = data.iter().map(|b| hex_literal(u64::from(*b), 2));
+    quote!(&[#(#bytes),*])
+}
+
+/// A typed value's little-endian bytes: `&0x7000_0101u32.to_le_bytes()`, so a mapping entry
+/// reads as CiA 301 writes it (index, sub-index, bit length).
+fn le_bytes(value: u64, digits: usize, suffix: &str) -> TokenStream {
+    let text = format!("{}{suffix}", hex_literal(value, digits));
+    let lit: TokenStream = text.parse().unwrap_or_else(|_| quote!(#value));
+    quote!(&#lit.to_le_bytes())
 }
 
 /// The init commands of one transition, in file order; those without an index or sub-index
@@ -47,7 +56,7 @@ fn downloads(ctx: &Ctx<'_>, ec: &EtherCat, assignment: &Assignment) -> Vec<Token
             let index = c.index.and_then(|i| u16::try_from(i).ok());
             let sub = c.sub_index.and_then(|s| u8::try_from(s).ok());
             if let (Some(index), Some(sub)) = (index, sub) {
-                out.push(download(rt, index, sub, c.complete_access, &c.data));
+                out.push(download(rt, index, sub, c.complete_access, bytes(&c.data)));
             }
         }
     }
@@ -60,13 +69,14 @@ fn downloads(ctx: &Ctx<'_>, ec: &EtherCat, assignment: &Assignment) -> Vec<Token
                 if pdo.fixed {
                     continue;
                 }
-                out.push(download(rt, index, 0, false, &[0]));
+                out.push(download(rt, index, 0, false, bytes(&[0])));
                 for (i, e) in pdo.entries.iter().enumerate() {
                     let sub = u8::try_from(i + 1).unwrap_or(u8::MAX);
-                    out.push(download(rt, index, sub, false, &e.mapping_value().to_le_bytes()));
+                    let value = le_bytes(u64::from(e.mapping_value()), 8, "u32");
+                    out.push(download(rt, index, sub, false, value));
                 }
                 let n = u8::try_from(pdo.entries.len()).unwrap_or(u8::MAX);
-                out.push(download(rt, index, 0, false, &[n]));
+                out.push(download(rt, index, 0, false, bytes(&[n])));
             }
         }
     }
@@ -78,16 +88,16 @@ fn downloads(ctx: &Ctx<'_>, ec: &EtherCat, assignment: &Assignment) -> Vec<Token
             }
             let Some(object) = 0x1C10u16.checked_add(u16::from(sm.number)) else { continue };
             let indexes = assignment.get(&sm.number).map(Vec::as_slice).unwrap_or_default();
-            out.push(download(rt, object, 0, false, &[0]));
+            out.push(download(rt, object, 0, false, bytes(&[0])));
             if indexes.is_empty() {
                 continue;
             }
             for (i, pdo) in indexes.iter().enumerate() {
                 let sub = u8::try_from(i + 1).unwrap_or(u8::MAX);
-                out.push(download(rt, object, sub, false, &pdo.to_le_bytes()));
+                out.push(download(rt, object, sub, false, le_bytes(u64::from(*pdo), 4, "u16")));
             }
             let n = u8::try_from(indexes.len()).unwrap_or(u8::MAX);
-            out.push(download(rt, object, 0, false, &[n]));
+            out.push(download(rt, object, 0, false, bytes(&[n])));
         }
     }
     out
@@ -158,14 +168,14 @@ pub(crate) fn generate(ctx: &Ctx<'_>) -> TokenStream {
             proc_macro2::Span::call_site(),
         );
         let docs = doc(&format!(
-            "The start-up for {} (`pdi::{module}`): run it with the runtime's \
+            "The start-up for `pdi::{module}`, {}: run it with the runtime's \
              `ethercat::ethercrab::configure(subdevice, &startup::{name})`.",
             crate::pdi::variant_text(v)
         ));
         Some(quote! {
             #docs
             pub const #name: #rt::ethercat::Startup = #rt::ethercat::Startup {
-                identity: #identity,
+                identity: PLAN.identity,
                 downloads: &[#(#downloads),*],
                 output_len: super::pdi::#module::OUTPUT_LEN,
                 input_len: super::pdi::#module::INPUT_LEN,

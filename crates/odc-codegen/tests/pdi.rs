@@ -93,7 +93,7 @@ fn generated_pdi_and_startup() {
     for want in [
         "pub const OUTPUT_LEN: usize = 3;",
         "pub const INPUT_LEN: usize = 5;",
-        "#[pdo(bits = 40, max_bits = 40)]",
+        "#[pdo(bits = 40)]",
         "pub struct Inputs {",
         "::odc::impl_wire!(Inputs);",
         "::odc::configure_fn!(PLAN);",
@@ -112,11 +112,8 @@ fn generated_pdi_and_startup() {
     let start = code.find("pub const PLAN").unwrap();
     let end = code.find("pub const DC_OP_MODES").unwrap();
     let plan = &code[start..end];
-    let order: Vec<&str> = plan
-        .lines()
-        .filter_map(|l| l.trim().strip_prefix("index: "))
-        .map(|l| l.trim_end_matches(','))
-        .collect();
+    let order: Vec<&str> =
+        plan.split("index: ").skip(1).filter_map(|rest| rest.split(',').next()).collect();
     assert_eq!(
         order,
         [
@@ -130,4 +127,20 @@ fn generated_pdi_and_startup() {
     assert!(!plan.contains("0x5A"), "the SO command is not part of PRE-OP");
     // Nothing is assigned to the virtual SM 4, in either plan.
     assert!(!code.contains("0x1C14"), "a virtual sync manager has no 0x1C14");
+}
+
+/// The top-level module `name` of generated code, with its doc comment.
+fn module<'a>(code: &'a str, name: &str) -> &'a str {
+    let at = code.find(&format!("\npub mod {name} {{")).unwrap();
+    let start = code[..at].rfind("\n}\n").map_or(0, |i| i + 3);
+    let end = at + code[at..].find("\n}\n").unwrap() + 3;
+    &code[start..end]
+}
+
+/// How the `pdi` and `startup` modules read, for review.
+#[test]
+fn pdi_and_startup_snapshot() {
+    let code = odc_codegen::generate(&device(), &odc_codegen::Options::default()).unwrap();
+    insta::assert_snapshot!("pdi", module(&code, "pdi"));
+    insta::assert_snapshot!("startup", module(&code, "startup"));
 }
