@@ -93,6 +93,7 @@ fn corpus_default_process_images() {
     let files = odc_tests_corpus::files(&["esi"]);
     let (mut devices, mut with_image, mut nonempty, mut entries) = (0usize, 0, 0, 0usize);
     let (mut size_agree, mut size_disagree) = (0usize, 0usize);
+    let mut size_kinds = BTreeMap::<&str, usize>::new();
     let (mut dict_agree, mut dict_disagree) = (0usize, Vec::new());
     let (mut offset_agree, mut offset_disagree) = (0usize, Vec::new());
     let mut mandatory_only = 0usize;
@@ -196,8 +197,32 @@ fn corpus_default_process_images() {
                     size_agree += 1;
                 } else {
                     size_disagree += 1;
+                    // Who sides with whom: the ESI's own 0x1C1x defaults, where it gives them.
+                    let assigned =
+                        image::default_assignment(dev).remove(&sm.number).unwrap_or_default();
+                    let kind = match dictionary_assignment(dev, sm.number) {
+                        _ if bytes == 0 => "no PDO assigned to the SM",
+                        Some(d) if d == assigned => "0x1C1x defaults give the image's PDOs",
+                        Some(d) => {
+                            // The size those PDOs would take: does DefaultSize follow them?
+                            let dict_assignment = [(sm.number, d)].into();
+                            let dir = if sm.usage == SmUsage::Outputs {
+                                Direction::Rx
+                            } else {
+                                Direction::Tx
+                            };
+                            match image::image(dev, &dict_assignment, dir) {
+                                Ok(i) if i.len() == default as usize => {
+                                    "0x1C1x defaults give other PDOs, of DefaultSize"
+                                }
+                                _ => "0x1C1x defaults give other PDOs, not of DefaultSize",
+                            }
+                        }
+                        None => "no 0x1C1x defaults",
+                    };
+                    *size_kinds.entry(kind).or_default() += 1;
                     disagreements.push(format!(
-                        "{f} {} ({:?}): SM{} DefaultSize {default}, image {bytes}",
+                        "{f} {} ({:?}): SM{} DefaultSize {default}, image {bytes}: {kind}",
                         dev.name(),
                         ec.product_code,
                         sm.number
@@ -211,7 +236,9 @@ fn corpus_default_process_images() {
          ({nonempty} not empty, {entries} entries placed)",
         files.len()
     );
-    println!("SM DefaultSize vs image: {size_agree} agree, {size_disagree} disagree");
+    println!(
+        "SM DefaultSize vs image: {size_agree} agree, {size_disagree} disagree {size_kinds:?}"
+    );
     for d in &disagreements {
         println!("  {d}");
     }
