@@ -149,13 +149,29 @@ pub(crate) fn generate(ctx: &Ctx<'_>) -> TokenStream {
     let vendor = hex_literal(u64::from(vendor), 8);
     let product = hex_literal(u64::from(product), 8);
     let revision = hex_literal(u64::from(revision), 8);
+    let check_attr = ec.type_attributes.iter().find(|a| a.name == "CheckRevisionNo");
+    let (check, unknown_check) = match check_attr.map(|a| a.value.trim()) {
+        None | Some("EQ") => (quote!(Equal), None),
+        Some("EQ_OR_G") => (quote!(EqualOrGreater), None),
+        Some("LW_EQ") => (quote!(LowWordEqual), None),
+        Some("LW_EQ_HW_EQ_OR_G") => (quote!(LowWordEqualHighWordEqualOrGreater), None),
+        Some(other) => (quote!(Equal), Some(other.to_string())),
+    };
     let identity = quote! {
         #rt::ethercat::Identity {
             vendor_id: #vendor,
             product_code: #product,
             revision: #revision,
+            revision_check: #rt::ethercat::RevisionCheck::#check,
         }
     };
+    let plan_doc = doc(&match unknown_check {
+        None => "The identity, the SDO downloads and the image sizes.".to_string(),
+        Some(v) => format!(
+            "The identity, the SDO downloads and the image sizes. The ESI's CheckRevisionNo \
+             `{v}` is not one odc knows: the revision must be equal."
+        ),
+    });
     // One plan per variant `pdi` has a module for, named after it.
     let (variants, _) = image::variants(ctx.device);
     let names = crate::pdi::variant_names(&variants);
@@ -192,7 +208,7 @@ pub(crate) fn generate(ctx: &Ctx<'_>) -> TokenStream {
     quote! {
         #docs
         pub mod startup {
-            /// The identity, the SDO downloads and the image sizes.
+            #plan_doc
             pub const PLAN: #rt::ethercat::Startup = #rt::ethercat::Startup {
                 identity: #identity,
                 downloads: &[#(#default_downloads),*],

@@ -19,6 +19,48 @@ pub struct Identity {
     pub product_code: u32,
     /// Revision number.
     pub revision: u32,
+    /// Which revisions the ESI accepts (`Type@CheckRevisionNo`).
+    pub revision_check: RevisionCheck,
+}
+
+impl Identity {
+    /// Whether a device reporting these numbers is one this identity describes: vendor and
+    /// product code equal, the revision as [`Identity::revision_check`] says.
+    pub const fn matches(&self, vendor_id: u32, product_code: u32, revision: u32) -> bool {
+        vendor_id == self.vendor_id
+            && product_code == self.product_code
+            && self.revision_check.accepts(self.revision, revision)
+    }
+}
+
+/// How a device's revision number is compared with the ESI's (`Type@CheckRevisionNo`; the
+/// high word is the major revision, the low word the minor one).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum RevisionCheck {
+    /// `EQ`, and the choice where the ESI says nothing: the same revision.
+    #[default]
+    Equal,
+    /// `EQ_OR_G`: the same revision or a later one.
+    EqualOrGreater,
+    /// `LW_EQ`: the same low word.
+    LowWordEqual,
+    /// `LW_EQ_HW_EQ_OR_G`: the same low word, the same or a later high word.
+    LowWordEqualHighWordEqualOrGreater,
+}
+
+impl RevisionCheck {
+    /// Whether `found` passes against the ESI's revision `esi`.
+    pub const fn accepts(self, esi: u32, found: u32) -> bool {
+        let (low, high) = (esi & 0xFFFF, esi >> 16);
+        match self {
+            Self::Equal => found == esi,
+            Self::EqualOrGreater => found >= esi,
+            Self::LowWordEqual => found & 0xFFFF == low,
+            Self::LowWordEqualHighWordEqualOrGreater => {
+                found & 0xFFFF == low && found >> 16 >= high
+            }
+        }
+    }
 }
 
 /// One CoE SDO download of the start-up.
@@ -76,4 +118,32 @@ macro_rules! impl_wire {
 #[macro_export]
 macro_rules! configure_fn {
     ($plan:path) => {};
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn revision_checks() {
+        let esi = 0x0012_0005;
+        assert!(RevisionCheck::Equal.accepts(esi, 0x0012_0005));
+        assert!(!RevisionCheck::Equal.accepts(esi, 0x0013_0005));
+        assert!(RevisionCheck::EqualOrGreater.accepts(esi, 0x0012_0006));
+        assert!(!RevisionCheck::EqualOrGreater.accepts(esi, 0x0012_0004));
+        assert!(RevisionCheck::LowWordEqual.accepts(esi, 0x0001_0005));
+        assert!(!RevisionCheck::LowWordEqual.accepts(esi, 0x0012_0006));
+        let check = RevisionCheck::LowWordEqualHighWordEqualOrGreater;
+        assert!(check.accepts(esi, 0x0013_0005));
+        assert!(!check.accepts(esi, 0x0011_0005));
+        assert!(!check.accepts(esi, 0x0013_0006));
+        let id = Identity {
+            vendor_id: 2,
+            product_code: 0x03F0_3052,
+            revision: esi,
+            revision_check: RevisionCheck::LowWordEqual,
+        };
+        assert!(id.matches(2, 0x03F0_3052, 0x0099_0005));
+        assert!(!id.matches(3, 0x03F0_3052, esi));
+    }
 }

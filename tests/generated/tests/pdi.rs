@@ -44,6 +44,9 @@ fn startup_plan() {
     assert_eq!(plan.identity.vendor_id, 2);
     assert_eq!(plan.identity.product_code, 0x03F0_3052);
     assert_eq!(plan.identity.revision, 0x0012_0000);
+    // `CheckRevisionNo="LW_EQ"`: another major revision with the same low word passes.
+    assert!(plan.identity.matches(2, 0x03F0_3052, 0x0013_0000));
+    assert!(!plan.identity.matches(2, 0x03F0_3052, 0x0012_0001));
     // IP init command first, then PS.
     assert_eq!((plan.downloads[0].index, plan.downloads[0].sub), (0x8000, 1));
     assert_eq!(plan.downloads[0].data, [0x05]);

@@ -76,8 +76,8 @@ impl core::error::Error for ConfigureError {}
 /// order. Call it in PRE-OP (ethercrab's `init_single_group` leaves SubDevices there), before
 /// `into_op`, which then sizes the process image from what was written.
 ///
-/// The identity check compares vendor and product code; the revision must be equal too,
-/// because an ESI describes one revision's objects and PDOs.
+/// The identity check compares vendor and product code, and the revision as the ESI's
+/// `CheckRevisionNo` says ([`Identity::matches`]).
 ///
 /// # Errors
 ///
@@ -90,9 +90,13 @@ where
     S: core::ops::Deref<Target = ethercrab::SubDevice>,
 {
     let id = subdevice.identity();
-    let found =
-        Identity { vendor_id: id.vendor_id, product_code: id.product_id, revision: id.revision };
-    if found != plan.identity {
+    if !plan.identity.matches(id.vendor_id, id.product_id, id.revision) {
+        let found = Identity {
+            vendor_id: id.vendor_id,
+            product_code: id.product_id,
+            revision: id.revision,
+            revision_check: plan.identity.revision_check,
+        };
         return Err(ConfigureError::WrongDevice { expected: plan.identity, found });
     }
     for d in plan.downloads {
