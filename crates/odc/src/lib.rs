@@ -10,6 +10,9 @@
 //! - [`Pdo`], [`PdoValue`], [`bits`]: process-data packing, LSB0 little-endian at any bit offset;
 //! - [`sdo`]: SDO server and client on [`can::CanFrame`]s, driven by the caller's clock;
 //! - [`SdoAbort`], [`emcy`], [`cia402`], [`cob`], [`nmt`]: CiA 301 / CiA 402 vocabulary.
+//! - [`ethercat`]: the start-up of an ESI device as data; with the feature `ethercrab`, the
+//!   `ethercrab_wire` traits of generated process images and `configure` on an ethercrab
+//!   SubDevice.
 //!
 //! ```
 //! use odc::cia402::{Controlword, ModeOfOperation};
