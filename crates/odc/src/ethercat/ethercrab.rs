@@ -297,6 +297,22 @@ mod tests {
     }
 
     #[test]
+    fn sdo_values_through_the_wire_type() {
+        // A UNSIGNED16 in its own two bytes, and in a 4-byte expedited reply.
+        assert_eq!(Wire::<u16>::unpack_from_slice(&[0x34, 0x12]).map(|w| w.0), Ok(0x1234));
+        assert_eq!(Wire::<u16>::unpack_from_slice(&[0x34, 0x12, 0, 0]).map(|w| w.0), Ok(0x1234));
+        assert_eq!(
+            Wire::<crate::cia402::Controlword>::unpack_from_slice(&[0x0F, 0x00]).map(|w| w.0),
+            Ok(crate::cia402::Controlword::ENABLE_OPERATION)
+        );
+        // Too short for the type.
+        assert_eq!(
+            Wire::<u32>::unpack_from_slice(&[1, 2]).map(|w| w.0),
+            Err(WireError::InvalidValue)
+        );
+    }
+
+    #[test]
     fn assign_activate_to_dc_sync() {
         let bus = Duration::from_millis(1);
         assert_eq!(dc_sync(&mode(0x0000, 0), bus), DcSync::Disabled);
