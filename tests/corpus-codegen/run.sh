@@ -76,6 +76,10 @@ publish = false
 [dependencies]
 odc = { path = "$ROOT/crates/odc" }
 
+[features]
+# The generated pdi and startup modules of ESI devices implement the ethercrab traits with it.
+ethercrab = ["odc/ethercrab"]
+
 [lints.rust]
 missing_docs = "warn"
 
@@ -167,7 +171,8 @@ fi
 # gigabytes.
 export CARGO_TARGET_DIR=$WORK/target RUSTFLAGS=-Dwarnings CARGO_INCREMENTAL=0
 declare -A BAD
-# Compiles batch $1 at stage $2 (check or clippy) and prints the messages; with --resume, the
+# Compiles batch $1 at stage $2 (check, clippy, or ethercrab: clippy with the runtime's feature
+# `ethercrab`) and prints the messages; with --resume, the
 # log of an earlier run instead when there is one.
 compile_stage() {
     local dir=$1 stage=$2 out cmd
@@ -175,8 +180,11 @@ compile_stage() {
         cat "$dir/$stage.log"
         return
     fi
-    if [ "$stage" = check ]; then cmd=(cargo check -q --message-format short)
-    else cmd=(cargo clippy -q --message-format short -- -D warnings); fi
+    case $stage in
+        check) cmd=(cargo check -q --message-format short) ;;
+        clippy) cmd=(cargo clippy -q --message-format short -- -D warnings) ;;
+        *) cmd=(cargo clippy -q --message-format short --features ethercrab -- -D warnings) ;;
+    esac
     # cargo sometimes fails to start rustc when the machine is loaded: try again.
     for attempt in 1 2 3; do
         out=$(cd "$dir" && "${cmd[@]}" 2>&1)
@@ -186,7 +194,7 @@ compile_stage() {
     printf '%s\n' "$out" | tee "$dir/$stage.log"
 }
 for dir in "$WORK"/batches/b*/; do
-    for stage in check clippy; do
+    for stage in check clippy ethercrab; do
         out=$(compile_stage "$dir" "$stage")
         # `src/d0001.rs:12:5: error: ...`: the first error of each module not already failed.
         while IFS= read -r line; do
@@ -208,9 +216,13 @@ for dir in "$WORK"/batches/b*/; do
         fi
     done
 done
-n_check_bad=0 n_clippy_bad=0
+n_check_bad=0 n_clippy_bad=0 n_ethercrab_bad=0
 for m in "${!BAD[@]}"; do
-    case ${BAD[$m]} in check) n_check_bad=$((n_check_bad + 1)) ;; clippy) n_clippy_bad=$((n_clippy_bad + 1)) ;; esac
+    case ${BAD[$m]} in
+        check) n_check_bad=$((n_check_bad + 1)) ;;
+        clippy) n_clippy_bad=$((n_clippy_bad + 1)) ;;
+        ethercrab) n_ethercrab_bad=$((n_ethercrab_bad + 1)) ;;
+    esac
 done
 n_gen_bad=$(awk -F'\t' '$4 == "generate"' "$LOG" | wc -l)
 
@@ -222,6 +234,7 @@ echo "lowerable devices:       $n_lowerable"
 echo "generated:               $n_generated ($n_gen_bad codegen failures)"
 echo "cargo check clean:       $((n_generated - n_check_bad))"
 echo "clippy -D warnings clean: $((n_generated - n_check_bad - n_clippy_bad))"
+echo "  and with ethercrab:    $((n_generated - n_check_bad - n_clippy_bad - n_ethercrab_bad))"
 if [ -s "$LOG" ]; then
     echo "failures ($LOG):"
     sort -t$'\t' -k4,4 -k5,5 "$LOG" | awk -F'\t' '{ printf "  %-8s %-9s %s#%s: %s\n", $1, $4, $2, $3, $5 }'

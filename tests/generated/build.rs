@@ -13,6 +13,7 @@ fn main() -> Result<(), odc_build::Error> {
     }
     config.device(root.join("crates/odc-codegen/tests/fixtures/mini-drive.eds"));
     config.device(root.join("esi/servoone.xml"));
+    config.device(root.join("crates/odc-codegen/tests/fixtures/pdi-terminal.xml"));
     config.compile()?;
 
     // Values that do not fit their types, allowed: generation leaves them out and goes on.

@@ -14,12 +14,17 @@
 //! - `pdo`: a `#[derive(::odc::Pdo)]` struct per PDO of the default mapping, with its mapping
 //!   index, mapping values, COB-ID rule and transmission type (CANopen) or sync-manager
 //!   placement (EtherCAT);
+//! - `pdi` (EtherCAT): the process image of the default assignment as a master maps it,
+//!   `Outputs` and `Inputs` (see [`image`]), with `ethercrab_wire` traits under the runtime's
+//!   feature `ethercrab`;
 //! - `cia402`: the modes of operation the device supports, when it declares the profile;
 //! - `slave` (role slave): a heap-free object dictionary with SDO checks, as a table: one
 //!   `odc::slave::Row` per typed entry naming its descriptor, the values as bytes, and the
 //!   runtime's one read and one write path (no code per entry); typed `get`/`set` by
 //!   descriptor for the firmware;
 //! - `master` (role master): the SDO writes that configure the default PDO mapping;
+//! - `startup` (EtherCAT, role master): the SDO downloads of PRE-OP (init commands, PDO
+//!   mapping, assignment) and the DC modes; `configure(subdevice)` with feature `ethercrab`;
 //! - one module per vendor parameter scheme of the overlay (see [`Scheme`]): the maker's
 //!   parameter numbers (`lenze::code(11)`, `lenze::C00011`) mapped to typed entries;
 //! - `process`, when the overlay declares PDO layouts the file cannot map (see
@@ -35,14 +40,17 @@
 //! few entries gets no warning.
 
 mod cia402;
+pub mod image;
 mod master;
 mod names;
 mod od;
+mod pdi;
 mod pdo;
 mod process;
 mod scheme;
 mod slave;
 mod standard;
+mod startup;
 mod types;
 
 use odc_model::{Device, Diagnostic, RuleInfo, Severity, SubObject};
@@ -211,6 +219,8 @@ pub fn generate(device: &Device, opts: &Options) -> Result<String, Vec<Diagnosti
     let od = od::generate(&ctx);
     let pdo = pdo::generate(&ctx, &mut errors);
     let cia402 = cia402::generate(&ctx);
+    let pdi = pdi::generate(&ctx);
+    let startup = if opts.role.master() { startup::generate(&ctx) } else { TokenStream::new() };
     let slave = if opts.role.slave() { slave::generate(&ctx) } else { TokenStream::new() };
     let master = if opts.role.master() { master::generate(&ctx) } else { TokenStream::new() };
     let schemes = scheme::generate(&ctx, &opts.overlay.scheme, &mut errors);
@@ -218,7 +228,7 @@ pub fn generate(device: &Device, opts: &Options) -> Result<String, Vec<Diagnosti
     if !errors.is_empty() {
         return Err(errors);
     }
-    let tokens = quote! { #od #pdo #cia402 #slave #master #schemes #process };
+    let tokens = quote! { #od #pdo #pdi #cia402 #slave #master #startup #schemes #process };
     let mut file: syn::File = syn::parse2(tokens).map_err(|e| {
         vec![Diagnostic::error("G601", format!("generated code does not parse: {e}"))]
     })?;

@@ -104,7 +104,7 @@ fn canopen(ctx: &Ctx<'_>) -> TokenStream {
 fn ethercat(ctx: &Ctx<'_>) -> TokenStream {
     let rt = &ctx.rt;
     let pdos = &ctx.device.pdos;
-    let (_, sms) = sm_layout(pdos);
+    let (_, sms) = sm_layout(ctx.device);
     let mut w = Vec::new();
     for (sm, (_, members)) in &sms {
         let assign = index_literal(0x1C10 + u16::from(*sm));

@@ -2,7 +2,7 @@
 
 use std::collections::BTreeMap;
 
-use odc_model::{Diagnostic, Direction, Pdo, Value};
+use odc_model::{Diagnostic, Direction, Pdo, PdoEntry, Value};
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::quote;
 
@@ -71,33 +71,8 @@ fn fields(ctx: &Ctx<'_>, pdo: &Pdo, errors: &mut Vec<Diagnostic>) -> (Vec<Field>
             pad += u32::from(entry.bits);
             continue;
         }
-        let sub = ctx.device.sub(entry.index, entry.sub);
         let bits = u32::from(entry.bits);
-        // The descriptor's type when `od` has one (so the field and `od::X` agree, CiA 402
-        // words included), else the data type's.
-        let declared = ctx
-            .names
-            .entries
-            .get(&(entry.index, entry.sub))
-            .map(|e| e.ty)
-            .or_else(|| sub.and_then(RustTy::of))
-            .or_else(|| {
-                entry
-                    .data_type
-                    .map(|dt| odc_model::SubObject::new(0, "", dt, odc_model::Access::Rw))
-                    .as_ref()
-                    .and_then(RustTy::of)
-            });
-        let natural = declared.and_then(RustTy::natural_bits);
-        let ty = match (declared, natural) {
-            (Some(t), Some(n))
-                if t.is_pdo_value() && bits <= n && (bits == n || t != RustTy::Bool) =>
-            {
-                Some(t)
-            }
-            _ => RustTy::raw(bits),
-        };
-        let Some(ty) = ty else {
+        let Some(ty) = field_type(ctx, entry) else {
             errors.push(
                 Diagnostic::error(
                     "G603",
@@ -111,21 +86,8 @@ fn fields(ctx: &Ctx<'_>, pdo: &Pdo, errors: &mut Vec<Diagnostic>) -> (Vec<Field>
             );
             continue;
         };
-        let object = ctx.device.objects.get(&entry.index);
-        let (base, label) = match (object, sub) {
-            (Some(o), Some(s)) if o.kind.has_subs() => {
-                (names::snake(&format!("{} {}", o.name, s.name)), format!("{}: {}", o.name, s.name))
-            }
-            (Some(o), _) => (names::snake(&o.name), o.name.clone()),
-            (None, _) => {
-                let n = entry.name.clone().unwrap_or_default();
-                (names::snake(&n), n)
-            }
-        };
-        let rank = match object {
-            Some(o) if !o.kind.has_subs() => standard::rank(entry.index, &o.name),
-            _ => u8::from(standard::is_standard_area(entry.index)),
-        };
+        let FieldName { base, label, rank } = field_name(ctx, entry);
+        let sub = ctx.device.sub(entry.index, entry.sub);
         let suffix = format!("obj_{:04x}_{:02x}", entry.index, entry.sub);
         let name = namer.propose_ranked(base, suffix, rank);
         let mut doc = format!("{label} (`0x{:04X}:{:02X}`, {bits} bits", entry.index, entry.sub);
@@ -150,6 +112,63 @@ fn fields(ctx: &Ctx<'_>, pdo: &Pdo, errors: &mut Vec<Diagnostic>) -> (Vec<Field>
         })
         .collect();
     (fields, pad)
+}
+
+/// The Rust type of a mapped entry: the descriptor's type when `od` has one (so the field and
+/// `od::X` agree, CiA 402 words included), else the data type's, else an unsigned integer of
+/// the mapped width; `None` for an entry wider than 64 bits.
+pub(crate) fn field_type(ctx: &Ctx<'_>, entry: &PdoEntry) -> Option<RustTy> {
+    let sub = ctx.device.sub(entry.index, entry.sub);
+    let bits = u32::from(entry.bits);
+    let declared = ctx
+        .names
+        .entries
+        .get(&(entry.index, entry.sub))
+        .map(|e| e.ty)
+        .or_else(|| sub.and_then(RustTy::of))
+        .or_else(|| {
+            entry
+                .data_type
+                .map(|dt| odc_model::SubObject::new(0, "", dt, odc_model::Access::Rw))
+                .as_ref()
+                .and_then(RustTy::of)
+        });
+    let natural = declared.and_then(RustTy::natural_bits);
+    match (declared, natural) {
+        (Some(t), Some(n)) if t.is_pdo_value() && bits <= n && (bits == n || t != RustTy::Bool) => {
+            Some(t)
+        }
+        _ => RustTy::raw(bits),
+    }
+}
+
+/// How a field for a mapped entry is named: a snake-case base, the label for its doc, and the
+/// rank that decides who keeps a name two entries share.
+pub(crate) struct FieldName {
+    pub base: String,
+    pub label: String,
+    pub rank: u8,
+}
+
+/// The name of the field for `entry`: object and sub-object name, else the ESI entry name.
+pub(crate) fn field_name(ctx: &Ctx<'_>, entry: &PdoEntry) -> FieldName {
+    let sub = ctx.device.sub(entry.index, entry.sub);
+    let object = ctx.device.objects.get(&entry.index);
+    let (base, label) = match (object, sub) {
+        (Some(o), Some(s)) if o.kind.has_subs() => {
+            (names::snake(&format!("{} {}", o.name, s.name)), format!("{}: {}", o.name, s.name))
+        }
+        (Some(o), _) => (names::snake(&o.name), o.name.clone()),
+        (None, _) => {
+            let n = entry.name.clone().unwrap_or_default();
+            (names::snake(&n), n)
+        }
+    };
+    let rank = match object {
+        Some(o) if !o.kind.has_subs() => standard::rank(entry.index, &o.name),
+        _ => u8::from(standard::is_standard_area(entry.index)),
+    };
+    FieldName { base, label, rank }
 }
 
 /// `cob_id(node_id)` for a CANopen PDO, with the text of its rule.
@@ -195,22 +214,30 @@ pub fn enabled_by_default(pdo: &Pdo) -> bool {
 /// Per sync manager: the image size in bytes and the positions of its PDOs in `device.pdos`.
 pub type SmImages = BTreeMap<u8, (usize, Vec<usize>)>;
 
-/// Byte offset of each PDO in its sync manager's image, and each image.
-pub fn sm_layout(pdos: &[Pdo]) -> (Vec<Option<usize>>, SmImages) {
-    let mut sms: BTreeMap<u8, (usize, Vec<usize>)> = BTreeMap::new();
-    let offsets = pdos
-        .iter()
-        .enumerate()
-        .map(|(i, pdo)| {
-            let sm = pdo.sync_manager?;
-            let slot = sms.entry(sm).or_default();
-            let offset = slot.0;
-            // Each PDO takes whole bytes of the image (the layout engine's rule).
-            slot.0 += odc_layout::bytes_for_bits(pdo.bits()) as usize;
-            slot.1.push(i);
-            Some(offset)
-        })
-        .collect();
+/// Bit offset of each PDO in its sync manager's image, and each image, for the default
+/// assignment as [`crate::image`] lays it out (PDOs bit-packed, the sync manager rounded up
+/// to whole bytes): the `pdi` structs and these constants agree.
+pub fn sm_layout(device: &odc_model::Device) -> (Vec<Option<u32>>, SmImages) {
+    let mut offsets = vec![None; device.pdos.len()];
+    let mut sms = SmImages::new();
+    let Ok((outputs, inputs)) = crate::image::default_images(device) else {
+        return (offsets, sms);
+    };
+    for seg in outputs.segments.iter().chain(&inputs.segments) {
+        let start = seg.byte_offset * 8;
+        for placed in &seg.entries {
+            if let Some(slot @ None) = offsets.get_mut(placed.pdo) {
+                *slot = Some(placed.range.offset - start);
+            }
+        }
+        // A PDO without entries takes no bits: it starts where the segment ends.
+        for &p in &seg.pdos {
+            if let Some(slot @ None) = offsets.get_mut(p) {
+                *slot = Some(seg.bits);
+            }
+        }
+        sms.insert(seg.sm, (seg.bytes as usize, seg.pdos.clone()));
+    }
     (offsets, sms)
 }
 
@@ -219,10 +246,10 @@ pub fn generate(ctx: &Ctx<'_>, errors: &mut Vec<Diagnostic>) -> TokenStream {
     let rt = &ctx.rt;
     let pdos = &ctx.device.pdos;
     let names = pdo_names(ctx);
-    let (offsets, sms) = sm_layout(pdos);
+    let (offsets, sms) = sm_layout(ctx.device);
     let crate_path = ctx.rt.to_string().replace(' ', "");
     let mut items = Vec::new();
-    for ((pdo, name), offset) in pdos.iter().zip(&names).zip(&offsets) {
+    for (i, ((pdo, name), offset)) in pdos.iter().zip(&names).zip(&offsets).enumerate() {
         let (fields, trailing) = fields(ctx, pdo, errors);
         let ty = &name.ty;
         let total = Literal::u32_unsuffixed(pdo.bits());
@@ -322,14 +349,16 @@ pub fn generate(ctx: &Ctx<'_>, errors: &mut Vec<Diagnostic>) -> TokenStream {
                 #f
             });
         }
-        if let (Some(sm), Some(offset)) = (pdo.sync_manager, offset) {
+        let sm = sms.iter().find(|(_, (_, members))| members.contains(&i)).map(|(sm, _)| *sm);
+        if let (Some(sm), Some(offset)) = (sm, offset) {
             let sm = Literal::u8_unsuffixed(sm);
-            let offset = Literal::usize_unsuffixed(*offset);
+            let offset = Literal::u32_unsuffixed(*offset);
             consts.push(quote! {
                 /// The sync manager that carries the PDO by default.
                 pub const SYNC_MANAGER: u8 = #sm;
-                /// Byte offset of the PDO in its sync manager's process image.
-                pub const SM_OFFSET: usize = #offset;
+                /// Bit offset of the PDO in its sync manager's process image (PDOs are
+                /// bit-packed: a multiple of 8 unless PDOs before it have a few bits).
+                pub const SM_BIT_OFFSET: u32 = #offset;
             });
         }
         items.push(quote! {
@@ -355,7 +384,7 @@ pub fn generate(ctx: &Ctx<'_>, errors: &mut Vec<Diagnostic>) -> TokenStream {
         items.push(quote! {
             #docs
             pub mod #module {
-                /// Size of the image in bytes (each PDO rounded up to whole bytes).
+                /// Size of the image in bytes: the PDOs' bits, rounded up to whole bytes.
                 pub const SIZE: usize = #size;
                 /// The PDOs assigned by default, in image order (0x1C1x sub-indexes 1..).
                 pub const ASSIGNED: [u16; #n] = [#(#indexes),*];

@@ -188,6 +188,8 @@ pub mod codes {
     pub const STRUCTURED_SUB_ITEM: &str = "F222";
     /// See [`super::RULES`]: `esi-duplicate-module`.
     pub const DUPLICATE_MODULE: &str = "F223";
+    /// See [`super::RULES`]: `esi-unknown-transition`.
+    pub const UNKNOWN_TRANSITION: &str = "F230";
 }
 
 macro_rules! rule {
@@ -409,6 +411,16 @@ pub static RULES: &[RuleInfo] = &[
         "Slots name the modules they accept by ModuleIdent, so each Module's ident must be unique \
          in the file. Both modules are kept; a configuration tool cannot tell them apart. Fix \
          the ident of one of them."
+    ),
+    rule!(
+        codes::UNKNOWN_TRANSITION,
+        "esi-unknown-transition",
+        Warning,
+        "an init command names no state transition, or one ETG.2000 does not know",
+        "An InitCmd (CoE, SoE, EoE, AoE) says when the master sends it with one or more \
+         Transition elements: IP, PS, SO, SP, OS, OP, PI, SI, OI, PO, IB, BI, II, PP or SS \
+         (ETG.2000 TransitionType). Another text is kept as written, but a master runs the \
+         command at no transition; an InitCmd without Transition is reported as missing it."
     ),
 ];
 

@@ -6,9 +6,9 @@ use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
 
 use odc_model::ethercat::{
-    ArrayInfo, CoE, Dc, DcOpMode, Eeprom, EnumItem, EsiDataType, EsiModule, EsiSubItem, EtherCat,
-    Fmmu, Group, InitCmd, LocalizedText, Mailbox, ObjectFlags, Profile, RawXml, Slot, Slots,
-    SmUsage, SoE, SyncManager, XmlAttribute,
+    AlternativeSmMapping, ArrayInfo, CoE, Dc, DcOpMode, Eeprom, EnumItem, EsiDataType, EsiModule,
+    EsiSubItem, EtherCat, Fmmu, Group, InitCmd, LocalizedText, Mailbox, ObjectFlags, PdoAttributes,
+    Profile, RawXml, Slot, Slots, SmAssignment, SmUsage, SoE, SyncManager, XmlAttribute,
 };
 use odc_model::{
     Access, DataType, Device, DeviceInfo, Diagnostic, Direction, FileId, Format, Module, Name,
@@ -377,7 +377,7 @@ fn lower_modules<'t>(
         if let Some(dict) = dict {
             collect_types(dict, &mut types, &mut data_types, ctx);
         }
-        module.pdos = lower_pdos(m, ctx, &types, refs);
+        module.pdos = lower_pdos(m, ctx, &types, refs, &mut module.pdo_attributes);
         if let Some(dict) = dict {
             let mut flags = FlagsOut::new();
             module.objects = Arc::new(lower_objects(dict, ctx, &types, &mut flags));
@@ -542,7 +542,10 @@ fn lower_device(d: Element<'_>, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Devic
             span: s.span(),
         });
     }
-    let pdos = lower_pdos(d, ctx, &types, &file.pdo_refs);
+    let pdos = lower_pdos(d, ctx, &types, &file.pdo_refs, &mut ec.pdo_attributes);
+    if let Some(info) = d.child("Info") {
+        ec.alternative_sm_mappings = alternative_sm_mappings(info, ctx);
+    }
     if let Some(mb) = mailbox_el {
         ec.mailbox = Some(mailbox(mb, ctx));
     }

@@ -48,6 +48,15 @@ pub struct EtherCat {
     pub fmmus: Vec<Fmmu>,
     /// `Sm` elements in order (SM 0, 1, ...).
     pub sync_managers: Vec<SyncManager>,
+    /// The ESI-only attributes of the device's PDOs (`Virtual`, oversampling), for the PDOs
+    /// that have any, in file order; the common ones (`Sm`, `Fixed`, `Mandatory`, `Exclude`)
+    /// are on [`Pdo`].
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub pdo_attributes: Vec<PdoAttributes>,
+    /// Beckhoff's alternative sync-manager assignments
+    /// (`Info/VendorSpecific/TwinCAT/AlternativeSmMapping`), in file order.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub alternative_sm_mappings: Vec<AlternativeSmMapping>,
     /// `Mailbox`, when the device has one.
     pub mailbox: Option<Mailbox>,
     /// `Dc`, when the device supports distributed clocks.
@@ -294,6 +303,56 @@ pub struct SyncManager {
     pub span: Span,
 }
 
+/// ESI attributes of one `RxPdo`/`TxPdo` that the common [`Pdo`] does not carry.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct PdoAttributes {
+    /// The PDO's mapping index.
+    pub index: u16,
+    /// Whether it is an RxPDO (else a TxPDO).
+    pub rx: bool,
+    /// `@Virtual`: the PDO maps ESC registers through a virtual sync manager, not objects of a
+    /// real one.
+    pub virtual_pdo: bool,
+    /// `@OSFac`: the default oversampling factor.
+    pub os_fac: Option<u32>,
+    /// `@OSMin`.
+    pub os_min: Option<u32>,
+    /// `@OSMax`.
+    pub os_max: Option<u32>,
+    /// `@OSIndexInc`: how far the entries' index moves per oversampled copy.
+    pub os_index_inc: Option<u32>,
+    /// Span of the element.
+    pub span: Span,
+}
+
+/// PDOs assigned to one sync manager (`Sm No=` with `Pdo` children, in a DC op-mode or an
+/// alternative mapping).
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct SmAssignment {
+    /// `@No`: the sync manager.
+    pub number: u8,
+    /// `SyncType` (DC op-modes only).
+    pub sync_type: Option<u32>,
+    /// The PDO indexes, in order, each with its `@OSFac` when given.
+    pub pdos: Vec<(u16, Option<u32>)>,
+    /// Span of the element.
+    pub span: Span,
+}
+
+/// A Beckhoff `AlternativeSmMapping`: a named assignment of PDOs to sync managers the user
+/// may pick instead of the `Sm` attributes.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
+pub struct AlternativeSmMapping {
+    /// `Name` (may be empty).
+    pub name: String,
+    /// `@Default`: the assignment TwinCAT starts with.
+    pub default: bool,
+    /// The sync managers it assigns.
+    pub sms: Vec<SmAssignment>,
+    /// Span of the element.
+    pub span: Span,
+}
+
 /// The `Mailbox` element: which protocols the device speaks.
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct Mailbox {
@@ -305,10 +364,16 @@ pub struct Mailbox {
     pub foe: bool,
     /// Ethernet over EtherCAT.
     pub eoe: bool,
+    /// `EoE/InitCmd`s (their `Type` in [`InitCmd::index`]).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub eoe_init_cmds: Vec<InitCmd>,
     /// Servo drive profile over EtherCAT.
     pub soe: Option<SoE>,
     /// ADS over EtherCAT.
     pub aoe: bool,
+    /// `AoE/InitCmd`s (data only).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub aoe_init_cmds: Vec<InitCmd>,
     /// Vendor-specific protocol over EtherCAT.
     pub voe: bool,
     /// Span of the element.
@@ -348,9 +413,9 @@ pub struct SoE {
 /// An `InitCmd`.
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize)]
 pub struct InitCmd {
-    /// `Transition` elements (IP, PS, SO, SP, OP, OS).
+    /// `Transition` elements (IP, PS, SO, SP, OP, OS, ...; ETG.2000 `TransitionType`).
     pub transitions: Vec<String>,
-    /// `Index` (CoE) or `IDN` (SoE).
+    /// `Index` (CoE), `IDN` (SoE) or `Type` (EoE).
     pub index: Option<u32>,
     /// `SubIndex`.
     pub sub_index: Option<u32>,
@@ -399,6 +464,12 @@ pub struct DcOpMode {
     pub cycle_time_sync1_factor: Option<i64>,
     /// `ShiftTimeSync1`.
     pub shift_time_sync1: Option<i64>,
+    /// `ShiftTimeSync1@Factor`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub shift_time_sync1_factor: Option<i64>,
+    /// `Sm` elements: the PDO assignment this mode uses instead of the `Sm` attributes.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub sms: Vec<SmAssignment>,
     /// Span of the element.
     pub span: Span,
 }
@@ -517,6 +588,9 @@ pub struct EsiModule {
     pub names: Vec<LocalizedText>,
     /// The module's PDOs.
     pub pdos: Vec<Pdo>,
+    /// ESI-only attributes of the module's PDOs (as [`EtherCat::pdo_attributes`]).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub pdo_attributes: Vec<PdoAttributes>,
     /// The module's own dictionary objects (`Profile/Dictionary/Objects`). Shared with
     /// [`crate::Module::fixed_objects`] and with every device of the file the module applies to.
     pub objects: Arc<BTreeMap<u16, Object>>,

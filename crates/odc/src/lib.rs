@@ -14,6 +14,9 @@
 //!   any [`slave::ObjectDictionary`]; [`transport`]: the [`transport::Bus`] trait and its
 //!   adapters;
 //! - [`SdoAbort`], [`emcy`], [`cia402`], [`cob`], [`nmt`]: CiA 301 / CiA 402 vocabulary.
+//! - [`ethercat`]: the start-up of an ESI device as data; with the feature `ethercrab`, the
+//!   `ethercrab_wire` traits of generated process images and `configure` on an ethercrab
+//!   SubDevice.
 //!
 //! ```
 //! use odc::cia402::{Controlword, ModeOfOperation};
@@ -90,6 +93,7 @@ pub mod cia402;
 pub mod cob;
 pub mod emcy;
 mod entry;
+pub mod ethercat;
 mod include;
 pub mod lss;
 pub mod nmt;

@@ -22,6 +22,12 @@ pub mod bad_values {
     include!(concat!(env!("OUT_DIR"), "/bad_values.rs"));
 }
 
+/// The made-up EtherCAT terminal of the process-image tests
+/// (`crates/odc-codegen/tests/fixtures/pdi-terminal.xml`).
+pub mod pdi_terminal {
+    odc::include_od!("pdi_terminal");
+}
+
 /// LTi ServoOne, EtherCAT (`esi/servoone.xml`).
 pub mod servoone {
     include!(concat!(env!("OUT_DIR"), "/servoone.rs"));

@@ -8,6 +8,7 @@ pub(super) fn lower_pdos<'t>(
     ctx: &mut Ctx<'_>,
     types: &Types<'t>,
     refs: &PdoRefs<'t>,
+    attributes: &mut Vec<PdoAttributes>,
 ) -> Vec<Pdo> {
     let mut pdos = Vec::new();
     for pdo_el in parent.children() {
@@ -72,6 +73,24 @@ pub(super) fn lower_pdos<'t>(
                 span: e.span(),
             });
         }
+        let extra = PdoAttributes {
+            index: mapping_index,
+            rx: direction == Direction::Rx,
+            virtual_pdo: ctx.attr_bool(pdo_el, "Virtual").unwrap_or(false),
+            os_fac: ctx.attr_u32(pdo_el, "OSFac"),
+            os_min: ctx.attr_u32(pdo_el, "OSMin"),
+            os_max: ctx.attr_u32(pdo_el, "OSMax"),
+            os_index_inc: ctx.attr_u32(pdo_el, "OSIndexInc"),
+            span: pdo_el.span(),
+        };
+        if extra.virtual_pdo
+            || extra.os_fac.is_some()
+            || extra.os_min.is_some()
+            || extra.os_max.is_some()
+            || extra.os_index_inc.is_some()
+        {
+            attributes.push(extra);
+        }
         pdos.push(Pdo {
             direction,
             mapping_index,
@@ -96,12 +115,34 @@ pub(super) fn lower_pdos<'t>(
     pdos
 }
 
+/// The state transitions of ETG.2000's `TransitionType`: INIT, PRE-OP, SAFE-OP, OP and BOOT
+/// pairs.
+const TRANSITIONS: &[&str] =
+    &["IP", "PI", "PS", "SP", "SO", "OS", "OP", "PO", "SI", "OI", "IB", "BI", "II", "PP", "SS"];
+
 pub(super) fn init_cmd(c: Element<'_>, ctx: &mut Ctx<'_>) -> InitCmd {
+    let mut transitions = Vec::new();
+    for t in c.children_named("Transition") {
+        if !TRANSITIONS.contains(&t.text().trim()) {
+            ctx.push(
+                Diagnostic::warning(
+                    codes::UNKNOWN_TRANSITION,
+                    format!("`{}` is not a state transition", t.text()),
+                )
+                .with_label(t.text_span(), "expected IP, PS, SO, SP, OS, ... (ETG.2000)"),
+            );
+        }
+        transitions.push(t.text().to_string());
+    }
+    if transitions.is_empty() {
+        ctx.missing(c, "Transition");
+    }
     InitCmd {
-        transitions: c.children_named("Transition").map(|t| t.text().to_string()).collect(),
+        transitions,
         index: c
             .child("Index")
             .or_else(|| c.child("IDN"))
+            .or_else(|| c.child("Type"))
             .and_then(|i| ctx.el_u32(i, "InitCmd index")),
         sub_index: ctx.child_u32(c, "SubIndex"),
         data: c.child("Data").map(|d| ctx.hex(d)).unwrap_or_default(),
@@ -139,6 +180,11 @@ pub(super) fn mailbox(mb: Element<'_>, ctx: &mut Ctx<'_>) -> Mailbox {
     m.foe = mb.child("FoE").is_some();
     m.eoe = mb.child("EoE").is_some();
     m.aoe = mb.child("AoE").is_some();
+    for (name, out) in [("EoE", &mut m.eoe_init_cmds), ("AoE", &mut m.aoe_init_cmds)] {
+        if let Some(p) = mb.child(name) {
+            *out = p.children_named("InitCmd").map(|i| init_cmd(i, ctx)).collect();
+        }
+    }
     m.voe = mb.child("VoE").is_some();
     m
 }
@@ -160,8 +206,51 @@ pub(super) fn lower_dc(dc: Element<'_>, ctx: &mut Ctx<'_>) -> Dc {
             cycle_time_sync1: ctx.child_u32(o, "CycleTimeSync1"),
             cycle_time_sync1_factor: factor("CycleTimeSync1", ctx),
             shift_time_sync1: ctx.child_num(o, "ShiftTimeSync1"),
+            shift_time_sync1_factor: factor("ShiftTimeSync1", ctx),
+            sms: o.children_named("Sm").filter_map(|sm| sm_assignment(sm, ctx)).collect(),
             span: o.span(),
         });
+    }
+    out
+}
+
+/// An `Sm No=` with its `Pdo`s (DC op-modes, alternative mappings); `None` without a
+/// readable `No`.
+fn sm_assignment(sm: Element<'_>, ctx: &mut Ctx<'_>) -> Option<SmAssignment> {
+    let Some(number) = ctx.attr_num::<u8>(sm, "No") else {
+        if sm.attr("No").is_none() {
+            ctx.missing(sm, "No");
+        }
+        return None;
+    };
+    // An empty `<Pdo/>` (Beckhoff writes one) assigns nothing: the sync manager stays empty.
+    let pdos = sm
+        .children_named("Pdo")
+        .filter(|p| !p.text().trim().is_empty())
+        .filter_map(|p| Some((ctx.el_num::<u16>(p, "PDO index")?, ctx.attr_u32(p, "OSFac"))))
+        .collect();
+    Some(SmAssignment { number, sync_type: ctx.child_u32(sm, "SyncType"), pdos, span: sm.span() })
+}
+
+/// Beckhoff's `Info/VendorSpecific/TwinCAT/AlternativeSmMapping`s.
+pub(super) fn alternative_sm_mappings(
+    info: Element<'_>,
+    ctx: &mut Ctx<'_>,
+) -> Vec<AlternativeSmMapping> {
+    let mut out = Vec::new();
+    for vs in info.children_named("VendorSpecific") {
+        for tc in vs.children_named("TwinCAT") {
+            for m in tc.children_named("AlternativeSmMapping") {
+                out.push(AlternativeSmMapping {
+                    name: m.child("Name").map(|n| n.text().to_string()).unwrap_or_default(),
+                    // Beckhoff writes `Default=""` for "not the default".
+                    default: m.attr("Default").is_some_and(|a| !a.value.trim().is_empty())
+                        && ctx.attr_bool(m, "Default").unwrap_or(false),
+                    sms: m.children_named("Sm").filter_map(|sm| sm_assignment(sm, ctx)).collect(),
+                    span: m.span(),
+                });
+            }
+        }
     }
     out
 }
