@@ -230,9 +230,8 @@ impl<'d> L<'d> {
     }
 
     fn text_attr(e: Element<'_>, name: &str) -> Option<Spanned<String>> {
-        e.attr(name)
-            .filter(|a| !a.value.is_empty())
-            .map(|a| Spanned::new(a.value.to_owned(), a.span))
+        // Empty is kept (`fileModifiedBy=""`), as an EDS's `ModifiedBy=` is an empty text.
+        e.attr(name).map(|a| Spanned::new(a.value.to_owned(), a.span))
     }
 
     fn file_info(&mut self, body: Element<'_>) {
@@ -259,10 +258,7 @@ impl<'d> L<'d> {
 
     fn identity(&mut self, id: Element<'_>) {
         for c in id.children() {
-            let text = || {
-                Some(Spanned::new(c.text().to_owned(), c.text_span()))
-                    .filter(|t| !t.value.is_empty())
-            };
+            let text = || Some(Spanned::new(c.text().to_owned(), c.text_span()));
             match c.name() {
                 "vendorName" => self.dev.device_info.vendor_name = text(),
                 "productName" => self.dev.device_info.product_name = text(),
@@ -293,8 +289,7 @@ impl<'d> L<'d> {
                 "productText" => match c.child("description") {
                     Some(d) if c.children().count() == 1 => {
                         self.dev.file_info.description =
-                            Some(Spanned::new(d.text().to_owned(), d.text_span()))
-                                .filter(|t| !t.value.is_empty());
+                            Some(Spanned::new(d.text().to_owned(), d.text_span()));
                     }
                     _ => self.keep("DeviceIdentity", c),
                 },
@@ -564,7 +559,7 @@ impl<'d> L<'d> {
         obj.obj_flags = self.hex_opt(o, "objFlags");
         let object_type = o.attr("dataType").and_then(|_| self.data_type_attr(o));
         if kind.has_subs() {
-            obj.denotation = Self::text_attr(o, "denotation");
+            obj.denotation = Self::text_attr(o, "denotation").filter(|d| !d.value.is_empty());
             if obj.denotation.is_some() {
                 self.xdc_values = true;
             }
@@ -781,7 +776,10 @@ impl<'d> L<'d> {
             self.xdc_values = true;
             sub.rare_mut().denotation = denotation;
         }
-        if let Some(f) = self.hex_opt(e, "objFlags") {
+        // A VAR's objFlags are the object's (as in an EDS).
+        if e.is("CANopenSubObject")
+            && let Some(f) = self.hex_opt(e, "objFlags")
+        {
             sub.rare_mut().obj_flags = Some(f);
         }
         sub
