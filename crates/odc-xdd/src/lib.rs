@@ -23,7 +23,10 @@
 //! - **Empty attributes are absent** (`lowLimit=""`): CANopenEditor writes them on every
 //!   object; an empty default of a string type is the empty string, as in an EDS.
 //! - **PDOmapping** `no` is not mappable, `default`/`optional` mappable (direction by access,
-//!   as in an EDS), `TPDO`/`RPDO` mappable in that direction only.
+//!   as in an EDS), `TPDO`/`RPDO` mappable in that direction only, said as an EDS says it
+//!   where it can: `readWrite` with `TPDO` is `rwr`, with `RPDO` `rww`; `read`/`const` with
+//!   `TPDO` and `write` with `RPDO` are plainly mappable. A direction the access forbids
+//!   (`readWriteInput` with `RPDO`, as some CANopenEditor files say) is kept as written.
 //! - **Kept**: unknown attributes and parameter `property` elements go to the object's
 //!   `extra` (a VAR's to the object); a parameter's `description` too (key `Description`,
 //!   line ends as `\n`); unknown elements of the profiles are kept whole in

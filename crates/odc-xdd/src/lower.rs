@@ -739,6 +739,7 @@ impl<'d> L<'d> {
                 }
             },
         };
+        (sub.access, sub.pdo_mapping) = as_eds(sub.access, sub.pdo_mapping);
         let pv = |name: &str| param.and_then(|p| p.child(name)).and_then(|c| c.attr("value"));
         let range = param.and_then(|p| p.child("allowedValues")).and_then(|a| a.child("range"));
         let rv = |name: &str| range.and_then(|r| r.child(name)).and_then(|c| c.attr("value"));
@@ -899,6 +900,21 @@ impl<'d> L<'d> {
 /// The source text of an element (its span's slice).
 fn e_src<'t>(e: Element<'t>) -> &'t str {
     e.source_text()
+}
+
+/// An access and a one-direction PDO mapping as an EDS says them, where it can: CiA 306 gives
+/// a PDO's direction by the access alone (`rwr`/`ro`/`const` transmit, `rww`/`wo` receive), so
+/// `readWrite` with `TPDO` is `rwr` and with `RPDO` is `rww`, mappable. A direction the access
+/// forbids (`read` with `RPDO`) stays as the file says it (the EDS writer then picks the access
+/// that allows it).
+fn as_eds(access: Access, mapping: PdoMapping) -> (Access, PdoMapping) {
+    match (mapping, access) {
+        (PdoMapping::Tx, Access::Rw) => (Access::Rwr, PdoMapping::Yes),
+        (PdoMapping::Rx, Access::Rw) => (Access::Rww, PdoMapping::Yes),
+        (PdoMapping::Tx, Access::Ro | Access::Const | Access::Rwr) => (access, PdoMapping::Yes),
+        (PdoMapping::Rx, Access::Wo | Access::Rww) => (access, PdoMapping::Yes),
+        _ => (access, mapping),
+    }
 }
 
 /// The first `label` of a parameter.

@@ -90,11 +90,12 @@ fn small_file_lowers_as_cia_311_says() {
         ("CO_storageGroup", "PERSIST_COMM")
     );
     assert_eq!(d.sub(0x1400, 1).unwrap().default.as_ref().unwrap().value, Value::NodeIdPlus(0x200));
-    // readWriteInput is rwr; the range gives the limits; TPDO only.
+    // readWriteInput is rwr (a process input: transmitted), so `TPDO` is what the access says
+    // already, as in an EDS (rwr, PDOMapping=1); the range gives the limits.
     let s = d.sub(0x2000, 1).unwrap();
     assert_eq!(
         (s.data_type, s.access, s.pdo_mapping),
-        (DataType::Integer16, Access::Rwr, PdoMapping::Tx)
+        (DataType::Integer16, Access::Rwr, PdoMapping::Yes)
     );
     assert_eq!(s.low_limit.as_ref().unwrap().value, Value::Signed(-5));
     assert_eq!(s.high_limit.as_ref().unwrap().value, Value::Signed(5));
