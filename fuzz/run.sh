@@ -11,7 +11,7 @@ secs=${2:-300}
 shift $(( $# >= 2 ? 2 : 1 ))
 case $target in
   eds_*) dict=(-dict=dict/eds.dict) ;;
-  esi_*) dict=(-dict=dict/xml.dict) ;;
+  esi_*|xdd_*) dict=(-dict=dict/xml.dict) ;;
   *) dict=() ;;
 esac
 [ -d "corpus/$target" ] || ./seed.sh >/dev/null

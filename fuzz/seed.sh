@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")"
 root=..
-mkdir -p corpus/eds_parse corpus/eds_roundtrip corpus/esi_parse corpus/pdo_pack
+mkdir -p corpus/eds_parse corpus/eds_roundtrip corpus/esi_parse corpus/xdd_parse corpus/pdo_pack
 eds_seeds=(
   "$root"/eds/*.eds
   "$root"/crates/odc-eds/tests/fixtures/*
@@ -17,12 +17,15 @@ if [ -d "$root/tests/malformed/files" ]; then
   eds_seeds+=("$root"/tests/malformed/files/eds/*)
   esi_seeds+=("$root"/tests/malformed/files/esi/*)
 fi
+xdd_seeds=("$root"/tests/malformed/files/xdd/*)
 if [ "${1:-}" = "--corpus" ]; then
   corpus="${ODC_CORPUS:-$root/../shared/corpus}"
   while IFS= read -r f; do eds_seeds+=("$f"); done \
     < <(find "$corpus/eds" -type f \( -iname '*.eds' -o -iname '*.dcf' \) -size -64k)
   while IFS= read -r f; do esi_seeds+=("$f"); done \
     < <(find "$corpus/esi" -type f -iname '*.xml' -size -64k)
+  while IFS= read -r f; do xdd_seeds+=("$f"); done \
+    < <(find "$corpus/eds" -type f \( -iname '*.xdd' -o -iname '*.xdc' \) -size -64k)
 fi
 for f in "${eds_seeds[@]}"; do
   [ -f "$f" ] || continue
@@ -30,6 +33,9 @@ for f in "${eds_seeds[@]}"; do
 done
 for f in "${esi_seeds[@]}"; do
   [ -f "$f" ] && cp "$f" corpus/esi_parse/
+done
+for f in "${xdd_seeds[@]}"; do
+  [ -f "$f" ] && cp "$f" corpus/xdd_parse/
 done
 printf '\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00' > corpus/pdo_pack/zeros
 printf '\x01\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff' > corpus/pdo_pack/ones

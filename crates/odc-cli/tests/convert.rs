@@ -238,3 +238,32 @@ fn esi_device_that_is_no_canopen_device_is_refused_unless_allowed() {
     let unallowed = odc(&["check", &out_name]);
     assert!(stderr(&unallowed).contains("error[C304]"), "{}", stderr(&unallowed));
 }
+
+/// Every shipped EDS converted to XDD and that XDD back to EDS: both pass `odc check` with the
+/// input's overlay with no error and no warning the input did not have (an XDD has no object
+/// lists, so C102 is not expected and C101 cannot fire), and what the XDD cannot hold is named
+/// in warnings, never dropped without a word.
+#[test]
+fn shipped_eds_convert_to_xdd_and_back() {
+    let dir = tempdir("xdd");
+    for (path, overlay) in
+        shipped().iter().filter(|(p, _)| p.extension().is_some_and(|e| e == "eds"))
+    {
+        let (_, _, warnings) = check(path, overlay.as_deref());
+        let name = path.file_stem().unwrap().to_string_lossy().into_owned();
+        let xdd = dir.join(format!("{name}.xdd"));
+        let eds = dir.join(format!("{name}.back.eds"));
+        let out = odc(&["convert", &path.display().to_string(), "-o", &xdd.display().to_string()]);
+        assert!(out.status.success(), "{}: {}", path.display(), stderr(&out));
+        // EDSVersion and the object lists are in every shipped EDS: their loss is said.
+        assert!(stderr(&out).contains("EDSVersion"), "{}", stderr(&out));
+        let out = odc(&["convert", &xdd.display().to_string(), "-o", &eds.display().to_string()]);
+        assert!(out.status.success(), "{}: {}", xdd.display(), stderr(&out));
+        for file in [&xdd, &eds] {
+            let (code, errors, out_warnings) = check(file, overlay.as_deref());
+            assert_eq!((code, &errors), (0, &BTreeSet::new()), "{}", file.display());
+            let new: Vec<&String> = out_warnings.difference(&warnings).collect();
+            assert!(new.is_empty(), "{}: new warnings {new:?}", file.display());
+        }
+    }
+}

@@ -271,6 +271,39 @@ pub fn parse_str(sources: &mut odc_model::Sources, name: &str, text: &str) -> Pa
     parse(sources, name, text.as_bytes())
 }
 
+/// Why [`read_value`] could not read a value.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ValueError {
+    /// The text is not a value of the type (`F107` in an EDS).
+    Invalid,
+    /// A number that does not fit the type (`F108` in an EDS).
+    OutOfRange,
+}
+
+/// Reads `text` as the EDS front-end reads a `DefaultValue` of type `dt` (numbers in any
+/// CiA 306 form, `$NODEID+`, REAL bit patterns, hex bytes), for front-ends whose files write
+/// values in CiA 306 syntax: CiA 311 XDD files do, and sharing the reader makes an XDD value
+/// lower to exactly what the same value in an EDS does. An empty text is not read here (the
+/// caller decides what an empty value means).
+///
+/// # Errors
+///
+/// [`ValueError`] when the text does not read as a value of `dt`.
+pub fn read_value(text: &str, dt: odc_model::DataType) -> Result<odc_model::Value, ValueError> {
+    let mut problem = lower::Problem::Invalid;
+    match lower::read_value(text, dt, &mut problem) {
+        Some((v, _)) => Ok(v),
+        None if problem == lower::Problem::Range => Err(ValueError::OutOfRange),
+        None => Err(ValueError::Invalid),
+    }
+}
+
+/// A value in the canonical CiA 306 form the EDS writer writes (`0x1A`, `$NODEID+0x180`, hex
+/// bytes), for writers of formats that use CiA 306 value syntax (XDD).
+pub fn value_text(v: &odc_model::Value) -> String {
+    write::value_text(v)
+}
+
 /// Writes the model as EDS or DCF text (`Format::Esi` writes EDS). Deterministic.
 pub fn write(device: &odc_model::Device, format: odc_model::Format) -> String {
     write::write(device, format)

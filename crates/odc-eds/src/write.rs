@@ -70,7 +70,7 @@ fn eds_access(s: &SubObject) -> Access {
 struct W {
     out: String,
     dcf: bool,
-    /// The model was read from an EDS or DCF: what it lacks, the file lacked.
+    /// The model was read from an EDS, DCF, XDD or XDC: what it lacks, the file lacked.
     from_eds: bool,
 }
 
@@ -353,7 +353,9 @@ pub(crate) fn write(dev: &Device, format: Format) -> String {
     let mut w = W {
         out: String::with_capacity(64 * 1024),
         dcf: format == Format::Dcf,
-        from_eds: matches!(dev.format, Some(Format::Eds | Format::Dcf)),
+        // An XDD/XDC states SubNumber as an EDS does: a model read from one lacks it only
+        // where the file did.
+        from_eds: matches!(dev.format, Some(Format::Eds | Format::Dcf | Format::Xdd | Format::Xdc)),
     };
     let fi = &dev.file_info;
     if *fi != odc_model::FileInfo::default() {

@@ -30,7 +30,7 @@
 mod decode;
 mod lower;
 pub mod num;
-mod xml;
+pub mod xml;
 
 use std::borrow::Cow;
 
@@ -59,6 +59,25 @@ pub const MAX_ELEMENTS: usize = xml::MAX_ELEMENTS;
 /// Most sub-objects the dictionaries of one file make, data types expanded (`F220` past it).
 /// The largest real file makes about 16,000.
 pub const MAX_SUB_OBJECTS: usize = 262_144;
+
+/// Decodes an XML file's bytes as ESI files are decoded (BOM, UTF-8, ISO-8859-1 by the XML
+/// declaration; UTF-16 refused): the text and its warnings, or why it cannot be read. Shared
+/// with the XDD front-end (`odc-xdd`), which reads the same XML with the same limits; the
+/// codes are this crate's (`F201`, `F203`) and the caller maps them to its own.
+pub fn decode_xml(bytes: Cow<'_, [u8]>) -> Result<(String, Vec<Diagnostic>), Diagnostic> {
+    match decode::decode(bytes) {
+        Ok(d) => Ok((d.text, d.diagnostics)),
+        Err(decode::DecodeError::Utf16) => Err(Diagnostic::error(
+            codes::UNSUPPORTED_ENCODING,
+            "the file is UTF-16; XML device files are read as UTF-8 or ISO-8859-1",
+        )
+        .with_note("convert it, e.g. `iconv -f UTF-16 -t UTF-8`")),
+        Err(decode::DecodeError::Unsupported(label)) => Err(Diagnostic::error(
+            codes::UNSUPPORTED_ENCODING,
+            format!("unsupported encoding `{label}` in the XML declaration"),
+        )),
+    }
+}
 
 /// Decodes `bytes`, adds the text to `sources` under `name`, reads and lowers it.
 /// Never panics; every problem is a diagnostic.

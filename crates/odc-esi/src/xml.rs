@@ -97,6 +97,7 @@ pub struct Document<'s> {
     nodes: Vec<Node>,
     attrs: Vec<RawAttr>,
     strings: Vec<Owned>,
+    /// Problems met while reading (well-formedness, limits, entities).
     pub diagnostics: odc_model::Capped,
 }
 
@@ -126,8 +127,11 @@ impl<'s> Document<'s> {
 /// An attribute: name (local part), value (entities resolved) and the span of the value.
 #[derive(Clone, Copy, Debug)]
 pub struct Attr<'d> {
+    /// Local name.
     pub name: &'d str,
+    /// Value, entities resolved.
     pub value: &'d str,
+    /// Span of the value as written.
     pub span: Span,
 }
 
@@ -185,6 +189,13 @@ impl<'d> Element<'d> {
         self.doc.span(n.start, n.end)
     }
 
+    /// The element's source text, from `<` to the end of its end tag (to keep an element
+    /// the lowering does not interpret as written).
+    pub fn source_text(self) -> &'d str {
+        let n = self.node();
+        self.doc.src.get(n.start as usize..n.end as usize).unwrap_or("")
+    }
+
     /// Span of the text without surrounding white space (the element's span if none).
     pub fn text_span(self) -> Span {
         let n = self.node();
@@ -210,6 +221,7 @@ impl<'d> Element<'d> {
         trim_end(self.raw_text())
     }
 
+    /// The child elements, in document order.
     pub fn children(self) -> Children<'d> {
         let n = self.node();
         Children { doc: self.doc, next: self.idx + 1, end: n.subtree_end }
@@ -232,6 +244,7 @@ impl<'d> Element<'d> {
                 == Some(name.as_bytes())
     }
 
+    /// The first child called `name`.
     #[inline(always)]
     pub fn child(self, name: &str) -> Option<Element<'d>> {
         self.children().find(|c| c.is(name))
@@ -260,6 +273,7 @@ impl<'d> Element<'d> {
         found
     }
 
+    /// The children called `name`.
     #[inline(always)]
     pub fn children_named<'a>(self, name: &'a str) -> impl Iterator<Item = Element<'d>> + 'a
     where
@@ -277,11 +291,13 @@ impl<'d> Element<'d> {
         doc.attrs.get(from..to).unwrap_or_default()
     }
 
+    /// The attributes, in document order.
     pub fn attrs(self) -> impl Iterator<Item = Attr<'d>> {
         let doc = self.doc;
         self.raw_attrs().iter().map(move |a| doc.attr(a))
     }
 
+    /// The attribute called `name` (local name).
     pub fn attr(self, name: &str) -> Option<Attr<'d>> {
         // Names compared before the value and span of each are looked up.
         let doc = self.doc;

@@ -23,6 +23,10 @@ pub enum Format {
     Dcf,
     /// ETG.2000 EtherCAT slave information.
     Esi,
+    /// CiA 311 XML device description.
+    Xdd,
+    /// CiA 311 XML device configuration.
+    Xdc,
 }
 
 /// A key the front-end does not interpret, kept as written so that it survives a round trip.
@@ -77,6 +81,22 @@ pub struct Device {
     pub ethercat: Option<Box<EtherCat>>,
     /// Sections the front-end does not interpret, in file order.
     pub extra_sections: Vec<RawSection>,
+    /// XDD/XDC elements the front-end does not interpret, kept as written for the XDD writer
+    /// (an EDS has no place for them: converting to EDS says so). Not serialised when empty.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub xml_extra: Vec<XmlExtra>,
+}
+
+/// An XML element kept as written: where it was, and its text.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct XmlExtra {
+    /// The element it was a child of (`DeviceProfile`, `ApplicationProcess`,
+    /// `ApplicationLayers`, `TransportLayers`, `NetworkManagement`, `CommunicationProfile`).
+    pub parent: String,
+    /// The element's source text, from `<` to the end of its end tag.
+    pub xml: String,
+    /// Where it was.
+    pub span: Span,
 }
 
 impl Device {

@@ -28,7 +28,7 @@ mod value;
 
 pub use device::{
     Commissioning, Device, DeviceInfo, FileInfo, Format, Module, Modules, Object, ObjectList,
-    ObjectLists, Origin, RawEntry, RawSection, SubExtend, SubObject, SubRare,
+    ObjectLists, Origin, RawEntry, RawSection, SubExtend, SubObject, SubRare, XmlExtra,
 };
 pub use diag::{Capped, Diagnostic, Label, RuleInfo, Severity, Sources};
 pub use pdo::{Pdo, PdoEntry};

@@ -13,7 +13,8 @@
 //! # }
 //! ```
 //!
-//! [`load`] reads the file (EDS/DCF, or ESI by extension or a first non-blank `<`), finds its
+//! [`load`] reads the file (EDS/DCF; ESI or XDD/XDC by extension or a first non-blank `<`, the
+//! two told apart by the root element, see [`is_xdd`]), finds its
 //! overlay (`<stem>.odc.toml` beside it, else `odc.toml` in its directory), builds the
 //! checker's configuration (the overlay's, or `--config`, then the command-line levels and
 //! `--strict`), applies it to the front-end's diagnostics, runs the checks on every selected
@@ -333,7 +334,10 @@ pub struct Parsed {
 /// Lowers a device file's bytes with the front-end its format needs ([`is_xml`]); `name` is
 /// how diagnostics name the file.
 pub fn parse(sources: &mut Sources, name: &str, path: &Path, bytes: Vec<u8>) -> Parsed {
-    if is_xml(path, &bytes) {
+    if is_xdd(path, &bytes) {
+        let parsed = odc_xdd::parse_vec(sources, name, bytes);
+        Parsed { devices: parsed.device.into_iter().collect(), diagnostics: parsed.diagnostics }
+    } else if is_xml(path, &bytes) {
         let parsed = odc_esi::parse_vec(sources, name, bytes);
         Parsed { devices: parsed.devices, diagnostics: parsed.diagnostics }
     } else {
@@ -426,7 +430,8 @@ pub fn load(path: &Path, options: &Options) -> Result<Loaded, Error> {
     })
 }
 
-/// Every diagnostic code odc can emit: the front-ends' (`F1xx` EDS/DCF, `F2xx` ESI), the
+/// Every diagnostic code odc can emit: the front-ends' (`F1xx` EDS/DCF, `F2xx` ESI, `F3xx`
+/// XDD/XDC), the
 /// checker's (`C`, `D`, `T`) and the code generator's (`G6xx`). `odc explain`, `odc lints`,
 /// overlays and `-A/-W/-D` name rules in it.
 pub fn registry() -> Registry {
@@ -437,6 +442,7 @@ pub fn registry() -> Registry {
                 (odc_check::RULES.iter().map(|r| &r.info))
                     .chain(odc_eds::RULES)
                     .chain(odc_esi::RULES)
+                    .chain(odc_xdd::RULES)
                     .chain(odc_codegen::RULES),
             )
         })
@@ -502,11 +508,21 @@ pub fn read_device_file(path: &Path) -> std::io::Result<Vec<u8>> {
     Ok(bytes)
 }
 
-/// Whether the bytes are an ESI (XML) rather than an EDS/DCF: by extension, else by the first
-/// non-blank character.
+/// Whether the bytes are a CiA 311 XDD/XDC: by extension (`.xdd`, `.xdc`), else, for XML, by
+/// the root element (`ISO15745ProfileContainer`): ESI files are `.xml` too.
+pub fn is_xdd(path: &Path, bytes: &[u8]) -> bool {
+    match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
+        Some("xdd" | "xdc") => true,
+        Some("eds" | "dcf" | "esi") => false,
+        _ => is_xml(path, bytes) && odc_xdd::is_xdd(bytes),
+    }
+}
+
+/// Whether the bytes are XML (an ESI, or an XDD/XDC: [`is_xdd`] tells them apart) rather than
+/// an EDS/DCF: by extension, else by the first non-blank character.
 pub fn is_xml(path: &Path, bytes: &[u8]) -> bool {
     match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
-        Some("xml" | "esi") => true,
+        Some("xml" | "esi" | "xdd" | "xdc") => true,
         Some("eds" | "dcf") => false,
         _ => {
             let body = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
@@ -518,4 +534,28 @@ pub fn is_xml(path: &Path, bytes: &[u8]) -> bool {
 /// The SHA-256 of `bytes` in lower-case hex.
 pub fn sha256_hex(bytes: &[u8]) -> String {
     Sha256::digest(bytes).iter().map(|b| format!("{b:02x}")).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn xdd_told_from_esi_by_root_element() {
+        let xdd = b"<?xml version=\"1.0\"?>\n<ISO15745ProfileContainer xmlns=\"x\"/>";
+        let esi = b"<?xml version=\"1.0\"?>\n<EtherCATInfo/>";
+        // `.xml` is either: the root element decides.
+        assert!(is_xdd(Path::new("a.xml"), xdd));
+        assert!(!is_xdd(Path::new("a.xml"), esi));
+        assert!(is_xml(Path::new("a.xml"), esi));
+        // No extension: by content.
+        assert!(is_xdd(Path::new("a"), xdd));
+        // `.xdd`/`.xdc` always are (a broken one gets the XDD front-end's diagnostics).
+        assert!(is_xdd(Path::new("a.XDC"), esi));
+        assert!(!is_xdd(Path::new("a.eds"), xdd));
+        let mut s = Sources::new();
+        let p = parse(&mut s, "a.xml", Path::new("a.xml"), xdd.to_vec());
+        assert!(p.diagnostics.iter().all(|d| d.code.starts_with("F3")), "{:?}", p.diagnostics);
+        assert!(registry().get("F310").is_some());
+    }
 }

@@ -76,9 +76,15 @@ impl Outcome {
 /// what the front-end made of the file; the generated inputs skip it, their models are large
 /// by design); renders the diagnostics in all three forms.
 pub fn run(name: &str, bytes: &[u8], xml: bool, generate: bool) -> Outcome {
-    let mut sources = Sources::new();
     // The format by the flag, not the name: a generated case has no extension.
-    let kind = std::path::Path::new(if xml { "case.xml" } else { "case.eds" });
+    run_as(name, bytes, if xml { "case.xml" } else { "case.eds" }, generate)
+}
+
+/// [`run`] with the format given by a file name (`case.xdd` for an XDD/XDC), which the
+/// pipeline detects the format by; when `generate`, the device is also written as XDC.
+pub fn run_as(name: &str, bytes: &[u8], kind: &str, generate: bool) -> Outcome {
+    let mut sources = Sources::new();
+    let kind = std::path::Path::new(kind);
     let parsed = odc_pipeline::parse(&mut sources, name, kind, bytes.to_vec());
     let (devices, diagnostics) = (parsed.devices, parsed.diagnostics);
     let config = odc_check::Config::default();
@@ -88,6 +94,7 @@ pub fn run(name: &str, bytes: &[u8], xml: bool, generate: bool) -> Outcome {
         checked.extend(odc_check::check(d, &config));
         if generate {
             let _ = odc_eds::write(d, odc_model::Format::Dcf);
+            let _ = odc_xdd::write(d, odc_model::Format::Xdc);
             if let Err(diags) = odc_codegen::generate(d, &odc_codegen::Options::default()) {
                 generator.extend(diags);
             }

@@ -23,9 +23,19 @@ fn esi_files() {
 }
 
 #[test]
+fn xdd_files() {
+    insta::glob!("../files", "xdd/*", |path| {
+        let bytes = std::fs::read(path).unwrap();
+        let name = path.file_name().unwrap().to_string_lossy().into_owned();
+        let outcome = odc_tests_malformed::run_as(&name, &bytes, "case.xdd", true);
+        insta::assert_snapshot!(outcome.report());
+    });
+}
+
+#[test]
 fn the_suite_has_at_least_sixty_files() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("files");
     let count: usize =
-        ["eds", "esi"].iter().map(|d| std::fs::read_dir(dir.join(d)).unwrap().count()).sum();
+        ["eds", "esi", "xdd"].iter().map(|d| std::fs::read_dir(dir.join(d)).unwrap().count()).sum();
     assert!(count >= 60, "{count} files");
 }

@@ -1,15 +1,17 @@
-//! `odc convert`: write a device file as EDS or DCF.
+//! `odc convert`: write a device file as EDS, DCF, XDD or XDC.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use odc_model::Format;
 
 use crate::input;
 
-/// Convert a device file: EDS ↔ DCF, a normalised EDS, or one device of an ESI as EDS.
+/// Convert a device file: EDS/DCF ↔ XDD/XDC in every direction, a normalised EDS, or one device
+/// of an ESI as EDS.
 ///
-/// The output format follows `--to`, else the extension of `-o`; a file holding DCF values
+/// The output format follows `--to`, else the extension of `-o` (`.eds`, `.dcf`, `.xdd`,
+/// `.xdc`); what the output format has no place for is named in a warning; a file holding DCF values
 /// (ParameterValue, Denotation, [DeviceComissioning], [ConnectedModules]) stays a DCF unless
 /// `--to eds` asks for an EDS, which leaves them out with a warning that counts them. Keys and
 /// sections odc does not interpret are carried over. The output is read back and checked
@@ -18,7 +20,7 @@ use crate::input;
 /// writing succeeded.
 #[derive(clap::Args)]
 pub struct Args {
-    /// EDS, DCF or ESI file.
+    /// EDS, DCF, XDD, XDC or ESI file.
     input: PathBuf,
     /// Output file; standard output when absent.
     #[arg(short, long)]
@@ -34,6 +36,8 @@ pub struct Args {
 enum Target {
     Eds,
     Dcf,
+    Xdd,
+    Xdc,
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
@@ -69,12 +73,62 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     // What an EDS has no place for. Left out only when an EDS is asked for by name: without
     // them a DCF's compact PDO mappings ([1600Value]) would be left with no entries.
     let dcf_values = odc_eds::dcf_only(device);
+    let ext = |want: &str| {
+        args.output
+            .as_ref()
+            .and_then(|o| o.extension())
+            .is_some_and(|e| e.eq_ignore_ascii_case(want))
+    };
+    let xml = match args.to {
+        Some(Target::Xdd) => Some(Format::Xdd),
+        Some(Target::Xdc) => Some(Format::Xdc),
+        Some(_) => None,
+        None if ext("xdc") => Some(Format::Xdc),
+        None if ext("xdd") && dcf_values.is_empty() => Some(Format::Xdd),
+        None if ext("xdd") => {
+            eprintln!(
+                "note: the input holds {} DCF value(s) ({dcf_values}); written as XDC to keep \
+                 them (--to xdd leaves them out)",
+                dcf_values.total()
+            );
+            Some(Format::Xdc)
+        }
+        None => None,
+    };
+    if let Some(format) = xml {
+        let written = odc_xdd::write(device, format);
+        for lost in &written.lost {
+            eprintln!("warning: not written (an XDD/XDC has no place for it): {lost}");
+        }
+        gate_output(&loaded, &written.text, args.output.as_deref())?;
+        match &args.output {
+            Some(path) => input::write_atomic(path, written.text.as_bytes())?,
+            None => super::out(&written.text)?,
+        }
+        return Ok(ExitCode::SUCCESS);
+    }
+    // XML elements kept inside objects (keys `<name`) have no EDS spelling either.
+    let mut eds_device = device.clone();
+    let inner = strip_xml_entries(&mut eds_device);
+    if inner > 0 {
+        eprintln!(
+            "warning: {inner} XML element(s) kept in objects' parameters not written (an EDS \
+             has no place for them)"
+        );
+    }
+    let device = &eds_device;
+    if !device.xml_extra.is_empty() {
+        eprintln!(
+            "warning: {} XML element(s) of the XDD not written (an EDS has no place for them): {}",
+            device.xml_extra.len(),
+            xml_names(&device.xml_extra)
+        );
+    }
     let target = match (args.to, &args.output) {
         (Some(Target::Eds), _) => Format::Eds,
         (Some(Target::Dcf), _) => Format::Dcf,
-        (None, Some(out)) if out.extension().is_some_and(|e| e.eq_ignore_ascii_case("dcf")) => {
-            Format::Dcf
-        }
+        (Some(Target::Xdd | Target::Xdc), _) => Format::Eds, // handled above
+        (None, Some(_)) if ext("dcf") => Format::Dcf,
         (None, _) if !dcf_values.is_empty() => {
             eprintln!(
                 "note: the input holds {} DCF value(s) ({dcf_values}); written as DCF to keep \
@@ -135,16 +189,16 @@ fn gate_as_canopen(
 fn gate_output(
     loaded: &odc_pipeline::Loaded,
     text: &str,
-    output: Option<&std::path::Path>,
+    output: Option<&Path>,
 ) -> anyhow::Result<()> {
     let mut sources = odc_model::Sources::new();
     let name = match output {
         Some(path) => format!("{} (not written)", path.display()),
         None => "<output> (not written)".to_owned(),
     };
-    let back = odc_eds::parse(&mut sources, &name, text.as_bytes());
-    let diagnostics =
-        odc_pipeline::check(std::slice::from_ref(&back.device), back.diagnostics, &loaded.config);
+    // Read as `odc check` reads a file: by its content (an XDD's root element), else as EDS.
+    let back = odc_pipeline::parse(&mut sources, &name, Path::new(&name), text.as_bytes().to_vec());
+    let diagnostics = odc_pipeline::check(&back.devices, back.diagnostics, &loaded.config);
     let errors: Vec<_> = diagnostics.into_iter().filter(odc_model::Diagnostic::is_error).collect();
     if errors.is_empty() {
         return Ok(());
@@ -154,4 +208,43 @@ fn gate_output(
     );
     super::print_diagnostics(&sources, &errors, super::DiagFormat::Human, super::Color::Auto)?;
     loaded.refuse(&errors).map_err(|refused| super::HasErrors(refused).into())
+}
+
+/// The kept XML elements as `parent/name`, each once, in order.
+fn xml_names(extra: &[odc_model::XmlExtra]) -> String {
+    let mut names: Vec<String> = Vec::new();
+    for x in extra {
+        let name: String = x
+            .xml
+            .trim_start_matches('<')
+            .chars()
+            .take_while(|c| !c.is_whitespace() && *c != '>' && *c != '/')
+            .collect();
+        let local = name.rsplit(':').next().unwrap_or(&name);
+        let n = format!("{}/{local}", x.parent);
+        if !names.contains(&n) {
+            names.push(n);
+        }
+    }
+    names.join(", ")
+}
+
+/// Removes the XML elements the XDD front-end kept in objects' `extra` (keys starting with
+/// `<`); returns how many.
+fn strip_xml_entries(device: &mut odc_model::Device) -> usize {
+    let mut n = 0;
+    let mut strip = |extra: &mut Vec<odc_model::RawEntry>| {
+        let before = extra.len();
+        extra.retain(|e| !e.key.starts_with('<'));
+        n += before - extra.len();
+    };
+    for o in device.objects.values_mut() {
+        strip(&mut o.extra);
+        for s in o.subs.values_mut() {
+            if s.rare().extra.iter().any(|e| e.key.starts_with('<')) {
+                strip(&mut s.rare_mut().extra);
+            }
+        }
+    }
+    n
 }

@@ -21,6 +21,7 @@ mod classify;
 mod keys;
 mod objects;
 mod read;
+pub(crate) use read::{Problem, read_value};
 mod sections;
 
 use classify::*;

@@ -431,7 +431,7 @@ pub(super) fn concat(parts: &[&str]) -> String {
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
-pub(super) enum Problem {
+pub(crate) enum Problem {
     Invalid,
     Range,
 }
@@ -450,7 +450,7 @@ pub(super) fn expected(class: ValueClass) -> &'static str {
 }
 
 /// Reads `s` as a value of `dt`. `flags` are [`num`] warning flags.
-pub(super) fn read_value(s: &str, dt: DataType, problem: &mut Problem) -> Option<(Value, u8)> {
+pub(crate) fn read_value(s: &str, dt: DataType, problem: &mut Problem) -> Option<(Value, u8)> {
     let s = trim(s);
     match dt.class() {
         ValueClass::Bool => num::parse_bool(s).map(|b| (Value::Bool(b), 0)),

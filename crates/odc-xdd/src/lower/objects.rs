@@ -1,0 +1,479 @@
+//! Objects and sub-objects: `CANopenObject`/`CANopenSubObject` with the parameters their
+//! `uniqueIDRef`s name, lowered as the EDS front-end lowers the same object.
+
+use super::*;
+
+impl<'d> L<'d> {
+    pub(super) fn object(&mut self, o: Element<'d>) {
+        let Some(index) = o.attr("index").map(|_| self.hex(o, "index", 0xFFFF)) else {
+            self.err(
+                codes::MISSING_ATTRIBUTE,
+                "CANopenObject has no index".into(),
+                o.span(),
+                "skipped",
+            );
+            return;
+        };
+        let Some(index) = index else { return };
+        let index = index.value as u16;
+        let param = self.param(o);
+        let has_children = o.children().next().is_some();
+        let kind = match self.uint(o, "objectType", 255) {
+            Some(v) => match ObjectKind::from_code(v.value as u8) {
+                Some(k) => k,
+                None => {
+                    self.err(
+                        codes::INVALID_OBJECT_TYPE,
+                        format!("objectType {} is not a CiA 301 object code", v.value),
+                        v.span,
+                        "expected 0, 2, 5, 6, 7, 8 or 9",
+                    );
+                    if has_children { ObjectKind::Record } else { ObjectKind::Var }
+                }
+            },
+            None => {
+                self.warn(
+                    codes::MISSING_ATTRIBUTE,
+                    format!("object {index:04X} has no objectType; VAR assumed"),
+                    o.span(),
+                    "here",
+                );
+                if has_children { ObjectKind::Record } else { ObjectKind::Var }
+            }
+        };
+        let name = match (o.attr("name"), param.and_then(label)) {
+            (Some(a), _) => a.value.to_owned(),
+            (None, Some(l)) => l.to_owned(),
+            (None, None) => {
+                self.warn(
+                    codes::MISSING_ATTRIBUTE,
+                    format!("object {index:04X} has no name"),
+                    o.span(),
+                    "here",
+                );
+                String::new()
+            }
+        };
+        let mut obj = Object::new(index, name.clone(), kind, o.span());
+        obj.sub_number =
+            self.uint(o, "subNumber", 0xFFFF).map(|v| Spanned::new(v.value as u16, v.span));
+        obj.obj_flags = self.hex_opt(o, "objFlags");
+        let object_type = o.attr("dataType").and_then(|_| self.data_type_attr(o));
+        if kind.has_subs() {
+            obj.denotation = Self::text_attr(o, "denotation").filter(|d| !d.value.is_empty());
+            if obj.denotation.is_some() {
+                self.xdc_values = true;
+            }
+            obj.extra = self.extras(o, param);
+            for s in o.children() {
+                if !s.is("CANopenSubObject") {
+                    self.keep_in_object(&mut obj, s);
+                    continue;
+                }
+                let Some(si) = s.attr("subIndex").map(|_| self.hex(s, "subIndex", 0xFF)) else {
+                    self.err(
+                        codes::MISSING_ATTRIBUTE,
+                        format!("a sub-object of {index:04X} has no subIndex"),
+                        s.span(),
+                        "skipped",
+                    );
+                    continue;
+                };
+                let Some(si) = si else { continue };
+                let si = si.value as u8;
+                let inherit = if kind == ObjectKind::Array && si > 0 { object_type } else { None };
+                let sparam = self.param(s);
+                let mut sub =
+                    self.sub(s, sparam, si, inherit, &format!("sub-object {index:04X}sub{si:X}"));
+                sub.name = s
+                    .attr("name")
+                    .map(|a| a.value)
+                    .or_else(|| sparam.and_then(label))
+                    .unwrap_or_default()
+                    .into();
+                let kind_attr = s
+                    .attr("objectType")
+                    .and_then(|a| a.value.trim().parse::<u8>().ok())
+                    .and_then(ObjectKind::from_code);
+                sub.kind = kind_attr;
+                let extra = self.extras(s, sparam);
+                if !extra.is_empty() {
+                    sub.rare_mut().extra = extra;
+                }
+                if obj.subs.insert(si, sub).is_some() {
+                    self.warn(
+                        codes::DUPLICATE_SUB_OBJECT,
+                        format!("sub-index {si:X} of object {index:04X} defined twice"),
+                        s.span(),
+                        "this one is used",
+                    );
+                }
+            }
+        } else {
+            let default_dt = match kind {
+                ObjectKind::Domain | ObjectKind::Null => Some(DataType::Domain),
+                ObjectKind::DefType => Some(DataType::Unsigned32),
+                _ => None,
+            };
+            let mut sub = self.sub(o, param, 0, default_dt, &format!("object {index:04X}"));
+            sub.name = name.into();
+            obj.extra = self.extras(o, param);
+            obj.subs.insert(0, sub);
+            for s in o.children() {
+                self.keep_in_object(&mut obj, s);
+            }
+        }
+        if self.dev.objects.insert(index, obj).is_some() {
+            self.warn(
+                codes::DUPLICATE_OBJECT,
+                format!("object {index:04X} defined twice"),
+                o.span(),
+                "this one is used",
+            );
+        }
+    }
+
+    /// A child of an object the model has no place for: kept in the object's `extra` as
+    /// written (key `<` + its name), so the XDD writer writes it back.
+    fn keep_in_object(&mut self, obj: &mut Object, e: Element<'_>) {
+        obj.extra.push(RawEntry {
+            key: format!("<{}", e.name()),
+            value: e_src(e).to_owned(),
+            span: e.span(),
+        });
+    }
+
+    fn hex_opt(&mut self, e: Element<'_>, name: &str) -> Option<Spanned<u32>> {
+        e.attr(name).filter(|a| !a.value.trim().is_empty())?;
+        self.hex(e, name, u64::from(u32::MAX)).map(|v| Spanned::new(v.value as u32, v.span))
+    }
+
+    /// The parameter an element's `uniqueIDRef` names, marked as used.
+    fn param(&mut self, e: Element<'_>) -> Option<Element<'d>> {
+        let r = e.attr("uniqueIDRef")?;
+        match self.params.get_key_value(r.value) {
+            Some((k, p)) => {
+                self.used.insert(k);
+                Some(*p)
+            }
+            None => {
+                self.warn(
+                    codes::UNRESOLVED_REFERENCE,
+                    format!("uniqueIDRef `{}` names no parameter", r.value),
+                    r.span,
+                    "not in the parameterList",
+                );
+                None
+            }
+        }
+    }
+
+    /// `dataType="NNNN"`; `0000` (old CANopenEditor) is absent.
+    fn data_type_attr(&mut self, e: Element<'_>) -> Option<DataType> {
+        let v = self.hex(e, "dataType", 0xFFFF)?;
+        (v.value != 0).then(|| DataType::from_code(v.value as u16))
+    }
+
+    /// The IEC type of a parameter, or the element type of the array it refers to.
+    fn param_type(&mut self, p: Element<'_>) -> Option<DataType> {
+        for c in p.children() {
+            if let Some(dt) = iec_type(c.name()) {
+                return Some(dt);
+            }
+            if c.is("dataTypeIDRef") {
+                let r = c.attr("uniqueIDRef")?;
+                let Some(t) = self.types.get(r.value).copied() else {
+                    self.warn(
+                        codes::UNRESOLVED_REFERENCE,
+                        format!("dataTypeIDRef `{}` names no data type", r.value),
+                        r.span,
+                        "not in the dataTypeList",
+                    );
+                    return None;
+                };
+                return t.children().find_map(|c| iec_type(c.name()));
+            }
+        }
+        None
+    }
+
+    fn sub(
+        &mut self,
+        e: Element<'d>,
+        param: Option<Element<'d>>,
+        si: u8,
+        inherit: Option<DataType>,
+        what: &str,
+    ) -> SubObject {
+        let dt = match e.attr("dataType") {
+            Some(_) => self.data_type_attr(e),
+            None => None,
+        };
+        let dt = dt.or_else(|| param.and_then(|p| self.param_type(p))).or(inherit);
+        let dt = dt.unwrap_or_else(|| {
+            self.err(
+                codes::MISSING_DATA_TYPE,
+                format!("{what} has no data type; read as DOMAIN"),
+                e.span(),
+                "no dataType, and no type in its parameter",
+            );
+            DataType::Domain
+        });
+        let access = self.access(e, param, what);
+        let mut sub = SubObject::new(si, "", dt, access);
+        sub.span = e.span();
+        sub.pdo_mapping = match e.attr("PDOmapping") {
+            None => PdoMapping::No,
+            Some(a) => match a.value.trim() {
+                "no" | "" => PdoMapping::No,
+                "default" | "optional" => PdoMapping::Yes,
+                "TPDO" => PdoMapping::Tx,
+                "RPDO" => PdoMapping::Rx,
+                v => {
+                    self.warn(
+                        codes::UNKNOWN_PDO_MAPPING,
+                        format!("PDOmapping `{v}` is not no, default, optional, TPDO or RPDO"),
+                        a.span,
+                        "read as no",
+                    );
+                    PdoMapping::No
+                }
+            },
+        };
+        (sub.access, sub.pdo_mapping) = as_eds(sub.access, sub.pdo_mapping);
+        let pv = |name: &str| param.and_then(|p| p.child(name)).and_then(|c| c.attr("value"));
+        let range = param.and_then(|p| p.child("allowedValues")).and_then(|a| a.child("range"));
+        let rv = |name: &str| range.and_then(|r| r.child(name)).and_then(|c| c.attr("value"));
+        let pick = |attr: &str, from_param: Option<odc_esi::xml::Attr<'d>>| {
+            e.attr(attr)
+                .filter(|a| !a.value.is_empty())
+                .or(from_param.filter(|a| !a.value.is_empty()))
+        };
+        let string_like =
+            matches!(dt.class(), ValueClass::Text | ValueClass::Bytes | ValueClass::Unicode);
+        sub.default = match (e.attr("defaultValue").or(pv("defaultValue")), string_like) {
+            (Some(a), true) if a.value.is_empty() => Some(Spanned::new(empty_of(dt), a.span)),
+            _ => pick("defaultValue", pv("defaultValue")).and_then(|a| self.value(a, dt)),
+        };
+        sub.low_limit =
+            pick("lowLimit", rv("minValue")).and_then(|a| self.value(a, dt)).map(Box::new);
+        sub.high_limit =
+            pick("highLimit", rv("maxValue")).and_then(|a| self.value(a, dt)).map(Box::new);
+        sub.parameter_value =
+            pick("actualValue", pv("actualValue")).and_then(|a| self.value(a, dt));
+        if sub.parameter_value.is_some() {
+            self.xdc_values = true;
+        }
+        let denotation = e
+            .attr("denotation")
+            .filter(|a| !a.value.is_empty())
+            .map(|a| Spanned::new(a.value.to_owned(), a.span))
+            .or_else(|| {
+                let d = param?.child("denotation")?;
+                let l = d.child("label")?;
+                Some(Spanned::new(l.text().to_owned(), l.text_span()))
+                    .filter(|t| !t.value.is_empty())
+            });
+        if denotation.is_some() {
+            self.xdc_values = true;
+            sub.rare_mut().denotation = denotation;
+        }
+        // A VAR's objFlags are the object's (as in an EDS).
+        if e.is("CANopenSubObject")
+            && let Some(f) = self.hex_opt(e, "objFlags")
+        {
+            sub.rare_mut().obj_flags = Some(f);
+        }
+        sub
+    }
+
+    fn value(&mut self, a: odc_esi::xml::Attr<'_>, dt: DataType) -> Option<Spanned<Value>> {
+        match odc_eds::read_value(a.value, dt) {
+            Ok(v) => Some(Spanned::new(v, a.span)),
+            Err(e) => {
+                let (code, what) = match e {
+                    odc_eds::ValueError::OutOfRange => (codes::OUT_OF_RANGE, "does not fit"),
+                    odc_eds::ValueError::Invalid => {
+                        (codes::INVALID_VALUE, "is not a valid value of")
+                    }
+                };
+                let d = Diagnostic::error(code, format!("`{}` {what} {}", a.value, dt.name()))
+                    .with_label(a.span, "kept as written");
+                self.diags.push(d);
+                Some(Spanned::new(Value::Invalid(a.value.into()), a.span))
+            }
+        }
+    }
+
+    fn access(&mut self, e: Element<'_>, param: Option<Element<'_>>, what: &str) -> Access {
+        if let Some(a) = e.attr("accessType").filter(|a| !a.value.is_empty()) {
+            return Access::parse(a.value).unwrap_or_else(|| {
+                self.err(
+                    codes::UNKNOWN_ACCESS,
+                    format!("accessType `{}` is not const, ro, wo, rw, rwr or rww", a.value),
+                    a.span,
+                    "read as ro",
+                );
+                Access::Ro
+            });
+        }
+        let Some(p) = param else {
+            self.warn(
+                codes::UNKNOWN_ACCESS,
+                format!("{what} has no accessType and no parameter; ro assumed"),
+                e.span(),
+                "here",
+            );
+            return Access::Ro;
+        };
+        let Some(a) = p.attr("access") else { return Access::Ro }; // CiA 311 default: read
+        match a.value.trim() {
+            "const" => Access::Const,
+            "read" => Access::Ro,
+            "write" => Access::Wo,
+            "readWrite" => Access::Rw,
+            "readWriteInput" => Access::Rwr,
+            "readWriteOutput" => Access::Rww,
+            "noAccess" => {
+                self.warn(
+                    codes::NO_ACCESS,
+                    format!("{what}: access noAccess has no CiA 306 access type"),
+                    a.span,
+                    "read as ro",
+                );
+                Access::Ro
+            }
+            v => {
+                self.err(
+                    codes::UNKNOWN_ACCESS,
+                    format!("access `{v}` is not a CiA 311 access"),
+                    a.span,
+                    "read as ro",
+                );
+                Access::Ro
+            }
+        }
+    }
+
+    /// Unknown attributes, the parameter's description, properties and unknown children.
+    fn extras(&mut self, e: Element<'_>, param: Option<Element<'_>>) -> Vec<RawEntry> {
+        let mut out = Vec::new();
+        for a in e.attrs() {
+            if !KNOWN_ATTRS.contains(&a.name) {
+                out.push(RawEntry {
+                    key: a.name.to_owned(),
+                    value: a.value.to_owned(),
+                    span: a.span,
+                });
+            }
+        }
+        let Some(p) = param else { return out };
+        for c in p.children() {
+            match c.name() {
+                "description" => out.push(RawEntry {
+                    key: DESCRIPTION_KEY.into(),
+                    value: escape_lines(c.text()),
+                    span: c.text_span(),
+                }),
+                "property" => {
+                    if let (Some(n), Some(v)) = (c.attr("name"), c.attr("value")) {
+                        out.push(RawEntry {
+                            key: n.value.to_owned(),
+                            value: v.value.to_owned(),
+                            span: c.span(),
+                        });
+                    }
+                }
+                "label" | "defaultValue" | "actualValue" | "denotation" | "dataTypeIDRef" => {}
+                "allowedValues" if c.children().all(|r| r.is("range")) => {}
+                n if iec_type(n).is_some() => {}
+                n => out.push(RawEntry {
+                    key: format!("<{n}"),
+                    value: e_src(c).to_owned(),
+                    span: c.span(),
+                }),
+            }
+        }
+        out
+    }
+}
+
+/// The source text of an element (its span's slice).
+fn e_src<'t>(e: Element<'t>) -> &'t str {
+    e.source_text()
+}
+
+/// An access and a one-direction PDO mapping as an EDS says them, where it can: CiA 306 gives
+/// a PDO's direction by the access alone (`rwr`/`ro`/`const` transmit, `rww`/`wo` receive), so
+/// `readWrite` with `TPDO` is `rwr` and with `RPDO` is `rww`, mappable. A direction the access
+/// forbids (`read` with `RPDO`) stays as the file says it (the EDS writer then picks the access
+/// that allows it).
+fn as_eds(access: Access, mapping: PdoMapping) -> (Access, PdoMapping) {
+    match (mapping, access) {
+        (PdoMapping::Tx, Access::Rw) => (Access::Rwr, PdoMapping::Yes),
+        (PdoMapping::Rx, Access::Rw) => (Access::Rww, PdoMapping::Yes),
+        (PdoMapping::Tx, Access::Ro | Access::Const | Access::Rwr) => (access, PdoMapping::Yes),
+        (PdoMapping::Rx, Access::Wo | Access::Rww) => (access, PdoMapping::Yes),
+        _ => (access, mapping),
+    }
+}
+
+/// The first `label` of a parameter.
+fn label<'t>(p: Element<'t>) -> Option<&'t str> {
+    p.child("label").map(|l| l.text())
+}
+
+/// Line ends of a description as `\n`, so that it fits one EDS line.
+pub(crate) fn escape_lines(s: &str) -> String {
+    s.replace("\r\n", "\n").replace('\n', "\\n")
+}
+
+fn empty_of(dt: DataType) -> Value {
+    match dt.class() {
+        ValueClass::Bytes => Value::Bytes(Box::default()),
+        ValueClass::Unicode => Value::Unicode(Box::default()),
+        _ => Value::Text(Box::default()),
+    }
+}
+
+/// The CANopen data type of an IEC 61131 type element (CiA 311 table 1).
+pub(crate) fn iec_type(name: &str) -> Option<DataType> {
+    Some(match name {
+        "BOOL" => DataType::Boolean,
+        "SINT" => DataType::Integer8,
+        "INT" => DataType::Integer16,
+        "DINT" => DataType::Integer32,
+        "LINT" => DataType::Integer64,
+        "USINT" | "BYTE" => DataType::Unsigned8,
+        "UINT" | "WORD" => DataType::Unsigned16,
+        "UDINT" | "DWORD" => DataType::Unsigned32,
+        "ULINT" | "LWORD" => DataType::Unsigned64,
+        "REAL" => DataType::Real32,
+        "LREAL" => DataType::Real64,
+        "STRING" | "CHAR" => DataType::VisibleString,
+        "WSTRING" => DataType::UnicodeString,
+        "BITSTRING" => DataType::OctetString,
+        _ => return None,
+    })
+}
+
+/// The IEC type element for a CANopen data type, where CiA 311 has one.
+pub(crate) fn iec_name(dt: DataType) -> Option<&'static str> {
+    Some(match dt {
+        DataType::Boolean => "BOOL",
+        DataType::Integer8 => "SINT",
+        DataType::Integer16 => "INT",
+        DataType::Integer32 => "DINT",
+        DataType::Integer64 => "LINT",
+        DataType::Unsigned8 => "USINT",
+        DataType::Unsigned16 => "UINT",
+        DataType::Unsigned32 => "UDINT",
+        DataType::Unsigned64 => "ULINT",
+        DataType::Real32 => "REAL",
+        DataType::Real64 => "LREAL",
+        DataType::VisibleString => "STRING",
+        DataType::UnicodeString => "WSTRING",
+        DataType::OctetString | DataType::Domain => "BITSTRING",
+        _ => return None,
+    })
+}
