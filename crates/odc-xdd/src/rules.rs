@@ -48,6 +48,8 @@ pub mod codes {
     pub const DUPLICATE_SUB_OBJECT: &str = "F321";
     /// `xdd-invalid-boolean`.
     pub const INVALID_BOOLEAN: &str = "F322";
+    /// `xdd-standard-data-type`.
+    pub const STANDARD_DATA_TYPE: &str = "F323";
 }
 
 /// The `F3xx` code for a diagnostic of the shared XML reader and decoder (`odc-esi`'s `F2xx`).
@@ -261,5 +263,18 @@ pub static RULES: &[RuleInfo] = &[
         Error,
         "a boolean that cannot be read",
         "xs:boolean values are true, false, 1 or 0. The attribute is taken as absent."
+    ),
+    rule!(
+        codes::STANDARD_DATA_TYPE,
+        "xdd-standard-data-type",
+        Warning,
+        "an element of a CiA 301 ARRAY with no data type, read as the standard's type",
+        "The elements of the ARRAY objects CiA 301 defines have a type the standard fixes: \
+         0x1003 pre-defined error field, 0x1010 store parameters, 0x1011 restore default \
+         parameters, 0x1016 consumer heartbeat time and 0x1028 emergency consumer are UNSIGNED32, \
+         0x1026 OS prompt and 0x1029 error behavior UNSIGNED8, 0x1027 module list UNSIGNED16. \
+         Some CANopenEditor versions write these sub-objects with `dataType=\"0000\"` and no type \
+         on the object or in the parameters; they are read as the standard's type instead of \
+         DOMAIN (F310). Fix: give the object or its sub-objects their dataType."
     ),
 ];

@@ -81,10 +81,15 @@ impl<'d> L<'d> {
                 };
                 let Some(si) = si else { continue };
                 let si = si.value as u8;
-                let inherit = if kind == ObjectKind::Array && si > 0 { object_type } else { None };
+                let element = kind == ObjectKind::Array && si > 0;
+                let fallback = match (element, object_type) {
+                    (true, Some(dt)) => Fallback::Object(dt),
+                    (true, None) => Fallback::Standard(cia301_element_type(index)),
+                    (false, _) => Fallback::Standard(None),
+                };
                 let sparam = self.param(s);
-                let mut sub =
-                    self.sub(s, sparam, si, inherit, &format!("sub-object {index:04X}sub{si:X}"));
+                let what = format!("sub-object {index:04X}sub{si:X}");
+                let mut sub = self.sub(s, sparam, si, fallback, &what);
                 sub.name = s
                     .attr("name")
                     .map(|a| a.value)
@@ -115,7 +120,8 @@ impl<'d> L<'d> {
                 ObjectKind::DefType => Some(DataType::Unsigned32),
                 _ => None,
             };
-            let mut sub = self.sub(o, param, 0, default_dt, &format!("object {index:04X}"));
+            let fallback = default_dt.map_or(Fallback::Standard(None), Fallback::Object);
+            let mut sub = self.sub(o, param, 0, fallback, &format!("object {index:04X}"));
             sub.name = name.into();
             obj.extra = self.extras(o, param);
             obj.subs.insert(0, sub);
@@ -202,23 +208,42 @@ impl<'d> L<'d> {
         e: Element<'d>,
         param: Option<Element<'d>>,
         si: u8,
-        inherit: Option<DataType>,
+        fallback: Fallback,
         what: &str,
     ) -> SubObject {
         let dt = match e.attr("dataType") {
             Some(_) => self.data_type_attr(e),
             None => None,
         };
-        let dt = dt.or_else(|| param.and_then(|p| self.param_type(p))).or(inherit);
-        let dt = dt.unwrap_or_else(|| {
-            self.err(
-                codes::MISSING_DATA_TYPE,
-                format!("{what} has no data type; read as DOMAIN"),
-                e.span(),
-                "no dataType, and no type in its parameter",
-            );
-            DataType::Domain
+        let dt = dt.or_else(|| param.and_then(|p| self.param_type(p))).or(match fallback {
+            Fallback::Object(dt) => Some(dt),
+            Fallback::Standard(_) => None,
         });
+        let label = "no dataType, and no type in its parameter";
+        let dt = match (dt, fallback) {
+            (Some(dt), _) => dt,
+            (None, Fallback::Standard(Some(standard))) => {
+                self.warn(
+                    codes::STANDARD_DATA_TYPE,
+                    format!(
+                        "{what} has no data type; read as {}, as CiA 301 defines it",
+                        standard.name()
+                    ),
+                    e.span(),
+                    label,
+                );
+                standard
+            }
+            (None, _) => {
+                self.err(
+                    codes::MISSING_DATA_TYPE,
+                    format!("{what} has no data type; read as DOMAIN"),
+                    e.span(),
+                    label,
+                );
+                DataType::Domain
+            }
+        };
         let access = self.access(e, param, what);
         let mut sub = SubObject::new(si, "", dt, access);
         sub.span = e.span();
@@ -476,4 +501,23 @@ pub(crate) fn iec_name(dt: DataType) -> Option<&'static str> {
         DataType::OctetString | DataType::Domain => "BITSTRING",
         _ => return None,
     })
+}
+
+/// The data type of a sub-object that says none: the object's (an ARRAY's elements, a DEFTYPE),
+/// else the type CiA 301 gives it, read with a warning (F323), else none (F310, DOMAIN).
+#[derive(Clone, Copy)]
+enum Fallback {
+    Object(DataType),
+    Standard(Option<DataType>),
+}
+
+/// The element type CiA 301 §7.5.2 gives the sub-objects 1.. of its ARRAY objects, for files
+/// that leave it out (F323).
+fn cia301_element_type(index: u16) -> Option<DataType> {
+    match index {
+        0x1003 | 0x1010 | 0x1011 | 0x1016 | 0x1028 => Some(DataType::Unsigned32),
+        0x1026 | 0x1029 => Some(DataType::Unsigned8),
+        0x1027 => Some(DataType::Unsigned16),
+        _ => None,
+    }
 }
