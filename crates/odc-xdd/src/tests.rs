@@ -172,3 +172,25 @@ fn detection_by_root_element() {
     assert!(!is_xdd(b"<?xml version=\"1.0\"?><EtherCATInfo>"));
     assert!(!is_xdd(b"[FileInfo]"));
 }
+
+/// An ARRAY whose elements say no data type: a CiA 301 one (0x1016) is read with the
+/// standard's element type and a warning; a manufacturer one stays DOMAIN with an error.
+#[test]
+fn untyped_array_elements_take_cia_301_types() {
+    let arrays = r#"<CANopenObject index="1016" name="Consumer heartbeat time" objectType="8" subNumber="2">
+            <CANopenSubObject subIndex="00" name="n" objectType="7" dataType="0005" accessType="ro" defaultValue="1"/>
+            <CANopenSubObject subIndex="01" name="t" objectType="7" dataType="0000" accessType="rw"/>
+          </CANopenObject>
+          <CANopenObject index="2100" name="Vendor" objectType="8" subNumber="2">
+            <CANopenSubObject subIndex="00" name="n" objectType="7" dataType="0005" accessType="ro" defaultValue="1"/>
+            <CANopenSubObject subIndex="01" name="v" objectType="7" dataType="0000" accessType="rw"/>
+          </CANopenObject>
+        </CANopenObjectList>"#;
+    let src = SMALL.replacen("</CANopenObjectList>", arrays, 1);
+    let p = parse(&mut Sources::new(), "arrays.xdd", src.as_bytes());
+    let of = |code| p.diagnostics.iter().filter(|d| d.code == code).count();
+    assert_eq!((of(codes::STANDARD_DATA_TYPE), of(codes::MISSING_DATA_TYPE)), (1, 1));
+    let d = p.device.unwrap();
+    assert_eq!(d.sub(0x1016, 1).unwrap().data_type, DataType::Unsigned32);
+    assert_eq!(d.sub(0x2100, 1).unwrap().data_type, DataType::Domain);
+}
