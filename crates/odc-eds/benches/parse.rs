@@ -8,35 +8,14 @@
 #![allow(missing_docs)]
 
 use std::hint::black_box;
-use std::path::PathBuf;
 
+mod corpus;
 mod cpu_clock;
 use cpu_clock::Clock;
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 
-fn corpus() -> Vec<(String, Vec<u8>)> {
-    let dir = std::env::var_os("ODC_CORPUS").map(PathBuf::from).unwrap_or_else(|| {
-        PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/corpus"))
-    });
-    let Ok(manifest) = std::fs::read_to_string(dir.join("MANIFEST.tsv")) else {
-        return Vec::new();
-    };
-    manifest
-        .lines()
-        .skip(1)
-        .filter_map(|l| {
-            let mut cols = l.split('\t');
-            let (file, kind) = (cols.next()?, cols.next()?);
-            if !matches!(kind, "eds" | "dcf") {
-                return None;
-            }
-            Some((file.to_owned(), std::fs::read(dir.join(file)).ok()?))
-        })
-        .collect()
-}
-
 fn bench(c: &mut Criterion<Clock>) {
-    let files = corpus();
+    let files = corpus::corpus(&["eds", "dcf"]);
     if files.is_empty() {
         eprintln!("corpus not found (set ODC_CORPUS); nothing to measure");
         return;

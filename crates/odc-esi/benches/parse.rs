@@ -14,46 +14,15 @@
 #![allow(missing_docs, clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use std::hint::black_box;
-use std::path::PathBuf;
 
+#[path = "../../odc-eds/benches/corpus/mod.rs"]
+mod corpus;
 #[path = "../../odc-eds/benches/cpu_clock/mod.rs"]
 mod cpu_clock;
+mod tokenize;
 use cpu_clock::Clock;
 use criterion::{BatchSize, Criterion, Throughput, criterion_group, criterion_main};
-use quick_xml::Reader;
-use quick_xml::events::Event;
-
-fn corpus() -> Vec<(String, Vec<u8>)> {
-    let dir = std::env::var_os("ODC_CORPUS").map(PathBuf::from).unwrap_or_else(|| {
-        PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/corpus"))
-    });
-    let Ok(manifest) = std::fs::read_to_string(dir.join("MANIFEST.tsv")) else {
-        return Vec::new();
-    };
-    manifest
-        .lines()
-        .skip(1)
-        .filter_map(|l| {
-            let mut cols = l.split('\t');
-            let file = cols.next()?;
-            (cols.next()? == "esi").then(|| file.to_string())
-        })
-        .filter_map(|f| Some((f.clone(), std::fs::read(dir.join(&f)).ok()?)))
-        .collect()
-}
-
-/// Every event of `text`, counted.
-fn tokenize(text: &str) -> usize {
-    let mut reader = Reader::from_str(text);
-    let mut events = 0usize;
-    loop {
-        match reader.read_event() {
-            Ok(Event::Eof) | Err(_) => break,
-            Ok(_) => events += 1,
-        }
-    }
-    events
-}
+use tokenize::tokenize;
 
 fn parse_and_tokenize(c: &mut Criterion<Clock>, group: &str, files: &[&(String, Vec<u8>)]) {
     let bytes: u64 = files.iter().map(|(_, b)| b.len() as u64).sum();
@@ -95,7 +64,7 @@ fn parse_and_tokenize(c: &mut Criterion<Clock>, group: &str, files: &[&(String, 
 }
 
 fn bench(c: &mut Criterion<Clock>) {
-    let files = corpus();
+    let files = corpus::corpus(&["esi"]);
     if files.is_empty() {
         eprintln!("corpus not found (set ODC_CORPUS); nothing to measure");
         return;

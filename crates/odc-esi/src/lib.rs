@@ -60,69 +60,59 @@ pub const MAX_ELEMENTS: usize = xml::MAX_ELEMENTS;
 /// The largest real file makes about 16,000.
 pub const MAX_SUB_OBJECTS: usize = 262_144;
 
-/// Decodes an XML file's bytes as ESI files are decoded (BOM, UTF-8, ISO-8859-1 by the XML
-/// declaration; UTF-16 refused): the text and its warnings, or why it cannot be read. Shared
-/// with the XDD front-end (`odc-xdd`), which reads the same XML with the same limits; the
-/// codes are this crate's (`F201`, `F203`) and the caller maps them to its own.
-pub fn decode_xml(bytes: Cow<'_, [u8]>) -> Result<(String, Vec<Diagnostic>), Diagnostic> {
-    match decode::decode(bytes) {
-        Ok(d) => Ok((d.text, d.diagnostics)),
-        Err(decode::DecodeError::Utf16) => Err(Diagnostic::error(
-            codes::UNSUPPORTED_ENCODING,
-            "the file is UTF-16; XML device files are read as UTF-8 or ISO-8859-1",
-        )
-        .with_note("convert it, e.g. `iconv -f UTF-16 -t UTF-8`")),
-        Err(decode::DecodeError::Unsupported(label)) => Err(Diagnostic::error(
-            codes::UNSUPPORTED_ENCODING,
-            format!("unsupported encoding `{label}` in the XML declaration"),
-        )),
-    }
+/// An XML device file read up to its element tree, for a front-end to lower.
+pub struct XmlFile<'s> {
+    /// The file's id in the [`Sources`] it was added to.
+    pub file: FileId,
+    /// Its decoded text.
+    pub text: &'s str,
+    /// Its elements.
+    pub doc: xml::Document<'s>,
+    /// The problems met so far (decoding, a NUL byte, the reader's), capped per code.
+    pub diagnostics: odc_model::Capped,
 }
 
-/// Decodes `bytes`, adds the text to `sources` under `name`, reads and lowers it.
-/// Never panics; every problem is a diagnostic.
-pub fn parse(sources: &mut Sources, name: &str, bytes: &[u8]) -> Parsed {
-    parse_input(sources, name, Cow::Borrowed(bytes))
-}
-
-/// [`parse`] for bytes the caller no longer needs (a file just read): UTF-8 and ASCII files
-/// become the source text in place instead of being copied, so that the file is held in memory
-/// once rather than twice while it is read.
-pub fn parse_vec(sources: &mut Sources, name: &str, bytes: Vec<u8>) -> Parsed {
-    parse_input(sources, name, Cow::Owned(bytes))
-}
-
-fn parse_input(sources: &mut Sources, name: &str, bytes: Cow<'_, [u8]>) -> Parsed {
-    if bytes.len() > MAX_FILE_SIZE {
+/// Reads an XML device file into `sources` under `name`: the size limit ([`MAX_FILE_SIZE`]),
+/// decoding (BOM, UTF-8, ISO-8859-1 by the XML declaration; UTF-16 refused), a NUL byte (XML
+/// 1.0 §2.2 allows none) and the element tree with the reader's limits. Shared with the XDD
+/// front-end (`odc-xdd`), which reads the same XML with the same limits; `kind` names the
+/// files in messages (`"ESI files"`), and the codes are this crate's (`F2xx`), which the
+/// caller maps to its own.
+///
+/// # Errors
+///
+/// A file that cannot be read at all (too large, an unsupported encoding): its diagnostic,
+/// labelled at the start of an empty source added under `name`.
+pub fn read_xml_file<'s>(
+    sources: &'s mut Sources,
+    name: &str,
+    bytes: Cow<'_, [u8]>,
+    kind: &str,
+) -> Result<XmlFile<'s>, (FileId, Diagnostic)> {
+    let refuse = |sources: &mut Sources, d: Diagnostic| {
         let file = sources.add(name, String::new());
-        let d = Diagnostic::error(
-            codes::SIZE_LIMIT,
-            format!("the file is larger than {MAX_FILE_SIZE} bytes, the limit"),
-        )
-        .with_label(Span::new(file, 0, 0), "not read");
-        return Parsed { devices: Vec::new(), diagnostics: vec![d], file };
+        (file, d.with_label(Span::new(file, 0, 0), "not read"))
+    };
+    if bytes.len() > MAX_FILE_SIZE {
+        let size = format!("the file is larger than {MAX_FILE_SIZE} bytes, the limit");
+        return Err(refuse(sources, Diagnostic::error(codes::SIZE_LIMIT, size)));
     }
     let decoded = match decode::decode(bytes) {
         Ok(d) => d,
         Err(e) => {
-            let file = sources.add(name, String::new());
             let d = match e {
                 decode::DecodeError::Utf16 => Diagnostic::error(
                     codes::UNSUPPORTED_ENCODING,
-                    "the file is UTF-16; ESI files are read as UTF-8 or ISO-8859-1",
+                    format!("the file is UTF-16; {kind} are read as UTF-8 or ISO-8859-1"),
                 )
                 .with_note("convert it, e.g. `iconv -f UTF-16 -t UTF-8`"),
                 decode::DecodeError::Unsupported(label) => Diagnostic::error(
                     codes::UNSUPPORTED_ENCODING,
                     format!("unsupported encoding `{label}` in the XML declaration"),
                 )
-                .with_note("ESI files are read as UTF-8 or ISO-8859-1"),
+                .with_note(format!("{kind} are read as UTF-8 or ISO-8859-1")),
             };
-            return Parsed {
-                devices: Vec::new(),
-                diagnostics: vec![d.with_label(Span::new(file, 0, 0), "")],
-                file,
-            };
+            return Err(refuse(sources, d));
         }
     };
     let file = sources.add(name, decoded.text);
@@ -153,6 +143,28 @@ fn parse_input(sources: &mut Sources, name: &str, bytes: Cow<'_, [u8]>) -> Parse
     // One capped list from reading through lowering (at most MAX_PER_CODE per code).
     let mut capped = std::mem::take(&mut doc.diagnostics);
     capped.extend(diagnostics);
+    Ok(XmlFile { file, text, doc, diagnostics: capped })
+}
+
+/// Decodes `bytes`, adds the text to `sources` under `name`, reads and lowers it.
+/// Never panics; every problem is a diagnostic.
+pub fn parse(sources: &mut Sources, name: &str, bytes: &[u8]) -> Parsed {
+    parse_input(sources, name, Cow::Borrowed(bytes))
+}
+
+/// [`parse`] for bytes the caller no longer needs (a file just read): UTF-8 and ASCII files
+/// become the source text in place instead of being copied, so that the file is held in memory
+/// once rather than twice while it is read.
+pub fn parse_vec(sources: &mut Sources, name: &str, bytes: Vec<u8>) -> Parsed {
+    parse_input(sources, name, Cow::Owned(bytes))
+}
+
+fn parse_input(sources: &mut Sources, name: &str, bytes: Cow<'_, [u8]>) -> Parsed {
+    let XmlFile { file, text, doc, diagnostics: mut capped } =
+        match read_xml_file(sources, name, bytes, "ESI files") {
+            Ok(x) => x,
+            Err((file, d)) => return Parsed { devices: Vec::new(), diagnostics: vec![d], file },
+        };
     let devices = lower::lower(text, file, &doc, &mut capped);
     let mut diagnostics = capped.finish();
     odc_model::diag::sort(&mut diagnostics);

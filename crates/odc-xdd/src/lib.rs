@@ -43,7 +43,7 @@ mod write;
 
 use std::borrow::Cow;
 
-use odc_model::{Device, Diagnostic, FileId, Label, Sources, Span};
+use odc_model::{Device, Diagnostic, FileId, Sources};
 
 pub use rules::{RULES, codes};
 pub use write::{Written, write};
@@ -98,60 +98,24 @@ pub fn parse_vec(sources: &mut Sources, name: &str, bytes: Vec<u8>) -> Parsed {
 }
 
 fn parse_input(sources: &mut Sources, name: &str, bytes: Cow<'_, [u8]>) -> Parsed {
-    let refuse = |sources: &mut Sources, d: Diagnostic| {
-        let file = sources.add(name, String::new());
-        let d = d.with_label(Span::new(file, 0, 0), "not read");
-        Parsed { device: None, diagnostics: vec![d], file }
-    };
-    if bytes.len() > MAX_FILE_SIZE {
-        let d = Diagnostic::error(
-            codes::SIZE_LIMIT,
-            format!("the file is larger than {MAX_FILE_SIZE} bytes, the limit"),
-        );
-        return refuse(sources, d);
-    }
-    let (text, mut diagnostics) = match odc_esi::decode_xml(bytes) {
-        Ok(decoded) => decoded,
-        Err(mut d) => {
+    let xml = match odc_esi::read_xml_file(sources, name, bytes, "XDD files") {
+        Ok(x) => x,
+        Err((file, mut d)) => {
             d.code = rules::from_esi(d.code);
-            return refuse(sources, d);
+            return Parsed { device: None, diagnostics: vec![d], file };
         }
     };
-    let file = sources.add(name, text);
-    for d in &mut diagnostics {
-        d.code = rules::from_esi(d.code);
-        if d.labels.is_empty() {
-            d.labels.push(Label {
-                span: Span::new(file, 0, 0),
-                message: String::new(),
-                primary: true,
-            });
-        }
-    }
-    let text = sources.text(file).unwrap_or("");
-    if let Some(at) = memchr::memchr(0, text.as_bytes()) {
-        let at = at as u32;
-        diagnostics.push(
-            Diagnostic::error(
-                codes::MALFORMED_XML,
-                "the file contains a NUL byte, which XML does not allow",
-            )
-            .with_label(Span::new(file, at, at + 1), "the first one"),
-        );
-    }
-    let mut doc = odc_esi::xml::read(text, file);
     let mut capped = odc_model::Capped::new();
-    capped.extend(std::mem::take(&mut doc.diagnostics).finish().into_iter().map(|mut d| {
+    capped.extend(xml.diagnostics.finish().into_iter().map(|mut d| {
         d.code = rules::from_esi(d.code);
         d
     }));
-    capped.extend(diagnostics);
     let xdc_name =
         std::path::Path::new(name).extension().is_some_and(|e| e.eq_ignore_ascii_case("xdc"));
-    let device = lower::lower(&doc, file, xdc_name, &mut capped);
+    let device = lower::lower(&xml.doc, xml.file, xdc_name, &mut capped);
     let mut diagnostics = capped.finish();
     odc_model::diag::sort(&mut diagnostics);
-    Parsed { device, diagnostics, file }
+    Parsed { device, diagnostics, file: xml.file }
 }
 
 #[cfg(test)]

@@ -60,6 +60,7 @@ pub(crate) fn from_esi(code: &'static str) -> &'static str {
         c if c == e::MALFORMED_XML => codes::MALFORMED_XML,
         c if c == e::INVALID_UTF8 => codes::INVALID_UTF8,
         c if c == e::DEPTH_LIMIT => codes::DEPTH_LIMIT,
+        c if c == e::SIZE_LIMIT => codes::SIZE_LIMIT,
         c if c == e::UNRESOLVED_ENTITY => codes::UNRESOLVED_ENTITY,
         c if c == e::DOCTYPE_IGNORED => codes::DOCTYPE_IGNORED,
         c if c == e::ELEMENT_LIMIT => codes::ELEMENT_LIMIT,
