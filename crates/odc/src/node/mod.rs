@@ -132,7 +132,9 @@ impl Events {
         }
     }
 
-    fn absorb(&mut self, e: Events) {
+    /// Adds the events of a later call (a loop that polls and handles in one pass): flags
+    /// and bits are joined, a later state, reset, SYNC, error or LSS event wins.
+    pub fn absorb(&mut self, e: Events) {
         self.state = e.state.or(self.state);
         self.reset = e.reset.or(self.reset);
         self.heartbeat_lost |= e.heartbeat_lost;
