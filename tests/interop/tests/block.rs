@@ -93,7 +93,7 @@ fn last_json(out: &str) -> Value {
 /// What serves the SDO requests.
 enum Slave {
     /// `sdo::Server` alone, sub-blocks of 4.
-    Server(Server<BUF>),
+    Server(Box<Server<BUF>>),
     /// The node runtime, its server at its defaults.
     Node(Box<Node<BUF>>),
 }
@@ -145,7 +145,7 @@ fn serve(py: &std::path::Path, dev: &Device, through_node: bool) -> Served {
         }
         Slave::Node(node)
     } else {
-        Slave::Server(Server::<BUF>::new(NODE).with_blksize(4))
+        Slave::Server(Box::new(Server::<BUF>::new(NODE).with_blksize(4)))
     };
     let mut burst = 0;
     let end = Instant::now() + SESSION;
