@@ -1,5 +1,6 @@
 //! A CANopen node (CiA 301 slave) over any [`ObjectDictionary`]: NMT, boot-up, heartbeat
-//! producer and consumer, node guarding, SYNC, the PDO engine, EMCY and the SDO server.
+//! producer and consumer, node guarding, SYNC, the PDO engine, EMCY, the SDO server (with
+//! block transfer) and, with [`Node::with_lss`], the LSS slave (CiA 305).
 //!
 //! `no_std`, no heap, no threads: the caller feeds every received frame to [`Node::handle`],
 //! calls [`Node::poll`] often enough for its timers (heartbeat, event timers, inhibit times,
@@ -29,9 +30,11 @@
 //! NMT states and services (CiA 301 table 80): SDO in pre-operational and operational; PDOs
 //! only in operational; SYNC and EMCY not in stopped; NMT, heartbeat and node guarding in
 //! every state. Reset node and reset communication are reported in [`Events::reset`]: the
-//! application restores the defaults of its dictionary (the whole of it, or 0x1000–0x1FFF),
-//! and the node restarts (boot-up, pre-operational) at the next [`Node::poll`] or
-//! [`Node::handle`].
+//! application restores the defaults of its dictionary (the whole of it, or 0x1000–0x1FFF,
+//! for [`Node::next_node_id`]), and the node restarts (boot-up, pre-operational) at the next
+//! [`Node::poll`] or [`Node::handle`]. LSS runs in every state; a node-ID it configures
+//! becomes the node's at that restart, and a node started without one (0xFF) waits in
+//! initialisation, without boot-up, until LSS gives it one (CiA 305).
 
 mod emcy;
 mod lss;
@@ -286,8 +289,9 @@ struct Consumer {
 ///
 /// `N`: bytes of the SDO server's buffer (the largest value of a segmented transfer); `R`
 /// and `T`: receive and transmit PDOs served (0x1400/0x1800 onward; 8 each by default, the
-/// devices in `eds/` have 4). Every buffer is inside the node: `Node<64>` is 1312 bytes on
-/// x86_64, `Node<64, 4, 4>` 960 (measured with `size_of`; the SDO buffer is `N` of them).
+/// devices in `eds/` have 4). Every buffer is inside the node: `Node<64>` is 1376 bytes on
+/// x86_64, `Node<64, 4, 4>` 1024 (measured with `size_of`, LSS slave included; the SDO buffer
+/// is `N` of them); `Node<32, 4, 4>` is 976 bytes on thumbv7em (`tests/slave-size`).
 #[derive(Clone, Debug)]
 pub struct Node<const N: usize, const R: usize = 8, const T: usize = 8> {
     node_id: u8,
