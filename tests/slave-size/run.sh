@@ -3,21 +3,26 @@
 # builds a `#![no_std]` program for a 32-bit bare-metal target that holds the dictionary in a
 # static and answers SDO reads and writes, links it (rust-lld, --gc-sections), and prints
 # .text/.rodata/.data/.bss against the same program without a dictionary. See README.md.
+# With --node, three lines per file: the dictionary alone, the dictionary in an odc::node::Node
+# (NMT, heartbeat, guarding, SYNC, 4+4 PDOs, EMCY, SDO server with a 32-byte buffer), and the
+# same node with its LSS slave.
 #
-#   tests/slave-size/run.sh [--target TRIPLE] FILE...
+#   tests/slave-size/run.sh [--target TRIPLE] [--node] FILE...
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 TARGET=thumbv7em-none-eabihf
 FILES=()
+NODE=0
 while [ $# -gt 0 ]; do
     case $1 in
         --target) TARGET=$2; shift 2 ;;
-        -h|--help) sed -n 2,7p "$0"; exit 0 ;;
+        --node) NODE=1; shift ;;
+        -h|--help) sed -n 2,10p "$0"; exit 0 ;;
         *) FILES+=("$1"); shift ;;
     esac
 done
-[ ${#FILES[@]} -gt 0 ] || { echo "usage: $0 [--target TRIPLE] FILE..." >&2; exit 2; }
+[ ${#FILES[@]} -gt 0 ] || { echo "usage: $0 [--target TRIPLE] [--node] FILE..." >&2; exit 2; }
 rustup target list --installed 2>/dev/null | grep -qx "$TARGET" ||
     { echo "target $TARGET is not installed (rustup target add $TARGET)" >&2; exit 2; }
 
@@ -38,6 +43,10 @@ odc = { path = "$ROOT/crates/odc", default-features = false, features = ["derive
 [features]
 ## Without it the program is the baseline: the same SDO entry points, no dictionary.
 device = []
+## The dictionary in a node (NMT, heartbeat, guarding, SYNC, PDOs, EMCY, SDO server).
+node = ["device"]
+## The node with its LSS slave.
+lss = ["node"]
 
 [profile.release]
 opt-level = "s"
@@ -113,12 +122,82 @@ pub extern "C" fn od_write(index: u16, sub: u8, data: *const u8, len: usize) -> 
     }
 }
 
+/// The node: SDO buffer 32 bytes (CANopenNode's default `CO_CONFIG_SDO_SRV_BUFFER_SIZE`),
+/// 4 RPDOs and 4 TPDOs (those of the DS301 profile).
+#[cfg(feature = "node")]
+type TheNode = odc::node::Node<32, 4, 4>;
+
+#[cfg(feature = "node")]
+#[unsafe(no_mangle)]
+static mut NODE_STORAGE: MaybeUninit<TheNode> = MaybeUninit::uninit();
+
+/// Where the node's frames go: the transmit mailbox of a CAN peripheral.
+#[cfg(feature = "node")]
+#[unsafe(no_mangle)]
+static mut TX_MAILBOX: [u32; 3] = [0; 3];
+
+#[cfg(feature = "node")]
+fn tx(f: odc::can::CanFrame) {
+    let [a, b, c, d, e, g, h, i] = f.data;
+    let words = [f.id | u32::from(f.extended) << 31 | u32::from(f.remote) << 30, u32::from_le_bytes([a, b, c, d]), u32::from_le_bytes([e, g, h, i])];
+    // SAFETY: a static of this single-threaded image; volatile as a peripheral register is.
+    unsafe { core::ptr::write_volatile(&raw mut TX_MAILBOX, words) };
+}
+
+/// Starts the node (and its dictionary) for `node_id`: boot-up.
+#[cfg(feature = "node")]
+#[unsafe(no_mangle)]
+pub extern "C" fn node_init(node_id: u8) {
+    od_init(node_id);
+    let node = TheNode::new(node_id);
+    #[cfg(feature = "lss")]
+    let node = node.with_lss(None, 0).with_lss_storage();
+    // SAFETY: as for od_read; od_init ran.
+    let (n, d) = unsafe { ((*(&raw mut NODE_STORAGE)).write(node), (*(&raw mut OD_STORAGE)).assume_init_mut()) };
+    n.start(d, 0, &mut tx);
+}
+
+/// One received frame; returns whether the node reported anything.
+#[cfg(feature = "node")]
+#[unsafe(no_mangle)]
+pub extern "C" fn node_rx(id: u32, len: u8, data: *const u8, now_us: u64) -> bool {
+    // SAFETY: as for od_read; node_init ran.
+    let (n, d, b) = unsafe { ((*(&raw mut NODE_STORAGE)).assume_init_mut(), (*(&raw mut OD_STORAGE)).assume_init_mut(), core::slice::from_raw_parts(data, usize::from(len.min(8)))) };
+    let Some(f) = odc::can::CanFrame::from_slice(id & 0x7FF, b) else { return false };
+    n.handle(d, &f, now_us, &mut tx) != odc::node::Events::default()
+}
+
+/// The node's timers.
+#[cfg(feature = "node")]
+#[unsafe(no_mangle)]
+pub extern "C" fn node_poll(now_us: u64) -> bool {
+    // SAFETY: as for node_rx.
+    let (n, d) = unsafe { ((*(&raw mut NODE_STORAGE)).assume_init_mut(), (*(&raw mut OD_STORAGE)).assume_init_mut()) };
+    n.poll(d, now_us, &mut tx) != odc::node::Events::default()
+}
+
 #[unsafe(no_mangle)]
 pub extern "C" fn _start() -> ! {
     od_init(5);
     let mut buf = [0u8; 64];
     let n = od_read(0x1000, 0, buf.as_mut_ptr(), buf.len());
     let _ = od_write(0x1017, 0, buf.as_ptr(), n as usize);
+    #[cfg(feature = "node")]
+    {
+        node_init(5);
+        let mut t = 0u64;
+        loop {
+            t += 1000;
+            // SAFETY: reads the mailbox back as a receive FIFO would deliver a frame.
+            let [id, lo, hi] = unsafe { core::ptr::read_volatile(&raw const TX_MAILBOX) };
+            let mut data = [0u8; 8];
+            data[..4].copy_from_slice(&lo.to_le_bytes());
+            data[4..].copy_from_slice(&hi.to_le_bytes());
+            node_rx(id, 8, data.as_ptr(), t);
+            node_poll(t);
+        }
+    }
+    #[allow(unreachable_code)]
     loop {}
 }
 
@@ -144,18 +223,28 @@ printf '%s' "" >"$WORK/src/dev.rs"
 read -r bt br bd bb < <(sections "$(build "")")
 echo "target $TARGET, opt-level s. Baseline image without dictionary: text $bt, rodata $br, data $bd, bss $bb bytes."
 echo "Sections: bytes beyond the baseline. Symbols: the table of rows and the storage."
-printf '%-36s %7s | %7s %7s %7s %7s | %7s %7s\n' device entries text rodata data bss TABLE storage
+printf '%-36s %7s | %7s %7s %7s %7s | %7s %7s' device entries text rodata data bss TABLE storage
+[ "$NODE" = 1 ] && printf ' %7s' node
+printf '\n'
+MODES=(device)
+[ "$NODE" = 1 ] && MODES=(device node lss)
 for file in "${FILES[@]}"; do
     "$ODC" generate "$file" --role slave -o "$WORK/src/dev.rs"
-    img=$(build device)
-    read -r t r d b < <(sections "$img")
-    sym() {  # the size of the first symbol matching $1, in decimal
-        local hex
-        hex=$(nm -S "$img" | awk -v re="$1" '$4 ~ re && !n++ { print $2 }')
-        echo $((16#${hex:-0}))
-    }
-    n=$(grep -m1 -oE 'pub static TABLE: [:a-z_]*Table<[0-9]+>' "$WORK/src/dev.rs" | grep -oE '[0-9]+>' | tr -d '>')
-    printf '%-36s %7s | %7d %7d %7d %7d | %7d %7d\n' "$(basename "$file")" "${n:-0}" \
-        $((t - bt)) $((r - br)) $((d - bd)) $((b - bb)) \
-        "$(sym 'slave5TABLE')" "$(sym '^OD_STORAGE$')"
+    for mode in "${MODES[@]}"; do
+        img=$(build "$mode")
+        read -r t r d b < <(sections "$img")
+        sym() {  # the size of the first symbol matching $1, in decimal
+            local hex
+            hex=$(nm -S "$img" | awk -v re="$1" '$4 ~ re && !n++ { print $2 }')
+            echo $((16#${hex:-0}))
+        }
+        n=$(grep -m1 -oE 'pub static TABLE: [:a-z_]*Table<[0-9]+>' "$WORK/src/dev.rs" | grep -oE '[0-9]+>' | tr -d '>')
+        name=$(basename "$file")
+        [ "$NODE" = 1 ] && name="$name ($mode)"
+        printf '%-36s %7s | %7d %7d %7d %7d | %7d %7d' "$name" "${n:-0}" \
+            $((t - bt)) $((r - br)) $((d - bd)) $((b - bb)) \
+            "$(sym 'slave5TABLE')" "$(sym '^OD_STORAGE$')"
+        [ "$NODE" = 1 ] && printf ' %7d' "$(sym '^NODE_STORAGE$')"
+        printf '\n'
+    done
 done

@@ -166,3 +166,43 @@ fn heartbeat_nmt_and_emcy() {
     assert_eq!(d.take(), [data(0x705, &[0])]);
     assert_eq!(d.read(0x1003, 0)[4], 0);
 }
+
+/// LSS (CiA 305) on the generated dictionary: the node's LSS address is the EDS's 0x1018
+/// (vendor 0x000001DD, product 0x00006000, revision 0x02000001, no serial number: 0); a node-ID
+/// configured in stopped takes effect at NMT reset communication, where the application builds
+/// the dictionary's defaults for the new node-ID: boot-up on 0x709, SDO on 0x609, and the
+/// EDS's TPDO 1 COB-ID `$NODEID+0x180` now 0x189.
+#[test]
+fn lss_address_from_the_eds_and_a_new_node_id() {
+    let mut d = Drive {
+        node: Node::new(5).with_lss(None, 0),
+        od: Dictionary::new(5),
+        sent: Vec::new(),
+        now: 0,
+    };
+    d.node.start(&mut d.od, 0, &mut |f| d.sent.push(f));
+    assert_eq!(d.take(), [data(0x705, &[0])]);
+    d.rx(data(0, &[0x02, 5]));
+    let lss = |b: &[u8]| {
+        let mut f = [0u8; 8];
+        f[..b.len()].copy_from_slice(b);
+        CanFrame::new(0x7E5, f)
+    };
+    d.rx(lss(&[0x04, 1]));
+    for (cs, want) in [(0x5A, 0x0000_01DDu32), (0x5B, 0x0000_6000), (0x5C, 0x0200_0001), (0x5D, 0)]
+    {
+        d.rx(lss(&[cs]));
+        let mut answer = [cs, 0, 0, 0, 0, 0, 0, 0];
+        answer[1..5].copy_from_slice(&want.to_le_bytes());
+        assert_eq!(d.take(), [CanFrame::new(0x7E4, answer)]);
+    }
+    d.rx(lss(&[0x11, 9]));
+    assert_eq!(d.take(), [CanFrame::new(0x7E4, [0x11, 0, 0, 0, 0, 0, 0, 0])]);
+    d.rx(lss(&[0x04, 0]));
+    assert!(d.rx(data(0, &[0x82, 5])).reset.is_some());
+    d.od = Dictionary::new(d.node.next_node_id());
+    d.run_to(1);
+    assert_eq!(d.take(), [data(0x709, &[0])]);
+    d.rx(CanFrame::new(0x609, [0x40, 0x00, 0x18, 0x01, 0, 0, 0, 0]));
+    assert_eq!(d.take(), [CanFrame::new(0x589, [0x43, 0x00, 0x18, 0x01, 0x89, 0x01, 0, 0])]);
+}

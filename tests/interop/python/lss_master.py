@@ -54,8 +54,13 @@ def main():
     network = canopen.Network(SocketBus(args.connect))
     network.connect()
     bootups = []
+    # Boot-up messages only: a heartbeat on the same CAN-ID has the state byte instead of 0.
+    def on_nmt_error_control(cob, data, ts):
+        if data == b"\x00":
+            bootups.append([cob - 0x700, data.hex()])
+
     for n in range(1, 128):
-        network.subscribe(0x700 + n, lambda cob, data, ts: bootups.append([cob - 0x700, data.hex()]))
+        network.subscribe(0x700 + n, on_nmt_error_control)
     lss = network.lss
     # Fastscan waits this long for every bit that is set; the socket answers in microseconds.
     lss.RESPONSE_TIMEOUT = 0.2

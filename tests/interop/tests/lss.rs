@@ -1,18 +1,19 @@
 //! LSS against python-canopen's `LssMaster`, for every device of `odc_tests_interop::devices`:
-//! odc's `LssSlave` with the device's LSS address (0x1018 sub 1–4 of the generated slave, at
-//! its defaults) and no node-ID, driven by `python/lss_master.py`.
+//! odc's `node::Node` over the device's generated slave, with an LSS slave whose address is
+//! the dictionary's 0x1018 sub 1–4 and no node-ID (0xFF: initialising, no boot-up), driven by
+//! `python/lss_master.py`.
 //!
-//! The node runtime is not used here: a small loop stands for it (LSS frames to the slave and
-//! its answers back; the store answered "stored"; after the slave's own reset on leaving
-//! configuration without node-ID, and after an NMT reset communication, a boot-up message at
-//! the node-ID the slave then has). Checked: fastscan finds the node and its address, inquire
-//! address and node-ID, configure node-ID and bit timing (index 5 refused), store, activate,
-//! identify (non-configured, remote), switch state selective, and the boot-ups at the new
-//! node-IDs; a fastscan finds nobody once the node has one.
+//! The application's part is what a firmware's would be: the store answered "stored"
+//! (`Node::lss_store_response`), the dictionary set back to its defaults for
+//! `Node::next_node_id` at each reset. Checked: fastscan finds the node and its address,
+//! inquire address and node-ID, configure node-ID and bit timing (index 5 refused), store,
+//! activate, identify (non-configured, remote), switch state selective, the node's boot-up at
+//! the new node-ID when it leaves configuration (its own reset communication) and at the
+//! second node-ID after NMT reset communication; a fastscan finds nobody once the node has one.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use odc::can::CanFrame;
-use odc::lss::{Identity, LssEvent, LssSlave, StoreResult};
+use odc::lss::{Identity, LssEvent, StoreResult, UNCONFIGURED};
+use odc::node::Node;
 use odc::sdo::Bus;
 use odc_tests_interop::{Device, Peer, devices, python};
 use serde_json::{Value, json};
@@ -23,6 +24,7 @@ const SECOND_NODE: u8 = 0x22;
 /// CiA 301 table index 2: 500 kbit/s.
 const BIT_TIMING: u8 = 2;
 const SESSION: Duration = Duration::from_secs(120);
+const BUF: usize = 1024;
 
 fn identity(dev: &Device) -> Identity {
     let od = (dev.slave)(1);
@@ -33,19 +35,23 @@ fn identity(dev: &Device) -> Identity {
     Identity::new(sub(1), sub(2), sub(3), sub(4))
 }
 
-/// What the node loop saw.
+/// What the application saw.
 #[derive(Default)]
-struct Node {
+struct Seen {
     stores: Vec<(Option<u8>, u8)>,
     activations: Vec<u16>,
-    bootups: Vec<u8>,
+    /// Node-IDs of the boot-up messages the node sent.
+    bootups: Vec<u32>,
+    /// The node-ID at the end.
+    node_id: u8,
 }
 
-/// The stand-in for the node runtime: LSS frames to the slave, NMT reset communication and the
-/// slave's own reset give a boot-up at the node-ID it then has.
-fn run(py: &std::path::Path, dev: &Device) -> (Node, Value) {
-    let mut lss = LssSlave::new(identity(dev), None, 0).with_storage();
-    let mut node = Node::default();
+/// The node, started without node-ID, until the python master is done.
+fn run(py: &std::path::Path, dev: &Device) -> (Seen, Value) {
+    // A dictionary for node-ID 1 until the node has one: no frame of it is sent before.
+    let mut od = (dev.slave)(1);
+    let mut node: Node<BUF> = Node::new(UNCONFIGURED).with_lss(None, 0).with_lss_storage();
+    let mut seen = Seen::default();
     let new = NEW_NODE.to_string();
     let second = SECOND_NODE.to_string();
     let bt = BIT_TIMING.to_string();
@@ -54,48 +60,53 @@ fn run(py: &std::path::Path, dev: &Device) -> (Node, Value) {
         "lss_master.py",
         &["--new-node", &new, "--second-node", &second, "--bit-timing", &bt],
     );
+    let mut out = Vec::new();
+    node.start(od.as_mut(), peer.bus.now_ms() * 1000, &mut |f| out.push(f));
     let end = Instant::now() + SESSION;
-    loop {
+    'run: loop {
         assert!(Instant::now() < end, "{}: session over {SESSION:?}", dev.name);
         let now = peer.bus.now_ms();
-        let frame = match peer.bus.recv(now + 20) {
-            Ok(Some(f)) => f,
-            Ok(None) if peer.exited() => break,
-            Ok(None) => continue,
+        let frame = match peer.bus.recv(now + 1) {
+            Ok(f) => f,
             Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => break,
             Err(e) => panic!("{}: {e}", dev.name),
         };
-        let mut reset = false;
-        if frame.id == 0 && frame.bytes().len() == 2 {
-            // NMT: reset node or reset communication, to this node or all.
-            let [cs, to] = [frame.data[0], frame.data[1]];
-            reset = matches!(cs, 0x81 | 0x82) && (to == 0 || Some(to) == lss.node_id());
+        let now_us = peer.bus.now_ms() * 1000;
+        let mut events = node.poll(od.as_mut(), now_us, &mut |f| out.push(f));
+        if let Some(f) = &frame {
+            events.absorb(node.handle(od.as_mut(), f, now_us, &mut |f| out.push(f)));
         }
-        let (answer, event) = lss.handle(&frame);
-        if let Some(a) = answer {
-            peer.bus.send(&a).unwrap();
-        }
-        match event {
+        match events.lss {
             Some(LssEvent::Store { node_id, bit_timing }) => {
-                node.stores.push((node_id, bit_timing));
-                peer.bus.send(&lss.store_response(StoreResult::Stored)).unwrap();
+                seen.stores.push((node_id, bit_timing));
+                node.lss_store_response(StoreResult::Stored, &mut |f| out.push(f));
             }
-            Some(LssEvent::ActivateBitTiming { delay_ms }) => node.activations.push(delay_ms),
-            Some(LssEvent::ResetCommunication) => reset = true,
+            Some(LssEvent::ActivateBitTiming { delay_ms }) => seen.activations.push(delay_ms),
             _ => {}
         }
-        if reset && let Some(id) = lss.reset_communication() {
-            node.bootups.push(id);
-            peer.bus.send(&CanFrame::from_slice(0x700 + u32::from(id), &[0]).unwrap()).unwrap();
+        if events.reset.is_some() {
+            od = (dev.slave)(node.next_node_id());
+        }
+        for f in out.drain(..) {
+            if (0x701..=0x77F).contains(&f.id) && f.bytes() == [0] {
+                seen.bootups.push(f.id - 0x700);
+            }
+            if peer.bus.send(&f).is_err() {
+                break 'run;
+            }
+        }
+        if frame.is_none() && peer.exited() {
+            break;
         }
     }
-    let (out, _err) = peer.finish(Duration::from_secs(30));
-    let line = out
+    seen.node_id = node.node_id();
+    let (stdout, _err) = peer.finish(Duration::from_secs(30));
+    let line = stdout
         .lines()
         .rev()
         .find(|l| l.starts_with('{'))
-        .unwrap_or_else(|| panic!("no JSON in:\n{out}"));
-    (node, serde_json::from_str(line).unwrap())
+        .unwrap_or_else(|| panic!("no JSON in:\n{stdout}"));
+    (seen, serde_json::from_str(line).unwrap())
 }
 
 #[test]
@@ -105,7 +116,7 @@ fn run(py: &std::path::Path, dev: &Device) -> (Node, Value) {
 )]
 fn their_lss_master_our_slave() {
     let py = python();
-    println!("LSS: odc LssSlave, python-canopen LssMaster");
+    println!("LSS: odc node::Node with LssSlave, python-canopen LssMaster");
     println!(
         "{:<22} {:>8} {:>8} {:>6} {:>8}  address found",
         "device", "checks", "failed", "stores", "bootups"
@@ -162,6 +173,15 @@ fn their_lss_master_our_slave() {
             .filter(|(_, got, want)| got != want)
             .map(|(what, got, want)| format!("{}: {what}: got {got}, want {want}", dev.name))
             .collect();
+        // The node's own boot-ups: the new node-ID on leaving configuration, the second
+        // after NMT reset communication; none while it had no node-ID.
+        let boots = [u32::from(NEW_NODE), u32::from(SECOND_NODE)];
+        if node.bootups != boots || node.node_id != SECOND_NODE {
+            failures.push(format!(
+                "{}: node boot-ups {:02X?}, node-ID {:#04X} at the end",
+                dev.name, node.bootups, node.node_id
+            ));
+        }
         if node.stores != [(Some(NEW_NODE), BIT_TIMING), (Some(SECOND_NODE), BIT_TIMING)] {
             failures.push(format!("{}: stores {:?}", dev.name, node.stores));
         }

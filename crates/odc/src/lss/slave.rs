@@ -237,10 +237,11 @@ impl LssSlave {
     }
 
     /// Handles one received frame: the answer to send on 0x7E4, if any, and what the node
-    /// must do. Frames of other CAN-IDs, shorter than 8 bytes or with an unknown command are
+    /// must do. Frames of other CAN-IDs, remote and extended frames, frames shorter than 8 bytes or with an unknown command are
     /// ignored (CiA 305: a slave does not answer what it does not serve).
     pub fn handle(&mut self, frame: &CanFrame) -> (Option<CanFrame>, Option<LssEvent>) {
-        if frame.id != REQUEST_ID {
+        // Remote and extended frames on 0x7E5 are no LSS requests.
+        if !frame.is_data(REQUEST_ID) {
             return (None, None);
         }
         let Some(req) = Request::decode(frame.bytes()) else { return (None, None) };
@@ -413,6 +414,23 @@ mod tests {
     fn number(cs: u8, n: u32) -> [u8; 8] {
         let n = n.to_le_bytes();
         [cs, n[0], n[1], n[2], n[3], 0, 0, 0]
+    }
+
+    /// CiA 305: LSS requests are 11-bit data frames; a remote or extended frame on 0x7E5 is
+    /// another message and gets no answer.
+    #[test]
+    fn remote_and_extended_frames_are_not_lss() {
+        let mut s = LssSlave::new(ID, Some(5), 0);
+        let inquire_vendor = [0x5A, 0, 0, 0, 0, 0, 0, 0];
+        let global = [0x04, 0x01, 0, 0, 0, 0, 0, 0];
+        for b in [global, inquire_vendor] {
+            assert_eq!(s.handle(&CanFrame::extended(0x7E5, &b).unwrap()), (None, None));
+        }
+        assert_eq!(s.handle(&CanFrame::remote(0x7E5, 8)), (None, None));
+        assert_eq!(s.state(), LssState::Waiting);
+        // The same requests as data frames are served.
+        assert_eq!(s.handle(&req(global)), (None, Some(LssEvent::State(LssState::Configuration))));
+        assert_eq!(s.handle(&req(inquire_vendor)).0, ans(number(0x5A, ID.vendor)));
     }
 
     #[test]

@@ -1,5 +1,6 @@
 //! A CANopen node (CiA 301 slave) over any [`ObjectDictionary`]: NMT, boot-up, heartbeat
-//! producer and consumer, node guarding, SYNC, the PDO engine, EMCY and the SDO server.
+//! producer and consumer, node guarding, SYNC, the PDO engine, EMCY, the SDO server (with
+//! block transfer) and, with [`Node::with_lss`], the LSS slave (CiA 305).
 //!
 //! `no_std`, no heap, no threads: the caller feeds every received frame to [`Node::handle`],
 //! calls [`Node::poll`] often enough for its timers (heartbeat, event timers, inhibit times,
@@ -29,11 +30,15 @@
 //! NMT states and services (CiA 301 table 80): SDO in pre-operational and operational; PDOs
 //! only in operational; SYNC and EMCY not in stopped; NMT, heartbeat and node guarding in
 //! every state. Reset node and reset communication are reported in [`Events::reset`]: the
-//! application restores the defaults of its dictionary (the whole of it, or 0x1000–0x1FFF),
-//! and the node restarts (boot-up, pre-operational) at the next [`Node::poll`] or
-//! [`Node::handle`].
+//! application restores the defaults of its dictionary (the whole of it, or 0x1000–0x1FFF,
+//! for [`Node::next_node_id`]), and the node restarts (boot-up, pre-operational) at the next
+//! [`Node::poll`] or [`Node::handle`]. LSS runs in every state; a node-ID it configures
+//! becomes the node's at that restart, and a node started without one (0xFF) waits in
+//! initialisation, without boot-up, until LSS gives it one (CiA 305).
 
 mod emcy;
+mod lss;
+use lss::LssSetup;
 pub mod pdo;
 #[cfg(test)]
 mod tests;
@@ -41,6 +46,7 @@ mod tests;
 use crate::SdoAbort;
 use crate::can::CanFrame;
 use crate::emcy::{EmcyCode, ErrorRegister};
+use crate::lss::{LssEvent, LssSlave, UNCONFIGURED};
 use crate::nmt::{NmtCommand, NmtState};
 use crate::sdo::Server;
 use crate::slave::ObjectDictionary;
@@ -113,6 +119,11 @@ pub struct Events {
     pub sdo_written: bool,
     /// A PDO could not be packed or applied.
     pub pdo_error: Option<PdoError>,
+    /// What an LSS request (CiA 305, on 0x7E5) asks of the application: store the
+    /// configuration (answer with [`Node::lss_store_response`]), switch the CAN controller
+    /// to [`LssSlave::bit_timing`] after the delay, or note a pending node-ID or bit timing.
+    /// A node-ID becomes active by itself at the next reset ([`Events::reset`]).
+    pub lss: Option<LssEvent>,
 }
 
 impl Events {
@@ -124,7 +135,9 @@ impl Events {
         }
     }
 
-    fn absorb(&mut self, e: Events) {
+    /// Adds the events of a later call (a loop that polls and handles in one pass): flags
+    /// and bits are joined, a later state, reset, SYNC, error or LSS event wins.
+    pub fn absorb(&mut self, e: Events) {
         self.state = e.state.or(self.state);
         self.reset = e.reset.or(self.reset);
         self.heartbeat_lost |= e.heartbeat_lost;
@@ -135,6 +148,7 @@ impl Events {
         self.tpdo |= e.tpdo;
         self.sdo_written |= e.sdo_written;
         self.pdo_error = e.pdo_error.or(self.pdo_error);
+        self.lss = e.lss.or(self.lss);
     }
 }
 
@@ -275,8 +289,9 @@ struct Consumer {
 ///
 /// `N`: bytes of the SDO server's buffer (the largest value of a segmented transfer); `R`
 /// and `T`: receive and transmit PDOs served (0x1400/0x1800 onward; 8 each by default, the
-/// devices in `eds/` have 4). Every buffer is inside the node: `Node<64>` is 1312 bytes on
-/// x86_64, `Node<64, 4, 4>` 960 (measured with `size_of`; the SDO buffer is `N` of them).
+/// devices in `eds/` have 4). Every buffer is inside the node: `Node<64>` is 1376 bytes on
+/// x86_64, `Node<64, 4, 4>` 1024 (measured with `size_of`, LSS slave included; the SDO buffer
+/// is `N` of them); `Node<32, 4, 4>` is 976 bytes on thumbv7em (`tests/slave-size`).
 #[derive(Clone, Debug)]
 pub struct Node<const N: usize, const R: usize = 8, const T: usize = 8> {
     node_id: u8,
@@ -305,10 +320,15 @@ pub struct Node<const N: usize, const R: usize = 8, const T: usize = 8> {
     next_sync_us: u64,
     emcy: emcy::Emcy,
     pdo: pdo::PdoEngine<R, T>,
+    // LSS slave: what to build at the first start, then the slave (kept across resets).
+    lss_setup: Option<LssSetup>,
+    lss: Option<LssSlave>,
 }
 
 impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
-    /// A node with id `node_id` (1–127), initialising until [`Node::start`].
+    /// A node with id `node_id` (1–127), initialising until [`Node::start`]. With
+    /// [`lss::UNCONFIGURED`](crate::lss::UNCONFIGURED) (0xFF) it stays initialising, without
+    /// boot-up, until an LSS master gives it a node-ID ([`Node::with_lss`]; CiA 305).
     pub fn new(node_id: u8) -> Self {
         Self {
             node_id,
@@ -332,6 +352,8 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
             next_sync_us: 0,
             emcy: emcy::Emcy::new(),
             pdo: pdo::PdoEngine::new(),
+            lss_setup: None,
+            lss: None,
         }
     }
 
@@ -340,7 +362,8 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         self.node_id
     }
 
-    /// A new node id, taken at the next start (reset communication): what LSS configures.
+    /// A new node id, taken at the next start (reset communication). With LSS, the LSS slave
+    /// owns the node-ID from the first start on: this sets the one it starts with.
     pub fn set_node_id(&mut self, node_id: u8) {
         self.next_node_id = Some(node_id);
     }
@@ -369,17 +392,33 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
 
     /// Initialisation → boot-up frame (0x700 + id, one byte 0) → pre-operational. Also what
     /// reset node and reset communication do: every parameter is read again from `dict`
-    /// (which the application has set back to its defaults), the error history is emptied.
+    /// (which the application has set back to its defaults, for [`Node::next_node_id`]), the
+    /// error history is emptied. The node-ID an LSS master configured becomes active here;
+    /// a node without node-ID (0xFF) stays initialising, without boot-up (CiA 305).
     pub fn start<D: ObjectDictionary + ?Sized>(
         &mut self,
         dict: &mut D,
         now_us: u64,
         out: &mut impl FnMut(CanFrame),
     ) {
-        if let Some(id) = self.next_node_id.take() {
-            self.node_id = id;
+        let requested = self.next_node_id.take().unwrap_or(self.node_id);
+        let setup = self.lss_setup;
+        let mut lss = self.lss.take();
+        if lss.is_none()
+            && let Some(s) = setup
+        {
+            lss = Some(s.slave(&*dict, requested));
         }
-        *self = Self::new(self.node_id);
+        let id = match lss.as_mut() {
+            Some(l) => l.reset_communication().unwrap_or(UNCONFIGURED),
+            None => requested,
+        };
+        *self = Self::new(id);
+        self.lss_setup = setup;
+        self.lss = lss;
+        if !(1..=127).contains(&id) {
+            return;
+        }
         self.emcy.reset(&*dict);
         self.dirty.0 = 0xFF;
         self.reload(&*dict, now_us);
@@ -479,6 +518,11 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         out: &mut impl FnMut(CanFrame),
     ) -> Events {
         let mut ev = self.pending(dict, now_us, out);
+        if frame.is_data(crate::lss::REQUEST_ID) {
+            // LSS runs in every NMT state, and while a node without node-ID initialises.
+            self.lss_in(frame, out, &mut ev);
+            return ev;
+        }
         let Some(state) = self.state else { return ev };
         let own_ec = 0x700 + u32::from(self.node_id);
         if frame.is_data(0) {
@@ -508,11 +552,9 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         }
         if frame.is_data(self.sdo.request_id()) {
             let mut view = Self::view(dict, &mut self.emcy, &mut self.dirty, &self.pdo, self.state);
-            let reply = self.sdo.handle(&mut view, frame, now_us / 1000);
+            // A block upload's whole sub-block goes out at once.
+            self.sdo.handle_into(&mut view, frame, now_us / 1000, out);
             ev.sdo_written = view.written;
-            if let Some(r) = reply {
-                out(r);
-            }
             if self.dirty.0 != 0 {
                 self.reload(&*dict, now_us);
             }
@@ -656,8 +698,10 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
             let o = self.pdo.poll(&view, now_us, out);
             ev.merge(o);
         }
-        if let Some(abort) = self.sdo.poll(now_us / 1000) {
-            out(abort);
+        // Segments still due of a block upload's sub-block, or the abort of a transfer that
+        // timed out (the abort ends the transfer, so this stops).
+        while let Some(f) = self.sdo.poll(now_us / 1000) {
+            out(f);
         }
         ev
     }

@@ -8,6 +8,8 @@ use std::{vec, vec::Vec};
 
 use super::*;
 
+mod lss;
+
 const ID: u8 = 5;
 const MS: u64 = 1000;
 
@@ -573,4 +575,56 @@ fn dependent_parameters_are_checked() {
     assert_eq!(b.sdo_write(0x1016, 2, &entry(3, 200))[4..], [0x43, 0x00, 0x04, 0x06]);
     assert_eq!(b.sdo_write(0x1016, 2, &entry(3, 0))[0], 0x60);
     assert_eq!(b.sdo_write(0x1016, 2, &entry(4, 200))[0], 0x60);
+}
+
+/// CiA 301 block upload (7.2.4.3.12–16) of a 30-byte string through the node: the whole
+/// sub-block (4 full segments and the last one, c bit set, sequence numbers 1–5) answers the
+/// one "start upload" request; the end frame carries 2 unused bytes in the last segment and
+/// the CRC-16-CCITT of the data (0x13D7 for "A".."^", computed apart with Python's crc_hqx).
+#[test]
+fn block_upload_sends_whole_sub_blocks() {
+    let text: Vec<u8> = (0x41..0x41 + 30).collect();
+    let mut dict = Dict::new();
+    dict.add(0x2003, 0, &text, false);
+    let mut b = Bench::with(dict);
+    b.take();
+    let sdo = |d: [u8; 8]| CanFrame::new(0x605, d);
+    let answer = |d: [u8; 8]| CanFrame::new(0x585, d);
+    // Initiate block upload: ccs 5, CRC supported, blksize 127, pst 0.
+    b.rx(sdo([0xA4, 0x03, 0x20, 0x00, 127, 0, 0, 0]));
+    assert_eq!(b.take(), [answer([0xC6, 0x03, 0x20, 0x00, 30, 0, 0, 0])]);
+    b.rx(sdo([0xA3, 0, 0, 0, 0, 0, 0, 0]));
+    let mut expected = Vec::new();
+    for (i, chunk) in text.chunks(7).enumerate() {
+        let last = i == 4;
+        let mut d = [0u8; 8];
+        d[0] = (i as u8 + 1) | if last { 0x80 } else { 0 };
+        d[1..1 + chunk.len()].copy_from_slice(chunk);
+        expected.push(answer(d));
+    }
+    assert_eq!(b.take(), expected);
+    // Nothing is left for poll to send.
+    b.run_to(2);
+    assert_eq!(b.take(), []);
+    // Sub-block confirmed (ackseq 5): end with n = 5 unused bytes and the CRC.
+    b.rx(sdo([0xA2, 5, 127, 0, 0, 0, 0, 0]));
+    assert_eq!(b.take(), [answer([0xC1 | 5 << 2, 0xD7, 0x13, 0, 0, 0, 0, 0])]);
+    b.rx(sdo([0xA1, 0, 0, 0, 0, 0, 0, 0]));
+    assert_eq!(b.take(), []);
+}
+
+/// A segmented upload the client abandons: poll sends the abort "SDO protocol timed out"
+/// (0x05040000) once the server's timeout (1000 ms) has passed.
+#[test]
+fn poll_aborts_an_sdo_transfer_that_timed_out() {
+    let mut dict = Dict::new();
+    dict.add(0x2003, 0, &[b'x'; 20], false);
+    let mut b = Bench::with(dict);
+    b.take();
+    b.rx(CanFrame::new(0x605, [0x40, 0x03, 0x20, 0x00, 0, 0, 0, 0]));
+    assert_eq!(b.take(), [CanFrame::new(0x585, [0x41, 0x03, 0x20, 0x00, 20, 0, 0, 0])]);
+    b.run_to(1000);
+    assert_eq!(b.take(), []);
+    b.run_to(1002);
+    assert_eq!(b.take(), [CanFrame::new(0x585, [0x80, 0x03, 0x20, 0x00, 0x00, 0x00, 0x04, 0x05])]);
 }

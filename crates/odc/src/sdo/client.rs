@@ -356,7 +356,8 @@ impl<const N: usize> Client<N> {
     /// transfer is under way, or it needs no answer (a segment inside a block upload's
     /// sub-block).
     pub fn handle(&mut self, frame: &CanFrame, now_ms: u64) -> Option<Step> {
-        if frame.id != self.response_id() {
+        // Remote and extended frames on the CAN-ID are no SDO responses.
+        if !frame.is_data(self.response_id()) {
             return None;
         }
         let deadline = now_ms.saturating_add(self.timeout_ms);

@@ -369,3 +369,29 @@ fn client_timeout_toggle_and_busy() {
 }
 
 mod block;
+
+/// CiA 301: SDOs are 11-bit data frames. A remote or extended frame with the request's or the
+/// response's CAN-ID is another message, which neither side may take as a step.
+#[test]
+fn remote_and_extended_frames_are_not_sdo() {
+    let upload = [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0];
+    let mut s = Server::<64>::new(NODE);
+    let mut od = Od::default();
+    let extended = CanFrame::extended(0x605, &upload).unwrap();
+    assert_eq!(s.handle(&mut od, &extended, 0), None);
+    assert_eq!(s.handle(&mut od, &CanFrame::remote(0x605, 8), 0), None);
+    assert!(!s.is_busy());
+    // The data frame is still served.
+    assert_eq!(
+        s.handle(&mut od, &req(upload), 0),
+        resp([0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00])
+    );
+
+    let mut c = Client::<64>::new(NODE);
+    c.start_upload(0x1000, 0, 0).unwrap();
+    let answer = [0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00];
+    assert_eq!(c.handle(&CanFrame::extended(0x585, &answer).unwrap(), 0), None);
+    assert_eq!(c.handle(&CanFrame::remote(0x585, 8), 0), None);
+    assert_eq!(c.handle(&CanFrame::new(0x585, answer), 0), Some(Step::Done));
+    assert_eq!(c.data(), &0x0002_0192u32.to_le_bytes());
+}

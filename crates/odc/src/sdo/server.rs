@@ -191,7 +191,7 @@ impl<const N: usize> Server<N> {
 
     /// Handles one received frame; returns the response to send, if any.
     ///
-    /// Frames with another CAN-ID are ignored (`None`), as are aborts from the client (which
+    /// Frames with another CAN-ID, remote and extended frames are ignored (`None`), as are aborts from the client (which
     /// end the transfer under way without answer). During a block upload the further frames
     /// of a sub-block come from [`Server::poll`]; [`Server::handle_into`] sends them at once.
     pub fn handle<D: ObjectDictionary + ?Sized>(
@@ -200,7 +200,9 @@ impl<const N: usize> Server<N> {
         frame: &CanFrame,
         now_ms: u64,
     ) -> Option<CanFrame> {
-        if frame.id != self.request_id() {
+        // Remote and extended frames on the CAN-ID are no SDO requests (CiA 301: SDOs are
+        // 11-bit data frames).
+        if !frame.is_data(self.request_id()) {
             return None;
         }
         let deadline = now_ms.saturating_add(self.timeout_ms);
