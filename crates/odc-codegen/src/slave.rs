@@ -228,6 +228,9 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
                 fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), #rt::SdoAbort> {
                     Dictionary::write(self, index, sub, data)
                 }
+                fn access(&self, index: u16, sub: u8) -> Option<#rt::Access> {
+                    TABLE.access(index, sub)
+                }
             }
 
             #drive

@@ -2,16 +2,16 @@
 //! no I/O of its own, so any transport (the [`VirtualBus`](crate::VirtualBus), SocketCAN)
 //! can carry it.
 //!
-//! MERGE: until the node runtime (`odc::node::Node`, helper A) is merged, this is the
-//! minimum of a node: NMT commands (start, stop, pre-operational, reset node and reset
-//! communication, each reset with a new boot-up message), the SDO server in pre-operational
-//! and operational. [`SimDevice::handle`] and [`SimDevice::poll`] are the two call sites the
-//! node takes over (`Node::handle` and `Node::poll`; `Node::start` for the boot-up).
+//! The node is the runtime's [`Node`] over a [`ModelDictionary`]: the same NMT, heartbeat,
+//! node guarding, SYNC, PDO engine (following remaps), EMCY, SDO server (with block transfer)
+//! and LSS slave as generated firmware runs. What a simulation adds: the resets of the
+//! dictionary the node asks for, and a CiA 402 drive (state machine and axis) updated after
+//! every frame and tick, so RPDO and SDO controlwords both move it.
 
 use odc::can::CanFrame;
 use odc::cia402::{DeviceControl, Drive};
-use odc::nmt::{NmtCommand, NmtState};
-use odc::sdo::Server;
+use odc::nmt::NmtState;
+use odc::node::{Events, Node, Reset};
 use odc_model::Device;
 
 use crate::ModelDictionary;
@@ -20,16 +20,26 @@ use crate::ModelDictionary;
 /// a longer value is refused with "out of memory").
 pub const SDO_BUFFER: usize = 4096;
 
-/// A simulated device: a [`ModelDictionary`] served on node `node_id`, with a CiA 402 drive
-/// when the file is one.
+/// Receive and transmit PDOs the simulated node serves: more than any device of the corpus
+/// configures at once (CiA 301 allows 512 of each; those past this are ignored).
+pub const MAX_PDOS: usize = 64;
+
+/// The node of a simulation.
+type SimNode = Node<SDO_BUFFER, MAX_PDOS, MAX_PDOS>;
+
+/// A simulated device: a [`ModelDictionary`] served by a [`Node`], with a CiA 402 drive when
+/// the file is one.
 #[derive(Debug)]
 pub struct SimDevice {
-    node_id: u8,
+    node: SimNode,
     od: ModelDictionary,
-    sdo: Server<SDO_BUFFER>,
-    nmt: NmtState,
     drive: Option<Drive>,
     last_tick_ms: u64,
+}
+
+/// The node's clock is in microseconds, the simulation's in milliseconds.
+const fn us(ms: u64) -> u64 {
+    ms.saturating_mul(1000)
 }
 
 impl SimDevice {
@@ -38,24 +48,19 @@ impl SimDevice {
     pub fn new(device: &Device, node_id: u8) -> Self {
         let od = ModelDictionary::new(device, node_id);
         let drive = od.is_drive().then(Drive::new);
-        Self {
-            node_id,
-            od,
-            sdo: Server::new(node_id),
-            nmt: NmtState::BootUp,
-            drive,
-            last_tick_ms: 0,
-        }
+        // LSS with the identity of 0x1018 (read at start), bit timing 0 (1 Mbit/s; CiA 305).
+        let node = Node::new(node_id).with_lss(None, 0);
+        Self { node, od, drive, last_tick_ms: 0 }
     }
 
-    /// The node-ID.
+    /// The node-ID (LSS may have changed it).
     pub fn node_id(&self) -> u8 {
-        self.node_id
+        self.node.node_id()
     }
 
     /// The NMT state.
     pub fn nmt_state(&self) -> NmtState {
-        self.nmt
+        self.node.state()
     }
 
     /// The dictionary.
@@ -71,66 +76,59 @@ impl SimDevice {
     /// Initialisation: the boot-up message (0x700 + node-ID, one byte 0), then
     /// pre-operational; a drive leaves "not ready to switch on".
     pub fn start(&mut self, now_ms: u64, out: &mut impl FnMut(CanFrame)) {
-        self.sdo = Server::new(self.node_id);
-        self.nmt = NmtState::PreOperational;
         self.last_tick_ms = now_ms;
+        self.restart_drive();
+        self.node.start(&mut self.od, us(now_ms), out);
+    }
+
+    /// A drive as after power-on, with the quick stop option code (0x605A, INTEGER16) the
+    /// dictionary holds now (CiA 402's default 2 without it).
+    fn restart_drive(&mut self) {
         if let Some(drive) = &mut self.drive {
-            // 0x605A quick stop option code (INTEGER16), as the dictionary holds it now;
-            // CiA 402's default 2 without it.
             let option = self.od.get::<i16>(0x605A, 0).unwrap_or(2);
             let control = DeviceControl::new().with_quick_stop_option(option);
             *drive = Drive::new().with_control(control);
             drive.start(&mut self.od);
         }
-        if let Some(boot_up) =
-            CanFrame::from_slice(0x700 + u32::from(self.node_id), &[NmtState::BootUp.to_u8()])
-        {
-            out(boot_up);
-        }
     }
 
-    /// Frame in, frames out. MERGE: `Node::handle`.
+    /// Frame in, frames out.
     pub fn handle(&mut self, frame: &CanFrame, now_ms: u64, out: &mut impl FnMut(CanFrame)) {
-        if frame.id == u32::from(odc::cob::NMT) {
-            if let [cs, node] = *frame.bytes()
-                && (node == 0 || node == self.node_id)
-            {
-                match NmtCommand::from_u8(cs) {
-                    Some(NmtCommand::Start) => self.nmt = NmtState::Operational,
-                    Some(NmtCommand::Stop) => self.nmt = NmtState::Stopped,
-                    Some(NmtCommand::EnterPreOperational) => self.nmt = NmtState::PreOperational,
-                    Some(NmtCommand::ResetNode) => {
-                        self.od.reset(self.node_id);
-                        self.start(now_ms, out);
-                    }
-                    Some(NmtCommand::ResetCommunication) => {
-                        self.od.reset_communication(self.node_id);
-                        self.start(now_ms, out);
-                    }
-                    None => {}
-                }
-            }
-            return;
-        }
-        if frame.id == self.sdo.request_id() && self.nmt.sdo_allowed() {
-            if let Some(answer) = self.sdo.handle(&mut self.od, frame, now_ms) {
-                out(answer);
-            }
-            if let Some(drive) = &mut self.drive {
-                drive.update(&mut self.od);
-            }
-        }
+        let events = self.node.handle(&mut self.od, frame, us(now_ms), out);
+        self.after(&events, now_ms, out);
     }
 
-    /// The timer tick: SDO timeouts, the drive's motion. MERGE: `Node::poll`.
+    /// The timer tick: the node's timers (heartbeat, event timers, guarding, SDO timeouts)
+    /// and the drive's motion.
     pub fn poll(&mut self, now_ms: u64, out: &mut impl FnMut(CanFrame)) {
-        if let Some(abort) = self.sdo.poll(now_ms) {
-            out(abort);
-        }
+        let events = self.node.poll(&mut self.od, us(now_ms), out);
+        self.after(&events, now_ms, out);
         let dt = now_ms.saturating_sub(self.last_tick_ms);
         self.last_tick_ms = now_ms;
         if let Some(drive) = &mut self.drive {
             drive.step(&mut self.od, u32::try_from(dt).unwrap_or(u32::MAX));
+        }
+    }
+
+    /// What the application of a node does with its events: a reset restores the dictionary
+    /// (reset node all of it and the drive, reset communication 0x1000–0x1FFF, CiA 301
+    /// §7.3.2.2.1), then the node boots at once (boot-up) instead of at the next tick. Any
+    /// frame may have moved the controlword.
+    fn after(&mut self, events: &Events, now_ms: u64, out: &mut impl FnMut(CanFrame)) {
+        if let Some(reset) = events.reset {
+            match reset {
+                // At the node-ID the node boots with (a new one LSS configured).
+                Reset::Node => {
+                    self.od.reset(self.node.next_node_id());
+                    self.restart_drive();
+                }
+                // The drive's state is the application's, not communication's: it stays.
+                Reset::Communication => self.od.reset_communication(self.node.next_node_id()),
+            }
+            self.node.start(&mut self.od, us(now_ms), out);
+        }
+        if let Some(drive) = &mut self.drive {
+            drive.update(&mut self.od);
         }
     }
 }

@@ -233,6 +233,10 @@ impl ObjectDictionary for ModelDictionary {
         store(data_type, data, stored);
         Ok(())
     }
+
+    fn access(&self, index: u16, sub: u8) -> Option<odc::Access> {
+        self.row(index, sub).ok().map(|row| row.access)
+    }
 }
 
 /// The 402 objects by their profile addresses and types; an object the file lacks, or types

@@ -67,7 +67,7 @@ mod table;
 
 pub use table::{Row, Spec, Table};
 
-use crate::{DefaultValue, Entry, ObjValue, ObjectAddr, SdoAbort};
+use crate::{Access, DefaultValue, Entry, ObjValue, ObjectAddr, SdoAbort};
 
 /// What an SDO server needs from an object dictionary. Generated `Dictionary` types implement
 /// it, so server code can be written once for every device.
@@ -85,6 +85,14 @@ pub trait ObjectDictionary {
     ///
     /// The SDO abort the server answers with.
     fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort>;
+
+    /// The access of `index:sub`, where the dictionary knows it (`None` by default, and for
+    /// an entry it does not have). A node checks it before the CiA 301 rules that depend on
+    /// other values, so a read-only COB-ID is refused as read-only (0x06010002).
+    fn access(&self, index: u16, sub: u8) -> Option<Access> {
+        let _ = (index, sub);
+        None
+    }
 }
 
 /// How the application learns about (and may veto) SDO writes into a generated dictionary.

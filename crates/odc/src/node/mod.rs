@@ -240,9 +240,17 @@ impl<D: ObjectDictionary + ?Sized> ObjectDictionary for View<'_, D> {
         }
     }
 
+    fn access(&self, index: u16, sub: u8) -> Option<crate::Access> {
+        self.dict.access(index, sub)
+    }
+
     fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
         if (index, sub) == (0x1003, 0) && self.emcy.read(0x1003, 0, &mut [0]).is_some() {
             return self.emcy.write_history_count(data);
+        }
+        // Access first, as the dictionary would refuse it (a read-only COB-ID: 0x06010002).
+        if self.dict.access(index, sub).is_some_and(|a| !a.writable()) {
+            return Err(SdoAbort::WriteOfReadOnly);
         }
         self.check_parameter(index, sub, data)?;
         if let Some((word, n)) = match index {

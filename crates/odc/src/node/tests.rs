@@ -122,6 +122,11 @@ impl ObjectDictionary for Dict {
         self.writes.push((index, sub));
         Ok(())
     }
+
+    fn access(&self, index: u16, sub: u8) -> Option<crate::Access> {
+        let o = &self.objs[self.find(index, sub).ok()?];
+        Some(if o.writable { crate::Access::Rw } else { crate::Access::Ro })
+    }
 }
 
 /// A node on a dictionary, with the frames it sent.
@@ -575,6 +580,22 @@ fn dependent_parameters_are_checked() {
     assert_eq!(b.sdo_write(0x1016, 2, &entry(3, 200))[4..], [0x43, 0x00, 0x04, 0x06]);
     assert_eq!(b.sdo_write(0x1016, 2, &entry(3, 0))[0], 0x60);
     assert_eq!(b.sdo_write(0x1016, 2, &entry(4, 200))[0], 0x60);
+}
+
+/// A read-only COB-ID (a device with fixed identifiers, as the LinMot E1200's EDS says) is
+/// refused as read-only (0x06010002), not as a CAN-ID change of a valid PDO (0x06090030):
+/// the access check comes first, as in a dictionary without a node.
+#[test]
+fn read_only_cob_id_is_refused_as_read_only() {
+    let mut dict = Dict::new();
+    let p = dict.find(0x1800, 1).unwrap();
+    dict.objs[p].writable = false;
+    let mut b = Bench::with(dict);
+    b.take();
+    assert_eq!(
+        b.sdo_write(0x1800, 1, &0x0000_0190u32.to_le_bytes())[4..],
+        [0x02, 0x00, 0x01, 0x06]
+    );
 }
 
 /// CiA 301 block upload (7.2.4.3.12–16) of a 30-byte string through the node: the whole

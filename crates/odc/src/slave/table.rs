@@ -216,6 +216,11 @@ impl<const N: usize> Table<N> {
         }
     }
 
+    /// The access of `index:sub`, if the table has it.
+    pub fn access(&self, index: u16, sub: u8) -> Option<Access> {
+        self.row(index, sub).ok().map(Row::access)
+    }
+
     fn row(&self, index: u16, sub: u8) -> Result<&Row, SdoAbort> {
         let pos = search(&self.rows, |r| r.key & 0xFF_FFFF, index, sub)?;
         self.rows.get(pos).ok_or(SdoAbort::NoSuchObject)
