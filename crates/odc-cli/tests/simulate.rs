@@ -2,7 +2,8 @@
 //! (tests/interop/python/master.py through socketbus.py): it resets the node and sees the
 //! boot-up, uploads every readable object and compares it with the file's default, downloads
 //! to every writable one and reads it back, checks limits, read-only, write-only and missing
-//! objects, and saves PDO mappings, all over SDO.
+//! objects, and saves PDO mappings, all over SDO; and with tests/interop/python/node.py, the
+//! node's services (NMT, heartbeat, PDOs, EMCY, guarding).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use std::io::{BufRead, BufReader};
@@ -16,6 +17,12 @@ fn repo(path: &str) -> PathBuf {
 /// Runs master.py against `odc simulate FILE --node-id 5 --tcp 127.0.0.1:0`; returns the
 /// script's JSON report.
 fn session(python: &Path, file: &str) -> serde_json::Value {
+    run(python, file, "master.py", &["--boot-up", "--max-seconds", "200"])
+}
+
+/// Runs a python script of tests/interop as a client of `odc simulate FILE --node-id 5 --tcp
+/// 127.0.0.1:0`; returns the last JSON line it prints.
+fn run(python: &Path, file: &str, script: &str, args: &[&str]) -> serde_json::Value {
     let eds = repo(file);
     let mut sim = Command::new(env!("CARGO_BIN_EXE_odc"))
         .args(["simulate", eds.to_str().unwrap(), "--node-id", "5", "--tcp", "127.0.0.1:0"])
@@ -28,9 +35,9 @@ fn session(python: &Path, file: &str) -> serde_json::Value {
     BufReader::new(sim.stdout.take().unwrap()).read_line(&mut first).unwrap();
     let addr = first.trim().strip_prefix("listening on ").unwrap_or_else(|| panic!("{first:?}"));
     let master = Command::new(python)
-        .arg(repo("tests/interop/python/master.py"))
+        .arg(repo(&format!("tests/interop/python/{script}")))
         .args(["--connect", addr, "--eds", eds.to_str().unwrap(), "--node", "5"])
-        .args(["--boot-up", "--max-seconds", "200"])
+        .args(args)
         .env("PYTHONDONTWRITEBYTECODE", "1")
         .output()
         .unwrap();
@@ -40,7 +47,7 @@ fn session(python: &Path, file: &str) -> serde_json::Value {
     let out = String::from_utf8_lossy(&master.stdout);
     assert!(
         master.status.success(),
-        "{file}: master.py failed:\n{}\n{out}",
+        "{file}: {script} failed:\n{}\n{out}",
         String::from_utf8_lossy(&master.stderr)
     );
     assert!(status.success(), "{file}: odc simulate exited with {status}");
@@ -80,6 +87,41 @@ fn python_canopen_masters_the_simulated_device() {
             assert_eq!(got & 0x6F, 0x40, "{file}: statusword {got:#06x}");
         }
     }
+}
+
+/// The node test of tests/interop (NMT, heartbeat, TPDO types 1/5/254, a remap, an RPDO,
+/// EMCY 0x8210, node guarding) through the CLI: python-canopen's checks of what it sees on the
+/// bus, as `tests/interop/tests/node.rs` makes them of a node it runs itself.
+#[test]
+#[cfg_attr(
+    odc_cli_no_python,
+    ignore = "needs python3 with canopen and python-can: set ODC_INTEROP_PYTHON (tests/interop/README.md)"
+)]
+fn python_canopen_drives_the_simulated_node() {
+    use odc_tests_interop::node_report::{check, int};
+    let python = PathBuf::from(std::env::var_os("ODC_INTEROP_PYTHON").unwrap_or("python3".into()));
+    let mut failures = Vec::new();
+    for file in ["eds/lxm23a.eds", "eds/lexium-mdrive.eds", "eds/servoone.eds"] {
+        let r = run(&python, file, "node.py", &[]);
+        println!(
+            "{file}: boot-ups {}, heartbeats {} at {} ms, type 1 {}/10 SYNCs, type 5 {}/20, \
+             type 254 {}/s, remap {}, EMCY {:04X}, guarding {}",
+            r["bootups"],
+            r["heartbeat_preop"],
+            r["heartbeat_period_ms"],
+            r["type1_per_10_syncs"],
+            r["type5_per_20_syncs"],
+            r["type254_50ms_per_second"],
+            r["remap_lengths"],
+            int(&r["emcy"]["code"]),
+            r["guarding_answers"],
+        );
+        let bad = check(&r, None);
+        if !bad.is_empty() {
+            failures.push(format!("{file}: {}", bad.join("; ")));
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
 #[test]

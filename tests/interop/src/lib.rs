@@ -5,6 +5,7 @@
 //! each CAN frame is one 16-byte record ([`odc::transport::tcp`], `python/socketbus.py`).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+pub mod node_report;
 use odc::plan::SdoWrite;
 use odc::slave::ObjectDictionary;
 use std::io::{self, Read};
