@@ -3,7 +3,7 @@
 //! and the odc runtime. Codes are addressed through the generated Lenze scheme
 //! (`lenze::C00061`, …), so the examples also check the code → index rule.
 //!
-//! Count (18 frames or frame parts printed): 17 reproduced, 1 not.
+//! Count (18 frames or frame parts printed): 18 reproduced.
 //! - 7.2.2 NMT "start remote node" to all nodes (1): reproduced.
 //! - 9.2.2 code → index bytes of C00011 (1 partial frame, bytes 2–4): reproduced.
 //! - 9.2.3 scaled value 123.45 × 100 (1 partial frame, bytes 5–8): reproduced.
@@ -12,10 +12,10 @@
 //!   C00099, node 12 (6): reproduced with odc's client and server. The manual says "User data
 //!   are displayed in the Motorola format"; every example is little-endian (Intel), and so is
 //!   CiA 301: the examples are trusted.
-//! - 10.1.3 node guarding of node 2: the RTR request on 0x702 (1) is not reproduced, since
-//!   odc's `CanFrame` carries data frames only; the response with state 5 (1) is.
+//! - 10.1.3 node guarding of node 2: the RTR request on 0x702 (1) and the response with state
+//!   5 (1), answered by odc's `node::Node` (and the next answer with the toggle bit set).
 //! - 10.2.3 heartbeat of node 1 (1): the identifier 0x701 is printed, the data byte is the
-//!   producer's state; reproduced for "operational" (5).
+//!   producer's state; sent by odc's node, operational (5), every 10 ms.
 //! - 10.3 EMCY (1): reproduced with the Lenze layout (byte 4 reserved, bytes 5–8 the Lenze
 //!   error number, little-endian, in the runtime's 5-byte manufacturer field).
 //!
@@ -32,6 +32,7 @@ use odc::can::CanFrame;
 use odc::cob::{Function, NodeId};
 use odc::emcy::{EmcyCode, EmcyFrame, ErrorRegister};
 use odc::nmt::{NmtCommand, NmtState, heartbeat_consumer_entry};
+use odc::node::Node;
 use odc::sdo::frame::{Request, Response};
 use odc_tests_devices::lenze_e94aycca::{lenze, od, slave};
 
@@ -134,7 +135,10 @@ fn read_block_parameter() {
     );
 }
 
-/// 10.1.3: node guarding of node 2 by node 1: guard time 1000 ms, life time factor 5.
+/// 10.1.3: node guarding of node 2 by node 1: guard time 1000 ms, life time factor 5. The
+/// master's RTR on 1792 + 2 = 0x702 and the answers of odc's node (node 2, operational): state
+/// 5 with the toggle bit 0 in the first answer, 1 in the second (0x85, 10.1.1: "the toggle
+/// bit must change its value with each response").
 #[test]
 fn node_guarding() {
     // The entry of C13386/n: life time factor (bits 31..24), node (23..16), guard time (15..0).
@@ -142,29 +146,48 @@ fn node_guarding() {
     assert_eq!(entry, 0x0502_03E8);
     let mut master = bench(1);
     master.write(&lenze::C13386_1, entry);
-    let mut slave = bench(2);
-    slave.write(&lenze::C13382, 1000);
-    slave.write(&lenze::C13383, 5);
-    // The response on 1792 + 2 = 0x702: state operational, toggle 0 in the first answer.
+    // The slave: guard time and life time factor in 0x100C/0x100D, which its node reads.
+    let mut od = slave::Dictionary::new(2);
+    od.set(od::GUARD_TIME, 1000).expect("0x100C");
+    od.set(od::LIFE_TIME_FACTOR, 5).expect("0x100D");
+    let mut node: Node<64> = Node::new(2);
+    let mut wire = Vec::new();
+    node.start(&mut od, 0, &mut |f| wire.push(f));
+    let start = CanFrame::from_slice(0x000, &[NmtCommand::Start as u8, 2]).expect("NMT");
+    node.handle(&mut od, &start, 1_000, &mut |f| wire.push(f));
+    wire.clear();
     let id = Function::Heartbeat.can_id(NodeId::new(2).expect("node 2")).expect("per node");
-    let mut b = bench(2);
-    b.frame(u32::from(id), &[NmtState::Operational.guarding_byte(false)]);
-    assert_same(&b.wire.log, &[printed("702 / 05")]);
+    let rtr = CanFrame::remote(u32::from(id), 1);
+    for at_ms in [1_000, 2_000] {
+        wire.push(rtr);
+        node.handle(&mut od, &rtr, at_ms * 1_000, &mut |f| wire.push(f));
+    }
+    assert_same(
+        &wire,
+        &[printed("702 RTR"), printed("702 / 05"), printed("702 RTR"), printed("702 / 85")],
+    );
 }
 
-/// 10.2.3: node 1 produces a heartbeat every 10 ms; node 2 consumes it with 15 ms.
+/// 10.2.3: node 1 produces a heartbeat every 10 ms; node 2 consumes it with 15 ms. odc's
+/// node 1, operational, with 0x1017 = 10 ms, sends 0x701 with its state (5) every 10 ms.
 #[test]
 fn heartbeat() {
     let entry = heartbeat_consumer_entry(1, 15);
     assert_eq!(entry, 0x0001_000F);
     let mut consumer = bench(2);
     consumer.write(&lenze::C13385_1, entry);
-    let mut producer = bench(1);
-    producer.write(&lenze::C13381, 10);
-    let id = Function::Heartbeat.can_id(NodeId::new(1).expect("node 1")).expect("per node");
-    let mut b = bench(1);
-    b.frame(u32::from(id), &[NmtState::Operational.to_u8()]);
-    assert_same(&b.wire.log, &[printed("701 / 05")]);
+    let mut od = slave::Dictionary::new(1);
+    od.set(od::PRODUCER_HEARTBEAT_TIME, 10).expect("0x1017");
+    let mut node: Node<64> = Node::new(1);
+    let mut wire = Vec::new();
+    node.start(&mut od, 0, &mut |f| wire.push(f));
+    let start = CanFrame::from_slice(0x000, &[NmtCommand::Start as u8, 0]).expect("NMT");
+    node.handle(&mut od, &start, 0, &mut |f| wire.push(f));
+    wire.clear();
+    for ms in 1..=20 {
+        node.poll(&mut od, ms * 1_000, &mut |f| wire.push(f));
+    }
+    assert_same(&wire, &[printed("701 / 05"), printed("701 / 05")]);
 }
 
 /// 10.3: the EMCY "generic error" with Lenze error 0x007B001B (encoder wire breakage).

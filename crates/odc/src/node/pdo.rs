@@ -232,13 +232,21 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
 
     /// Reads the communication parameters again. A PDO whose parameters changed starts
     /// afresh (as on entering operational); the others keep their timers and last data.
+    ///
+    /// A PDO exists when its COB-ID's bit 31 is clear and its mapping has objects: sub-index 0
+    /// of the mapping object at 0 disables the mapping (CiA 301 7.5.2.36), and a PDO without
+    /// one is not sent or received (as CANopenNode's `CO_PDO.c` makes it invalid).
     pub(super) fn load<D: ObjectDictionary + ?Sized>(&mut self, dict: &D) {
+        let exists = |cob_id: u32, mapping: u16| {
+            cob_id & INVALID == 0 && get_u8(dict, mapping, 0).is_some_and(|n| n > 0)
+        };
         for (i, r) in self.rx.iter_mut().enumerate() {
             let index = 0x1400 + i as u16;
             let cob_id = get_u32(dict, index, 1).unwrap_or(INVALID);
             let ttype = get_u8(dict, index, 2).unwrap_or(255);
-            if (r.cob_id, r.ttype, r.valid) != (cob_id, ttype, cob_id & INVALID == 0) {
-                *r = Rpdo { valid: cob_id & INVALID == 0, cob_id, ttype, pending: None };
+            let valid = exists(cob_id, 0x1600 + i as u16);
+            if (r.cob_id, r.ttype, r.valid) != (cob_id, ttype, valid) {
+                *r = Rpdo { valid, cob_id, ttype, pending: None };
             }
         }
         for (i, t) in self.tx.iter_mut().enumerate() {
@@ -246,7 +254,7 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
             let cob_id = get_u32(dict, index, 1).unwrap_or(INVALID);
             let sync_start = get_u8(dict, index, 6).unwrap_or(0);
             let fresh = Tpdo {
-                valid: cob_id & INVALID == 0,
+                valid: exists(cob_id, 0x1A00 + i as u16),
                 cob_id,
                 ttype: get_u8(dict, index, 2).unwrap_or(255),
                 inhibit_us: u64::from(get_u16(dict, index, 3).unwrap_or(0)) * 100,

@@ -649,3 +649,20 @@ fn poll_aborts_an_sdo_transfer_that_timed_out() {
     b.run_to(1002);
     assert_eq!(b.take(), [CanFrame::new(0x585, [0x80, 0x03, 0x20, 0x00, 0x00, 0x00, 0x04, 0x05])]);
 }
+
+/// A TPDO whose mapping has no objects (0x1A00:00 = 0, mapping disabled) is not sent, as a
+/// PDO that does not exist (CANopenNode makes it invalid); with its object mapped it is.
+#[test]
+fn tpdo_without_mapped_objects_is_not_sent() {
+    let mut dict = Dict::new();
+    dict.set(0x1A00, 0, &[0]);
+    dict.set(0x1800, 2, &[254]);
+    let mut b = Bench::with(dict);
+    b.nmt(0x01);
+    b.take();
+    b.run_to(10);
+    assert!(b.take().iter().all(|f| f.id != 0x185), "an empty TPDO 1 went out");
+    b.sdo_write(0x1A00, 0, &[1]);
+    b.run_to(20);
+    assert!(b.take().iter().any(|f| f.id == 0x185 && f.len == 2), "TPDO 1 with 0x2000");
+}

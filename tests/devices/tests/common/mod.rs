@@ -29,8 +29,13 @@ pub struct Printed {
 }
 
 /// Parses the manual's notation `"601 / 23 01 14 01 01 03 00 04"` (CAN-ID, then data bytes,
-/// all hexadecimal). OCR mistakes are fixed in the transcription, never here.
+/// all hexadecimal), or `"702 RTR"` for a remote frame. OCR mistakes are fixed in the transcription, never here.
 pub fn printed(text: &'static str) -> Printed {
+    // `"702 RTR"`: a remote frame (node guarding's request), which carries no data.
+    if let Some(id) = text.strip_suffix(" RTR") {
+        let id = u32::from_str_radix(id.trim(), 16).expect("hex CAN-ID");
+        return Printed { frame: CanFrame::remote(id, 1), defined: 0, text };
+    }
     let (id, data) = text.split_once('/').expect("`ID / bytes`");
     let id = u32::from_str_radix(id.trim(), 16).expect("hex CAN-ID");
     let bytes: Vec<u8> =
@@ -51,6 +56,7 @@ impl Printed {
     pub fn matches(&self, frame: &CanFrame) -> bool {
         let n = self.defined;
         frame.id == self.frame.id
+            && frame.remote == self.frame.remote
             && frame.bytes().len() >= n
             && frame.bytes().get(..n) == self.frame.bytes().get(..n)
     }
