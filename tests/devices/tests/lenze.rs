@@ -31,7 +31,7 @@ use odc::SdoAbort;
 use odc::can::CanFrame;
 use odc::cob::{Function, NodeId};
 use odc::emcy::{EmcyCode, EmcyFrame, ErrorRegister};
-use odc::nmt::{NmtCommand, NmtState, heartbeat_consumer_entry};
+use odc::nmt::{NmtCommand, heartbeat_consumer_entry};
 use odc::node::Node;
 use odc::sdo::frame::{Request, Response};
 use odc_tests_devices::lenze_e94aycca::{lenze, od, slave};
