@@ -26,9 +26,9 @@ use odc::can::CanFrame;
 use odc::nmt::{NmtCommand, NmtState};
 use odc::sdo::Server;
 use odc::{MappingEntry, ObjectAddr};
+use odc_examples::Error;
 use odc_examples::bus::{self, Closed, Port};
 use odc_examples::master::Master;
-use odc_examples::{Error, pdo};
 
 /// The code generated from the device file, for both ends (a program uses part of it; the
 /// generated modules allow the dead code that leaves).
@@ -136,6 +136,23 @@ impl LinMot {
         }
     }
 
+    /// TPDO 4's CAN-ID (1803h sub 1) while it is valid, and its mapping (1A03h), as the PLC
+    /// left them.
+    fn tpdo4(&self) -> Option<(u32, Vec<MappingEntry>)> {
+        let read = |index, sub| {
+            let mut le = [0u8; 4];
+            let n = self.od.read(index, sub, &mut le).ok()?;
+            (n <= 4).then(|| u32::from_le_bytes(le))
+        };
+        let cob = odc::cob::CobId(read(0x1803, 1)?);
+        if !cob.is_valid() || cob.is_extended() {
+            return None;
+        }
+        let count = u8::try_from(read(0x1A03, 0)?).ok()?;
+        let entries = (1..=count).map(|sub| read(0x1A03, sub).map(MappingEntry::from_u32));
+        Some((cob.can_id() & 0x7FF, entries.collect::<Option<_>>()?))
+    }
+
     /// The UPIDs of TPDO 4 (4F08h sub 1..4), as the PLC set them.
     fn upids(&self) -> [u16; 4] {
         use od::tpdo4_upid_mapping::{TPDO4_UPIDS_1, TPDO4_UPIDS_2, TPDO4_UPIDS_3, TPDO4_UPIDS_4};
@@ -185,9 +202,7 @@ impl LinMot {
         let tx1 =
             TxPdo1 { status_word: self.control_word, state_var: 0, actual_position: self.position };
         out.extend(CanFrame::from_slice(TxPdo1::cob_id(NODE), &tx1.pack()));
-        if let Some(id) = pdo::cob_id(&self.od, 0x1803)
-            && let Ok(entries) = pdo::mapping(&self.od, 0x1A03)
-        {
+        if let Some((id, entries)) = self.tpdo4() {
             // The UPIDs' values, in the mapped order.
             let mut data = Vec::new();
             for e in entries.iter().filter(|e| e.index == 0x4F08) {

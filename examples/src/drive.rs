@@ -1,52 +1,36 @@
-//! A simulated CiA 402 drive around an odc-generated slave dictionary: the firmware a drive
-//! maker would write, reduced to what the examples need.
+//! A simulated CiA 402 drive: the firmware a drive maker writes with odc, on a channel bus.
 //!
-//! - NMT: boot-up message, pre-operational, operational on "start", PDOs in operational only;
-//! - SDO: odc's [`Server`] on the dictionary;
-//! - PDO: RPDOs written into, TPDOs read from the dictionary as its mapping objects say
-//!   ([`crate::pdo`]); event-driven TPDOs (types 254, 255) go out when their data changes,
-//!   synchronous ones (0–240) on SYNC;
-//! - CiA 402: odc's [`Drive`] (the state machine on each new controlword, the statusword,
-//!   modes of operation display following modes of operation, and a profile-position axis
-//!   that moves at the profile velocity by one SYNC period per SYNC) over the generated
-//!   dictionary, which implements [`DriveObjects`] itself.
+//! The generated slave dictionary, the runtime's [`Node`] (NMT, SDO server, PDOs as the
+//! dictionary maps them, heartbeat, EMCY) and its CiA 402 [`Drive`](cia402::Drive) (the state
+//! machine on each new controlword, the statusword, modes of operation display, and a
+//! profile-position axis that moves at the profile velocity by one SYNC period per SYNC) over
+//! the dictionary, which implements [`DriveObjects`] itself. What is left here is the loop.
 
-use std::collections::BTreeMap;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use odc::can::CanFrame;
 use odc::cia402::{self, DriveObjects};
-use odc::nmt::{NmtCommand, NmtState};
-use odc::sdo::Server;
+use odc::nmt::NmtState;
+use odc::node::Node;
 use odc::slave::ObjectDictionary;
 
 use crate::bus::{Closed, Port};
-use crate::pdo;
 
 /// The simulated drive.
 pub struct Drive<D> {
     od: D,
-    node: u8,
-    server: Server<64>,
-    nmt: NmtState,
+    node: Node<64>,
     drive: cia402::Drive,
     cycle_ms: u32,
-    sent: BTreeMap<u16, Vec<u8>>,
+    start: Instant,
 }
 
 impl<D: ObjectDictionary + DriveObjects> Drive<D> {
     /// A drive with node id `node` around `od`, moving by `cycle_ms` of profile velocity per
     /// SYNC.
     pub fn new(od: D, node: u8, cycle_ms: u32) -> Self {
-        Drive {
-            od,
-            node,
-            server: Server::new(node),
-            nmt: NmtState::BootUp,
-            drive: cia402::Drive::new(),
-            cycle_ms,
-            sent: BTreeMap::new(),
-        }
+        let (node, drive) = (Node::new(node), cia402::Drive::new());
+        Drive { od, node, drive, cycle_ms, start: Instant::now() }
     }
 
     /// Runs on `port` until the other end closes the bus; returns the dictionary as the drive
@@ -60,107 +44,58 @@ impl<D: ObjectDictionary + DriveObjects> Drive<D> {
             port.send(frame)?;
         }
         loop {
-            match port.recv_timeout(Duration::from_secs(1)) {
-                Ok(Some(frame)) => {
-                    for out in self.handle(&frame) {
-                        if port.send(out).is_err() {
-                            return Ok(self.od);
-                        }
-                    }
-                }
-                Ok(None) => {}
+            let frames = match port.recv_timeout(Duration::from_millis(1)) {
+                Ok(Some(frame)) => self.handle(&frame),
+                Ok(None) => self.poll(),
                 Err(Closed) => return Ok(self.od),
+            };
+            for out in frames {
+                if port.send(out).is_err() {
+                    return Ok(self.od);
+                }
             }
         }
+    }
+
+    fn now_us(&self) -> u64 {
+        u64::try_from(self.start.elapsed().as_micros()).unwrap_or(u64::MAX)
     }
 
     /// Initialisation: the drive leaves "not ready to switch on" by itself (transition 1),
-    /// enters pre-operational and sends its boot-up message.
+    /// the node enters pre-operational and sends its boot-up message.
     pub fn boot(&mut self) -> Vec<CanFrame> {
         self.drive = cia402::Drive::new();
         self.drive.start(&mut self.od);
-        self.nmt = NmtState::PreOperational;
-        self.sent.clear();
-        CanFrame::from_slice(0x700 + u32::from(self.node), &[NmtState::BootUp.to_u8()])
-            .into_iter()
-            .collect()
-    }
-
-    /// The frames the drive sends in answer to `frame`.
-    pub fn handle(&mut self, frame: &CanFrame) -> Vec<CanFrame> {
         let mut out = Vec::new();
-        let sync = frame.id == u32::from(odc::cob::SYNC);
-        if frame.id == u32::from(odc::cob::NMT) {
-            if let [cs, node] = *frame.bytes()
-                && (node == 0 || node == self.node)
-            {
-                match NmtCommand::from_u8(cs) {
-                    Some(NmtCommand::Start) => {
-                        self.nmt = NmtState::Operational;
-                        // Entering operational, every event-driven TPDO goes out once.
-                        self.sent.clear();
-                    }
-                    Some(NmtCommand::Stop) => self.nmt = NmtState::Stopped,
-                    Some(NmtCommand::EnterPreOperational) => self.nmt = NmtState::PreOperational,
-                    Some(NmtCommand::ResetNode | NmtCommand::ResetCommunication) => {
-                        return self.boot();
-                    }
-                    None => {}
-                }
-            }
-        } else if sync {
-            if self.nmt == NmtState::Operational {
-                self.drive.step(&mut self.od, self.cycle_ms);
-            }
-        } else if frame.id == self.server.request_id() {
-            if self.nmt.sdo_allowed() {
-                out.extend(self.server.handle(&mut self.od, frame, 0));
-            }
-        } else if self.nmt == NmtState::Operational {
-            self.receive_pdo(frame);
-        }
-        self.drive.update(&mut self.od);
-        out.extend(self.transmit_pdos(sync));
+        let now = self.now_us();
+        self.node.start(&mut self.od, now, &mut |f| out.push(f));
         out
     }
 
-    fn receive_pdo(&mut self, frame: &CanFrame) {
-        for n in 0..4 {
-            if pdo::cob_id(&self.od, 0x1400 + n) == Some(frame.id) {
-                // A frame the mapping cannot take is dropped, as CiA 301 lets a device do
-                // (it would send an EMCY; these examples have none).
-                if let Ok(entries) = pdo::mapping(&self.od, 0x1600 + n) {
-                    let _ = pdo::receive(&mut self.od, &entries, frame.bytes());
-                }
-            }
+    /// The frames the drive sends in answer to `frame`. On SYNC the axis moves first, so that
+    /// the synchronous TPDOs the node sends for it carry the new position.
+    pub fn handle(&mut self, frame: &CanFrame) -> Vec<CanFrame> {
+        if frame.is_data(u32::from(odc::cob::SYNC)) && self.node.state() == NmtState::Operational {
+            self.drive.step(&mut self.od, self.cycle_ms);
+            self.drive.update(&mut self.od);
         }
+        let mut out = Vec::new();
+        let now = self.now_us();
+        let events = self.node.handle(&mut self.od, frame, now, &mut |f| out.push(f));
+        if events.reset.is_some() {
+            // The values stay as they are (the examples need no restored defaults).
+            return self.boot();
+        }
+        self.drive.update(&mut self.od);
+        out.extend(self.poll());
+        out
     }
 
-    fn transmit_pdos(&mut self, sync: bool) -> Vec<CanFrame> {
+    /// The node's timers, and the event-driven TPDOs whose data the drive changed.
+    fn poll(&mut self) -> Vec<CanFrame> {
         let mut out = Vec::new();
-        if self.nmt != NmtState::Operational {
-            return out;
-        }
-        for n in 0..4 {
-            let comm = 0x1800 + n;
-            let Some(id) = pdo::cob_id(&self.od, comm) else { continue };
-            let Ok(entries) = pdo::mapping(&self.od, 0x1A00 + n) else { continue };
-            if entries.is_empty() {
-                continue;
-            }
-            let Ok(data) = pdo::transmit(&self.od, &entries) else { continue };
-            let changed = self.sent.get(&comm) != Some(&data);
-            let due = match pdo::transmission_type(&self.od, comm) {
-                0 => sync && changed,
-                1..=240 => sync,
-                254 | 255 => changed,
-                _ => false,
-            };
-            if due && let Some(frame) = CanFrame::from_slice(id, &data) {
-                out.push(frame);
-                self.sent.insert(comm, data);
-            }
-        }
+        let now = self.now_us();
+        self.node.poll(&mut self.od, now, &mut |f| out.push(f));
         out
     }
 

@@ -10,15 +10,13 @@
 //! - [`bus`]: the channels, and how a frame is printed;
 //! - [`master`]: the controller: NMT, SYNC, PDOs, odc's SDO client, the CiA 402 walk to
 //!   "operation enabled" and a profile-position move;
-//! - [`drive`]: the simulated CiA 402 drive: NMT, odc's SDO server on the generated dictionary,
-//!   PDOs as the dictionary maps them, the state machine and a profile-position axis;
-//! - [`pdo`]: reading and writing process data through any [`odc::slave::ObjectDictionary`],
-//!   following the mapping objects the master configured.
+//! - [`drive`]: the simulated CiA 402 drive: the generated dictionary served by the runtime's
+//!   `odc::node::Node`, with its `odc::cia402::Drive` (state machine, profile-position axis).
+//!   The master stays here until the master runtime of the next issue takes its place.
 
 pub mod bus;
 pub mod drive;
 pub mod master;
-pub mod pdo;
 
 /// What can go wrong in an example: a closed bus, an SDO failure, a missing answer.
 pub type Error = Box<dyn std::error::Error + Send + Sync>;
