@@ -83,15 +83,32 @@ fn tcp(addr: SocketAddr, device: &mut SimDevice) -> anyhow::Result<ExitCode> {
     Ok(ExitCode::SUCCESS)
 }
 
-/// MERGE: with helper A's `socketcan` feature of `odc`, the lead enables `socketcan` here:
-/// open the interface with `odc::transport::socketcan` and call
-/// `odc_sim::run_on_bus(&mut bus, device, 10, || false)` (the device loop over any `Bus`).
-#[cfg(not(feature = "socketcan"))]
+#[cfg(not(all(feature = "socketcan", target_os = "linux")))]
 fn can(iface: &str, _device: &mut SimDevice) -> anyhow::Result<ExitCode> {
-    bail!("--can {iface}: this odc was built without SocketCAN (cargo feature `socketcan`)")
+    bail!("--can {iface}: this odc was built without SocketCAN (Linux, cargo feature `socketcan`)")
 }
 
-#[cfg(feature = "socketcan")]
-fn can(iface: &str, _device: &mut SimDevice) -> anyhow::Result<ExitCode> {
-    compile_error!("wire odc::transport::socketcan into `odc simulate --can` (see the MERGE note)")
+/// The device on a SocketCAN interface until the end of standard input (Ctrl-C ends the
+/// process as it is).
+#[cfg(all(feature = "socketcan", target_os = "linux"))]
+fn can(iface: &str, device: &mut SimDevice) -> anyhow::Result<ExitCode> {
+    use std::sync::Arc;
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let mut bus = odc::transport::socketcan::SocketCan::open(iface)
+        .with_context(|| format!("--can {iface}: cannot open the SocketCAN interface"))?;
+    eprintln!("on {iface}");
+    let stop = Arc::new(AtomicBool::new(false));
+    let stopper = Arc::clone(&stop);
+    std::thread::spawn(move || {
+        for line in std::io::stdin().lock().lines() {
+            if line.is_err() {
+                break;
+            }
+        }
+        stopper.store(true, Ordering::Relaxed);
+    });
+    let tick_ms = u64::try_from(odc_sim::TICK.as_millis()).unwrap_or(10);
+    odc_sim::run_on_bus(&mut bus, device, tick_ms, || stop.load(Ordering::Relaxed))
+        .with_context(|| format!("--can {iface}"))?;
+    Ok(ExitCode::SUCCESS)
 }
