@@ -11,8 +11,9 @@ use odc_sim::{SimDevice, VirtualBus};
 use crate::input;
 
 /// Run a device file as a CANopen device: its object dictionary (from the model, with the
-/// file's defaults, limits and access rights) behind an SDO server, NMT and boot-up, and for a
-/// CiA 402 drive the state machine and a simple axis (profile position, profile velocity).
+/// file's defaults, limits and access rights) served by odc's node (NMT and boot-up,
+/// heartbeat, guarding, SYNC, PDOs, EMCY, SDO, LSS), and for a CiA 402 drive the state
+/// machine and a simple axis (profile position, profile velocity).
 ///
 /// `--tcp` listens and is a virtual CAN bus: every connected client is a node on it, frames
 /// from one client go to the device and to every other client (16-byte SocketCAN-layout
