@@ -51,8 +51,7 @@ fn run(python: &Path, file: &str, script: &str, args: &[&str]) -> serde_json::Va
         String::from_utf8_lossy(&master.stderr)
     );
     assert!(status.success(), "{file}: odc simulate exited with {status}");
-    let line = out.lines().rev().find(|l| l.starts_with('{')).unwrap();
-    serde_json::from_str(line).unwrap()
+    odc_tests_interop::last_json(&out)
 }
 
 #[test]

@@ -9,14 +9,12 @@ hex it read, or the abort code / error it got. The Rust test compares and decide
 import argparse
 import json
 import logging
-import os
 import sys
-import threading
 
 import canopen
 from canopen.sdo.exceptions import SdoAbortedError, SdoCommunicationError
 
-from socketbus import SocketBus
+from socketbus import open_network
 
 
 def parse_addr(text):
@@ -54,12 +52,7 @@ def main():
     ap.add_argument("--max-seconds", type=float, default=120.0)
     args = ap.parse_args()
     logging.basicConfig(level=logging.ERROR, stream=sys.stderr)
-    watchdog = threading.Timer(args.max_seconds, lambda: os._exit(3))
-    watchdog.daemon = True
-    watchdog.start()
-
-    network = canopen.Network(SocketBus(args.connect))
-    network.connect()
+    network = open_network(args.connect, args.max_seconds)
     # No dictionary: block transfer by address needs none.
     node = canopen.RemoteNode(args.node, canopen.ObjectDictionary())
     network.add_node(node)

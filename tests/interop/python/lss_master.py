@@ -11,16 +11,14 @@ fastscan that must find nobody. Prints one JSON line of what it saw; the Rust te
 import argparse
 import json
 import logging
-import os
 import queue
 import sys
-import threading
 import time
 
 import canopen
 from canopen.lss import LssError
 
-from socketbus import SocketBus
+from socketbus import open_network
 
 
 def attempt(f, *args):
@@ -47,12 +45,7 @@ def main():
     ap.add_argument("--max-seconds", type=float, default=120.0)
     args = ap.parse_args()
     logging.basicConfig(level=logging.ERROR, stream=sys.stderr)
-    watchdog = threading.Timer(args.max_seconds, lambda: os._exit(3))
-    watchdog.daemon = True
-    watchdog.start()
-
-    network = canopen.Network(SocketBus(args.connect))
-    network.connect()
+    network = open_network(args.connect, args.max_seconds)
     bootups = []
     # Boot-up messages only: a heartbeat on the same CAN-ID has the state byte instead of 0.
     def on_nmt_error_control(cob, data, ts):

@@ -11,7 +11,6 @@ tests/interop/README.md; this script only reports.
 import argparse
 import json
 import logging
-import os
 import struct
 import sys
 import threading
@@ -21,7 +20,7 @@ from canopen import objectdictionary as odm
 from canopen.objectdictionary import datatypes as dt
 from canopen.sdo.exceptions import SdoAbortedError, SdoCommunicationError
 
-from socketbus import SocketBus
+from socketbus import open_network
 
 INT_RANGE = {
     dt.BOOLEAN: (0, 1, 1),
@@ -407,13 +406,7 @@ def main():
                     help="first reset the node (NMT 0x81) and wait for its boot-up message")
     args = ap.parse_args()
     logging.basicConfig(level=logging.ERROR, stream=sys.stderr)
-    # A bound of its own, should the Rust side vanish without closing the socket.
-    watchdog = threading.Timer(args.max_seconds, lambda: os._exit(3))
-    watchdog.daemon = True
-    watchdog.start()
-
-    network = canopen.Network(SocketBus(args.connect))
-    network.connect()
+    network = open_network(args.connect, args.max_seconds)
     node = canopen.RemoteNode(args.node, args.eds)
     network.add_node(node)
     node.sdo.RESPONSE_TIMEOUT = 2.0

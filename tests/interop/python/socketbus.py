@@ -90,3 +90,19 @@ class SocketBus(can.BusABC):
             self._sock.close()
         except OSError:
             pass
+
+
+def open_network(address, max_seconds):
+    """A python-canopen network on the bus at `address`, connected, under a watchdog that ends
+    the process (exit 3) after `max_seconds`, should the Rust side vanish without closing
+    the socket."""
+    import os
+
+    import canopen
+
+    watchdog = threading.Timer(max_seconds, lambda: os._exit(3))
+    watchdog.daemon = True
+    watchdog.start()
+    network = canopen.Network(SocketBus(address))
+    network.connect()
+    return network

@@ -207,3 +207,17 @@ devices! {
     #[cfg(odc_interop_corpus)]
     elcom_erio => corpus("eds/elcom__Elcom_e-RIO_8xx_CANopen_Profile.eds");
 }
+
+/// The report a python script prints as its last JSON line (its other output is progress).
+///
+/// # Panics
+///
+/// When there is none, or it is no JSON: the test fails, showing the output.
+pub fn last_json(out: &str) -> serde_json::Value {
+    let line = out
+        .lines()
+        .rev()
+        .find(|l| l.starts_with('{'))
+        .unwrap_or_else(|| panic!("no JSON in:\n{out}"));
+    serde_json::from_str(line).unwrap_or_else(|e| panic!("{e}: {line}"))
+}

@@ -20,7 +20,7 @@ use odc::node::Node;
 use odc::sdo::{Bus, Client, SdoError, Server};
 use odc::slave::{ObjectDictionary, Row};
 use odc::{DataType, SdoAbort};
-use odc_tests_interop::{Device, Peer, devices, python};
+use odc_tests_interop::{Device, Peer, devices, last_json, python};
 use serde_json::Value;
 use std::time::{Duration, Instant};
 
@@ -79,15 +79,6 @@ fn test_value(od: &mut dyn ObjectDictionary, r: &Row) -> Option<Vec<u8>> {
         od.write(i, s, &old).unwrap();
     }
     Some(text[..n].to_vec())
-}
-
-fn last_json(out: &str) -> Value {
-    let line = out
-        .lines()
-        .rev()
-        .find(|l| l.starts_with('{'))
-        .unwrap_or_else(|| panic!("no JSON in:\n{out}"));
-    serde_json::from_str(line).unwrap()
 }
 
 /// What serves the SDO requests.

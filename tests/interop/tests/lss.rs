@@ -15,7 +15,7 @@
 use odc::lss::{Identity, LssEvent, StoreResult, UNCONFIGURED};
 use odc::node::Node;
 use odc::sdo::Bus;
-use odc_tests_interop::{Device, Peer, devices, python};
+use odc_tests_interop::{Device, Peer, devices, last_json, python};
 use serde_json::{Value, json};
 use std::time::{Duration, Instant};
 
@@ -101,12 +101,7 @@ fn run(py: &std::path::Path, dev: &Device) -> (Seen, Value) {
     }
     seen.node_id = node.node_id();
     let (stdout, _err) = peer.finish(Duration::from_secs(30));
-    let line = stdout
-        .lines()
-        .rev()
-        .find(|l| l.starts_with('{'))
-        .unwrap_or_else(|| panic!("no JSON in:\n{stdout}"));
-    (seen, serde_json::from_str(line).unwrap())
+    (seen, last_json(&stdout))
 }
 
 #[test]

@@ -18,7 +18,7 @@
 use odc::node::{Node, Reset};
 use odc::sdo::Bus;
 use odc_tests_interop::node_report::{Seen, check, int};
-use odc_tests_interop::{Device, Peer, devices, python};
+use odc_tests_interop::{Device, Peer, devices, last_json, python};
 use serde_json::Value;
 use std::time::{Duration, Instant};
 
@@ -70,12 +70,7 @@ fn session(py: &std::path::Path, dev: &Device) -> (Value, Seen) {
         }
     }
     let (stdout, _err) = peer.finish(Duration::from_secs(30));
-    let line = stdout
-        .lines()
-        .rev()
-        .find(|l| l.starts_with('{'))
-        .unwrap_or_else(|| panic!("no JSON in:\n{stdout}"));
-    (serde_json::from_str(line).unwrap(), seen)
+    (last_json(&stdout), seen)
 }
 
 #[test]

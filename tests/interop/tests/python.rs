@@ -14,7 +14,7 @@
 use odc::SdoAbort;
 use odc::sdo::{Bus, Client, SdoError, Server};
 use odc::slave::ObjectDictionary;
-use odc_tests_interop::{Device, Peer, devices, python};
+use odc_tests_interop::{Device, Peer, devices, last_json, python};
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
@@ -24,15 +24,6 @@ const NODE: u8 = 5;
 const BUF: usize = 1024;
 /// A bound on one device's session (the slowest takes a few seconds).
 const SESSION: Duration = Duration::from_secs(240);
-
-fn last_json(out: &str) -> Value {
-    let line = out
-        .lines()
-        .rev()
-        .find(|l| l.starts_with('{'))
-        .unwrap_or_else(|| panic!("no JSON in:\n{out}"));
-    serde_json::from_str(line).unwrap()
-}
 
 /// Serves `dev`'s generated slave to the python master until it disconnects; returns the
 /// dictionary as the session left it and the script's report.
