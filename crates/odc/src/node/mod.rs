@@ -54,6 +54,9 @@ use crate::slave::ObjectDictionary;
 pub use emcy::{MAX_ACTIVE as MAX_ACTIVE_ERRORS, MAX_HISTORY, QUEUE as EMCY_QUEUE};
 pub use pdo::{MAX_MAPPED, PdoError, PdoId};
 
+/// EMCY "life guard error or heartbeat error" (CiA 301 table 21).
+const HEARTBEAT_ERROR: EmcyCode = EmcyCode(0x8130);
+
 /// Heartbeat consumers (0x1016 sub-indexes) a node watches; entries past this are ignored.
 pub const MAX_HB_CONSUMERS: usize = 8;
 
@@ -542,12 +545,19 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
             let byte = state.guarding_byte(self.toggle);
             self.toggle = !self.toggle;
             self.last_guard_us = Some(now_us);
-            self.guard_lost = false;
+            let was_lost = core::mem::replace(&mut self.guard_lost, false);
             out(one_byte(own_ec, byte));
+            if was_lost {
+                self.clear_heartbeat_error(now_us, out);
+            }
             return ev;
         }
         if !frame.remote && !frame.extended && (0x701..=0x77F).contains(&frame.id) {
+            let was_lost = self.lost != 0;
             self.heartbeat_in(frame, now_us, &mut ev);
+            if was_lost {
+                self.clear_heartbeat_error(now_us, out);
+            }
             return ev;
         }
         if state == NmtState::Stopped {
@@ -596,6 +606,13 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
                 ev.reset = Some(r);
             }
             None => {}
+        }
+    }
+
+    /// Clears EMCY 0x8130 once no watched heartbeat and no life guarding is lost.
+    fn clear_heartbeat_error(&mut self, now_us: u64, out: &mut impl FnMut(CanFrame)) {
+        if self.lost == 0 && !self.guard_lost {
+            self.clear_emcy(HEARTBEAT_ERROR, now_us, out);
         }
     }
 
@@ -681,6 +698,16 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         {
             self.guard_lost = true;
             ev.life_guarding_lost = true;
+        }
+        // A lost heartbeat or life guarding is EMCY 0x8130 (CiA 301 table 21, "life guard
+        // error or heartbeat error"; CANopenNode's CO_EM_HEARTBEAT_CONSUMER), the node's
+        // number in the first manufacturer byte (0 for life guarding); cleared when every
+        // watched heartbeat is back.
+        for node in (0..128u8).filter(|&n| ev.heartbeat_lost >> n & 1 == 1) {
+            self.raise_emcy(HEARTBEAT_ERROR, [node, 0, 0, 0, 0], now_us, out);
+        }
+        if ev.life_guarding_lost {
+            self.raise_emcy(HEARTBEAT_ERROR, [0; 5], now_us, out);
         }
         if state == NmtState::Stopped {
             return ev;

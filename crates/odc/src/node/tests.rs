@@ -280,6 +280,24 @@ fn heartbeat_consumer_reports_a_loss_once() {
     assert_eq!(b.run_to(451).heartbeat_lost, 1 << 3);
 }
 
+/// A lost heartbeat is EMCY 0x8130 ("life guard error or heartbeat error", CiA 301 table 21)
+/// with the error register's communication bit, the node's number in the first manufacturer
+/// byte; its return sends the "error reset" EMCY (code 0).
+#[test]
+fn heartbeat_loss_raises_emcy_8130_and_its_return_clears_it() {
+    let mut b = Bench::new();
+    b.sdo_write(0x1016, 1, &crate::nmt::heartbeat_consumer_entry(3, 50).to_le_bytes());
+    b.rx(data(0x703, &[0x05]));
+    b.take();
+    b.run_to(251);
+    let emcy: Vec<CanFrame> = b.take().into_iter().filter(|f| f.id == 0x85).collect();
+    assert_eq!(emcy, [data(0x85, &[0x30, 0x81, 0x11, 3, 0, 0, 0, 0])]);
+    b.now = 300 * MS;
+    b.rx(data(0x703, &[0x05]));
+    let emcy: Vec<CanFrame> = b.take().into_iter().filter(|f| f.id == 0x85).collect();
+    assert_eq!(emcy, [data(0x85, &[0, 0, 0, 0, 0, 0, 0, 0])]);
+}
+
 #[test]
 fn node_guarding_answers_with_the_toggle_and_detects_life_loss() {
     let mut b = Bench::new();
