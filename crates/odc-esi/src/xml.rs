@@ -102,6 +102,7 @@ pub struct Document<'s> {
 }
 
 impl<'s> Document<'s> {
+    #[inline]
     fn str(&self, s: Str) -> &str {
         if s.len == OWNED {
             self.strings.get(s.at as usize).map_or("", |o| o.text.as_str())
@@ -110,10 +111,12 @@ impl<'s> Document<'s> {
         }
     }
 
+    #[inline]
     fn span(&self, start: u32, end: u32) -> Span {
         Span::new(self.file, start, end)
     }
 
+    #[inline]
     fn attr(&self, a: &RawAttr) -> Attr<'_> {
         Attr { name: self.str(a.name), value: self.str(a.value), span: self.span(a.start, a.end) }
     }
@@ -160,6 +163,7 @@ pub struct Children<'d> {
 impl<'d> Iterator for Children<'d> {
     type Item = Element<'d>;
 
+    #[inline]
     fn next(&mut self) -> Option<Element<'d>> {
         if self.next >= self.end {
             return None;
@@ -173,17 +177,20 @@ impl<'d> Iterator for Children<'d> {
 }
 
 impl<'d> Element<'d> {
+    #[inline]
     fn node(self) -> &'d Node {
         // `idx` is valid (see the field); index rather than `get` keeps the accessors total.
         &self.doc.nodes[self.idx as usize]
     }
 
     /// Local name (namespace prefix dropped).
+    #[inline]
     pub fn name(self) -> &'d str {
         self.doc.str(self.node().name)
     }
 
     /// From `<` to the end of the end tag.
+    #[inline]
     pub fn span(self) -> Span {
         let n = self.node();
         self.doc.span(n.start, n.end)
@@ -212,16 +219,19 @@ impl<'d> Element<'d> {
     }
 
     /// The text and CDATA content, entities resolved, leading white space dropped.
+    #[inline]
     pub fn raw_text(self) -> &'d str {
         self.doc.str(self.node().text)
     }
 
     /// The text, trimmed.
+    #[inline]
     pub fn text(self) -> &'d str {
         trim_end(self.raw_text())
     }
 
     /// The child elements, in document order.
+    #[inline]
     pub fn children(self) -> Children<'d> {
         let n = self.node();
         Children { doc: self.doc, next: self.idx + 1, end: n.subtree_end }
@@ -283,6 +293,7 @@ impl<'d> Element<'d> {
     }
 
     /// This element's run of the attribute arena.
+    #[inline]
     fn raw_attrs(self) -> &'d [RawAttr] {
         let doc = self.doc;
         let from = self.node().attr_start as usize;
@@ -292,16 +303,30 @@ impl<'d> Element<'d> {
     }
 
     /// The attributes, in document order.
+    #[inline]
     pub fn attrs(self) -> impl Iterator<Item = Attr<'d>> {
         let doc = self.doc;
         self.raw_attrs().iter().map(move |a| doc.attr(a))
     }
 
     /// The attribute called `name` (local name).
+    ///
+    /// Always inlined, as [`Self::is`]: the lowering looks up a dozen literal names on every
+    /// object and sub-object of a CiA 311 file, and against a known name each attribute costs a
+    /// length test, rarely a load or two.
+    #[inline(always)]
     pub fn attr(self, name: &str) -> Option<Attr<'d>> {
         // Names compared before the value and span of each are looked up.
         let doc = self.doc;
-        let a = self.raw_attrs().iter().find(|a| doc.str(a.name) == name)?;
+        let src = doc.src.as_bytes();
+        let a = self.raw_attrs().iter().find(|a| {
+            let n = a.name;
+            if n.len == OWNED {
+                return doc.str(n) == name;
+            }
+            n.len == name.len() as u32
+                && src.get(n.at as usize..(n.at + n.len) as usize) == Some(name.as_bytes())
+        })?;
         Some(doc.attr(a))
     }
 }
@@ -325,6 +350,64 @@ mod tests {
         assert_eq!(b.text(), "hi & <c>");
         assert_eq!(&src[b.text_span().range()], "hi &amp; <![CDATA[<c>");
         assert!(a.child("e").is_some());
+    }
+
+    /// The attributes read from a tag's bytes ([`reader::Builder::plain_attributes`]) are those
+    /// quick-xml's iterator gives, whichever of the two reads a tag: names (local part), values
+    /// (normalised) and value spans; and a duplicate is still reported.
+    #[test]
+    fn attributes_as_quick_xml_reads_them() {
+        let tags = [
+            r#"<a x="1" y='two' z="" />"#,
+            r#"<a p:x="1" q:y="2"/>"#,
+            "<a\tx=\"1\"\n  y=\"2\"\r\n>t</a>",
+            r#"<a x="it's" y='say "hi"'/>"#,
+            r#"<a x="a&amp;b" y="&#x41;"/>"#,
+            "<a x=\"tab\there\" y=\"line\nend\"/>",
+            r#"<a x = "spaced" y= '1' z ="2"/>"#,
+            r#"<a x="1>2" y="/"/>"#,
+            // No blank between two attributes: quick-xml reads both, and so does the tree.
+            r#"<a x="1"y="2"/>"#,
+            r#"<a uniqueIDRef="UID_PARAM_1000" index="1000" name="Device type" objectType="7"/>"#,
+            r#"<a xmlns="urn:x" xmlns:xsi="urn:y" xsi:type="t"/>"#,
+        ];
+        for src in tags {
+            let doc = read(src, FileId(0));
+            assert!(doc.diagnostics.is_empty(), "{src}: {:?}", doc.diagnostics);
+            let got: Vec<_> = doc
+                .roots()
+                .next()
+                .unwrap()
+                .attrs()
+                .map(|a| (a.name.to_string(), a.value.to_string(), src[a.span.range()].to_string()))
+                .collect();
+            let mut reader = quick_xml::Reader::from_str(src);
+            let start = loop {
+                match reader.read_event().unwrap() {
+                    Event::Start(e) | Event::Empty(e) => break e.into_owned(),
+                    _ => {}
+                }
+            };
+            let want: Vec<_> = start
+                .attributes()
+                .map(|a| {
+                    let a = a.unwrap();
+                    let raw = a.value.to_string();
+                    let name = a.key.local_name().as_ref().to_string();
+                    let value = a.normalized_value(XmlVersion::Implicit1_0).unwrap().into_owned();
+                    (name, value, raw)
+                })
+                .collect();
+            assert_eq!(got, want, "{src}");
+        }
+        for src in [r#"<a x="1" x="2"/>"#, r#"<a p:x="1" p:x='2'/>"#] {
+            let doc = read(src, FileId(0));
+            assert!(
+                doc.diagnostics.iter().any(|d| d.code == codes::MALFORMED_XML),
+                "{src}: {:?}",
+                doc.diagnostics
+            );
+        }
     }
 
     #[test]

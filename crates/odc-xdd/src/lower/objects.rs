@@ -3,9 +3,95 @@
 
 use super::*;
 
+/// What a diagnostic about a sub-object names: "object 1000" or "sub-object 1018sub1".
+/// Formatted only when a diagnostic is made (a `String` per sub-object cost more than its
+/// lowering's other allocations together).
+#[derive(Clone, Copy)]
+struct What {
+    index: u16,
+    sub: Option<u8>,
+}
+
+impl std::fmt::Display for What {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self.sub {
+            Some(si) => write!(f, "sub-object {:04X}sub{si:X}", self.index),
+            None => write!(f, "object {:04X}", self.index),
+        }
+    }
+}
+
+/// The attributes of a `CANopenObject`/`CANopenSubObject` this module reads, found in one
+/// pass over the element's attributes (the first of a name, as [`Element::attr`] finds it):
+/// the lowering reads a dozen of them on every object and sub-object.
+#[derive(Clone, Copy, Default)]
+struct ObjAttrs<'d> {
+    index: Option<Attr<'d>>,
+    sub_index: Option<Attr<'d>>,
+    name: Option<Attr<'d>>,
+    object_type: Option<Attr<'d>>,
+    data_type: Option<Attr<'d>>,
+    access_type: Option<Attr<'d>>,
+    pdo_mapping: Option<Attr<'d>>,
+    default_value: Option<Attr<'d>>,
+    low_limit: Option<Attr<'d>>,
+    high_limit: Option<Attr<'d>>,
+    actual_value: Option<Attr<'d>>,
+    denotation: Option<Attr<'d>>,
+    obj_flags: Option<Attr<'d>>,
+    unique_id_ref: Option<Attr<'d>>,
+    sub_number: Option<Attr<'d>>,
+    /// An attribute of another name was met: [`L::extras`] keeps those.
+    unknown: bool,
+}
+
+impl<'d> ObjAttrs<'d> {
+    fn of(e: Element<'d>) -> Self {
+        let mut a = ObjAttrs::default();
+        for x in e.attrs() {
+            let Some(slot) = a.slot(x.name) else {
+                a.unknown = true;
+                continue;
+            };
+            if slot.is_none() {
+                *slot = Some(x);
+            }
+        }
+        a
+    }
+
+    /// Whether the lowering reads an attribute of this name (others are kept as they are).
+    fn reads(name: &str) -> bool {
+        ObjAttrs::default().slot(name).is_some()
+    }
+
+    /// Where an attribute of this name goes; `None` for the ones kept as they are.
+    fn slot(&mut self, name: &str) -> Option<&mut Option<Attr<'d>>> {
+        Some(match name {
+            "index" => &mut self.index,
+            "subIndex" => &mut self.sub_index,
+            "name" => &mut self.name,
+            "objectType" => &mut self.object_type,
+            "dataType" => &mut self.data_type,
+            "accessType" => &mut self.access_type,
+            "PDOmapping" => &mut self.pdo_mapping,
+            "defaultValue" => &mut self.default_value,
+            "lowLimit" => &mut self.low_limit,
+            "highLimit" => &mut self.high_limit,
+            "actualValue" => &mut self.actual_value,
+            "denotation" => &mut self.denotation,
+            "objFlags" => &mut self.obj_flags,
+            "uniqueIDRef" => &mut self.unique_id_ref,
+            "subNumber" => &mut self.sub_number,
+            _ => return None,
+        })
+    }
+}
+
 impl<'d> L<'d> {
     pub(super) fn object(&mut self, o: Element<'d>) {
-        let Some(index) = o.attr("index").map(|_| self.hex(o, "index", 0xFFFF)) else {
+        let oa = ObjAttrs::of(o);
+        let Some(index) = oa.index.map(|a| self.hex(Some(a), "index", 0xFFFF)) else {
             self.err(
                 codes::MISSING_ATTRIBUTE,
                 "CANopenObject has no index".into(),
@@ -16,9 +102,9 @@ impl<'d> L<'d> {
         };
         let Some(index) = index else { return };
         let index = index.value as u16;
-        let param = self.param(o);
+        let param = self.param(oa.unique_id_ref);
         let has_children = o.children().next().is_some();
-        let kind = match self.uint(o, "objectType", 255) {
+        let kind = match self.uint_of(oa.object_type, "objectType", 255) {
             Some(v) => match ObjectKind::from_code(v.value as u8) {
                 Some(k) => k,
                 None => {
@@ -41,7 +127,7 @@ impl<'d> L<'d> {
                 if has_children { ObjectKind::Record } else { ObjectKind::Var }
             }
         };
-        let name = match (o.attr("name"), param.and_then(label)) {
+        let name = match (oa.name, param.and_then(label)) {
             (Some(a), _) => a.value.to_owned(),
             (None, Some(l)) => l.to_owned(),
             (None, None) => {
@@ -55,22 +141,24 @@ impl<'d> L<'d> {
             }
         };
         let mut obj = Object::new(index, name.clone(), kind, o.span());
-        obj.sub_number =
-            self.uint(o, "subNumber", 0xFFFF).map(|v| Spanned::new(v.value as u16, v.span));
-        obj.obj_flags = self.hex_opt(o, "objFlags");
-        let object_type = o.attr("dataType").and_then(|_| self.data_type_attr(o));
+        obj.sub_number = self
+            .uint_of(oa.sub_number, "subNumber", 0xFFFF)
+            .map(|v| Spanned::new(v.value as u16, v.span));
+        obj.obj_flags = self.hex_opt(oa.obj_flags, "objFlags");
+        let object_type = self.data_type_attr(oa.data_type);
         if kind.has_subs() {
-            obj.denotation = Self::text_attr(o, "denotation").filter(|d| !d.value.is_empty());
+            obj.denotation = oa.denotation.map(text).filter(|d| !d.value.is_empty());
             if obj.denotation.is_some() {
                 self.xdc_values = true;
             }
-            obj.extra = self.extras(o, param);
+            obj.extra = self.extras(o, oa, param);
             for s in o.children() {
                 if !s.is("CANopenSubObject") {
                     self.keep_in_object(&mut obj, s);
                     continue;
                 }
-                let Some(si) = s.attr("subIndex").map(|_| self.hex(s, "subIndex", 0xFF)) else {
+                let sa = ObjAttrs::of(s);
+                let Some(si) = sa.sub_index.map(|a| self.hex(Some(a), "subIndex", 0xFF)) else {
                     self.err(
                         codes::MISSING_ATTRIBUTE,
                         format!("a sub-object of {index:04X} has no subIndex"),
@@ -87,21 +175,21 @@ impl<'d> L<'d> {
                     (true, None) => Fallback::Standard(cia301_element_type(index)),
                     (false, _) => Fallback::Standard(None),
                 };
-                let sparam = self.param(s);
-                let what = format!("sub-object {index:04X}sub{si:X}");
-                let mut sub = self.sub(s, sparam, si, fallback, &what);
-                sub.name = s
-                    .attr("name")
+                let sparam = self.param(sa.unique_id_ref);
+                let what = What { index, sub: Some(si) };
+                let mut sub = self.sub(s, sa, sparam, si, fallback, what);
+                sub.name = sa
+                    .name
                     .map(|a| a.value)
                     .or_else(|| sparam.and_then(label))
                     .unwrap_or_default()
                     .into();
-                let kind_attr = s
-                    .attr("objectType")
+                let kind_attr = sa
+                    .object_type
                     .and_then(|a| a.value.trim().parse::<u8>().ok())
                     .and_then(ObjectKind::from_code);
                 sub.kind = kind_attr;
-                let extra = self.extras(s, sparam);
+                let extra = self.extras(s, sa, sparam);
                 if !extra.is_empty() {
                     sub.rare_mut().extra = extra;
                 }
@@ -121,9 +209,9 @@ impl<'d> L<'d> {
                 _ => None,
             };
             let fallback = default_dt.map_or(Fallback::Standard(None), Fallback::Object);
-            let mut sub = self.sub(o, param, 0, fallback, &format!("object {index:04X}"));
+            let mut sub = self.sub(o, oa, param, 0, fallback, What { index, sub: None });
             sub.name = name.into();
-            obj.extra = self.extras(o, param);
+            obj.extra = self.extras(o, oa, param);
             obj.subs.insert(0, sub);
             for s in o.children() {
                 self.keep_in_object(&mut obj, s);
@@ -149,14 +237,14 @@ impl<'d> L<'d> {
         });
     }
 
-    fn hex_opt(&mut self, e: Element<'_>, name: &str) -> Option<Spanned<u32>> {
-        e.attr(name).filter(|a| !a.value.trim().is_empty())?;
-        self.hex(e, name, u64::from(u32::MAX)).map(|v| Spanned::new(v.value as u32, v.span))
+    fn hex_opt(&mut self, a: Option<Attr<'_>>, name: &str) -> Option<Spanned<u32>> {
+        let a = a.filter(|a| !a.value.trim().is_empty());
+        self.hex(a, name, u64::from(u32::MAX)).map(|v| Spanned::new(v.value as u32, v.span))
     }
 
     /// The parameter an element's `uniqueIDRef` names, marked as used.
-    fn param(&mut self, e: Element<'_>) -> Option<Element<'d>> {
-        let r = e.attr("uniqueIDRef")?;
+    fn param(&mut self, r: Option<Attr<'_>>) -> Option<Element<'d>> {
+        let r = r?;
         match self.params.get_key_value(r.value) {
             Some((k, p)) => {
                 self.used.insert(k);
@@ -175,8 +263,8 @@ impl<'d> L<'d> {
     }
 
     /// `dataType="NNNN"`; `0000` (old CANopenEditor) is absent.
-    fn data_type_attr(&mut self, e: Element<'_>) -> Option<DataType> {
-        let v = self.hex(e, "dataType", 0xFFFF)?;
+    fn data_type_attr(&mut self, a: Option<Attr<'_>>) -> Option<DataType> {
+        let v = self.hex(a, "dataType", 0xFFFF)?;
         (v.value != 0).then(|| DataType::from_code(v.value as u16))
     }
 
@@ -206,15 +294,13 @@ impl<'d> L<'d> {
     fn sub(
         &mut self,
         e: Element<'d>,
+        ea: ObjAttrs<'d>,
         param: Option<Element<'d>>,
         si: u8,
         fallback: Fallback,
-        what: &str,
+        what: What,
     ) -> SubObject {
-        let dt = match e.attr("dataType") {
-            Some(_) => self.data_type_attr(e),
-            None => None,
-        };
+        let dt = self.data_type_attr(ea.data_type);
         let dt = dt.or_else(|| param.and_then(|p| self.param_type(p))).or(match fallback {
             Fallback::Object(dt) => Some(dt),
             Fallback::Standard(_) => None,
@@ -244,10 +330,10 @@ impl<'d> L<'d> {
                 DataType::Domain
             }
         };
-        let access = self.access(e, param, what);
+        let access = self.access(e, ea.access_type, param, what);
         let mut sub = SubObject::new(si, "", dt, access);
         sub.span = e.span();
-        sub.pdo_mapping = match e.attr("PDOmapping") {
+        sub.pdo_mapping = match ea.pdo_mapping {
             None => PdoMapping::No,
             Some(a) => match a.value.trim() {
                 "no" | "" => PdoMapping::No,
@@ -269,28 +355,27 @@ impl<'d> L<'d> {
         let pv = |name: &str| param.and_then(|p| p.child(name)).and_then(|c| c.attr("value"));
         let range = param.and_then(|p| p.child("allowedValues")).and_then(|a| a.child("range"));
         let rv = |name: &str| range.and_then(|r| r.child(name)).and_then(|c| c.attr("value"));
-        let pick = |attr: &str, from_param: Option<odc_esi::xml::Attr<'d>>| {
-            e.attr(attr)
-                .filter(|a| !a.value.is_empty())
-                .or(from_param.filter(|a| !a.value.is_empty()))
+        let pick = |own: Option<Attr<'d>>, from_param: Option<Attr<'d>>| {
+            own.filter(|a| !a.value.is_empty()).or(from_param.filter(|a| !a.value.is_empty()))
         };
         let string_like =
             matches!(dt.class(), ValueClass::Text | ValueClass::Bytes | ValueClass::Unicode);
-        sub.default = match (e.attr("defaultValue").or(pv("defaultValue")), string_like) {
+        let param_default = pv("defaultValue");
+        sub.default = match (ea.default_value.or(param_default), string_like) {
             (Some(a), true) if a.value.is_empty() => Some(Spanned::new(empty_of(dt), a.span)),
-            _ => pick("defaultValue", pv("defaultValue")).and_then(|a| self.value(a, dt)),
+            _ => pick(ea.default_value, param_default).and_then(|a| self.value(a, dt)),
         };
         sub.low_limit =
-            pick("lowLimit", rv("minValue")).and_then(|a| self.value(a, dt)).map(Box::new);
+            pick(ea.low_limit, rv("minValue")).and_then(|a| self.value(a, dt)).map(Box::new);
         sub.high_limit =
-            pick("highLimit", rv("maxValue")).and_then(|a| self.value(a, dt)).map(Box::new);
+            pick(ea.high_limit, rv("maxValue")).and_then(|a| self.value(a, dt)).map(Box::new);
         sub.parameter_value =
-            pick("actualValue", pv("actualValue")).and_then(|a| self.value(a, dt));
+            pick(ea.actual_value, pv("actualValue")).and_then(|a| self.value(a, dt));
         if sub.parameter_value.is_some() {
             self.xdc_values = true;
         }
-        let denotation = e
-            .attr("denotation")
+        let denotation = ea
+            .denotation
             .filter(|a| !a.value.is_empty())
             .map(|a| Spanned::new(a.value.to_owned(), a.span))
             .or_else(|| {
@@ -305,14 +390,14 @@ impl<'d> L<'d> {
         }
         // A VAR's objFlags are the object's (as in an EDS).
         if e.is("CANopenSubObject")
-            && let Some(f) = self.hex_opt(e, "objFlags")
+            && let Some(f) = self.hex_opt(ea.obj_flags, "objFlags")
         {
             sub.rare_mut().obj_flags = Some(f);
         }
         sub
     }
 
-    fn value(&mut self, a: odc_esi::xml::Attr<'_>, dt: DataType) -> Option<Spanned<Value>> {
+    fn value(&mut self, a: Attr<'_>, dt: DataType) -> Option<Spanned<Value>> {
         match odc_eds::read_value(a.value, dt) {
             Ok(v) => Some(Spanned::new(v, a.span)),
             Err(e) => {
@@ -330,8 +415,14 @@ impl<'d> L<'d> {
         }
     }
 
-    fn access(&mut self, e: Element<'_>, param: Option<Element<'_>>, what: &str) -> Access {
-        if let Some(a) = e.attr("accessType").filter(|a| !a.value.is_empty()) {
+    fn access(
+        &mut self,
+        e: Element<'_>,
+        access_type: Option<Attr<'_>>,
+        param: Option<Element<'_>>,
+        what: What,
+    ) -> Access {
+        if let Some(a) = access_type.filter(|a| !a.value.is_empty()) {
             return Access::parse(a.value).unwrap_or_else(|| {
                 self.err(
                     codes::UNKNOWN_ACCESS,
@@ -381,10 +472,15 @@ impl<'d> L<'d> {
     }
 
     /// Unknown attributes, the parameter's description, properties and unknown children.
-    fn extras(&mut self, e: Element<'_>, param: Option<Element<'_>>) -> Vec<RawEntry> {
+    fn extras(
+        &mut self,
+        e: Element<'_>,
+        ea: ObjAttrs<'_>,
+        param: Option<Element<'_>>,
+    ) -> Vec<RawEntry> {
         let mut out = Vec::new();
-        for a in e.attrs() {
-            if !KNOWN_ATTRS.contains(&a.name) {
+        if ea.unknown {
+            for a in e.attrs().filter(|a| !ObjAttrs::reads(a.name)) {
                 out.push(RawEntry {
                     key: a.name.to_owned(),
                     value: a.value.to_owned(),
@@ -450,6 +546,10 @@ fn label<'t>(p: Element<'t>) -> Option<&'t str> {
 
 /// Line ends of a description as `\n`, so that it fits one EDS line.
 pub(crate) fn escape_lines(s: &str) -> String {
+    // Most descriptions are one line: one copy, no searches of the replacing kind.
+    if !s.contains('\n') {
+        return s.to_owned();
+    }
     s.replace("\r\n", "\n").replace('\n', "\\n")
 }
 
