@@ -81,8 +81,23 @@ const NAME_END: u8 = 2;
 /// what a plain value may not hold (`&`, `<`: references and errors; tab and line ends:
 /// normalised to spaces),
 const VALUE_BAD: u8 = 4;
-/// and the quotes.
+/// the quotes,
 const QUOTE: u8 = 8;
+/// and the colon of a prefixed name.
+const COLON: u8 = 16;
+
+/// Where the first byte of `class` is in `bytes`. A function of its own, not a closure in the
+/// scanner: alone, the loop compiles to a handful of instructions per byte.
+#[inline(never)]
+fn find(bytes: &[u8], class: u8) -> Option<usize> {
+    bytes.iter().position(|&b| CLASS[b as usize] & class != 0)
+}
+
+/// Where the first byte not of `class` is in `bytes`.
+#[inline(never)]
+fn find_not(bytes: &[u8], class: u8) -> Option<usize> {
+    bytes.iter().position(|&b| CLASS[b as usize] & class == 0)
+}
 
 /// The class of every byte (0 for most).
 static CLASS: [u8; 256] = {
@@ -98,6 +113,7 @@ static CLASS: [u8; 256] = {
     t[b'=' as usize] = NAME_END;
     t[b'>' as usize] = NAME_END;
     t[b'/' as usize] = NAME_END;
+    t[b':' as usize] = COLON;
     t
 };
 
@@ -184,55 +200,51 @@ impl<'s> Builder<'s> {
         const MAX: usize = 32;
         let Some(base) = offset_in(self.doc.src, raw) else { return false };
         let raw = raw.as_bytes();
-        let class = |b: u8| CLASS[b as usize];
         let mark = self.doc.attrs.len();
         // Full names (prefix included) of the attributes read, for the duplicate check.
         let mut names = [(0u32, 0u32); MAX];
         let mut count = 0;
         let mut i = 0;
         let plain = loop {
-            let gap = i;
-            while let Some(&b) = raw.get(i)
-                && class(b) & BLANK != 0
-            {
-                i += 1;
-            }
-            if i == raw.len() {
-                break true;
-            }
-            if i == gap || count == MAX {
+            let rest = raw.get(i..).unwrap_or_default();
+            let Some(gap) = find_not(rest, BLANK) else { break true };
+            if gap == 0 || count == MAX {
                 break false;
             }
-            let name_start = i;
-            while let Some(&b) = raw.get(i)
-                && class(b) & NAME_END == 0
-            {
-                i += 1;
+            let name_start = i + gap;
+            let rest = rest.get(gap..).unwrap_or_default();
+            // The name, and where its local part starts (after the last colon).
+            let mut name_len = 0;
+            let mut local_start = 0;
+            loop {
+                let tail = rest.get(name_len..).unwrap_or_default();
+                name_len += find(tail, NAME_END | COLON).unwrap_or(tail.len());
+                if rest.get(name_len) != Some(&b':') {
+                    break;
+                }
+                name_len += 1;
+                local_start = name_len;
             }
-            let name = raw.get(name_start..i).unwrap_or_default();
-            let quote = match (raw.get(i), raw.get(i + 1)) {
+            let name = rest.get(..name_len).unwrap_or_default();
+            let quote = match (rest.get(name_len), rest.get(name_len + 1)) {
                 (Some(b'='), Some(&q @ (b'"' | b'\''))) if !name.is_empty() => q,
                 _ => break false,
             };
-            // The value: up to the closing quote, with nothing to normalise on the way.
-            let value_start = i + 2;
-            let mut j = value_start;
-            let closed = loop {
-                let Some(&b) = raw.get(j) else { break false };
-                let c = class(b);
-                if c != 0 {
-                    if b == quote {
-                        break true;
-                    }
-                    if c & VALUE_BAD != 0 {
+            // The value: up to the closing quote, with nothing to normalise on the way (the
+            // other quote may be part of it).
+            let value_start = name_start + name_len + 2;
+            let rest = raw.get(value_start..).unwrap_or_default();
+            let len = match find(rest, QUOTE | VALUE_BAD).and_then(|n| Some((n, *rest.get(n)?))) {
+                Some((n, b)) if b == quote => n,
+                Some((_, b)) if CLASS[b as usize] == QUOTE => {
+                    let Some(close) = rest.iter().position(|&b| b == quote) else { break false };
+                    if find(rest.get(..close).unwrap_or_default(), VALUE_BAD).is_some() {
                         break false;
                     }
+                    close
                 }
-                j += 1;
+                _ => break false,
             };
-            if !closed {
-                break false;
-            }
             let duplicate = names.get(..count).unwrap_or_default().iter().any(|&(at, n)| {
                 n as usize == name.len()
                     && raw.get(at as usize) == name.first()
@@ -242,17 +254,20 @@ impl<'s> Builder<'s> {
                 break false;
             }
             if let Some(slot) = names.get_mut(count) {
-                *slot = (name_start as u32, name.len() as u32);
+                *slot = (name_start as u32, name_len as u32);
             }
             count += 1;
-            // The local name: after the last colon, as `local` takes it.
-            let local_start = name.iter().rposition(|&b| b == b':').map_or(0, |c| c + 1);
             let at = base + (name_start + local_start) as u32;
-            let local_name = Str { at, len: (name.len() - local_start) as u32 };
-            let (vstart, vend) = (base + value_start as u32, base + j as u32);
-            let value = Str { at: vstart, len: vend - vstart };
-            self.doc.attrs.push(RawAttr { name: local_name, value, start: vstart, end: vend });
-            i = j + 1;
+            let local_name = Str { at, len: (name_len - local_start) as u32 };
+            let vstart = base + value_start as u32;
+            let value = Str { at: vstart, len: len as u32 };
+            self.doc.attrs.push(RawAttr {
+                name: local_name,
+                value,
+                start: vstart,
+                end: vstart + len as u32,
+            });
+            i = value_start + len + 1;
         };
         if !plain {
             self.doc.attrs.truncate(mark);
