@@ -36,17 +36,32 @@ pub fn is_cia402(device: &Device) -> bool {
     by_type || by_profile
 }
 
+/// The standard modes the device supports: (value of 0x6060, name, description), from the
+/// default of 0x6502 (every standard mode when it has none, as the generated `Mode` lists).
+pub fn supported_modes(device: &Device) -> Vec<(i8, &'static str, &'static str)> {
+    let supported = supported_bits(device);
+    MODES
+        .iter()
+        .filter(|(bit, ..)| supported.is_none_or(|s| s & (1 << bit) != 0))
+        .map(|&(_, v, name, text)| (v, name, text))
+        .collect()
+}
+
+/// The default of 0x6502, if it is a number.
+fn supported_bits(device: &Device) -> Option<u32> {
+    device.sub(0x6502, 0).and_then(|s| s.initial_value()).and_then(|v| match v.value {
+        Value::Unsigned(u) => u32::try_from(u).ok(),
+        _ => None,
+    })
+}
+
 /// The `cia402` module, or nothing.
 pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
     if !ctx.names.cia402 {
         return TokenStream::new();
     }
     let rt = &ctx.rt;
-    let supported =
-        ctx.device.sub(0x6502, 0).and_then(|s| s.initial_value()).and_then(|v| match v.value {
-            Value::Unsigned(u) => u32::try_from(u).ok(),
-            _ => None,
-        });
+    let supported = supported_bits(ctx.device);
     let modes: Vec<_> =
         MODES.iter().filter(|(bit, ..)| supported.is_none_or(|s| s & (1 << bit) != 0)).collect();
     let source = match supported {

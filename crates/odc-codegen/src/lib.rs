@@ -53,11 +53,14 @@ mod standard;
 mod startup;
 mod types;
 
+pub use cia402::{is_cia402, supported_modes};
 use odc_model::{Device, Diagnostic, RuleInfo, Severity, SubObject};
 use proc_macro2::TokenStream;
 pub use process::{ProcessData, ProcessField};
 use quote::quote;
-pub use scheme::{Arg, Element, Overlay, Scheme, Selector, SelectorValue};
+pub use scheme::{
+    Arg, Element, Overlay, Scheme, SchemeEntry, Selector, SelectorValue, scheme_entries,
+};
 pub use types::RustTy;
 
 /// One entry of the `slave` dictionary generated for a device: its address, its sub-object in

@@ -82,6 +82,40 @@ impl Overlay {
     }
 }
 
+/// An entry of the device a scheme reaches, under the name the generated code gives it
+/// (`C00011` for the Lenze code 11): for a data sheet or a listing of the scheme.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct SchemeEntry {
+    /// The alias (the scheme's `const-name` pattern, filled in).
+    pub name: String,
+    /// Object index.
+    pub index: u16,
+    /// Sub-index.
+    pub sub: u8,
+    /// The object's name, and the sub-object's for an element.
+    pub what: String,
+}
+
+/// The entries of `device` that `scheme` reaches, as the generated module names them; none
+/// when the scheme has no `const-name`.
+///
+/// # Errors
+///
+/// What is wrong with the scheme (the same text as its `G604` diagnostic).
+pub fn scheme_entries(
+    device: &odc_model::Device,
+    scheme: &Scheme,
+) -> Result<Vec<SchemeEntry>, String> {
+    let ctx =
+        Ctx { device, rt: TokenStream::new(), source: "", names: crate::od::OdNames::new(device) };
+    let checked = check(scheme)?;
+    let aliases = aliases(&ctx, &checked)?;
+    Ok(aliases
+        .into_iter()
+        .map(|a| SchemeEntry { name: a.name, index: a.index, sub: a.sub, what: a.what })
+        .collect())
+}
+
 /// One vendor numbering rule (see the module documentation for the TOML form).
 #[derive(Clone, Debug, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "kebab-case", deny_unknown_fields)]

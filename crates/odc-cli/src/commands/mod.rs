@@ -2,6 +2,8 @@
 
 pub mod check;
 pub mod convert;
+pub mod diff;
+pub mod doc;
 pub mod dump;
 pub mod explain;
 pub mod generate;
