@@ -8,7 +8,7 @@ use odc_model::{Device, Direction, Object, Pdo, Spanned, SubObject, Value};
 use crate::{Change, Options, Place, What};
 
 /// The differences between `a` and `b`, ordered by place (identity, file, capabilities, objects
-/// by index, PDOs, images, comments).
+/// by index with their sub-objects, PDOs, images, comments).
 pub fn diff(a: &Device, b: &Device, opts: &Options) -> Vec<Change> {
     let mut d = Diff { out: Vec::new(), opts: *opts };
     d.identity(a, b);
@@ -22,8 +22,23 @@ pub fn diff(a: &Device, b: &Device, opts: &Options) -> Vec<Change> {
     if !opts.ignore_comments {
         d.field(Place::Comments, "comments", a.comments.join("\n"), b.comments.join("\n"));
     }
-    d.out.sort_by(|x, y| x.place.cmp(&y.place));
+    // Stable: within a place, the fields keep the order they are compared in.
+    d.out.sort_by_key(|c| order(&c.place));
     d.out
+}
+
+/// Where a place comes in the output: an object's own changes, then its sub-objects'.
+fn order(p: &Place) -> (u8, u32, u16) {
+    match *p {
+        Place::Identity => (0, 0, 0),
+        Place::File => (1, 0, 0),
+        Place::Capabilities => (2, 0, 0),
+        Place::Object { index } => (3, u32::from(index), 0),
+        Place::Sub { index, sub } => (3, u32::from(index), u16::from(sub) + 1),
+        Place::Pdo { mapping_index } => (4, u32::from(mapping_index), 0),
+        Place::Image { direction } => (5, u32::from(direction != "outputs"), 0),
+        Place::Comments => (6, 0, 0),
+    }
 }
 
 struct Diff {

@@ -27,7 +27,7 @@ pub struct Options {
 }
 
 /// Where a change is.
-#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 #[serde(tag = "in", rename_all = "snake_case")]
 pub enum Place {
     /// Identity: vendor, product, revision, format.

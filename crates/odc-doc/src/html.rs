@@ -14,7 +14,7 @@ table{border-collapse:collapse;margin:.5em 0 1.5em}th,td{border:1px solid #ccc;p
 th{background:#f0f0f0}td.num{font-family:monospace}tr.object td{background:#f7f7fb;font-weight:600}\
 tr:target td{background:#fff3b0}section.pdo{margin-bottom:1.5em}.detail{color:#555}\
 svg.bits rect{fill:#dbe8f6;stroke:#3a6ea5}svg.bits g.gap rect{fill:#eee;stroke:#999}\
-svg.bits rect.free{fill:#fafafa;stroke:#ddd;stroke-dasharray:3 3}svg.bits line.byte-edge{stroke:#c33;stroke-width:1}\
+svg.bits rect.free{fill:#fafafa;stroke:#ddd;stroke-dasharray:3 3}svg.bits line.byte-edge{stroke:#c33;stroke-width:1;stroke-opacity:.6}\
 svg.bits text{font:11px sans-serif}svg.bits text.label{text-anchor:middle}svg.bits text.offset{font-size:9px;fill:#555}\
 svg.bits text.byte{font-size:10px;fill:#555}.error{color:#b00}.warning{color:#a60}\
 #filter{font-size:14px;padding:3px 6px;width:24em}";

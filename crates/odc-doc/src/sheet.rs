@@ -544,10 +544,12 @@ fn scheme(dev: &Device, s: &odc_codegen::Scheme) -> SchemeDoc {
     let args: Vec<String> = s.args.iter().map(|a| format!("{} in {}", a.name, a.range)).collect();
     let mut rule = format!("index = {} ({})", s.index, args.join(", "));
     if let Some(e) = &s.element {
-        rule.push_str(&format!(
-            "; sub-index = {} + {} ({} in {})",
-            e.name, e.offset, e.name, e.range
-        ));
+        let offset = match e.offset {
+            0 => String::new(),
+            o if o > 0 => format!(" + {o}"),
+            o => format!(" - {}", o.unsigned_abs()),
+        };
+        rule.push_str(&format!("; sub-index = {}{offset} ({} in {})", e.name, e.name, e.range));
     }
     let (entries, error) = match odc_codegen::scheme_entries(dev, s) {
         Ok(list) => (

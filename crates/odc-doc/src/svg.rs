@@ -52,16 +52,6 @@ pub fn diagram(d: &Diagram) -> String {
                 "<rect class=\"free\" x=\"{x}\" y=\"{y}\" width=\"{w}\" height=\"{BOX}\"/>"
             );
         }
-        // Byte boundaries.
-        for b in 1..ROW_BITS / 8 {
-            let x = LEFT + b * 8 * BIT;
-            let _ = write!(
-                s,
-                "<line class=\"byte-edge\" x1=\"{x}\" y1=\"{}\" x2=\"{x}\" y2=\"{}\"/>",
-                y - 2,
-                y + BOX + 2
-            );
-        }
     }
     for (k, f) in d.fields.iter().enumerate() {
         let class = if f.is_gap() { "field gap" } else { "field" };
@@ -117,6 +107,19 @@ pub fn diagram(d: &Diagram) -> String {
             at = row_end;
         }
         s.push_str("</g>");
+    }
+    // Byte boundaries, over the boxes.
+    for row in 0..rows {
+        let y = row * ROW + 16;
+        for b in 1..ROW_BITS / 8 {
+            let x = LEFT + b * 8 * BIT;
+            let _ = write!(
+                s,
+                "<line class=\"byte-edge\" x1=\"{x}\" y1=\"{}\" x2=\"{x}\" y2=\"{}\"/>",
+                y - 2,
+                y + BOX + 2
+            );
+        }
     }
     s.push_str("</svg>");
     s
