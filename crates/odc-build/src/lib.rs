@@ -119,6 +119,7 @@ struct Input {
     module: Option<String>,
     device: usize,
     sii: bool,
+    sheet: bool,
 }
 
 /// The code generated for one device file.
@@ -132,6 +133,9 @@ pub struct Generated {
     pub path: PathBuf,
     /// The SII EEPROM image (ETG.2010), when asked for with [`Config::sii_image`].
     pub sii: Option<Vec<u8>>,
+    /// The data sheet (`odc doc`): HTML page and Markdown, when asked for with
+    /// [`Config::data_sheet`].
+    pub sheet: Option<(String, String)>,
 }
 
 /// The result of [`Config::generate`]: code, and what a build script reports to cargo.
@@ -196,6 +200,7 @@ impl Config {
             module: None,
             device: 0,
             sii: false,
+            sheet: false,
         });
         self
     }
@@ -224,6 +229,17 @@ impl Config {
     pub fn sii_image(&mut self) -> &mut Self {
         if let Some(last) = self.inputs.last_mut() {
             last.sii = true;
+        }
+        self
+    }
+
+    /// Also writes the data sheet of the device added last (what `odc doc` writes: a
+    /// self-contained `<module>.html` with the PDOs drawn bit by bit, and `<module>.md`)
+    /// beside its code, so the documentation of the device a crate is built for stays in
+    /// step with its code.
+    pub fn data_sheet(&mut self) -> &mut Self {
+        if let Some(last) = self.inputs.last_mut() {
+            last.sheet = true;
         }
         self
     }
@@ -293,7 +309,17 @@ impl Config {
                 })?),
                 false => None,
             };
-            out.generated.push(Generated { module, code, path: input.path.clone(), sii });
+            let sheet = input.sheet.then(|| {
+                let sheet = odc_doc::sheet(&odc_doc::Input {
+                    device,
+                    file: &loaded.name,
+                    sources: Some(&loaded.sources),
+                    diagnostics: &warnings,
+                    schemes: &loaded.codegen.scheme,
+                });
+                (odc_doc::html::page(&sheet), odc_doc::markdown::markdown(&sheet))
+            });
+            out.generated.push(Generated { module, code, path: input.path.clone(), sii, sheet });
         }
         Ok(out)
     }
@@ -328,6 +354,10 @@ impl Config {
             write_if_changed(&out_dir.join(format!("{}.rs", g.module)), g.code.as_bytes())?;
             if let Some(image) = &g.sii {
                 write_if_changed(&out_dir.join(format!("{}.sii.bin", g.module)), image)?;
+            }
+            if let Some((html, md)) = &g.sheet {
+                write_if_changed(&out_dir.join(format!("{}.html", g.module)), html.as_bytes())?;
+                write_if_changed(&out_dir.join(format!("{}.md", g.module)), md.as_bytes())?;
             }
         }
         Ok(())

@@ -42,6 +42,7 @@ fn commands(file: &str, dir: &Path) -> Vec<Vec<String>> {
         vec!["info".into(), file.into()],
         vec!["dump".into(), file.into()],
         vec!["convert".into(), file.into(), "-o".into(), out("x.dcf")],
+        vec!["doc".into(), file.into(), "-o".into(), out("doc")],
     ]
 }
 
@@ -75,6 +76,7 @@ fn a_checker_error_refuses_every_command_and_allowing_it_lets_each_go_on() {
         assert!(stderr(&out).contains("warning[C301]"), "{cmd:?}");
     }
     assert!(dir.join("x.rs").is_file() && dir.join("x.dcf").is_file());
+    assert!(dir.join("doc/mdrive.html").is_file() && dir.join("doc/mdrive.md").is_file());
     let _ = std::fs::remove_dir_all(&dir);
 }
 
