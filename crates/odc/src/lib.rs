@@ -96,6 +96,8 @@ mod entry;
 pub mod ethercat;
 mod include;
 pub mod lss;
+#[cfg(feature = "std")]
+pub mod master;
 pub mod nmt;
 pub mod node;
 mod pdo;

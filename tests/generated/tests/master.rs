@@ -1,0 +1,256 @@
+//! `odc::master::Master` against odc's own node (`odc::node::Node` serving the dictionary
+//! generated from `eds/lxm23a.eds`) on the in-memory bus: NMT and node states, heartbeat
+//! consumer, SDO with generated descriptors and aborts, plans, PDOs with generated structs,
+//! SYNC with counter, EMCY, and LSS fastscan. Expected frames and values are CiA 301/305's.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::thread::{self, JoinHandle};
+use std::time::Instant;
+
+use odc::can::CanFrame;
+use odc::cia402::Controlword;
+use odc::emcy::EmcyCode;
+use odc::lss::Identity;
+use odc::master::{Dir, Error, Event, Master};
+use odc::nmt::{NmtCommand, NmtState};
+use odc::node::Node;
+use odc::transport::Bus;
+use odc::transport::mem::{MemBus, MemPort};
+use odc::{SdoAbort, sdo::SdoError};
+use odc_tests_generated::lxm23a::{self, od, pdo, slave};
+
+const NODE: u8 = 1;
+
+/// The drive: the generated dictionary served by a node in a thread, until `stop`.
+struct Device {
+    stop: Arc<AtomicBool>,
+    thread: Option<JoinHandle<()>>,
+}
+
+impl Device {
+    fn spawn(port: MemPort, node_id: u8, lss: Option<Identity>) -> Device {
+        let stop = Arc::new(AtomicBool::new(false));
+        let flag = stop.clone();
+        let thread = thread::spawn(move || {
+            let mut port = port;
+            let start = Instant::now();
+            let now_us = || u64::try_from(start.elapsed().as_micros()).unwrap();
+            let mut node: Node<64> = Node::new(node_id);
+            if let Some(id) = lss {
+                node = node.with_lss(Some(id), 0);
+            }
+            let mut dict = slave::Dictionary::new(node_id);
+            let mut out = Vec::new();
+            node.start(&mut dict, now_us(), &mut |f| out.push(f));
+            while !flag.load(Ordering::Relaxed) {
+                for f in out.drain(..) {
+                    if port.send(&f).is_err() {
+                        return;
+                    }
+                }
+                let deadline = port.now_ms() + 1;
+                let events = match port.recv(deadline) {
+                    Ok(Some(f)) => node.handle(&mut dict, &f, now_us(), &mut |f| out.push(f)),
+                    Ok(None) => node.poll(&mut dict, now_us(), &mut |f| out.push(f)),
+                    Err(_) => return,
+                };
+                if events.reset.is_some() {
+                    dict = slave::Dictionary::new(node.next_node_id());
+                    node.start(&mut dict, now_us(), &mut |f| out.push(f));
+                }
+            }
+        });
+        Device { stop, thread: Some(thread) }
+    }
+
+    fn stop(&mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+        if let Some(t) = self.thread.take() {
+            t.join().unwrap();
+        }
+    }
+}
+
+impl Drop for Device {
+    fn drop(&mut self) {
+        self.stop();
+    }
+}
+
+fn setup() -> (Master<MemPort>, Device, MemPort) {
+    let bus = MemBus::new();
+    let master = Master::new(bus.port()).with_timeout(500);
+    let spy = bus.port();
+    let device = Device::spawn(bus.port(), NODE, None);
+    (master, device, spy)
+}
+
+#[test]
+fn boot_up_sdo_and_aborts() {
+    let (mut m, _device, _spy) = setup();
+    m.wait_boot_up(NODE).unwrap();
+    assert_eq!(m.state(NODE), Some(NmtState::PreOperational));
+    // 0x1000 of eds/lxm23a.eds: 0x00020192 (CiA 402 drive).
+    assert_eq!(m.read(NODE, &od::DEVICE_TYPE).unwrap(), 0x0002_0192);
+    m.write(NODE, &od::PROFILE_VELOCITY, 12_345).unwrap();
+    assert_eq!(m.read(NODE, &od::PROFILE_VELOCITY).unwrap(), 12_345);
+    // Untyped, and the server's aborts come back as values.
+    assert_eq!(m.upload(NODE, 0x6081, 0).unwrap(), 12_345u32.to_le_bytes());
+    match m.upload(NODE, 0x2FFF, 0) {
+        Err(Error::Sdo { node: NODE, index: 0x2FFF, sub: 0, error: SdoError::Remote(a) }) => {
+            assert_eq!(a, SdoAbort::NoSuchObject);
+        }
+        other => panic!("{other:?}"),
+    }
+    match m.download(NODE, 0x1000, 0, &[0, 0, 0, 0]) {
+        Err(Error::Sdo { error: SdoError::Remote(a), .. }) => {
+            assert_eq!(a, SdoAbort::WriteOfReadOnly)
+        }
+        other => panic!("{other:?}"),
+    }
+    // A node that is not there: the client's own timeout abort, not a hang.
+    match m.upload(9, 0x1000, 0) {
+        Err(Error::Sdo { node: 9, error: SdoError::Local(a), .. }) => {
+            assert_eq!(a, SdoAbort::Timeout);
+        }
+        other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn a_plan_pdos_and_node_states() {
+    let (mut m, _device, _spy) = setup();
+    m.wait_boot_up(NODE).unwrap();
+    // The generated plans for RPDO2 (controlword, target position) and TPDO2 (statusword,
+    // position actual value), then TPDO2 synchronous (transmission type 1) and a heartbeat.
+    m.execute(NODE, &lxm23a::master::rpdo2(NODE)).unwrap();
+    m.execute(NODE, &lxm23a::master::tpdo2(NODE)).unwrap();
+    m.write(NODE, &od::transmit_pdo_parameter_obj_1801::TRANSMISSION_TYPE, 1).unwrap();
+    m.write(NODE, &od::PRODUCER_HEARTBEAT_TIME, 20).unwrap();
+    m.nmt(NmtCommand::Start, NODE).unwrap();
+    m.wait_state(NODE, NmtState::Operational).unwrap();
+    assert_eq!(m.state(NODE), Some(NmtState::Operational));
+    // An RPDO struct in, the dictionary changed.
+    let cw = Controlword::SHUTDOWN;
+    m.send_pdo(pdo::Rpdo2::cob_id(NODE), &pdo::Rpdo2 { controlword: cw, target_position: -7 })
+        .unwrap();
+    assert_eq!(m.read(NODE, &od::TARGET_POSITION).unwrap(), -7);
+    assert_eq!(m.read(NODE, &od::CONTROLWORD).unwrap().bits(), cw.bits());
+    // A SYNC, and the TPDO struct out.
+    m.sync().unwrap();
+    let t: pdo::Tpdo2 = m.recv_pdo(pdo::Tpdo2::cob_id(NODE)).unwrap();
+    assert_eq!(t.position_actual_value, m.read(NODE, &od::POSITION_ACTUAL_VALUE).unwrap());
+    // A plan write the device refuses: which write, and why.
+    let bad = [odc::plan::SdoWrite::u32(0x1000, 0, 1)];
+    match m.execute(NODE, &bad) {
+        Err(Error::Plan {
+            step: 0, error: SdoError::Remote(SdoAbort::WriteOfReadOnly), ..
+        }) => {}
+        other => panic!("{other:?}"),
+    }
+    // NMT stop: the heartbeat says stopped.
+    m.nmt(NmtCommand::Stop, 0).unwrap();
+    m.wait_state(NODE, NmtState::Stopped).unwrap();
+}
+
+#[test]
+fn a_lost_heartbeat_is_an_event() {
+    let (mut m, mut device, _spy) = setup();
+    m.wait_boot_up(NODE).unwrap();
+    m.write(NODE, &od::PRODUCER_HEARTBEAT_TIME, 10).unwrap();
+    m.watch_heartbeat(NODE, 60);
+    // Heartbeats come; no loss while they do.
+    let until = m.now_ms() + 150;
+    while let Some(e) = m.poll(until).unwrap() {
+        assert_ne!(e, Event::HeartbeatLost { node: NODE }, "lost while beating");
+    }
+    device.stop();
+    let until = m.now_ms() + 300;
+    let mut lost = 0;
+    while let Some(e) = m.poll(until).unwrap() {
+        if e == (Event::HeartbeatLost { node: NODE }) {
+            lost += 1;
+        }
+    }
+    assert_eq!(lost, 1, "one event per loss");
+}
+
+#[test]
+fn sync_producer_with_counter_and_emcy() {
+    let bus = MemBus::new();
+    let mut m = Master::new(bus.port()).with_timeout(100);
+    let mut device = bus.port();
+    let (tx, rx) = mpsc::channel();
+    m.observe(move |dir, f| {
+        if dir == Dir::Sent && f.id == 0x080 {
+            let _ = tx.send(f.bytes().to_vec());
+        }
+    });
+    m.set_sync_counter(Some(3)).unwrap();
+    assert!(m.set_sync_counter(Some(1)).is_err(), "CiA 301: overflow 2..=240");
+    m.set_sync_counter(Some(3)).unwrap();
+    m.set_sync_period(Some(5));
+    let until = m.now_ms() + 60;
+    // An EMCY from node 4 meanwhile: 0x8130 (heartbeat or life guarding), register 0x11.
+    device.send(&CanFrame::from_slice(0x084, &[0x30, 0x81, 0x11, 4, 0, 0, 0, 0]).unwrap()).unwrap();
+    let mut emcy = None;
+    while let Some(e) = m.poll(until).unwrap() {
+        if let Event::Emcy { node, emcy: frame } = e {
+            emcy = Some((node, frame));
+        }
+    }
+    let (node, frame) = emcy.expect("the EMCY as an event");
+    assert_eq!((node, frame.code, frame.register.0), (4, EmcyCode::HEARTBEAT, 0x11));
+    assert_eq!(frame.code.description(), Some("Life guard error or heartbeat error"));
+    let counters: Vec<Vec<u8>> = rx.try_iter().collect();
+    // About 12 SYNCs in 60 ms at 5 ms; the counter runs 1, 2, 3, 1, ...
+    assert!(counters.len() >= 8, "{counters:?}");
+    for (k, c) in counters.iter().enumerate() {
+        assert_eq!(c, &[(k % 3) as u8 + 1], "SYNC {k}");
+    }
+}
+
+#[test]
+fn lss_fastscan_then_a_node_id() {
+    let bus = MemBus::new();
+    let mut m = Master::new(bus.port()).with_timeout(500);
+    let identity = Identity {
+        vendor: 0x0000_01DD,
+        product: 0x6000,
+        revision: 0x0200_0001,
+        serial: 0x1234_5678,
+    };
+    // An unconfigured device (node-ID 255): no boot-up until it has a node-ID.
+    let _device = Device::spawn(bus.port(), odc::lss::UNCONFIGURED, Some(identity));
+    std::thread::sleep(std::time::Duration::from_millis(20));
+    let mut lss = m.lss().with_timeout(20);
+    assert!(lss.any_unconfigured().unwrap());
+    assert_eq!(lss.fastscan().unwrap(), Some(identity));
+    // Found, it is in configuration state: it answers inquiries and takes a node-ID.
+    assert_eq!(lss.inquire_identity().unwrap(), identity);
+    assert_eq!(lss.inquire_node_id().unwrap(), odc::lss::UNCONFIGURED);
+    match lss.configure_node_id(0) {
+        Err(Error::Invalid(_)) => {}
+        other => panic!("{other:?}"),
+    }
+    lss.configure_node_id(9).unwrap();
+    lss.switch_global(false).unwrap();
+    // Reset communication: it boots as node 9.
+    m.nmt(NmtCommand::ResetCommunication, 0).unwrap();
+    m.wait_boot_up(9).unwrap();
+    assert_eq!(m.read(9, &od::DEVICE_TYPE).unwrap(), 0x0002_0192);
+    // Nobody unconfigured any more; a fastscan finds nothing.
+    let mut lss = m.lss().with_timeout(20);
+    assert!(!lss.any_unconfigured().unwrap());
+    assert_eq!(lss.fastscan().unwrap(), None);
+    // Selective switch by its address, then store: this node does not support it (CiA 305
+    // error 1), which comes back as a value.
+    lss.switch_selective(identity).unwrap();
+    match lss.store() {
+        Err(Error::Lss(odc::master::lss::LssError::Store { error: 1, .. })) => {}
+        other => panic!("{other:?}"),
+    }
+}
