@@ -8,11 +8,11 @@
 
 use std::thread;
 
-use odc::cia402::{Controlword, ModeOfOperation};
+use odc::cia402::{Driver, Inputs, ModeOfOperation, Outputs};
+use odc::master::axis::{Axis, ProcessData};
 use odc::nmt::NmtCommand;
 use odc_examples::drive::Drive;
-use odc_examples::master::{self, Master, PositionPdos};
-use odc_examples::{Error, bus};
+use odc_examples::{Error, bus, step};
 
 /// The code generated from the device file, for both ends (a program uses part of it; the
 /// generated modules allow the dead code that leaves).
@@ -29,28 +29,34 @@ pub fn main() -> Result<(), Error> {
     let (master_port, drive_port) = bus::pair();
     let drive =
         thread::spawn(move || Drive::new(slave::Dictionary::new(NODE), NODE, 10).run(&drive_port));
-    let mut m = Master::new(master_port, NODE);
+    let mut m = odc_examples::master(master_port);
 
-    m.step("boot-up");
-    m.boot_up()?;
-    m.step("PDO mapping by the generated plan: every default PDO of the file");
-    m.execute(&lexium_mdrive::master::plan(NODE))?;
+    step("boot-up");
+    m.wait_boot_up(NODE)?;
+    step("PDO mapping by the generated plan: every default PDO of the file");
+    m.execute(NODE, &lexium_mdrive::master::plan(NODE))?;
     // 512000 microsteps/s, 5120 per 10 ms SYNC period (the application examples' velocity).
-    m.write(&od::PROFILE_VELOCITY, 512_000)?;
-    m.write(&od::MODES_OF_OPERATION, ModeOfOperation::ProfilePosition.to_i8())?;
-    let pdos = PositionPdos {
-        rx: pdo::Rpdo2::cob_id(NODE),
-        tx: pdo::Tpdo2::cob_id(NODE),
-        command: |cw: Controlword, target| pdo::Rpdo2 { controlword: cw, target_position: target },
-        status: |t: &pdo::Tpdo2| (t.statusword, t.position_actual_value),
+    m.write(NODE, &od::PROFILE_VELOCITY, 512_000)?;
+    let supported = odc_examples::supported_modes(&mut m, NODE)?;
+    step("NMT start; the state machine to operation enabled");
+    m.nmt(NmtCommand::Start, NODE)?;
+    let pdos = ProcessData {
+        rpdo: pdo::Rpdo2::cob_id(NODE),
+        tpdo: pdo::Tpdo2::cob_id(NODE),
+        command: |o: &Outputs| pdo::Rpdo2 {
+            controlword: o.controlword,
+            target_position: o.target_position.unwrap_or(0),
+        },
+        status: |t: &pdo::Tpdo2| Inputs::new(t.statusword).with_position(t.position_actual_value),
     };
-    m.step("NMT start; the state machine to operation enabled");
-    m.nmt(NmtCommand::Start)?;
-    master::enable(&mut m, &pdos)?;
-    m.step("profile position move to 51200 microsteps (one revolution), SYNC every 10 ms");
-    let syncs = master::move_to(&mut m, &pdos, 51_200)?;
-    println!("-- target reached after {syncs} SYNCs");
-    m.nmt(NmtCommand::Stop)?;
+    let mut axis = Axis::new(&mut m, NODE, Driver::new(supported), pdos)?;
+    axis.enable()?;
+    axis.set_mode(ModeOfOperation::ProfilePosition)?;
+    step("profile position move to 51200 microsteps (one revolution), SYNC every cycle");
+    let before = axis.cycles;
+    axis.move_to(51_200)?;
+    println!("-- target reached after {} SYNCs", axis.cycles - before);
+    m.nmt(NmtCommand::Stop, NODE)?;
     drop(m);
     let dict = drive.join().map_err(|_| "the drive thread panicked")??;
     println!(

@@ -23,12 +23,13 @@ use std::thread;
 use std::time::Duration;
 
 use odc::can::CanFrame;
+use odc::master::Master;
 use odc::nmt::{NmtCommand, NmtState};
 use odc::sdo::Server;
 use odc::{MappingEntry, ObjectAddr};
 use odc_examples::Error;
 use odc_examples::bus::{self, Closed, Port};
-use odc_examples::master::Master;
+use odc_examples::step;
 
 /// The code generated from the device file, for both ends (a program uses part of it; the
 /// generated modules allow the dead code that leaves).
@@ -229,38 +230,38 @@ impl LinMot {
 pub fn main() -> Result<(), Error> {
     let (master_port, drive_port) = bus::pair();
     let drive = thread::spawn(move || LinMot::new().run(&drive_port));
-    let mut m = Master::new(master_port, NODE);
+    let mut m = odc_examples::master(master_port);
     let node = u32::from(NODE);
 
-    m.step("boot-up");
-    m.boot_up()?;
-    m.step("TxPDO 4 by UPID (manual 9.1.3): 1CA4h, 1CA6h, 1B91h into 4F08h sub 1..3");
-    m.write(&od::tpdo4_upid_mapping::TPDO4_UPIDS_1, 0x1CA4)?;
-    m.write(&od::tpdo4_upid_mapping::TPDO4_UPIDS_2, 0x1CA6)?;
-    m.write(&od::tpdo4_upid_mapping::TPDO4_UPIDS_3, 0x1B91)?;
+    step("boot-up");
+    m.wait_boot_up(NODE)?;
+    step("TxPDO 4 by UPID (manual 9.1.3): 1CA4h, 1CA6h, 1B91h into 4F08h sub 1..3");
+    m.write(NODE, &od::tpdo4_upid_mapping::TPDO4_UPIDS_1, 0x1CA4)?;
+    m.write(NODE, &od::tpdo4_upid_mapping::TPDO4_UPIDS_2, 0x1CA6)?;
+    m.write(NODE, &od::tpdo4_upid_mapping::TPDO4_UPIDS_3, 0x1B91)?;
     let mapping = od::transmit_pdo_mapping_parameter_3_tx_pdo_4::PDO_MAPPING_ENTRY_1;
-    let first = m.read(&mapping)?;
+    let first = m.read(NODE, &mapping)?;
     println!("-- the drive mapped 1A03h sub 1 = {first:08X}h");
     if first != 0x4F08_0110 {
         return Err("TxPDO 4 is not mapped as the manual says".into());
     }
-    m.step("the UPIDs' RAM values through the generated UPID scheme");
-    let voltage = m.read(&upid::U1CA4_RAM)?;
-    let diff = m.read(&upid::U1CA6_RAM)?;
+    step("the UPIDs' RAM values through the generated UPID scheme");
+    let voltage = m.read(NODE, &upid::U1CA4_RAM)?;
+    let diff = m.read(NODE, &upid::U1CA6_RAM)?;
     println!("-- X4.4 analog voltage {voltage}, diff analog voltage {diff}");
 
-    m.step("NMT start; the control word sequence of manual 7.1");
-    m.nmt(NmtCommand::Start)?;
+    step("NMT start; the control word sequence of manual 7.1");
+    m.nmt(NmtCommand::Start, NODE)?;
     let tx1 = |f: CanFrame| TxPdo1::unpack(f.bytes()).ok_or("TxPDO 1 has 8 bytes");
     for (control_word, what) in [(0x083F, "homing"), (0x003F, "enter operational state")] {
-        m.step(&format!("{what}: Control Word {control_word:04X}h"));
+        step(&format!("{what}: Control Word {control_word:04X}h"));
         send(&mut m, RxPdo1::cob_id(NODE), &RxPdo1 { control_word, ..RxPdo1::default() }.pack())?;
         m.sync()?;
-        let s = tx1(m.expect(TxPdo1::cob_id(NODE))?)?;
-        let _ = m.tpdo::<TxPdo4>(0x480 + node)?;
+        let s = tx1(m.recv_frame(TxPdo1::cob_id(NODE))?)?;
+        let _ = m.recv_pdo::<TxPdo4>(0x480 + node)?;
         println!("   status word {:04X}h, actual position {}", s.status_word, s.actual_position);
     }
-    m.step("VAI 16Bit Go To Pos (0901h): 50 mm at 1 m/s, 10 m/s² up and down");
+    step("VAI 16Bit Go To Pos (0901h): 50 mm at 1 m/s, 10 m/s² up and down");
     let (position, velocity, acceleration, deceleration) = (500u16, 1000u16, 100u16, 100u16);
     let command = RxPdo1 {
         control_word: 0x003F,
@@ -277,8 +278,8 @@ pub fn main() -> Result<(), Error> {
     loop {
         m.sync()?;
         syncs += 1;
-        let s = tx1(m.expect(TxPdo1::cob_id(NODE))?)?;
-        let t4 = m.tpdo::<TxPdo4>(0x480 + node)?;
+        let s = tx1(m.recv_frame(TxPdo1::cob_id(NODE))?)?;
+        let t4 = m.recv_pdo::<TxPdo4>(0x480 + node)?;
         println!(
             "   actual position {} (0.1 mm), analog voltage {}, diff {}",
             s.actual_position, t4.analog_voltage, t4.diff_analog_voltage
@@ -297,6 +298,6 @@ pub fn main() -> Result<(), Error> {
 }
 
 /// Any frame from the master.
-fn send(m: &mut Master, id: u32, data: &[u8]) -> Result<(), Error> {
-    m.frame(&CanFrame::from_slice(id, data).ok_or("at most 8 bytes")?)
+fn send(m: &mut Master<Port>, id: u32, data: &[u8]) -> Result<(), Error> {
+    Ok(m.send(&CanFrame::from_slice(id, data).ok_or("at most 8 bytes")?)?)
 }

@@ -10,11 +10,12 @@
 
 use std::thread;
 
-use odc::cia402::{Controlword, ModeOfOperation, Statusword};
+use odc::cia402::{Controlword, Driver, Inputs, ModeOfOperation, Outputs, Statusword};
+use odc::master::axis::{Axis, ProcessData};
+use odc::master::mapping_plan;
 use odc::nmt::NmtCommand;
 use odc_examples::drive::Drive;
-use odc_examples::master::{self, Master, PositionPdos, mapping_plan};
-use odc_examples::{Error, bus};
+use odc_examples::{Error, bus, step};
 
 /// The code generated from the device file, for both ends (a program uses part of it; the
 /// generated modules allow the dead code that leaves).
@@ -58,36 +59,45 @@ pub fn main() -> Result<(), Error> {
     let (master_port, drive_port) = bus::pair();
     let drive =
         thread::spawn(move || Drive::new(slave::Dictionary::new(NODE), NODE, 10).run(&drive_port));
-    let mut m = Master::new(master_port, NODE);
+    let mut m = odc_examples::master(master_port);
 
-    m.step("boot-up");
-    m.boot_up()?;
-    m.step("the generated plan: the file's (empty) factory mapping");
-    m.execute(&servoone::master::plan(NODE))?;
-    m.step("the application's mapping: R_PDO1 controlword + target position, T_PDO1 statusword + position");
+    step("boot-up");
+    m.wait_boot_up(NODE)?;
+    step("the generated plan: the file's (empty) factory mapping");
+    m.execute(NODE, &servoone::master::plan(NODE))?;
+    step(
+        "the application's mapping: R_PDO1 controlword + target position, T_PDO1 statusword + position",
+    );
     let (rx, tx) = (pdo::Rpdo1::cob_id(NODE), pdo::Tpdo1::cob_id(NODE));
-    m.execute(&mapping_plan::<Command>(
-        pdo::Rpdo1::COMM_INDEX,
-        pdo::Rpdo1::MAPPING_INDEX,
-        rx,
-        255,
-    ))?;
-    m.execute(&mapping_plan::<Status>(pdo::Tpdo1::COMM_INDEX, pdo::Tpdo1::MAPPING_INDEX, tx, 255))?;
-    m.write(&od::PROFILE_VELOCITY, 100_000)?;
-    m.write(&od::MODES_OF_OPERATION, ModeOfOperation::ProfilePosition.to_i8())?;
-    let pdos = PositionPdos {
-        rx,
-        tx,
-        command: |cw: Controlword, target| Command { controlword: cw, target_position: target },
-        status: |t: &Status| (t.statusword, t.position_actual_value),
+    m.execute(
+        NODE,
+        &mapping_plan::<Command>(pdo::Rpdo1::COMM_INDEX, pdo::Rpdo1::MAPPING_INDEX, rx, 255),
+    )?;
+    m.execute(
+        NODE,
+        &mapping_plan::<Status>(pdo::Tpdo1::COMM_INDEX, pdo::Tpdo1::MAPPING_INDEX, tx, 255),
+    )?;
+    m.write(NODE, &od::PROFILE_VELOCITY, 100_000)?;
+    let supported = odc_examples::supported_modes(&mut m, NODE)?;
+    step("NMT start; the state machine to operation enabled");
+    m.nmt(NmtCommand::Start, NODE)?;
+    let pdos = ProcessData {
+        rpdo: rx,
+        tpdo: tx,
+        command: |o: &Outputs| Command {
+            controlword: o.controlword,
+            target_position: o.target_position.unwrap_or(0),
+        },
+        status: |t: &Status| Inputs::new(t.statusword).with_position(t.position_actual_value),
     };
-    m.step("NMT start; the state machine to operation enabled");
-    m.nmt(NmtCommand::Start)?;
-    master::enable(&mut m, &pdos)?;
-    m.step("profile position move to 10000, SYNC every 10 ms");
-    let syncs = master::move_to(&mut m, &pdos, 10_000)?;
-    println!("-- target reached after {syncs} SYNCs");
-    m.nmt(NmtCommand::Stop)?;
+    let mut axis = Axis::new(&mut m, NODE, Driver::new(supported), pdos)?;
+    axis.enable()?;
+    axis.set_mode(ModeOfOperation::ProfilePosition)?;
+    step("profile position move to 10000, SYNC every cycle");
+    let before = axis.cycles;
+    axis.move_to(10_000)?;
+    println!("-- target reached after {} SYNCs", axis.cycles - before);
+    m.nmt(NmtCommand::Stop, NODE)?;
     drop(m);
     let dict = drive.join().map_err(|_| "the drive thread panicked")??;
     println!(

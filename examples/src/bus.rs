@@ -2,7 +2,7 @@
 
 use std::fmt;
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender, TryRecvError};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use odc::can::CanFrame;
 use odc::cob::{self, Function};
@@ -23,13 +23,15 @@ impl std::error::Error for Closed {}
 pub struct Port {
     tx: Sender<CanFrame>,
     rx: Receiver<CanFrame>,
+    start: Instant,
 }
 
 /// A bus with two ends.
 pub fn pair() -> (Port, Port) {
     let (a_tx, b_rx) = mpsc::channel();
     let (b_tx, a_rx) = mpsc::channel();
-    (Port { tx: a_tx, rx: a_rx }, Port { tx: b_tx, rx: b_rx })
+    let start = Instant::now();
+    (Port { tx: a_tx, rx: a_rx, start }, Port { tx: b_tx, rx: b_rx, start })
 }
 
 impl Port {
@@ -66,6 +68,24 @@ impl Port {
             Err(TryRecvError::Empty) => Ok(None),
             Err(TryRecvError::Disconnected) => Err(Closed),
         }
+    }
+}
+
+/// The master's side of the bus: `odc::master::Master` runs over it.
+impl odc::transport::Bus for Port {
+    type Error = Closed;
+
+    fn send(&mut self, frame: &CanFrame) -> Result<(), Closed> {
+        Port::send(self, *frame)
+    }
+
+    fn recv(&mut self, deadline_ms: u64) -> Result<Option<CanFrame>, Closed> {
+        let left = deadline_ms.saturating_sub(self.now_ms());
+        self.recv_timeout(Duration::from_millis(left))
+    }
+
+    fn now_ms(&mut self) -> u64 {
+        u64::try_from(self.start.elapsed().as_millis()).unwrap_or(u64::MAX)
     }
 }
 

@@ -39,12 +39,14 @@
 //! ```
 
 mod device;
+mod driver;
 mod modes;
 mod state;
 mod values;
 mod words;
 
 pub use device::{Axis, DeviceControl, Drive, DriveObjects, transition};
+pub use driver::{Driver, DriverError, DriverStatus, Inputs, Outputs};
 pub use modes::{ModeOfOperation, SupportedModes};
 pub use state::State;
 pub use words::{Command, Controlword, Statusword};

@@ -8,7 +8,8 @@
 //! - PDO exchange with generated structs: send an RPDO struct, receive a TPDO struct by COB-ID;
 //! - execution of generated configuration plans;
 //! - EMCY consumer: the code, its CiA 301/402 meaning and the error register;
-//! - LSS master ([`lss`]).
+//! - LSS master ([`lss`]);
+//! - a CiA 402 drive on PDOs and SYNC, with the runtime's driver ([`axis`]).
 //!
 //! Blocking and single-threaded, like the SDO client it is built on. A frame that arrives
 //! while the master waits for something else is kept, in order, and handed out later by
@@ -35,11 +36,13 @@
 //! # Ok::<(), odc::master::Error<odc::transport::mem::Closed>>(())
 //! ```
 
+pub mod axis;
 pub mod lss;
 
 use std::boxed::Box;
 use std::collections::{BTreeMap, VecDeque};
 use std::fmt;
+use std::vec;
 use std::vec::Vec;
 
 use crate::can::CanFrame;
@@ -147,6 +150,8 @@ pub enum Error<E> {
     },
     /// An LSS service failed.
     Lss(lss::LssError),
+    /// A CiA 402 job failed (fault, timeout, mode refused, …).
+    Drive(crate::cia402::DriverError),
     /// A node-ID outside 1..=127, or an argument the protocol cannot carry.
     Invalid(&'static str),
 }
@@ -171,6 +176,7 @@ impl<E: fmt::Display> fmt::Display for Error<E> {
                 write!(f, "PDO 0x{cob_id:03X} does not unpack: {reason:?}")
             }
             Self::Lss(e) => write!(f, "LSS: {e}"),
+            Self::Drive(e) => write!(f, "CiA 402: {e}"),
             Self::Invalid(what) => f.write_str(what),
         }
     }
@@ -675,10 +681,48 @@ impl<B: Bus> Master<B> {
         P::unpack(frame.bytes()).map_err(|reason| Error::Unpack { cob_id: id, reason })
     }
 
+    /// The next data frame with CAN-ID `id` (queued ones first), as it is: for process data
+    /// without a struct, or a vendor protocol.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Timeout`], or the bus error.
+    pub fn recv_frame(&mut self, id: u32) -> Result<CanFrame, Error<B::Error>> {
+        let deadline = self.deadline();
+        self.link
+            .take(deadline, |f| f.is_data(id))
+            .map_err(Error::Bus)?
+            .ok_or(Error::Timeout { what: "frame" })
+    }
+
     /// The LSS master (CiA 305) on this master's bus.
     pub fn lss(&mut self) -> lss::LssMaster<'_, B> {
         lss::LssMaster::new(self)
     }
+}
+
+/// The CiA 301 writes that give a PDO a mapping of the application's choice (for a device
+/// whose file has no default mapping, or another one): invalidate the COB-ID (bit 31), clear
+/// the mapping, write `P::MAPPING`, set the count and the transmission type, validate the
+/// COB-ID (CiA 301 7.5.2.36). Run it with [`Master::execute`].
+pub fn mapping_plan<P: Pdo>(
+    comm_index: u16,
+    mapping_index: u16,
+    cob_id: u32,
+    transmission_type: u8,
+) -> Vec<SdoWrite> {
+    let cob = crate::cob::CobId(cob_id);
+    let mut plan = vec![
+        SdoWrite::u32(comm_index, 1, cob.with_valid(false).0),
+        SdoWrite::u8(mapping_index, 0, 0),
+    ];
+    for (i, e) in P::MAPPING.iter().enumerate() {
+        plan.push(SdoWrite::u32(mapping_index, u8::try_from(i + 1).unwrap_or(u8::MAX), e.to_u32()));
+    }
+    plan.push(SdoWrite::u8(mapping_index, 0, u8::try_from(P::MAPPING.len()).unwrap_or(u8::MAX)));
+    plan.push(SdoWrite::u8(comm_index, 2, transmission_type));
+    plan.push(SdoWrite::u32(comm_index, 1, cob.with_valid(true).0));
+    plan
 }
 
 /// A data frame of at most 8 bytes.
