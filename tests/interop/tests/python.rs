@@ -12,7 +12,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use odc::SdoAbort;
-use odc::sdo::{Bus, Client, SdoError, Server};
+use odc::master::Error as MasterError;
+use odc::sdo::{Bus, SdoError, Server};
 use odc::slave::ObjectDictionary;
 use odc_tests_interop::{Device, Peer, devices, last_json, python};
 use serde_json::Value;
@@ -183,24 +184,24 @@ fn drive(py: &std::path::Path, dev: &Device) -> Master {
     let path = dev.path.to_str().unwrap();
     let mut peer = Peer::start(py, "slave.py", &["--eds", path, "--node", "5"]);
     let reference = (dev.slave)(NODE);
-    let mut client = Client::<BUF>::new(NODE).with_timeout(2000);
     let mut m = Master::default();
-    let bus = &mut peer.bus;
-    // Wait for LocalNode's boot-up message: only then does it answer SDO requests.
-    let boot = bus.now_ms() + 30_000;
-    loop {
-        match bus.recv(boot).unwrap() {
-            Some(f) if f.id == 0x700 + u32::from(NODE) && f.bytes() == [0] => break,
-            Some(_) => {}
-            None => panic!("{}: no boot-up message from LocalNode", dev.name),
-        }
+    // odc's master runtime, on the test's end of the socket. LocalNode answers SDO requests
+    // only after its boot-up message, which python can take long to send.
+    let mut master = odc::master::Master::new(&mut peer.bus).with_timeout(30_000);
+    if let Err(e) = master.wait_boot_up(NODE) {
+        panic!("{}: no boot-up message from LocalNode: {e}", dev.name);
     }
+    let mut master = master.with_timeout(2000);
+    let remote = |e: &MasterError<std::io::Error>| match e {
+        MasterError::Sdo { error: SdoError::Remote(a), .. } => Some(*a),
+        _ => None,
+    };
 
     // A typed read through a generated descriptor.
     let want = dev.device_type.default.and_then(|d| d.resolve(NODE));
-    match client.read(bus, dev.device_type) {
+    match master.read(NODE, dev.device_type) {
         Ok(v) if Some(v) == want => m.matched += 1,
-        Err(SdoError::Remote(SdoAbort::NoResource)) if want.is_none() => m.no_default += 1,
+        Err(e) if remote(&e) == Some(SdoAbort::NoResource) && want.is_none() => m.no_default += 1,
         other => m.failures.push(format!("DEVICE_TYPE: {other:?}, want {want:?}")),
     }
     m.read += 1;
@@ -211,25 +212,26 @@ fn drive(py: &std::path::Path, dev: &Device) -> Master {
         let mut want = [0u8; BUF];
         let n = reference.read(i, s, &mut want).unwrap();
         m.read += 1;
-        match client.upload(bus, i, s) {
-            Ok(got) if got == &want[..n] => m.matched += 1,
-            // Strings: python-canopen pads nothing, odc may hold a shorter capacity; compare text.
+        match master.upload(NODE, i, s) {
+            Ok(got) if got == want[..n] => m.matched += 1,
             Ok(got) => {
                 m.failures.push(format!("{}: got {got:02X?}, want {:02X?}", e.addr(), &want[..n]))
             }
-            Err(SdoError::Remote(SdoAbort::NoResource)) => m.no_default += 1,
-            Err(SdoError::Remote(SdoAbort::NoData)) if n == 0 => m.matched += 1,
-            Err(err) => m.failures.push(format!("{}: {err:?}", e.addr())),
+            Err(err) => match remote(&err) {
+                Some(SdoAbort::NoResource) => m.no_default += 1,
+                Some(SdoAbort::NoData) if n == 0 => m.matched += 1,
+                _ => m.failures.push(format!("{}: {err:?}", e.addr())),
+            },
         }
     }
 
-    // Aborts from LocalNode reach odc's client as remote aborts with their codes: a write to
+    // Aborts from LocalNode reach odc's master as remote aborts with their codes: a write to
     // every entry the file makes read-only, a read and a write of a missing object.
     for e in dev.entries.iter().filter(|e| !e.access().writable()) {
         let mut cur = [0u8; BUF];
         let n = reference.read(e.addr().index, e.addr().sub, &mut cur).unwrap_or(4).max(1);
-        match client.download(bus, e.addr().index, e.addr().sub, &cur[..n]) {
-            Err(SdoError::Remote(SdoAbort::WriteOfReadOnly)) => m.aborts += 1,
+        match master.download(NODE, e.addr().index, e.addr().sub, &cur[..n]) {
+            Err(err) if remote(&err) == Some(SdoAbort::WriteOfReadOnly) => m.aborts += 1,
             other => m.failures.push(format!("write of read-only {}: {other:?}", e.addr())),
         }
     }
@@ -237,20 +239,20 @@ fn drive(py: &std::path::Path, dev: &Device) -> Master {
         if dev.entries.iter().any(|e| e.addr().index == index) {
             continue;
         }
-        match client.upload(bus, index, 0) {
-            Err(SdoError::Remote(SdoAbort::NoSuchObject)) => m.aborts += 1,
+        match master.upload(NODE, index, 0) {
+            Err(err) if remote(&err) == Some(SdoAbort::NoSuchObject) => m.aborts += 1,
             other => m.failures.push(format!("read of missing 0x{index:04X}: {other:?}")),
         }
-        match client.download(bus, index, 0, &[1]) {
-            Err(SdoError::Remote(SdoAbort::NoSuchObject)) => m.aborts += 1,
+        match master.download(NODE, index, 0, &[1]) {
+            Err(err) if remote(&err) == Some(SdoAbort::NoSuchObject) => m.aborts += 1,
             other => m.failures.push(format!("write of missing 0x{index:04X}: {other:?}")),
         }
     }
 
     // The generated PDO-mapping plan, then every address it wrote read back.
     let plan = (dev.plan)(NODE);
-    if let Err((at, err)) = client.execute(bus, &plan) {
-        m.failures.push(format!("plan write {at} {:?}: {err:?}", plan[at]));
+    if let Err(err) = master.execute(NODE, &plan) {
+        m.failures.push(format!("plan: {err:?}"));
     }
     m.written = plan.len();
     let mut last = BTreeMap::new();
@@ -259,13 +261,14 @@ fn drive(py: &std::path::Path, dev: &Device) -> Master {
     }
     for ((i, s), w) in &last {
         let (bytes, n) = w.to_le_bytes();
-        match client.upload(bus, *i, *s) {
-            Ok(got) if got == &bytes[..n] => m.checked_back += 1,
+        match master.upload(NODE, *i, *s) {
+            Ok(got) if got == bytes[..n] => m.checked_back += 1,
             other => m
                 .failures
                 .push(format!("read back 0x{i:04X}:{s:02X}: {other:?}, want {:02X?}", &bytes[..n])),
         }
     }
+    drop(master);
     let (out, _err) = peer.finish(Duration::from_secs(30));
     // LocalNode's own store holds what the plan wrote.
     let store = &last_json(&out)["data_store"];
@@ -288,7 +291,7 @@ fn drive(py: &std::path::Path, dev: &Device) -> Master {
 fn their_slave_our_master() {
     let py = python();
     println!(
-        "their slave, our master (python-canopen LocalNode, odc sdo::Client + generated od/master)"
+        "their slave, our master (python-canopen LocalNode, odc::master::Master + generated od/master)"
     );
     println!(
         "{:<22} {:>5} {:>7} {:>6} {:>7} {:>9} {:>6}",

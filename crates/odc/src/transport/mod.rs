@@ -41,3 +41,20 @@ pub trait Bus {
     /// A monotonic clock in milliseconds.
     fn now_ms(&mut self) -> u64;
 }
+
+/// A borrowed bus is a bus: a master or client can work on one it does not own.
+impl<B: Bus + ?Sized> Bus for &mut B {
+    type Error = B::Error;
+
+    fn send(&mut self, frame: &CanFrame) -> Result<(), B::Error> {
+        (**self).send(frame)
+    }
+
+    fn recv(&mut self, deadline_ms: u64) -> Result<Option<CanFrame>, B::Error> {
+        (**self).recv(deadline_ms)
+    }
+
+    fn now_ms(&mut self) -> u64 {
+        (**self).now_ms()
+    }
+}
