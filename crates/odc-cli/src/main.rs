@@ -49,6 +49,9 @@ enum Command {
     Info(commands::info::Args),
     Sii(commands::sii::Args),
     Simulate(commands::simulate::Args),
+    Sdo(commands::sdo::Args),
+    Nmt(commands::nmt::Args),
+    Lss(commands::lss::Args),
     Explain(commands::explain::Args),
     Lints(commands::explain::LintsArgs),
 }
@@ -65,6 +68,9 @@ fn main() -> ExitCode {
         Command::Info(args) => commands::info::run(args),
         Command::Sii(args) => commands::sii::run(args),
         Command::Simulate(args) => commands::simulate::run(args),
+        Command::Sdo(args) => commands::sdo::run(args),
+        Command::Nmt(args) => commands::nmt::run(args),
+        Command::Lss(args) => commands::lss::run(args),
         Command::Explain(args) => commands::explain::run(args),
         Command::Lints(args) => commands::explain::lints(args),
     };

@@ -25,6 +25,7 @@ pub mod subs;
 pub mod trim;
 mod types;
 mod value;
+pub mod wire;
 
 pub use device::{
     Commissioning, Device, DeviceInfo, FileInfo, Format, Module, Modules, Object, ObjectList,

@@ -8,6 +8,10 @@ pub mod dump;
 pub mod explain;
 pub mod generate;
 pub mod info;
+pub mod link;
+pub mod lss;
+pub mod nmt;
+pub mod sdo;
 pub mod sii;
 pub mod simulate;
 

@@ -1,0 +1,106 @@
+//! `odc sdo`, `odc nmt` and `odc lss` against `odc simulate eds/lxm23a.eds --tcp` on a
+//! loopback port: values by name and by index, typed by the file; an abort with its CiA 301
+//! meaning (exit 1); a name the file lacks (exit 2, with near matches); NMT; LSS inquire and a
+//! new node-ID after reset communication. Expected values are the file's defaults (0x1000
+//! 0x00020192, 0x1018:01 0x1DD) and CiA 301's abort code 0x06010002.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use std::io::{BufRead, BufReader};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Output, Stdio};
+
+fn repo(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(path)
+}
+
+fn odc(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_odc")).args(args).output().expect("odc runs")
+}
+
+/// `odc simulate FILE --node-id 5 --tcp 127.0.0.1:0`; its address.
+fn simulate(file: &str) -> (Child, String) {
+    let mut sim = Command::new(env!("CARGO_BIN_EXE_odc"))
+        .args(["simulate", repo(file).to_str().unwrap(), "--node-id", "5", "--tcp", "127.0.0.1:0"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut first = String::new();
+    BufReader::new(sim.stdout.take().unwrap()).read_line(&mut first).unwrap();
+    let addr = first.trim().strip_prefix("listening on ").unwrap().to_owned();
+    (sim, addr)
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+#[test]
+fn sdo_nmt_lss_against_the_simulated_drive() {
+    let (mut sim, addr) = simulate("eds/lxm23a.eds");
+    let file = repo("eds/lxm23a.eds");
+    let node = format!("5={}", file.display());
+    let sdo = |op: &str, args: &[&str]| {
+        let mut all = vec!["sdo", op, "--node", &node, "--tcp", &addr];
+        all.extend_from_slice(args);
+        odc(&all)
+    };
+    let out = sdo("read", &["0x1000"]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert_eq!(text(&out.stdout), "0x1000:00 Device type = 131474 (0x20192)\n");
+    let out = sdo("read", &["0x1018:01"]);
+    assert_eq!(text(&out.stdout), "0x1018:01 Identity object/Vendor ID = 477 (0x1DD)\n");
+    // By name, written and read back; the same object by index.
+    let out = sdo("write", &["Profile velocity", "12345"]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert_eq!(
+        text(&sdo("read", &["6081"]).stdout),
+        "0x6081:00 Profile velocity = 12345 (0x3039)\n"
+    );
+    // A value the type cannot hold is refused before anything is sent (UNSIGNED32).
+    let out = sdo("write", &["0x6081", "-1"]);
+    assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
+    // The drive's abort, with its meaning: exit 1.
+    let out = sdo("write", &["0x1000", "5"]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = text(&out.stderr);
+    assert!(err.contains("0x06010002") && err.contains("read only"), "{err}");
+    // A name the file lacks: a usage error naming the near ones.
+    let out = sdo("read", &["profile"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(text(&out.stderr).contains("0x6081 Profile velocity"), "{}", text(&out.stderr));
+
+    // NMT start: the drive leaves pre-operational; SDO still answers.
+    let out = odc(&["nmt", "start", "5", "--tcp", &addr]);
+    assert_eq!(text(&out.stdout), "000  01 05  NMT Start to node 5\n");
+    assert_eq!(sdo("read", &["Statusword"]).status.code(), Some(0));
+
+    // LSS: every device into configuration state, who it is, a new node-ID from the next
+    // reset communication.
+    let lss = |args: &[&str]| {
+        let mut all = vec!["lss"];
+        all.extend_from_slice(args);
+        all.extend_from_slice(&["--tcp", &addr]);
+        odc(&all)
+    };
+    assert_eq!(lss(&["all"]).status.code(), Some(0));
+    assert_eq!(
+        text(&lss(&["inquire"]).stdout),
+        "0x000001DD:0x00006000:0x02000001:0x00000000 node-ID 5\n"
+    );
+    assert_eq!(lss(&["set-id", "7"]).status.code(), Some(0));
+    assert_eq!(lss(&["done"]).status.code(), Some(0));
+    assert_eq!(odc(&["nmt", "reset-comm", "--tcp", &addr]).status.code(), Some(0));
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    let at7 = format!("7={}", file.display());
+    let out = odc(&["sdo", "read", "--node", &at7, "0x1000", "--tcp", &addr]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    // Node 5 is gone: the client's timeout, exit 1.
+    let out = odc(&["sdo", "read", "--node", &node, "0x1000", "--tcp", &addr, "--timeout", "200"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).contains("0x05040000"), "{}", text(&out.stderr));
+
+    drop(sim.stdin.take());
+    assert!(sim.wait().unwrap().success());
+}
