@@ -52,6 +52,7 @@ enum Command {
     Sdo(commands::sdo::Args),
     Nmt(commands::nmt::Args),
     Lss(commands::lss::Args),
+    Monitor(commands::monitor::Args),
     Explain(commands::explain::Args),
     Lints(commands::explain::LintsArgs),
 }
@@ -71,6 +72,7 @@ fn main() -> ExitCode {
         Command::Sdo(args) => commands::sdo::run(args),
         Command::Nmt(args) => commands::nmt::run(args),
         Command::Lss(args) => commands::lss::run(args),
+        Command::Monitor(args) => commands::monitor::run(args),
         Command::Explain(args) => commands::explain::run(args),
         Command::Lints(args) => commands::explain::lints(args),
     };

@@ -104,3 +104,55 @@ fn sdo_nmt_lss_against_the_simulated_drive() {
     drop(sim.stdin.take());
     assert!(sim.wait().unwrap().success());
 }
+
+#[test]
+fn monitor_reads_a_candump_log_and_a_live_bus() {
+    let log = repo("tests/devices/logs/lxm23a.log");
+    let node = format!("1={}", repo("eds/lxm23a.eds").display());
+    let out = odc(&["monitor", "--log", log.to_str().unwrap(), "--node", &node]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let human = text(&out.stdout);
+    assert_eq!(human.lines().count(), 25);
+    assert!(human.contains("Profile acceleration = 2000 (0x7D0)"), "{human}");
+    // JSON: one object per frame, with the fields.
+    let out =
+        odc(&["monitor", "--log", log.to_str().unwrap(), "--node", &node, "--format", "json"]);
+    let records: Vec<serde_json::Value> =
+        text(&out.stdout).lines().map(|l| serde_json::from_str(l).unwrap()).collect();
+    assert_eq!(records.len(), 25);
+    let last = &records[24];
+    assert_eq!(last["kind"], "RPDO2");
+    assert_eq!(last["fields"][1]["name"], "Target position");
+    assert_eq!(last["fields"][1]["value"], "30000");
+    // A line that is no candump line: its number, exit 1, the others still decoded.
+    let dir = std::env::temp_dir().join(format!("odc-monitor-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad = dir.join("bad.log");
+    std::fs::write(&bad, "(1.0) can0 701#00\n(2.0) can0 701#0\n(3.0) can0 701#05\n").unwrap();
+    let out = odc(&["monitor", "--log", bad.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(text(&out.stderr).contains("bad.log:2: error"), "{}", text(&out.stderr));
+    assert_eq!(text(&out.stdout).lines().count(), 2);
+    let _ = std::fs::remove_dir_all(&dir);
+
+    // Live, on the simulated drive's bus: an SDO read by another client, decoded.
+    let (mut sim, addr) = simulate("eds/lxm23a.eds");
+    let at5 = format!("5={}", repo("eds/lxm23a.eds").display());
+    let mut monitor = Command::new(env!("CARGO_BIN_EXE_odc"))
+        .args(["monitor", "--tcp", &addr, "--node", &at5])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    let out = odc(&["sdo", "read", "--node", &at5, "0x1000", "--tcp", &addr]);
+    assert_eq!(out.status.code(), Some(0));
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    monitor.kill().unwrap();
+    let seen = std::io::read_to_string(monitor.stdout.take().unwrap()).unwrap();
+    let _ = monitor.wait();
+    assert!(seen.contains("SDO request node 5: read 0x1000:00 Device type"), "{seen}");
+    assert!(seen.contains("Device type = 131474 (0x20192)"), "{seen}");
+    drop(sim.stdin.take());
+    let _ = sim.wait();
+}

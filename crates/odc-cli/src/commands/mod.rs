@@ -10,6 +10,7 @@ pub mod generate;
 pub mod info;
 pub mod link;
 pub mod lss;
+pub mod monitor;
 pub mod nmt;
 pub mod sdo;
 pub mod sii;

@@ -79,7 +79,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         Ok(Some(bytes)) => {
             let shown = odc_model::wire::decode(&bytes, target.data_type).map_or_else(
                 || format!("{} (raw, not a {})", hex(&bytes), target.data_type.name()),
-                |v| show(&v),
+                |v| odc_monitor::show(&v),
             );
             super::out(&format!("{at} = {shown}\n"))?;
             Ok(ExitCode::SUCCESS)
@@ -179,22 +179,4 @@ fn parse_value(text: &str, dt: DataType, node: u8) -> anyhow::Result<Vec<u8>> {
 
 fn hex(bytes: &[u8]) -> String {
     bytes.iter().map(|b| format!("{b:02X}")).collect::<Vec<_>>().join(" ")
-}
-
-/// A value as a person reads it: integers in decimal (unsigned also in hex), reals, quoted
-/// text, bytes in hex.
-pub fn show(v: &Value) -> String {
-    match v {
-        Value::Bool(b) => b.to_string(),
-        Value::Unsigned(u) => format!("{u} (0x{u:X})"),
-        Value::Signed(i) => i.to_string(),
-        Value::Real32(bits) => f32::from_bits(*bits).to_string(),
-        Value::Real64(bits) => f64::from_bits(*bits).to_string(),
-        Value::Text(t) => format!("{t:?}"),
-        Value::Bytes(b) => hex(b),
-        Value::Unicode(u) => format!("{:?}", String::from_utf16_lossy(u)),
-        Value::Time { ms, days } => format!("{days} days {ms} ms"),
-        Value::NodeIdPlus(n) => format!("$NODEID+{n}"),
-        Value::Invalid(t) => format!("invalid `{t}`"),
-    }
 }
