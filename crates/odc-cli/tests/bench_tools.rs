@@ -112,18 +112,21 @@ fn monitor_reads_a_candump_log_and_a_live_bus() {
     let out = odc(&["monitor", "--log", log.to_str().unwrap(), "--node", &node]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
     let human = text(&out.stdout);
-    assert_eq!(human.lines().count(), 25);
+    assert_eq!(human.lines().count(), 84);
     assert!(human.contains("Profile acceleration = 2000 (0x7D0)"), "{human}");
     // JSON: one object per frame, with the fields.
     let out =
         odc(&["monitor", "--log", log.to_str().unwrap(), "--node", &node, "--format", "json"]);
     let records: Vec<serde_json::Value> =
         text(&out.stdout).lines().map(|l| serde_json::from_str(l).unwrap()).collect();
-    assert_eq!(records.len(), 25);
-    let last = &records[24];
-    assert_eq!(last["kind"], "RPDO2");
-    assert_eq!(last["fields"][1]["name"], "Target position");
-    assert_eq!(last["fields"][1]["value"], "30000");
+    assert_eq!(records.len(), 84);
+    // 6.4.1.1's relative move: RPDO2 with the target position, as fields.
+    let mv = records
+        .iter()
+        .find(|r| r["kind"] == "RPDO2" && r["fields"][1]["value"] == "30000")
+        .expect("the move's RPDO2");
+    assert_eq!(mv["fields"][1]["name"], "Target position");
+    assert_eq!(mv["node"], 1);
     // A line that is no candump line: its number, exit 1, the others still decoded.
     let dir = std::env::temp_dir().join(format!("odc-monitor-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

@@ -164,9 +164,9 @@ impl Decoder {
                 r.node = node_of(0x80);
                 r.text = match odc::emcy::EmcyFrame::decode(b) {
                     Ok(e) => format!(
-                        "0x{:04X} {} (error register 0x{:02X}), manufacturer bytes {}",
-                        e.code.0,
+                        "{} {:?} class (error register 0x{:02X}), manufacturer bytes {}",
                         e.code,
+                        e.code.class(),
                         e.register.0,
                         e.manufacturer
                             .iter()
