@@ -18,7 +18,6 @@ fn root() -> &'static Path {
 /// The tests' sections: (test name, its first doc line, the printed frames).
 fn sections(source: &str) -> Vec<(String, String, Vec<String>)> {
     let mut out: Vec<(String, String, Vec<String>)> = Vec::new();
-    let mut doc = String::new();
     let mut pending_doc = String::new();
     for line in source.lines() {
         let t = line.trim();
@@ -30,8 +29,7 @@ fn sections(source: &str) -> Vec<(String, String, Vec<String>)> {
         }
         if let Some(rest) = t.strip_prefix("fn ").filter(|_| !line.starts_with(' ')) {
             let name = rest.split('(').next().unwrap_or("").to_owned();
-            doc = std::mem::take(&mut pending_doc);
-            out.push((name, doc.clone(), Vec::new()));
+            out.push((name, std::mem::take(&mut pending_doc), Vec::new()));
             continue;
         }
         if !t.starts_with("#[") {
