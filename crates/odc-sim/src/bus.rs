@@ -80,11 +80,23 @@ impl VirtualBus {
     /// timer tick every [`TICK`]. Client events (connected, closed, a record that is no
     /// frame) are reported through `log`.
     pub fn run(self, device: &mut SimDevice, log: &mut impl FnMut(&str)) {
+        self.run_with(Some(device), log);
+    }
+
+    /// The bus alone, without a device of its own: a hub for the clients (a python-canopen
+    /// node, `odc sdo`, `odc monitor`, …), until stopped.
+    pub fn run_hub(self, log: &mut impl FnMut(&str)) {
+        self.run_with(None, log);
+    }
+
+    fn run_with(self, mut device: Option<&mut SimDevice>, log: &mut impl FnMut(&str)) {
         let start = Instant::now();
         let now_ms = || u64::try_from(start.elapsed().as_millis()).unwrap_or(u64::MAX);
         let mut clients: BTreeMap<usize, TcpStream> = BTreeMap::new();
         let mut out = Vec::new();
-        device.start(now_ms(), &mut |f| out.push(f));
+        if let Some(device) = device.as_deref_mut() {
+            device.start(now_ms(), &mut |f| out.push(f));
+        }
         // No client is on the bus yet: like a device that boots alone on its bus, the boot-up
         // reaches nobody. A master that wants to see one resets the node (NMT 0x81).
         for f in &out {
@@ -101,7 +113,9 @@ impl VirtualBus {
                 }
                 Ok(Event::Frame(id, frame)) => {
                     broadcast(&mut clients, Some(id), &[frame], log);
-                    device.handle(&frame, now_ms(), &mut |f| out.push(f));
+                    if let Some(device) = device.as_deref_mut() {
+                        device.handle(&frame, now_ms(), &mut |f| out.push(f));
+                    }
                 }
                 Ok(Event::Bad(id, e)) => log(&format!("client {id}: {e}; record skipped")),
                 Ok(Event::Closed(id)) => {
@@ -113,7 +127,9 @@ impl VirtualBus {
                 Err(RecvTimeoutError::Timeout) => {}
             }
             if Instant::now() >= next_tick {
-                device.poll(now_ms(), &mut |f| out.push(f));
+                if let Some(device) = device.as_deref_mut() {
+                    device.poll(now_ms(), &mut |f| out.push(f));
+                }
                 next_tick += TICK;
                 if next_tick < Instant::now() {
                     next_tick = Instant::now() + TICK;

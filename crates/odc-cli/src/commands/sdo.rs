@@ -28,7 +28,8 @@ enum Op {
     Write {
         #[command(flatten)]
         common: Common,
-        /// The value.
+        /// The value (a negative number is a value, not an option).
+        #[arg(allow_hyphen_values = true)]
         value: String,
     },
 }
