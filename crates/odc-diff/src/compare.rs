@@ -2,7 +2,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use odc_model::ethercat::{EtherCat, SmUsage};
+use odc_model::ethercat::EtherCat;
 use odc_model::{Device, Direction, Object, Pdo, Spanned, SubObject, Value};
 
 use crate::{Change, Options, Place, What};
@@ -198,7 +198,7 @@ impl Diff {
         self.field(p(), "CompactPDO", opt(x.compact_pdo.as_ref()), opt(y.compact_pdo.as_ref()));
         let (ex, ey) = (a.ethercat.as_deref(), b.ethercat.as_deref());
         let sms = |e: Option<&EtherCat>| -> BTreeMap<u8, String> {
-            e.map(|e| e.sync_managers.iter().map(|s| (s.number, sync_manager(s))).collect())
+            e.map(|e| e.sync_managers.iter().map(|s| (s.number, s.summary())).collect())
                 .unwrap_or_default()
         };
         let (sx, sy) = (sms(ex), sms(ey));
@@ -218,6 +218,9 @@ impl Diff {
             .unwrap_or_default()
         };
         self.field(p(), "FMMUs", fmmus(ex), fmmus(ey));
+        let mailbox = |e: Option<&EtherCat>| {
+            e.and_then(|e| e.mailbox.as_ref()).map(|m| m.protocols().join(", ")).unwrap_or_default()
+        };
         self.field(p(), "mailbox", mailbox(ex), mailbox(ey));
         let dc = |e: Option<&EtherCat>| {
             e.and_then(|e| e.dc.as_ref())
@@ -402,67 +405,6 @@ fn pdos_by_index(d: &Device) -> BTreeMap<u16, &Pdo> {
 
 fn flags(v: Option<&Spanned<u32>>) -> String {
     v.map_or(String::new(), |v| format!("0x{:X}", v.value))
-}
-
-fn usage(u: &SmUsage) -> &str {
-    match u {
-        SmUsage::MBoxOut => "MBoxOut",
-        SmUsage::MBoxIn => "MBoxIn",
-        SmUsage::Outputs => "Outputs",
-        SmUsage::Inputs => "Inputs",
-        SmUsage::MBoxState => "MBoxState",
-        SmUsage::Other(s) => s,
-    }
-}
-
-fn sync_manager(s: &odc_model::ethercat::SyncManager) -> String {
-    let mut parts = vec![usage(&s.usage).to_owned()];
-    if let Some(a) = &s.start_address {
-        parts.push(format!("start 0x{:04X}", a.value));
-    }
-    if let Some(n) = s.default_size {
-        parts.push(format!("{n} bytes"));
-    }
-    if let Some(c) = &s.control_byte {
-        parts.push(format!("control 0x{:02X}", c.value));
-    }
-    if !s.enable {
-        parts.push("disabled".into());
-    }
-    parts.join(", ")
-}
-
-fn mailbox(e: Option<&EtherCat>) -> String {
-    let Some(mb) = e.and_then(|e| e.mailbox.as_ref()) else { return String::new() };
-    let mut p = Vec::new();
-    if let Some(coe) = &mb.coe {
-        let mut flags = Vec::new();
-        for (on, name) in [
-            (coe.sdo_info, "SdoInfo"),
-            (coe.pdo_assign, "PdoAssign"),
-            (coe.pdo_config, "PdoConfig"),
-            (coe.pdo_upload, "PdoUpload"),
-            (coe.complete_access, "CompleteAccess"),
-            (coe.segmented_sdo, "SegmentedSdo"),
-        ] {
-            if on {
-                flags.push(name);
-            }
-        }
-        p.push(format!("CoE({})", flags.join(" ")));
-    }
-    for (on, name) in [
-        (mb.foe, "FoE"),
-        (mb.eoe, "EoE"),
-        (mb.soe.is_some(), "SoE"),
-        (mb.aoe, "AoE"),
-        (mb.voe, "VoE"),
-    ] {
-        if on {
-            p.push(name.to_owned());
-        }
-    }
-    p.join(", ")
 }
 
 fn describe(o: &Object) -> String {

@@ -2,7 +2,6 @@
 //! so the HTML page and the Markdown file cannot tell different stories.
 
 use odc_codegen::image::{Image, default_images};
-use odc_model::ethercat::SmUsage;
 use odc_model::{
     Access, Device, Diagnostic, Direction, Format, Object, PdoMapping, Severity, Sources,
     SubObject, Value,
@@ -272,59 +271,14 @@ fn capabilities(dev: &Device) -> Vec<(String, String)> {
     }
     let Some(ec) = dev.ethercat.as_deref() else { return rows };
     for sm in &ec.sync_managers {
-        let mut parts = vec![sm_usage(&sm.usage).to_owned()];
-        if let Some(a) = &sm.start_address {
-            parts.push(format!("start 0x{:04X}", a.value));
-        }
-        if let Some(n) = sm.default_size {
-            parts.push(format!("{n} bytes"));
-        }
-        if let Some(c) = &sm.control_byte {
-            parts.push(format!("control 0x{:02X}", c.value));
-        }
-        if !sm.enable {
-            parts.push("disabled".into());
-        }
-        rows.push((format!("SM{}", sm.number), parts.join(", ")));
+        rows.push((format!("SM{}", sm.number), sm.summary()));
     }
     for (i, f) in ec.fmmus.iter().enumerate() {
         let sm = f.sm.map_or(String::new(), |s| format!(", SM{s}"));
-        rows.push((format!("FMMU{i}"), format!("{}{sm}", sm_usage(&f.usage))));
+        rows.push((format!("FMMU{i}"), format!("{}{sm}", f.usage.as_str())));
     }
     if let Some(mb) = &ec.mailbox {
-        let mut protocols = Vec::new();
-        if let Some(coe) = &mb.coe {
-            let mut flags = Vec::new();
-            for (on, name) in [
-                (coe.sdo_info, "SDO info"),
-                (coe.pdo_assign, "PDO assign"),
-                (coe.pdo_config, "PDO config"),
-                (coe.pdo_upload, "PDO upload"),
-                (coe.complete_access, "complete access"),
-                (coe.segmented_sdo, "segmented SDO"),
-            ] {
-                if on {
-                    flags.push(name);
-                }
-            }
-            protocols.push(if flags.is_empty() {
-                "CoE".to_owned()
-            } else {
-                format!("CoE ({})", flags.join(", "))
-            });
-        }
-        for (on, name) in [
-            (mb.foe, "FoE"),
-            (mb.eoe, "EoE"),
-            (mb.soe.is_some(), "SoE"),
-            (mb.aoe, "AoE"),
-            (mb.voe, "VoE"),
-        ] {
-            if on {
-                protocols.push(name.to_owned());
-            }
-        }
-        rows.push(("Mailbox".into(), protocols.join(", ")));
+        rows.push(("Mailbox".into(), mb.protocols().join(", ")));
     }
     if let Some(dc) = &ec.dc {
         for m in &dc.op_modes {
@@ -334,17 +288,6 @@ fn capabilities(dev: &Device) -> Vec<(String, String)> {
         }
     }
     rows
-}
-
-fn sm_usage(u: &SmUsage) -> &str {
-    match u {
-        SmUsage::MBoxOut => "mailbox out",
-        SmUsage::MBoxIn => "mailbox in",
-        SmUsage::Outputs => "outputs",
-        SmUsage::Inputs => "inputs",
-        SmUsage::MBoxState => "mailbox state",
-        SmUsage::Other(s) => s,
-    }
 }
 
 /// The name of an object code, as CiA 301 writes it.

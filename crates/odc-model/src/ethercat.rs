@@ -250,6 +250,18 @@ pub enum SmUsage {
 }
 
 impl SmUsage {
+    /// The ESI's spelling (`MBoxOut`, `Outputs`, …; another text as written).
+    pub fn as_str(&self) -> &str {
+        match self {
+            SmUsage::MBoxOut => "MBoxOut",
+            SmUsage::MBoxIn => "MBoxIn",
+            SmUsage::Outputs => "Outputs",
+            SmUsage::Inputs => "Inputs",
+            SmUsage::MBoxState => "MBoxState",
+            SmUsage::Other(t) => t,
+        }
+    }
+
     /// Reads the element text.
     pub fn parse(text: &str) -> SmUsage {
         match text.trim() {
@@ -601,4 +613,62 @@ pub struct EsiModule {
     pub depend_on_slot: Vec<u16>,
     /// Span of the element.
     pub span: Span,
+}
+
+impl SyncManager {
+    /// One line for a person: `MBoxOut, start 0x1000, 128 bytes, control 0x26` (what the ESI
+    /// gives of it).
+    pub fn summary(&self) -> String {
+        let mut parts = vec![self.usage.as_str().to_owned()];
+        if let Some(a) = &self.start_address {
+            parts.push(format!("start 0x{:04X}", a.value));
+        }
+        if let Some(n) = self.default_size {
+            parts.push(format!("{n} bytes"));
+        }
+        if let Some(c) = &self.control_byte {
+            parts.push(format!("control 0x{:02X}", c.value));
+        }
+        if !self.enable {
+            parts.push("disabled".into());
+        }
+        parts.join(", ")
+    }
+}
+
+impl Mailbox {
+    /// The protocols it offers, CoE with its services: `CoE (SDO info, PDO assign)`, `FoE`, …
+    pub fn protocols(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        if let Some(coe) = &self.coe {
+            let services: Vec<&str> = [
+                (coe.sdo_info, "SDO info"),
+                (coe.pdo_assign, "PDO assign"),
+                (coe.pdo_config, "PDO config"),
+                (coe.pdo_upload, "PDO upload"),
+                (coe.complete_access, "complete access"),
+                (coe.segmented_sdo, "segmented SDO"),
+            ]
+            .into_iter()
+            .filter_map(|(on, name)| on.then_some(name))
+            .collect();
+            out.push(if services.is_empty() {
+                "CoE".to_owned()
+            } else {
+                format!("CoE ({})", services.join(", "))
+            });
+        }
+        for (on, name) in [
+            (self.foe, "FoE"),
+            (self.eoe, "EoE"),
+            (self.soe.is_some(), "SoE"),
+            (self.aoe, "AoE"),
+            (self.voe, "VoE"),
+        ] {
+            if on {
+                out.push(name.to_owned());
+            }
+        }
+        out
+    }
 }

@@ -203,12 +203,7 @@ impl Sdo {
                     Said { text: format!("block write{size}"), done: None, addr: Some((i, s)) }
                 }
                 _ => {
-                    // End: the last segment's unused bytes.
-                    let unused = usize::from((cmd >> 2) & 7);
-                    if let Some(t) = self.transfers.get_mut(&node) {
-                        let keep = t.data.len().saturating_sub(unused);
-                        t.data.truncate(keep);
-                    }
+                    self.block_end(node, cmd);
                     say("block write end".into())
                 }
             },
@@ -268,15 +263,22 @@ impl Sdo {
                     Said { text: format!("block read answer{size}"), done: None, addr: idx }
                 }
                 _ => {
-                    let unused = usize::from((cmd >> 2) & 7);
-                    if let Some(t) = self.transfers.get_mut(&node) {
-                        let keep = t.data.len().saturating_sub(unused);
-                        t.data.truncate(keep);
-                    }
+                    self.block_end(node, cmd);
                     say("block read end".into())
                 }
             },
             _ => say(format!("SDO command 0x{cmd:02X}")),
+        }
+    }
+}
+
+impl Sdo {
+    /// A block transfer's end: the last segment's unused bytes (n, bits 4..2) are dropped.
+    fn block_end(&mut self, node: u8, cmd: u8) {
+        let unused = usize::from((cmd >> 2) & 7);
+        if let Some(t) = self.transfers.get_mut(&node) {
+            let keep = t.data.len().saturating_sub(unused);
+            t.data.truncate(keep);
         }
     }
 }

@@ -99,6 +99,9 @@ fn boot_up_sdo_and_aborts() {
     assert_eq!(m.read(NODE, &od::PROFILE_VELOCITY).unwrap(), 12_345);
     // Untyped, and the server's aborts come back as values.
     assert_eq!(m.upload(NODE, 0x6081, 0).unwrap(), 12_345u32.to_le_bytes());
+    // Block transfer (CiA 301 7.2.4.3.9ff, with CRC) both ways.
+    m.download_block(NODE, 0x6081, 0, &777u32.to_le_bytes()).unwrap();
+    assert_eq!(m.upload_block(NODE, 0x6081, 0).unwrap(), 777u32.to_le_bytes());
     match m.upload(NODE, 0x2FFF, 0) {
         Err(Error::Sdo { node: NODE, index: 0x2FFF, sub: 0, error: SdoError::Remote(a) }) => {
             assert_eq!(a, SdoAbort::NoSuchObject);

@@ -72,14 +72,9 @@ fn direction_of(usage: &SmUsage) -> Option<Direction> {
 }
 
 fn usage_name(u: &SmUsage) -> &str {
-    match u {
-        SmUsage::MBoxOut => "MBoxOut",
-        SmUsage::MBoxIn => "MBoxIn",
-        SmUsage::Outputs => "Outputs",
-        SmUsage::Inputs => "Inputs",
-        SmUsage::MBoxState => "MBoxState",
-        SmUsage::Other(t) if t.is_empty() => "(no type)",
-        SmUsage::Other(t) => t,
+    match u.as_str() {
+        "" => "(no type)",
+        t => t,
     }
 }
 
