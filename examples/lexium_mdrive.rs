@@ -8,8 +8,8 @@
 
 use std::thread;
 
-use odc::cia402::{Driver, Inputs, ModeOfOperation, Outputs};
-use odc::master::axis::{Axis, ProcessData};
+use odc::cia402::{Driver, ModeOfOperation};
+use odc::master::axis::Axis;
 use odc::nmt::NmtCommand;
 use odc_examples::drive::Drive;
 use odc_examples::{Error, bus, step};
@@ -19,7 +19,7 @@ use odc_examples::{Error, bus, step};
 mod lexium_mdrive {
     odc::include_od!("lexium_mdrive");
 }
-use lexium_mdrive::{od, pdo, slave};
+use lexium_mdrive::{od, slave};
 
 /// The MDrive's factory node id (manual 5.2).
 const NODE: u8 = 0x41;
@@ -40,16 +40,8 @@ pub fn main() -> Result<(), Error> {
     let supported = odc_examples::supported_modes(&mut m, NODE)?;
     step("NMT start; the state machine to operation enabled");
     m.nmt(NmtCommand::Start, NODE)?;
-    let pdos = ProcessData {
-        rpdo: pdo::Rpdo2::cob_id(NODE),
-        tpdo: pdo::Tpdo2::cob_id(NODE),
-        command: |o: &Outputs| pdo::Rpdo2 {
-            controlword: o.controlword,
-            target_position: o.target_position.unwrap_or(0),
-        },
-        status: |t: &pdo::Tpdo2| Inputs::new(t.statusword).with_position(t.position_actual_value),
-    };
-    let mut axis = Axis::new(&mut m, NODE, Driver::new(supported), pdos)?;
+    let mut axis =
+        Axis::with_pdos::<lexium_mdrive::cia402::Pdos>(&mut m, NODE, Driver::new(supported))?;
     axis.enable()?;
     axis.set_mode(ModeOfOperation::ProfilePosition)?;
     step("profile position move to 51200 microsteps (one revolution), SYNC every cycle");

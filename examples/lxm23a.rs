@@ -7,8 +7,8 @@
 
 use std::thread;
 
-use odc::cia402::{Driver, Inputs, ModeOfOperation, Outputs};
-use odc::master::axis::{Axis, ProcessData};
+use odc::cia402::{Driver, ModeOfOperation};
+use odc::master::axis::Axis;
 use odc::nmt::NmtCommand;
 use odc_examples::drive::Drive;
 use odc_examples::{Error, bus, step};
@@ -18,7 +18,7 @@ use odc_examples::{Error, bus, step};
 mod lxm23a {
     odc::include_od!("lxm23a");
 }
-use lxm23a::{od, pdo, slave};
+use lxm23a::{od, slave};
 
 const NODE: u8 = 1;
 
@@ -40,16 +40,7 @@ pub fn main() -> Result<(), Error> {
     let supported = odc_examples::supported_modes(&mut m, NODE)?;
     step("NMT start; the state machine to operation enabled");
     m.nmt(NmtCommand::Start, NODE)?;
-    let pdos = ProcessData {
-        rpdo: pdo::Rpdo2::cob_id(NODE),
-        tpdo: pdo::Tpdo2::cob_id(NODE),
-        command: |o: &Outputs| pdo::Rpdo2 {
-            controlword: o.controlword,
-            target_position: o.target_position.unwrap_or(0),
-        },
-        status: |t: &pdo::Tpdo2| Inputs::new(t.statusword).with_position(t.position_actual_value),
-    };
-    let mut axis = Axis::new(&mut m, NODE, Driver::new(supported), pdos)?;
+    let mut axis = Axis::with_pdos::<lxm23a::cia402::Pdos>(&mut m, NODE, Driver::new(supported))?;
     axis.enable()?;
     step("profile position mode, checked against 0x6502 and confirmed by 0x6061");
     axis.set_mode(ModeOfOperation::ProfilePosition)?;

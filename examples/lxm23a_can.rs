@@ -1,17 +1,14 @@
 //! README's program: an LXM23A on a real bus (`cargo run --example lxm23a_can`, SocketCAN
 //! interface `can0`, the drive at node 1). The simulated `lxm23a` example runs the same steps.
 
-use odc::cia402::{Driver, Inputs, ModeOfOperation, Outputs, SupportedModes};
-use odc::master::{
-    Master,
-    axis::{Axis, ProcessData},
-};
+use odc::cia402::{Driver, ModeOfOperation, SupportedModes};
+use odc::master::{Master, axis::Axis};
 use odc::nmt::NmtCommand;
 use odc::transport::socketcan::SocketCan;
 mod lxm23a {
     odc::include_od!("lxm23a");
 }
-use lxm23a::{od, pdo};
+use lxm23a::od;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     const NODE: u8 = 1;
@@ -22,19 +19,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     m.execute(NODE, &lxm23a::master::tpdo2(NODE))?; // statusword + position actual value
     m.write(NODE, &od::PROFILE_VELOCITY, 1_000_000)?;
     m.nmt(NmtCommand::Start, NODE)?;
-    let pdos = ProcessData {
-        rpdo: pdo::Rpdo2::cob_id(NODE),
-        tpdo: pdo::Tpdo2::cob_id(NODE),
-        command: |o: &Outputs| pdo::Rpdo2 {
-            controlword: o.controlword,
-            target_position: o.target_position.unwrap_or(0),
-        },
-        status: |t: &pdo::Tpdo2| Inputs::new(t.statusword).with_position(t.position_actual_value),
-    };
     let modes = SupportedModes(u32::from_le_bytes(
         m.upload(NODE, 0x6502, 0)?.try_into().map_err(|_| "0x6502")?,
     ));
-    let mut axis = Axis::new(&mut m, NODE, Driver::new(modes), pdos)?;
+    let mut axis = Axis::with_pdos::<lxm23a::cia402::Pdos>(&mut m, NODE, Driver::new(modes))?;
     axis.enable()?;
     axis.set_mode(ModeOfOperation::ProfilePosition)?;
     axis.move_to(100_000)?;

@@ -1,6 +1,8 @@
 //! `cia402`: the modes of operation a CiA 402 drive supports.
 
 use odc_model::{Device, Value};
+
+use crate::types::RustTy;
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::quote;
 
@@ -101,9 +103,12 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
          `Statusword`: `od` and the PDO structs type 0x6040 and 0x6041 with them.",
         ctx.device.name()
     ));
+    let pdos = drive_pdos(ctx);
     quote! {
         #docs
         pub mod cia402 {
+            #pdos
+
             #mode_doc
             #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
             #repr
@@ -159,6 +164,129 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
                 fn decode(buf: &[u8]) -> Result<Mode, #rt::ValueError> {
                     Mode::from_i8(<i8 as #rt::ObjValue>::decode(buf)?).ok_or(#rt::ValueError::Invalid)
                 }
+            }
+        }
+    }
+}
+
+/// `cia402::Pdos`: the device's default RPDO with the controlword and TPDO with the statusword
+/// as `odc::cia402::DrivePdos`, so the runtime's driver runs the device with its own PDO
+/// structs. The RPDO chosen is the one that carries the most targets and nothing else the
+/// driver does not set (a field it cannot fill would be sent as 0 every cycle: such an RPDO
+/// is not chosen); the TPDO the
+/// one that carries the most actual values. CANopen PDOs only (they have a COB-ID); nothing
+/// when the default mapping has no such pair.
+fn drive_pdos(ctx: &Ctx<'_>) -> TokenStream {
+    let rt = &ctx.rt;
+    let names = crate::pdo::pdo_names(ctx);
+    let ty = |index: u16, sub: u8| {
+        ctx.device
+            .pdos
+            .iter()
+            .flat_map(|p| p.entries.iter())
+            .find(|e| e.index == index && e.sub == sub)
+            .and_then(|e| crate::pdo::field_type(ctx, e))
+    };
+    let mut best_rx: Option<(usize, usize, Vec<TokenStream>)> = None;
+    let mut best_tx: Option<(usize, usize, Vec<TokenStream>)> = None;
+    for (k, pdo) in ctx.device.pdos.iter().enumerate() {
+        if pdo.entries.is_empty() || pdo.comm_index.is_none() || pdo.cob_id.is_none() {
+            continue;
+        }
+        let (fields, _) = crate::pdo::fields(ctx, pdo, &mut Vec::new());
+        match pdo.direction {
+            odc_model::Direction::Rx => {
+                let mut exprs = Vec::new();
+                let mut ok = fields.iter().any(|f| f.index == 0x6040);
+                for f in &fields {
+                    let name = &f.name;
+                    let e = match (f.index, f.sub, ty(f.index, f.sub)) {
+                        (0x6040, 0, Some(RustTy::Controlword)) => quote!(#name: o.controlword),
+                        (0x607A, 0, Some(RustTy::Signed(32))) => {
+                            quote!(#name: o.target_position.unwrap_or(0))
+                        }
+                        (0x60FF, 0, Some(RustTy::Signed(32))) => {
+                            quote!(#name: o.target_velocity.unwrap_or(0))
+                        }
+                        (0x6071, 0, Some(RustTy::Signed(16))) => {
+                            quote!(#name: o.target_torque.unwrap_or(0))
+                        }
+                        _ => {
+                            ok = false;
+                            break;
+                        }
+                    };
+                    exprs.push(e);
+                }
+                if ok && best_rx.as_ref().is_none_or(|b| exprs.len() > b.1) {
+                    best_rx = Some((k, exprs.len(), exprs));
+                }
+            }
+            odc_model::Direction::Tx => {
+                let Some(sw) = fields.iter().find(|f| f.index == 0x6041 && f.sub == 0) else {
+                    continue;
+                };
+                if ty(0x6041, 0) != Some(RustTy::Statusword) {
+                    continue;
+                }
+                let sw = &sw.name;
+                let mut exprs = vec![quote!(let mut i = #rt::cia402::Inputs::new(t.#sw);)];
+                for f in &fields {
+                    let name = &f.name;
+                    let e = match (f.index, f.sub, ty(f.index, f.sub)) {
+                        (0x6064, 0, Some(RustTy::Signed(32))) => {
+                            quote!(i.position = Some(t.#name);)
+                        }
+                        (0x606C, 0, Some(RustTy::Signed(32))) => {
+                            quote!(i.velocity = Some(t.#name);)
+                        }
+                        (0x6077, 0, Some(RustTy::Signed(16))) => quote!(i.torque = Some(t.#name);),
+                        (0x6061, 0, Some(RustTy::Signed(8))) => quote!(i = i.with_mode(t.#name);),
+                        _ => continue,
+                    };
+                    exprs.push(e);
+                }
+                if best_tx.as_ref().is_none_or(|b| exprs.len() > b.1) {
+                    best_tx = Some((k, exprs.len(), exprs));
+                }
+            }
+        }
+    }
+    let (Some((rx, _, command)), Some((tx, _, status))) = (best_rx, best_tx) else {
+        return TokenStream::new();
+    };
+    let (Some(rx_name), Some(tx_name)) = (names.get(rx), names.get(tx)) else {
+        return TokenStream::new();
+    };
+    let (r, t) = (&rx_name.ty, &tx_name.ty);
+    let text = doc(&format!(
+        "The process data the runtime's CiA 402 driver runs this drive with: `{r}` (controlword\n\
+         and targets) out, `{t}` (statusword and actual values) in, as the default mapping has\n\
+         them (`odc::master::axis::Axis::with_pdos::<Pdos>`)."
+    ));
+    quote! {
+        #text
+        pub struct Pdos;
+
+        impl #rt::cia402::DrivePdos for Pdos {
+            type Command = super::pdo::#r;
+            type Status = super::pdo::#t;
+
+            fn command_cob_id(node_id: u8) -> u32 {
+                super::pdo::#r::cob_id(node_id)
+            }
+
+            fn status_cob_id(node_id: u8) -> u32 {
+                super::pdo::#t::cob_id(node_id)
+            }
+
+            fn command(o: &#rt::cia402::Outputs) -> super::pdo::#r {
+                super::pdo::#r { #(#command,)* }
+            }
+
+            fn status(t: &super::pdo::#t) -> #rt::cia402::Inputs {
+                #(#status)*
+                i
             }
         }
     }

@@ -50,18 +50,18 @@ pub fn pdo_names(ctx: &Ctx<'_>) -> Vec<PdoName> {
 }
 
 /// One field of a PDO struct.
-struct Field {
-    name: Ident,
+pub(crate) struct Field {
+    pub(crate) name: Ident,
     ty: TokenStream,
-    index: u16,
-    sub: u8,
+    pub(crate) index: u16,
+    pub(crate) sub: u8,
     bits: u16,
     pad_before: u32,
     doc: String,
 }
 
 /// The fields of a PDO (gaps folded into `pad_before`) and the padding after the last one.
-fn fields(ctx: &Ctx<'_>, pdo: &Pdo, errors: &mut Vec<Diagnostic>) -> (Vec<Field>, u32) {
+pub(crate) fn fields(ctx: &Ctx<'_>, pdo: &Pdo, errors: &mut Vec<Diagnostic>) -> (Vec<Field>, u32) {
     let rt = &ctx.rt;
     let mut namer = Namer::new();
     let mut out = Vec::new();

@@ -1,6 +1,7 @@
 //! The drive's side of CiA 402: the objects a drive's firmware reads and sets
 //! ([`DriveObjects`]), the power state machine the controlword drives ([`DeviceControl`]),
-//! and a simple axis ([`Axis`]) that runs profile position and profile velocity. [`Drive`]
+//! and a simple axis ([`Axis`]) that runs profile position, profile velocity and cyclic
+//! synchronous position. [`Drive`]
 //! puts the three together for a simulated device.
 //!
 //! No bus code: the application (or `odc simulate`) calls [`Drive::update`] after each
@@ -299,6 +300,12 @@ impl Axis {
             Some(ModeOfOperation::ProfileVelocity) if enabled && !cw.bit(8) => {
                 self.velocity = od.target_velocity().map_or(0, i64::from);
             }
+            // Cyclic synchronous position: the set-point of the cycle, reached by its end
+            // (an ideal position loop; the velocity is what it took).
+            Some(ModeOfOperation::CyclicSyncPosition) if enabled => {
+                self.target = od.target_position().map(i64::from);
+                self.velocity = 0;
+            }
             _ => self.velocity = 0,
         }
         if !enabled {
@@ -326,6 +333,11 @@ impl Axis {
             }
         }
         self.position = self.position.saturating_add(delta);
+        if self.mode == Some(ModeOfOperation::CyclicSyncPosition)
+            && let Some(t) = self.target
+        {
+            self.position = t;
+        }
     }
 
     /// Stops at once (quick stop and fault reaction: the axis has no ramps).

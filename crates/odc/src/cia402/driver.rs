@@ -106,6 +106,25 @@ pub struct Outputs {
     pub target_torque: Option<i16>,
 }
 
+/// A CiA 402 device's process data as its generated code maps it: the generated
+/// `cia402::Pdos` of a device whose default mapping carries the controlword out and the
+/// statusword in. The driver's [`Outputs`] become its RPDO struct, its TPDO struct becomes
+/// [`Inputs`].
+pub trait DrivePdos {
+    /// The RPDO with the controlword.
+    type Command: crate::Pdo;
+    /// The TPDO with the statusword.
+    type Status: crate::Pdo;
+    /// The RPDO's COB-ID at `node_id`.
+    fn command_cob_id(node_id: u8) -> u32;
+    /// The TPDO's COB-ID at `node_id`.
+    fn status_cob_id(node_id: u8) -> u32;
+    /// The RPDO for the driver's outputs.
+    fn command(outputs: &Outputs) -> Self::Command;
+    /// The driver's inputs from the TPDO.
+    fn status(status: &Self::Status) -> Inputs;
+}
+
 /// Why a job failed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DriverError {

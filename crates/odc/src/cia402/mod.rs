@@ -46,7 +46,7 @@ mod values;
 mod words;
 
 pub use device::{Axis, DeviceControl, Drive, DriveObjects, transition};
-pub use driver::{Driver, DriverError, DriverStatus, Inputs, Outputs};
+pub use driver::{DrivePdos, Driver, DriverError, DriverStatus, Inputs, Outputs};
 pub use modes::{ModeOfOperation, SupportedModes};
 pub use state::State;
 pub use words::{Command, Controlword, Statusword};

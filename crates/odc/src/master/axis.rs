@@ -83,6 +83,26 @@ impl<'m, B: Bus, R: Pdo, T: Pdo> Axis<'m, B, R, T> {
         Ok(Axis { master, node, pdos, driver, inputs, cycles: 0 })
     }
 
+    /// The drive at `node` with the process data of its generated code
+    /// (`<device>::cia402::Pdos`).
+    ///
+    /// # Errors
+    ///
+    /// As [`Axis::new`].
+    pub fn with_pdos<P: crate::cia402::DrivePdos<Command = R, Status = T>>(
+        master: &'m mut Master<B>,
+        node: u8,
+        driver: Driver,
+    ) -> Result<Self, Error<B::Error>> {
+        let pdos = ProcessData {
+            rpdo: P::command_cob_id(node),
+            tpdo: P::status_cob_id(node),
+            command: P::command,
+            status: P::status,
+        };
+        Self::new(master, node, driver, pdos)
+    }
+
     /// The inputs of the last cycle.
     pub fn inputs(&self) -> Inputs {
         self.inputs

@@ -4,7 +4,8 @@
 //! - NMT master: commands to one node or all; each node's state as its boot-up, heartbeat or
 //!   guarding answer last said; a heartbeat consumer that makes a lost node an event;
 //! - SYNC producer (with the CiA 301 counter when asked for);
-//! - SDO client for every node (expedited, segmented, block), typed by generated descriptors;
+//! - SDO client for every node (expedited, segmented; block transfer with
+//!   [`Master::upload_block`]), typed by generated descriptors;
 //! - PDO exchange with generated structs: send an RPDO struct, receive a TPDO struct by COB-ID;
 //! - execution of generated configuration plans;
 //! - EMCY consumer: the code, its CiA 301/402 meaning and the error register;
@@ -565,10 +566,7 @@ impl<B: Bus> Master<B> {
     /// [`Error::Sdo`] with the abort, or the bus error.
     pub fn read<T: ObjValue>(&mut self, node: u8, entry: &Entry<T>) -> Result<T, Error<B::Error>> {
         let (index, sub) = (entry.addr.index, entry.addr.sub);
-        let mut client = self.take_client(node)?;
-        let r = client.read(&mut self.link, entry);
-        self.clients.insert(node, client);
-        r.map_err(|error| Error::Sdo { node, index, sub, error })
+        self.transfer(node, index, sub, |c, link| c.read(link, entry))
     }
 
     /// Writes `value` into a generated descriptor's entry of `node`.
@@ -583,10 +581,7 @@ impl<B: Bus> Master<B> {
         value: T,
     ) -> Result<(), Error<B::Error>> {
         let (index, sub) = (entry.addr.index, entry.addr.sub);
-        let mut client = self.take_client(node)?;
-        let r = client.write(&mut self.link, entry, value);
-        self.clients.insert(node, client);
-        r.map_err(|error| Error::Sdo { node, index, sub, error })
+        self.transfer(node, index, sub, |c, link| c.write(link, entry, value))
     }
 
     /// Uploads `index:sub` of `node` (any size up to [`SDO_BUFFER`]).
@@ -595,10 +590,7 @@ impl<B: Bus> Master<B> {
     ///
     /// [`Error::Sdo`] with the abort, or the bus error.
     pub fn upload(&mut self, node: u8, index: u16, sub: u8) -> Result<Vec<u8>, Error<B::Error>> {
-        let mut client = self.take_client(node)?;
-        let r = client.upload(&mut self.link, index, sub).map(<[u8]>::to_vec);
-        self.clients.insert(node, client);
-        r.map_err(|error| Error::Sdo { node, index, sub, error })
+        self.transfer(node, index, sub, |c, link| c.upload(link, index, sub).map(<[u8]>::to_vec))
     }
 
     /// Downloads `data` into `index:sub` of `node`.
@@ -613,10 +605,40 @@ impl<B: Bus> Master<B> {
         sub: u8,
         data: &[u8],
     ) -> Result<(), Error<B::Error>> {
-        let mut client = self.take_client(node)?;
-        let r = client.download(&mut self.link, index, sub, data);
-        self.clients.insert(node, client);
-        r.map_err(|error| Error::Sdo { node, index, sub, error })
+        self.transfer(node, index, sub, |c, link| c.download(link, index, sub, data))
+    }
+
+    /// Block-uploads `index:sub` of `node` (CiA 301 block transfer with CRC: for large
+    /// values, where the server supports it).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Sdo`] with the abort (a server without block transfer aborts), or the bus
+    /// error.
+    pub fn upload_block(
+        &mut self,
+        node: u8,
+        index: u16,
+        sub: u8,
+    ) -> Result<Vec<u8>, Error<B::Error>> {
+        self.transfer(node, index, sub, |c, link| {
+            c.upload_block(link, index, sub).map(<[u8]>::to_vec)
+        })
+    }
+
+    /// Block-downloads `data` into `index:sub` of `node`.
+    ///
+    /// # Errors
+    ///
+    /// As [`Master::upload_block`].
+    pub fn download_block(
+        &mut self,
+        node: u8,
+        index: u16,
+        sub: u8,
+        data: &[u8],
+    ) -> Result<(), Error<B::Error>> {
+        self.transfer(node, index, sub, |c, link| c.download_block(link, index, sub, data))
     }
 
     /// Executes a configuration plan (a generated `master::plan(node)`) on `node`, write by
@@ -633,6 +655,20 @@ impl<B: Bus> Master<B> {
             let write = plan.get(step).copied().unwrap_or(SdoWrite::u8(0, 0, 0));
             Error::Plan { node, step, write, error }
         })
+    }
+
+    /// Runs one transfer with `node`'s client; its error names the node and the object.
+    fn transfer<T>(
+        &mut self,
+        node: u8,
+        index: u16,
+        sub: u8,
+        run: impl FnOnce(&mut Client<SDO_BUFFER>, &mut Link<B>) -> Result<T, SdoError<B::Error>>,
+    ) -> Result<T, Error<B::Error>> {
+        let mut client = self.take_client(node)?;
+        let r = run(&mut client, &mut self.link);
+        self.clients.insert(node, client);
+        r.map_err(|error| Error::Sdo { node, index, sub, error })
     }
 
     /// The node's client, out of the map while it runs (it borrows the link mutably); the
