@@ -213,7 +213,7 @@ impl Diff {
         }
         let fmmus = |e: Option<&EtherCat>| {
             e.map(|e| {
-                e.fmmus.iter().map(|f| usage(&f.usage).to_owned()).collect::<Vec<_>>().join(", ")
+                e.fmmus.iter().map(|f| f.usage.as_str().to_owned()).collect::<Vec<_>>().join(", ")
             })
             .unwrap_or_default()
         };

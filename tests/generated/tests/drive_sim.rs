@@ -76,7 +76,6 @@ fn session<P: DrivePdos>(file: &str, plans: &[&[odc::plan::SdoWrite]], velocity:
         axis.cycle().unwrap();
         axis.inputs().position.unwrap()
     });
-    drop(axis);
     m.nmt(NmtCommand::Stop, NODE).unwrap();
     drop(m);
     stop.stop();
