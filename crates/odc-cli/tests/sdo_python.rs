@@ -134,19 +134,29 @@ fn odc_sdo_reads_and_writes_python_canopen_by_name() {
                         )),
                     }
                 }
-                // Number types that are writable: a value in the limits, read back.
-                let number =
-                    matches!(s.data_type.class(), ValueClass::Unsigned(_) | ValueClass::Signed(_));
-                if s.access.writable()
-                    && s.access.readable()
-                    && number
-                    && !(0x1400..=0x1BFF).contains(&index)
+                // Every writable (and readable) entry but the PDO parameters (a new mapping
+                // or COB-ID is the plans' business): a value of its type in its limits.
+                let limit = || match (&s.low_limit, &s.high_limit) {
+                    (Some(lo), _) => Some(odc_eds::value_text(&lo.value)),
+                    (None, Some(hi)) => Some(odc_eds::value_text(&hi.value)),
+                    _ => None,
+                };
+                let value = match s.data_type.class() {
+                    ValueClass::Unsigned(_) | ValueClass::Signed(_) => {
+                        Some(limit().unwrap_or_else(|| "1".to_owned()))
+                    }
+                    ValueClass::Bool => Some("1".to_owned()),
+                    ValueClass::Real32 | ValueClass::Real64 => {
+                        Some(limit().unwrap_or_else(|| "1.5".to_owned()))
+                    }
+                    ValueClass::Text => Some("odc".to_owned()),
+                    ValueClass::Bytes => Some("0102".to_owned()),
+                    _ => None,
+                };
+                let pdo_parameter = (0x1400..=0x1BFF).contains(&index);
+                if let Some(value) =
+                    value.filter(|_| s.access.writable() && s.access.readable() && !pdo_parameter)
                 {
-                    let value = match (&s.low_limit, &s.high_limit) {
-                        (Some(lo), _) => odc_eds::value_text(&lo.value),
-                        (None, Some(hi)) => odc_eds::value_text(&hi.value),
-                        _ => "1".to_owned(),
-                    };
                     written += 1;
                     let out = sdo(&["write", &spec, &value]);
                     if out.status.code() != Some(0) {
