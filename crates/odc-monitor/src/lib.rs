@@ -89,10 +89,25 @@ impl fmt::Display for Record {
     }
 }
 
-/// What the decoder knows of a node: its device and its PDO mappings as they are now.
+/// Process data a device file cannot map, as its overlay lays it out (`[[process-data]]`:
+/// named fields, byte-packed, little-endian; LinMot's built-in Control Word and motion command
+/// words): frames on `$NODEID + cob_base` split into those fields.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ProcessLayout {
+    /// The layout's name (`RxPdo1`).
+    pub name: String,
+    /// CAN-ID minus the node-ID.
+    pub cob_base: u32,
+    /// Field names and types (`u8`, `u16`, `u32`, `i8`, `i16`, `i32`), in wire order.
+    pub fields: Vec<(String, String)>,
+}
+
+/// What the decoder knows of a node: its device, its PDO mappings as they are now, and its
+/// overlay's process data.
 struct Node {
     device: Device,
     pdos: pdo::Mappings,
+    process: Vec<ProcessLayout>,
 }
 
 /// Frames in, records out.
@@ -108,10 +123,19 @@ impl Decoder {
             .into_iter()
             .map(|(id, device)| {
                 let pdos = pdo::Mappings::of(&device, id);
-                (id, Node { device, pdos })
+                (id, Node { device, pdos, process: Vec::new() })
             })
             .collect();
         Decoder { nodes, sdo: sdo::Sdo::default() }
+    }
+
+    /// Also splits the frames of `node` that its overlay lays out (the device file maps
+    /// nothing there).
+    pub fn with_process_data(mut self, node: u8, layouts: Vec<ProcessLayout>) -> Self {
+        if let Some(n) = self.nodes.get_mut(&node) {
+            n.process = layouts;
+        }
+        self
     }
 
     /// One frame.
@@ -285,6 +309,13 @@ impl Decoder {
         r.kind = kind;
         r.node = node;
         for (n, known) in &self.nodes {
+            let layout = known.process.iter().find(|l| l.cob_base + u32::from(*n) == r.id);
+            if let Some(l) = layout {
+                r.node = Some(*n);
+                r.text = l.name.clone();
+                r.fields = pdo::process_fields(l, b);
+                return;
+            }
             if let Some(m) = known.pdos.by_cob(r.id) {
                 r.node = Some(*n);
                 r.fields = m.fields(&known.device, b);

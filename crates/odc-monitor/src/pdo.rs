@@ -170,6 +170,30 @@ impl Mappings {
     }
 }
 
+/// The fields of an overlay's process-data layout: byte-packed, little-endian.
+pub(crate) fn process_fields(layout: &crate::ProcessLayout, bytes: &[u8]) -> Vec<Field> {
+    let mut at = 0u32;
+    let mut out = Vec::new();
+    for (name, ty) in &layout.fields {
+        let (bits, class) = match ty.as_str() {
+            "u8" => (8, ValueClass::Unsigned(8)),
+            "u16" => (16, ValueClass::Unsigned(16)),
+            "u32" => (32, ValueClass::Unsigned(32)),
+            "i8" => (8, ValueClass::Signed(8)),
+            "i16" => (16, ValueClass::Signed(16)),
+            "i32" => (32, ValueClass::Signed(32)),
+            _ => (0, ValueClass::Bytes),
+        };
+        let value = match extract(bytes, at, bits) {
+            Some(raw) if bits > 0 => show(&typed(raw, bits, class)),
+            _ => "(beyond the frame)".to_owned(),
+        };
+        out.push(Field { object: String::new(), name: name.clone(), value });
+        at += bits;
+    }
+    out
+}
+
 /// The kind of a PDO CAN-ID in the predefined connection set, and its node.
 pub(crate) fn name(id: u32) -> (String, Option<u8>) {
     let (kind, base) = match id {

@@ -143,7 +143,20 @@ fn the_logs_are_the_tests_frames_and_decode() {
             .map(|f| (f.frame.id & 0x7F) as u8)
             .filter(|n| *n > 0)
             .collect();
+        let layouts: Vec<odc_monitor::ProcessLayout> = loaded
+            .codegen
+            .process_data
+            .iter()
+            .map(|p| odc_monitor::ProcessLayout {
+                name: p.name.clone(),
+                cob_base: u32::from_str_radix(p.cob_id.trim_start_matches("0x"), 16).unwrap(),
+                fields: p.fields.iter().map(|f| (f.name.clone(), f.ty.clone())).collect(),
+            })
+            .collect();
         let mut d = Decoder::new(nodes.iter().map(|n| (*n, loaded.devices[0].clone())).collect());
+        for n in &nodes {
+            d = d.with_process_data(*n, layouts.clone());
+        }
         for f in &frames {
             lines.push(d.decode(&f.frame, Some(f.time)).to_string());
         }

@@ -123,7 +123,25 @@ fn parse_u8(s: &str) -> Option<u8> {
 
 /// The device of a node's file (the file's one device, or the one `--device` picks).
 pub fn load(spec: &NodeSpec) -> anyhow::Result<Device> {
+    Ok(load_with_process_data(spec)?.0)
+}
+
+/// The device of a node's file and the process data its overlay lays out
+/// (`[[process-data]]`), for the monitor.
+pub fn load_with_process_data(
+    spec: &NodeSpec,
+) -> anyhow::Result<(Device, Vec<odc_monitor::ProcessLayout>)> {
     let loaded = input::load(&spec.file, &input::Levels::default())?;
     super::gate(&loaded)?;
-    Ok(loaded.device()?.clone())
+    let layouts = loaded
+        .codegen
+        .process_data
+        .iter()
+        .filter_map(|p| {
+            let cob_base = parse_u64(&p.cob_id).and_then(|n| u32::try_from(n).ok())?;
+            let fields = p.fields.iter().map(|f| (f.name.clone(), f.ty.clone())).collect();
+            Some(odc_monitor::ProcessLayout { name: p.name.clone(), cob_base, fields })
+        })
+        .collect();
+    Ok((loaded.device()?.clone(), layouts))
 }

@@ -9,7 +9,7 @@ use anyhow::Context;
 use odc::transport::Bus;
 use odc_monitor::{Decoder, Record, candump};
 
-use super::link::{BusArgs, NodeSpec, load};
+use super::link::{BusArgs, NodeSpec, load_with_process_data};
 
 /// How records are printed.
 #[derive(Clone, Copy, Debug, Default, clap::ValueEnum)]
@@ -48,10 +48,16 @@ pub struct Args {
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mut devices = Vec::new();
+    let mut process = Vec::new();
     for spec in &args.node {
-        devices.push((spec.id, load(spec)?));
+        let (device, layouts) = load_with_process_data(spec)?;
+        devices.push((spec.id, device));
+        process.push((spec.id, layouts));
     }
     let mut decoder = Decoder::new(devices);
+    for (node, layouts) in process {
+        decoder = decoder.with_process_data(node, layouts);
+    }
     let print = |r: &Record| -> anyhow::Result<()> {
         let line = match args.format {
             MonitorFormat::Human => r.to_string(),
