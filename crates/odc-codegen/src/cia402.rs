@@ -230,7 +230,7 @@ fn drive_pdos(ctx: &Ctx<'_>) -> TokenStream {
                     continue;
                 }
                 let sw = &sw.name;
-                let mut exprs = vec![quote!(let mut i = #rt::cia402::Inputs::new(t.#sw);)];
+                let mut exprs = vec![quote!(#rt::cia402::Inputs::new(t.#sw))];
                 for f in &fields {
                     let name = &f.name;
                     let e = match (f.index, f.sub, ty(f.index, f.sub)) {
@@ -259,6 +259,17 @@ fn drive_pdos(ctx: &Ctx<'_>) -> TokenStream {
         return TokenStream::new();
     };
     let (r, t) = (&rx_name.ty, &tx_name.ty);
+    // `Inputs::new(statusword)` alone, or bound to `i` when actual values follow (a `let mut`
+    // with nothing after it would be a warning in the user's crate).
+    let status = match status.split_first() {
+        Some((new, [])) => quote!(#new),
+        Some((new, rest)) => quote! {
+            let mut i = #new;
+            #(#rest)*
+            i
+        },
+        None => return TokenStream::new(),
+    };
     let text = doc(&format!(
         "The process data the runtime's CiA 402 driver runs this drive with: `{r}` (controlword\n\
          and targets) out, `{t}` (statusword and actual values) in, as the default mapping has\n\
@@ -285,8 +296,7 @@ fn drive_pdos(ctx: &Ctx<'_>) -> TokenStream {
             }
 
             fn status(t: &super::pdo::#t) -> #rt::cia402::Inputs {
-                #(#status)*
-                i
+                #status
             }
         }
     }
