@@ -2,7 +2,7 @@
 //! loopback port: values by name and by index, typed by the file; an abort with its CiA 301
 //! meaning (exit 1); a name the file lacks (exit 2, with near matches); NMT; LSS inquire and a
 //! new node-ID after reset communication. Expected values are the file's defaults (0x1000
-//! 0x00020192, 0x1018:01 0x1DD) and CiA 301's abort code 0x06010002.
+//! 0x04020192, 0x1018:01 0x1DD) and CiA 301's abort code 0x06010002.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use std::io::{BufRead, BufReader};
@@ -48,7 +48,7 @@ fn sdo_nmt_lss_against_the_simulated_drive() {
     };
     let out = sdo("read", &["0x1000"]);
     assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
-    assert_eq!(text(&out.stdout), "0x1000:00 Device type = 131474 (0x20192)\n");
+    assert_eq!(text(&out.stdout), "0x1000:00 Device type = 67240338 (0x4020192)\n");
     let out = sdo("read", &["0x1018:01"]);
     assert_eq!(text(&out.stdout), "0x1018:01 Identity object/Vendor ID = 477 (0x1DD)\n");
     // By name, written and read back; the same object by index.
@@ -155,7 +155,7 @@ fn monitor_reads_a_candump_log_and_a_live_bus() {
     let seen = std::io::read_to_string(monitor.stdout.take().unwrap()).unwrap();
     let _ = monitor.wait();
     assert!(seen.contains("SDO request node 5: read 0x1000:00 Device type"), "{seen}");
-    assert!(seen.contains("Device type = 131474 (0x20192)"), "{seen}");
+    assert!(seen.contains("Device type = 67240338 (0x4020192)"), "{seen}");
     drop(sim.stdin.take());
     let _ = sim.wait();
 }

@@ -21,9 +21,10 @@ fn sections(source: &str) -> Vec<(String, String, Vec<String>)> {
     let mut pending_doc = String::new();
     for line in source.lines() {
         let t = line.trim();
-        if let Some(d) = t.strip_prefix("/// ") {
+        if let Some(d) = t.strip_prefix("///") {
+            // The first line of the doc comment (later paragraphs do not replace it).
             if pending_doc.is_empty() {
-                pending_doc = d.to_owned();
+                pending_doc = d.trim().to_owned();
             }
             continue;
         }

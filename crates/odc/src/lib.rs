@@ -70,7 +70,7 @@
 //! let mut bus = InMemoryBus::with(lxm23a::slave::Dictionary::new(5)); // any odc::sdo::Bus
 //! let mut sdo = Client::<64>::new(5); // node 5
 //! let device_type: u32 = sdo.read(&mut bus, &lxm23a::od::DEVICE_TYPE)?; // od: typed entries
-//! assert_eq!(device_type, 0x0002_0192);
+//! assert_eq!(device_type, 0x0402_0192); // the manual's default (object 1000h)
 //! sdo.execute(&mut bus, &lxm23a::master::plan(5)).map_err(|(_, e)| e)?; // the PDO mapping
 //! # Ok::<(), odc::sdo::SdoError<core::convert::Infallible>>(())
 //! ```

@@ -190,9 +190,15 @@ fn profile_torque() {
 }
 
 /// Figure 3.8: the SDO response carrying the device type (node 1).
+///
+/// The figure's 00020192h is an example of an answer; manual 8.5.1 gives the MDrive's
+/// default, 0044 0192h (stepper motor, DSP402), which the device file holds. The drive is
+/// given the figure's value before it is read.
 #[test]
 fn sdo_message_example() {
     let mut b = Bench::new(1, slave::Dictionary::new(1));
+    assert_eq!(b.wire.od.get(od::DEVICE_TYPE), Ok(0x0044_0192), "the manual's default");
+    b.wire.od.set(od::DEVICE_TYPE, 0x0002_0192).unwrap();
     assert_eq!(b.read(&od::DEVICE_TYPE), 0x0002_0192);
     assert_same(&b.wire.log[1..], &[printed("581 / 43 00 10 00 92 01 02 00")]);
 }

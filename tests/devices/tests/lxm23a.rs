@@ -82,9 +82,15 @@ fn mode_response(text: &'static str) -> Printed {
 }
 
 /// Figure 11/12: the SDO response that reads the device type.
+///
+/// The figure shows one drive answering 00020192h; the manual's page for object 1000h gives
+/// the default 04020192h (mode bits 04h), which the device file holds. The figure is an
+/// example of an answer, so this drive is given the figure's value before it is read.
 #[test]
 fn sdo_message_example() {
     let mut b = bench();
+    assert_eq!(b.wire.od.0.get(od::DEVICE_TYPE), Ok(0x0402_0192), "the manual's default");
+    b.wire.od.0.set(od::DEVICE_TYPE, 0x0002_0192).unwrap();
     let device_type = b.read(&od::DEVICE_TYPE);
     assert_eq!(device_type, 0x0002_0192);
     // The manual prints the response only.

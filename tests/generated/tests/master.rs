@@ -93,8 +93,8 @@ fn boot_up_sdo_and_aborts() {
     let (mut m, _device, _spy) = setup();
     m.wait_boot_up(NODE).unwrap();
     assert_eq!(m.state(NODE), Some(NmtState::PreOperational));
-    // 0x1000 of eds/lxm23a.eds: 0x00020192 (CiA 402 drive).
-    assert_eq!(m.read(NODE, &od::DEVICE_TYPE).unwrap(), 0x0002_0192);
+    // 0x1000 of eds/lxm23a.eds: 0x04020192 (the manual's object 1000h: CiA 402 servo drive).
+    assert_eq!(m.read(NODE, &od::DEVICE_TYPE).unwrap(), 0x0402_0192);
     m.write(NODE, &od::PROFILE_VELOCITY, 12_345).unwrap();
     assert_eq!(m.read(NODE, &od::PROFILE_VELOCITY).unwrap(), 12_345);
     // Untyped, and the server's aborts come back as values.
@@ -244,7 +244,7 @@ fn lss_fastscan_then_a_node_id() {
     // Reset communication: it boots as node 9.
     m.nmt(NmtCommand::ResetCommunication, 0).unwrap();
     m.wait_boot_up(9).unwrap();
-    assert_eq!(m.read(9, &od::DEVICE_TYPE).unwrap(), 0x0002_0192);
+    assert_eq!(m.read(9, &od::DEVICE_TYPE).unwrap(), 0x0402_0192);
     // Nobody unconfigured any more; a fastscan finds nothing.
     let mut lss = m.lss().with_timeout(20);
     assert!(!lss.any_unconfigured().unwrap());
