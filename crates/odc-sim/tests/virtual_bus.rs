@@ -53,7 +53,8 @@ fn clients_see_each_other_and_the_device() {
 
     // A uploads 0x1000 (device type) from node 5: A gets the answer, B the request and answer.
     let request = CanFrame::new(0x605, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]);
-    let answer = CanFrame::new(0x585, [0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]);
+    // 0x1000 of eds/lxm23a.eds: 0x04020192 (the manual's object 1000h).
+    let answer = CanFrame::new(0x585, [0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x04]);
     a.send(&request).unwrap();
     assert_eq!(next(&mut a), Some(answer));
     assert_eq!(next(&mut b), Some(request));
