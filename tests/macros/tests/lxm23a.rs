@@ -10,7 +10,8 @@ fn descriptors() {
     assert_eq!(od::DEVICE_TYPE.addr, ObjectAddr::new(0x1000, 0));
     assert_eq!(od::DEVICE_TYPE.data_type(), DataType::Unsigned32);
     assert_eq!(od::DEVICE_TYPE.access, Access::Ro);
-    assert_eq!(od::DEVICE_TYPE.default, Some(DefaultValue::Value(0x0002_0192)));
+    // The manual's default for object 1000h.
+    assert_eq!(od::DEVICE_TYPE.default, Some(DefaultValue::Value(0x0402_0192)));
     assert_eq!(od::DEVICE_TYPE.default, built::od::DEVICE_TYPE.default);
     assert_eq!(od::CONTROLWORD.addr, ObjectAddr::new(0x6040, 0));
     assert_eq!(od::CONTROLWORD.data_type(), DataType::Unsigned16);
@@ -42,7 +43,7 @@ fn slave_reads_the_device_type() {
     let d = slave::Dictionary::new(3);
     let mut buf = [0u8; 4];
     assert_eq!(odc::slave::ObjectDictionary::read(&d, 0x1000, 0, &mut buf), Ok(4));
-    assert_eq!(u32::from_le_bytes(buf), 0x0002_0192);
+    assert_eq!(u32::from_le_bytes(buf), 0x0402_0192);
 }
 
 #[test]
