@@ -143,16 +143,7 @@ pub(crate) fn nodes_text(nodes: &[u8]) -> String {
 
 /// The CiA 306 name of an object kind: `VAR`, `ARRAY`, `RECORD`, ...
 pub(crate) fn kind_name(k: odc_model::ObjectKind) -> &'static str {
-    use odc_model::ObjectKind::*;
-    match k {
-        Null => "NULL",
-        Domain => "DOMAIN",
-        DefType => "DEFTYPE",
-        DefStruct => "DEFSTRUCT",
-        Var => "VAR",
-        Array => "ARRAY",
-        Record => "RECORD",
-    }
+    k.name()
 }
 
 /// A value for messages: integers in decimal, `$NODEID+n`, others debug-printed.

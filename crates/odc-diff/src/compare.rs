@@ -251,12 +251,7 @@ impl Diff {
         if !self.opts.ignore_names {
             self.field(place(), "name", x.name.clone(), y.name.clone());
         }
-        self.field(
-            place(),
-            "object code",
-            format!("{:?}", x.kind).to_uppercase(),
-            format!("{:?}", y.kind).to_uppercase(),
-        );
+        self.field(place(), "object code", x.kind.name().to_owned(), y.kind.name().to_owned());
         if !self.opts.ignore_comments {
             self.field(
                 place(),
@@ -388,14 +383,10 @@ impl Diff {
 /// Which PDOs a sub-object may be mapped into, by meaning: an EDS's `PDOMapping=1` on a
 /// read-only entry and an XDD's `PDOmapping="TPDO"` are both "TPDO".
 fn directions(s: &SubObject) -> &'static str {
-    let rx = s.pdo_mapping.allows(s.access, Direction::Rx);
-    let tx = s.pdo_mapping.allows(s.access, Direction::Tx);
-    match (s.pdo_mapping, rx, tx) {
-        (odc_model::PdoMapping::No, _, _) => "no",
-        (_, true, true) => "RPDO/TPDO",
-        (_, true, false) => "RPDO",
-        (_, false, true) => "TPDO",
-        (_, false, false) => "none allowed",
+    match (s.pdo_mapping, s.pdo_mapping.directions(s.access)) {
+        (odc_model::PdoMapping::No, _) => "no",
+        (_, "") => "none allowed",
+        (_, d) => d,
     }
 }
 
@@ -408,7 +399,7 @@ fn flags(v: Option<&Spanned<u32>>) -> String {
 }
 
 fn describe(o: &Object) -> String {
-    let kind = format!("{:?}", o.kind).to_uppercase();
+    let kind = o.kind.name();
     match o.var() {
         Some(s) => format!("{kind} \"{}\" {} {}", o.name, s.data_type.name(), s.access.as_str()),
         None => format!("{kind} \"{}\", {} sub-objects", o.name, o.subs.len()),

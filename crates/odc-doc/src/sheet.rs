@@ -3,8 +3,7 @@
 
 use odc_codegen::image::{Image, default_images};
 use odc_model::{
-    Access, Device, Diagnostic, Direction, Format, Object, PdoMapping, Severity, Sources,
-    SubObject, Value,
+    Device, Diagnostic, Direction, Format, Object, Severity, Sources, SubObject, Value,
 };
 
 /// What the sheet is made from.
@@ -290,20 +289,6 @@ fn capabilities(dev: &Device) -> Vec<(String, String)> {
     rows
 }
 
-/// The name of an object code, as CiA 301 writes it.
-fn kind_name(k: odc_model::ObjectKind) -> &'static str {
-    use odc_model::ObjectKind as K;
-    match k {
-        K::Null => "NULL",
-        K::Domain => "DOMAIN",
-        K::DefType => "DEFTYPE",
-        K::DefStruct => "DEFSTRUCT",
-        K::Var => "VAR",
-        K::Array => "ARRAY",
-        K::Record => "RECORD",
-    }
-}
-
 fn value_text(v: Option<&odc_model::Spanned<Value>>) -> String {
     v.map_or(String::new(), |v| odc_eds::value_text(&v.value))
 }
@@ -317,7 +302,7 @@ fn objects(dev: &Device) -> Vec<ObjectRow> {
                 index: object.index,
                 sub: None,
                 name: object.name.clone(),
-                kind: kind_name(object.kind).to_owned(),
+                kind: object.kind.name().to_owned(),
                 data_type: String::new(),
                 access: String::new(),
                 pdo: String::new(),
@@ -331,7 +316,7 @@ fn objects(dev: &Device) -> Vec<ObjectRow> {
                 rows.push(sub_row(object, sub, String::new()));
             }
         } else if let Some(sub) = object.var() {
-            let mut row = sub_row(object, sub, kind_name(object.kind).to_owned());
+            let mut row = sub_row(object, sub, object.kind.name().to_owned());
             row.name = object.name.clone();
             rows.push(row);
         }
@@ -349,26 +334,13 @@ fn sub_row(object: &Object, sub: &SubObject, kind: String) -> ObjectRow {
         kind,
         data_type: sub.data_type.name().into_owned(),
         access: sub.access.as_str().to_owned(),
-        pdo: pdo_directions(sub.pdo_mapping, sub.access),
+        pdo: sub.pdo_mapping.directions(sub.access).to_owned(),
         default: value_text(sub.default.as_ref()),
         value: value_text(sub.parameter_value.as_ref()),
         low: value_text(sub.low_limit.as_deref()),
         high: value_text(sub.high_limit.as_deref()),
         denotation: sub.rare().denotation.as_ref().map_or(String::new(), |d| d.value.clone()),
     }
-}
-
-/// The PDO directions a sub-object may be mapped into.
-fn pdo_directions(mapping: PdoMapping, access: Access) -> String {
-    let rx = mapping.allows(access, Direction::Rx);
-    let tx = mapping.allows(access, Direction::Tx);
-    match (rx, tx) {
-        (true, true) => "RPDO/TPDO",
-        (true, false) => "RPDO",
-        (false, true) => "TPDO",
-        (false, false) => "",
-    }
-    .to_owned()
 }
 
 /// A field of a PDO entry of `dev`.

@@ -246,6 +246,19 @@ pub enum ObjectKind {
 }
 
 impl ObjectKind {
+    /// The CiA 306 name: `VAR`, `ARRAY`, `RECORD`, ...
+    pub fn name(self) -> &'static str {
+        match self {
+            ObjectKind::Null => "NULL",
+            ObjectKind::Domain => "DOMAIN",
+            ObjectKind::DefType => "DEFTYPE",
+            ObjectKind::DefStruct => "DEFSTRUCT",
+            ObjectKind::Var => "VAR",
+            ObjectKind::Array => "ARRAY",
+            ObjectKind::Record => "RECORD",
+        }
+    }
+
     /// The kind for a CiA 306 `ObjectType` code, if it is one.
     pub fn from_code(code: u8) -> Option<ObjectKind> {
         Some(match code {
@@ -377,6 +390,18 @@ pub enum Direction {
 }
 
 impl PdoMapping {
+    /// The PDOs a sub-object with this flag and `access` may be mapped into, by meaning (an
+    /// EDS's `PDOMapping=1` on a read-only entry and an XDD's `TPDO` are both `TPDO`):
+    /// `RPDO/TPDO`, `RPDO`, `TPDO`, or empty.
+    pub fn directions(self, access: Access) -> &'static str {
+        match (self.allows(access, Direction::Rx), self.allows(access, Direction::Tx)) {
+            (true, true) => "RPDO/TPDO",
+            (true, false) => "RPDO",
+            (false, true) => "TPDO",
+            (false, false) => "",
+        }
+    }
+
     /// Whether a sub-object with this mapping flag and `access` may go into a PDO of `dir`.
     ///
     /// For EDS `Yes`: `ro`/`const`/`rwr` map into TPDOs, `wo`/`rww` into RPDOs, `rw` into both.

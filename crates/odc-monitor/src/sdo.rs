@@ -90,16 +90,10 @@ impl Sdo {
                 if expedited {
                     let n = if cmd & 0x01 != 0 { 4 - usize::from((cmd >> 2) & 3) } else { 4 };
                     let data = b.get(4..4 + n).unwrap_or(&[]).to_vec();
-                    self.transfers.insert(
-                        node,
-                        Transfer { index: i, sub: s, data, download: true, ..Transfer::default() },
-                    );
+                    self.begin(node, (i, s), true, false, data);
                     Said { text: "write".into(), done: None, addr: Some((i, s)) }
                 } else {
-                    self.transfers.insert(
-                        node,
-                        Transfer { index: i, sub: s, download: true, ..Transfer::default() },
-                    );
+                    self.begin(node, (i, s), true, false, Vec::new());
                     let size = size(b).map_or(String::new(), |n| format!(", {n} bytes"));
                     Said {
                         text: format!("write (segmented{size})"),
@@ -132,19 +126,14 @@ impl Sdo {
             (false, 1) => {
                 // The confirmation of the last segment ends the transfer.
                 if self.transfers.get(&node).is_some_and(|t| t.download && !t.block && t.last) {
-                    let done = self.transfers.remove(&node).map(|t| (t.index, t.sub, t.data, true));
-                    let addr = done.as_ref().map(|d| (d.0, d.1));
-                    return Said { text: "write segment confirmed, done".into(), done, addr };
+                    return self.finish(node, "write segment confirmed, done", true);
                 }
                 say("segment confirmed".into())
             }
             // Initiate upload request / response.
             (true, 2) => {
                 let (i, s) = idx.unwrap_or((0, 0));
-                self.transfers.insert(
-                    node,
-                    Transfer { index: i, sub: s, download: false, ..Transfer::default() },
-                );
+                self.begin(node, (i, s), false, false, Vec::new());
                 Said { text: "read".into(), done: None, addr: Some((i, s)) }
             }
             (false, 2) => {
@@ -175,13 +164,8 @@ impl Sdo {
                 if let Some(t) = self.transfers.get_mut(&node) {
                     t.data.extend_from_slice(b.get(1..1 + n).unwrap_or(&[]));
                 }
-                if last && let Some(t) = self.transfers.remove(&node) {
-                    let (i, s) = (t.index, t.sub);
-                    return Said {
-                        text: "read segment, last".into(),
-                        done: Some((i, s, t.data, false)),
-                        addr: Some((i, s)),
-                    };
+                if last && self.transfers.contains_key(&node) {
+                    return self.finish(node, "read segment, last", false);
                 }
                 say("read segment".into())
             }
@@ -189,16 +173,7 @@ impl Sdo {
             (true, 6) => match cmd & 1 {
                 0 => {
                     let (i, s) = idx.unwrap_or((0, 0));
-                    self.transfers.insert(
-                        node,
-                        Transfer {
-                            index: i,
-                            sub: s,
-                            download: true,
-                            block: true,
-                            ..Transfer::default()
-                        },
-                    );
+                    self.begin(node, (i, s), true, true, Vec::new());
                     let size = size(b).map_or(String::new(), |n| format!(", {n} bytes"));
                     Said { text: format!("block write{size}"), done: None, addr: Some((i, s)) }
                 }
@@ -218,26 +193,13 @@ impl Sdo {
                     "block acknowledged up to segment {}",
                     b.get(1).copied().unwrap_or(0)
                 )),
-                _ => {
-                    let done = self.transfers.remove(&node).map(|t| (t.index, t.sub, t.data, true));
-                    let addr = done.as_ref().map(|d| (d.0, d.1));
-                    Said { text: "block write done".into(), done, addr }
-                }
+                _ => self.finish(node, "block write done", true),
             },
             // Block upload: client cs 5, server scs 6.
             (true, 5) => match cmd & 3 {
                 0 => {
                     let (i, s) = idx.unwrap_or((0, 0));
-                    self.transfers.insert(
-                        node,
-                        Transfer {
-                            index: i,
-                            sub: s,
-                            download: false,
-                            block: true,
-                            ..Transfer::default()
-                        },
-                    );
+                    self.begin(node, (i, s), false, true, Vec::new());
                     Said { text: "block read".into(), done: None, addr: Some((i, s)) }
                 }
                 3 => {
@@ -250,12 +212,7 @@ impl Sdo {
                     "block acknowledged up to segment {}",
                     b.get(1).copied().unwrap_or(0)
                 )),
-                _ => {
-                    let done =
-                        self.transfers.remove(&node).map(|t| (t.index, t.sub, t.data, false));
-                    let addr = done.as_ref().map(|d| (d.0, d.1));
-                    Said { text: "block read done".into(), done, addr }
-                }
+                _ => self.finish(node, "block read done", false),
             },
             (false, 6) => match cmd & 1 {
                 0 => {
@@ -273,6 +230,20 @@ impl Sdo {
 }
 
 impl Sdo {
+    /// A transfer of `addr` starts (`download`: the client's data; `block`: a block transfer).
+    fn begin(&mut self, node: u8, addr: (u16, u8), download: bool, block: bool, data: Vec<u8>) {
+        let (index, sub) = addr;
+        self.transfers
+            .insert(node, Transfer { index, sub, data, download, block, ..Transfer::default() });
+    }
+
+    /// The transfer ends with its data: a frame that says `text` and carries the value.
+    fn finish(&mut self, node: u8, text: &str, download: bool) -> Said {
+        let done = self.transfers.remove(&node).map(|t| (t.index, t.sub, t.data, download));
+        let addr = done.as_ref().map(|d| (d.0, d.1));
+        Said { text: text.into(), done, addr }
+    }
+
     /// A block transfer's end: the last segment's unused bytes (n, bits 4..2) are dropped.
     fn block_end(&mut self, node: u8, cmd: u8) {
         let unused = usize::from((cmd >> 2) & 7);
