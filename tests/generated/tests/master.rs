@@ -182,6 +182,27 @@ fn a_lost_heartbeat_is_an_event() {
 }
 
 #[test]
+fn a_heartbeat_with_an_undefined_state_is_handed_out() {
+    let bus = MemBus::new();
+    let mut m = Master::new(bus.port()).with_timeout(100);
+    let mut device = bus.port();
+    let heartbeat = |byte: u8| CanFrame::from_slice(0x704, &[byte]).unwrap();
+    // Pre-operational (0x7F) twice: one state event; 0x55 is no CiA 301 state.
+    for byte in [0x7F, 0x7F, 0x55] {
+        device.send(&heartbeat(byte)).unwrap();
+    }
+    let until = m.now_ms() + 40;
+    let mut events = Vec::new();
+    while let Some(e) = m.poll(until).unwrap() {
+        events.push(e);
+    }
+    assert_eq!(
+        events,
+        [Event::State { node: 4, state: NmtState::PreOperational }, Event::Other(heartbeat(0x55))]
+    );
+}
+
+#[test]
 fn sync_producer_with_counter_and_emcy() {
     let bus = MemBus::new();
     let mut m = Master::new(bus.port()).with_timeout(100);

@@ -410,14 +410,16 @@ impl<B: Bus> Master<B> {
         }
     }
 
-    /// Records what a frame says about a node; returns the event it makes.
-    fn note(&mut self, f: &CanFrame) -> Event {
+    /// Records what a frame says about a node; returns the event it makes, or `None` for a
+    /// heartbeat that repeats the node's known state (it only updates the node's watch). A
+    /// heartbeat with a state byte CiA 301 does not define is handed out as [`Event::Other`].
+    fn note(&mut self, f: &CanFrame) -> Option<Event> {
         let id = f.id;
         if f.extended || f.remote {
-            return Event::Other(*f);
+            return Some(Event::Other(*f));
         }
         let now = self.link.bus.now_ms();
-        match id {
+        let event = match id {
             0x080 => Event::Sync { counter: f.bytes().first().copied() },
             0x081..=0x0FF => match EmcyFrame::decode(f.bytes()) {
                 Ok(emcy) => Event::Emcy { node: (id - 0x80) as u8, emcy },
@@ -426,24 +428,25 @@ impl<B: Bus> Master<B> {
             0x181..=0x57F => Event::Pdo { cob_id: id, frame: *f },
             0x701..=0x77F => {
                 let node = (id - 0x700) as u8;
-                let Some(&byte) = f.bytes().first() else { return Event::Other(*f) };
-                let Some(state) = NmtState::from_u8(byte) else { return Event::Other(*f) };
+                let Some(state) = f.bytes().first().and_then(|b| NmtState::from_u8(*b)) else {
+                    return Some(Event::Other(*f));
+                };
                 let w = self.nodes.entry(node).or_default();
                 w.last_seen_ms = now;
                 w.lost = false;
                 if state == NmtState::BootUp {
                     w.state = Some(NmtState::PreOperational);
-                    return Event::BootUp { node };
+                    return Some(Event::BootUp { node });
                 }
                 if w.state == Some(state) {
-                    // Nothing new: a heartbeat repeats the state.
-                    return Event::Other(*f);
+                    return None;
                 }
                 w.state = Some(state);
                 Event::State { node, state }
             }
             _ => Event::Other(*f),
-        }
+        };
+        Some(event)
     }
 
     // ---- Events and SYNC -------------------------------------------------------------------
@@ -458,9 +461,8 @@ impl<B: Bus> Master<B> {
     pub fn poll(&mut self, deadline_ms: u64) -> Result<Option<Event>, Error<B::Error>> {
         loop {
             if let Some(f) = self.link.pending.pop_front() {
-                match self.note(&f) {
-                    Event::Other(o) if is_heartbeat(&o) => continue,
-                    e => return Ok(Some(e)),
+                if let Some(event) = self.note(&f) {
+                    return Ok(Some(event));
                 }
             }
             let now = self.now_ms();
@@ -764,9 +766,4 @@ pub fn mapping_plan<P: Pdo>(
 /// A data frame of at most 8 bytes.
 fn frame<E>(id: u32, data: &[u8]) -> Result<CanFrame, Error<E>> {
     CanFrame::from_slice(id, data).ok_or(Error::Invalid("a frame of more than 8 bytes"))
-}
-
-/// A heartbeat frame (0x701..=0x77F, one byte).
-fn is_heartbeat(f: &CanFrame) -> bool {
-    (0x701..=0x77F).contains(&f.id) && !f.extended && !f.remote && f.bytes().len() == 1
 }
