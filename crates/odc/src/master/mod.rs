@@ -461,8 +461,9 @@ impl<B: Bus> Master<B> {
     pub fn poll(&mut self, deadline_ms: u64) -> Result<Option<Event>, Error<B::Error>> {
         loop {
             if let Some(f) = self.link.pending.pop_front() {
-                if let Some(event) = self.note(&f) {
-                    return Ok(Some(event));
+                match self.note(&f) {
+                    Some(event) => return Ok(Some(event)),
+                    None => continue,
                 }
             }
             let now = self.now_ms();
