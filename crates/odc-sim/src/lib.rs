@@ -15,8 +15,12 @@
 mod bus;
 mod device;
 mod dictionary;
+#[cfg(target_os = "linux")]
+mod ethernet;
 mod value;
 
 pub use bus::{StopHandle, TICK, VirtualBus};
 pub use device::{SDO_BUFFER, SimDevice, run_on_bus};
 pub use dictionary::ModelDictionary;
+#[cfg(target_os = "linux")]
+pub use ethernet::{ETHERTYPE_ETHERCAT, EthernetEndpoint, Served};
