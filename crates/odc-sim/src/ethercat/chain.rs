@@ -17,6 +17,7 @@ pub const HOP_NS: u64 = 600;
 pub struct Chain {
     devices: Vec<SubDevice>,
     frames: u64,
+    datagrams: u64,
 }
 
 impl Chain {
@@ -27,7 +28,7 @@ impl Chain {
         for (i, d) in devices.iter_mut().enumerate() {
             d.place(i, i + 1 < n);
         }
-        Self { devices, frames: 0 }
+        Self { devices, frames: 0, datagrams: 0 }
     }
 
     /// The devices, in line order.
@@ -45,6 +46,11 @@ impl Chain {
         self.frames
     }
 
+    /// Datagrams processed so far.
+    pub fn datagrams(&self) -> u64 {
+        self.datagrams
+    }
+
     /// Runs an Ethernet frame through the chain in place at time `now_ns` (any monotonic
     /// nanosecond clock): what comes back to the master.
     ///
@@ -56,7 +62,8 @@ impl Chain {
         let n = self.devices.len() as u64;
         let payload = ecat_payload(frame)?;
         // A frame that does not parse is refused before any device changes state.
-        for_each_datagram(payload, |_| {})?;
+        let mut count = 0;
+        for_each_datagram(payload, |_| count += 1)?;
         for (i, device) in (0u64..).zip(self.devices.iter_mut()) {
             let at = Passing {
                 arrival_ns: now_ns + i * HOP_NS,
@@ -69,6 +76,7 @@ impl Chain {
             *src |= 0x02;
         }
         self.frames += 1;
+        self.datagrams += count;
         Ok(())
     }
 }
