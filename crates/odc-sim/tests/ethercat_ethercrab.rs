@@ -119,7 +119,6 @@ fn ethercrab_finds_the_servoone_and_reaches_pre_op() {
     let system_time: u64 = smol::block_on(sd.register_read(0x0910u16)).unwrap();
     let master_time = now();
     assert!(master_time.abs_diff(system_time) < 50_000_000, "{system_time} vs {master_time}");
-    drop(sd);
     let (state, datagrams) = {
         let chain = link.chain.lock().unwrap();
         (chain.devices()[0].al_state(), chain.datagrams())
