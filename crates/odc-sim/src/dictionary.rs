@@ -170,6 +170,26 @@ impl ModelDictionary {
         Ok(())
     }
 
+    /// The bytes the entry's value takes in storage (its type's size; a string's capacity).
+    pub fn entry_len(&self, index: u16, sub: u8) -> Option<usize> {
+        self.row(index, sub).ok().map(|r| r.slot.len())
+    }
+
+    /// The stored bytes of `index:sub`, for the firmware side (process data): no access
+    /// check.
+    pub fn raw(&self, index: u16, sub: u8) -> Option<&[u8]> {
+        let row = self.row(index, sub).ok()?;
+        self.stored(row).ok()
+    }
+
+    /// The stored bytes of `index:sub`, to change in place (process data): no access or
+    /// limit check.
+    pub fn raw_mut(&mut self, index: u16, sub: u8) -> Option<&mut [u8]> {
+        let row = self.row(index, sub).ok()?;
+        let (at, len) = (row.at, row.slot.len());
+        self.values.get_mut(at..at + len)
+    }
+
     fn typed<T: ObjValue>(&self, index: u16, sub: u8) -> Result<&Row, SdoAbort> {
         let row = self.row(index, sub)?;
         if row.slot.data_type() != T::DATA_TYPE || row.slot.len() != T::MAX_LEN {

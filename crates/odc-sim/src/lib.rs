@@ -8,13 +8,18 @@
 //! - [`VirtualBus`]: a CAN bus over TCP on which every client is a node, with the device on it
 //!   (`odc simulate --tcp`).
 //!
+//! - [`ethercat`]: an emulated EtherCAT SubDevice (ESC, SII, AL state machine, CoE, process
+//!   data) built from an ESI device, and a [`Chain`](ethercat::Chain) of them that a master's
+//!   frames pass through.
+//!
 //! A crate of its own because simulation is std-only and model-driven, unlike the `no_std`
-//! runtime; EtherCAT simulation will join it.
+//! runtime.
 #![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used, clippy::panic))]
 
 mod bus;
 mod device;
 mod dictionary;
+pub mod ethercat;
 #[cfg(target_os = "linux")]
 mod ethernet;
 mod value;

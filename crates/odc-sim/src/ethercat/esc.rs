@@ -1,0 +1,406 @@
+//! The ESC: its address space and the execution of a datagram as it passes (ETG.1000.4
+//! §5.4–5.5): addressing (position with auto-increment, station address, broadcast, logical
+//! through the FMMUs), the read, write and read-write semantics, and the working counter.
+//!
+//! Working counter (ETG.1000.4 Table 7): a device that reads adds 1, one that writes adds 1,
+//! and for the read-write commands (APRW, FPRW, BRW, LRW) a read adds 1 and a write 2. ARMW
+//! and FRMW: the addressed device reads (1), every other one writes (1). An access the sync
+//! managers refuse (a full write mailbox, an empty read mailbox) does nothing and adds 0.
+//!
+//! What the application (the device's firmware) does with what was written is not here: the
+//! ESC reports [`Events`] and the [`SubDevice`](super::SubDevice) acts on them.
+
+use super::dc::Clock;
+use super::frame::{Command, Datagram};
+use super::registers::{self as reg, MEMORY, ecat_writable};
+use super::sii::SiiPort;
+
+/// What a datagram asked of the application.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Events {
+    /// AL control was written.
+    pub al_control: bool,
+    /// A write mailbox became full (its last byte was written).
+    pub mailbox_received: bool,
+    /// A read mailbox was read to its last byte (now empty).
+    pub mailbox_read: bool,
+}
+
+/// A sync manager's registers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SmRegs {
+    /// Physical start address.
+    pub start: u16,
+    /// Length in bytes.
+    pub len: u16,
+    /// Control: bits 0–1 mode (0 buffered, 2 mailbox), bits 2–3 direction (0 the master
+    /// reads, 1 the master writes).
+    pub control: u8,
+    /// Status: bit 3 mailbox full.
+    pub status: u8,
+    /// Activate: bit 0 enable.
+    pub activate: u8,
+    /// PDI control: bit 0 deactivated by the application.
+    pub pdi_control: u8,
+}
+
+impl SmRegs {
+    /// A mailbox (mode 2), else buffered.
+    pub fn is_mailbox(&self) -> bool {
+        self.control & 0x03 == 0x02
+    }
+    /// The master writes it.
+    pub fn master_writes(&self) -> bool {
+        self.control & 0x0C == 0x04
+    }
+    /// Enabled by the master and not deactivated by the application.
+    pub fn active(&self) -> bool {
+        self.activate & 1 != 0 && self.pdi_control & 1 == 0
+    }
+    fn range(&self) -> core::ops::Range<usize> {
+        usize::from(self.start)..usize::from(self.start) + usize::from(self.len)
+    }
+}
+
+/// Bit 3 of an SM status: mailbox full.
+pub const SM_FULL: u8 = 0x08;
+
+/// The ESC of one device: 4 KiB of registers and the process RAM.
+#[derive(Debug)]
+pub struct Esc {
+    mem: Vec<u8>,
+    pub(super) sii: SiiPort,
+    pub(super) clock: Clock,
+    events: Events,
+}
+
+/// Where the frame meets this device: the times its ports see it (the simulation's ns).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Passing {
+    /// When it arrives at port 0.
+    pub arrival_ns: u64,
+    /// When it comes back through port 1 (`None`: port 1 closed, the end of the line).
+    pub port1_ns: Option<u64>,
+}
+
+impl Esc {
+    /// An ESC at power-on with the EEPROM `image` loaded; `clock_base_ns` is where its
+    /// local clock stands when the simulation's starts.
+    pub fn new(image: Vec<u8>, clock_base_ns: u64, downstream: bool) -> Self {
+        let mut esc = Self {
+            mem: vec![0; MEMORY],
+            sii: SiiPort::new(image),
+            clock: Clock::new(clock_base_ns),
+            events: Events::default(),
+        };
+        esc.power_on(downstream);
+        esc
+    }
+
+    fn power_on(&mut self, downstream: bool) {
+        self.mem.fill(0);
+        self.set_u8(reg::TYPE, 0x11);
+        self.set_u8(reg::FMMU_COUNT, reg::FMMUS);
+        self.set_u8(reg::SM_COUNT, reg::SMS);
+        self.set_u8(reg::RAM_SIZE, reg::RAM_KIB);
+        // Ports 0 and 1 MII (0b11 each), 2 and 3 not implemented.
+        self.set_u8(reg::PORT_DESCRIPTOR, 0x0F);
+        // Distributed clocks (bit 2), 64-bit system time (bit 3).
+        self.set_u16(reg::FEATURES, 0x000C);
+        // Links on port 0 and, with a device after it, on port 1 (bits 4, 5); communication
+        // on port 0 (bit 9), on port 1 (bit 11) or port 1's loop closed (bit 10).
+        let dl = if downstream { 0x0A30 } else { 0x0610 };
+        // Bit 0: the PDI is operational (the EEPROM was loaded).
+        self.set_u16(reg::DL_STATUS, dl | u16::from(self.sii.loaded()));
+        // AL status INIT.
+        self.set_u16(reg::AL_STATUS, 0x0001);
+        // Watchdogs as the ESC datasheets give them after reset: divider 2498 (100 µs),
+        // 1000 × 100 µs = 100 ms for PDI and process data.
+        self.set_u16(reg::WATCHDOG_DIVIDER, 0x09C2);
+        self.set_u16(reg::WATCHDOG_PDI, 0x03E8);
+        self.set_u16(reg::WATCHDOG_PD, 0x03E8);
+        let (pdi_control, pdi_config, alias) = self.sii.power_on_words();
+        self.set_u16(reg::PDI_CONTROL, pdi_control);
+        self.set_u16(reg::PDI_CONFIG, pdi_config);
+        self.set_u16(reg::STATION_ALIAS, alias);
+        self.set_u16(reg::SII_CONTROL, self.sii.control_idle());
+    }
+
+    /// The byte at `addr` (0 outside the memory).
+    pub fn u8(&self, addr: u16) -> u8 {
+        self.mem.get(usize::from(addr)).copied().unwrap_or(0)
+    }
+
+    /// The little-endian u16 at `addr`.
+    pub fn u16(&self, addr: u16) -> u16 {
+        u16::from_le_bytes([self.u8(addr), self.u8(addr.wrapping_add(1))])
+    }
+
+    /// The little-endian u32 at `addr`.
+    pub fn u32(&self, addr: u16) -> u32 {
+        u32::from(self.u16(addr)) | u32::from(self.u16(addr.wrapping_add(2))) << 16
+    }
+
+    /// Sets a byte (the ESC's or the application's side: no write protection).
+    pub fn set_u8(&mut self, addr: u16, v: u8) {
+        if let Some(b) = self.mem.get_mut(usize::from(addr)) {
+            *b = v;
+        }
+    }
+
+    /// Sets a little-endian u16.
+    pub fn set_u16(&mut self, addr: u16, v: u16) {
+        self.set_bytes(addr, &v.to_le_bytes());
+    }
+
+    /// Sets bytes from `addr`.
+    pub fn set_bytes(&mut self, addr: u16, v: &[u8]) {
+        let at = usize::from(addr);
+        if let Some(dst) = self.mem.get_mut(at..at + v.len()) {
+            dst.copy_from_slice(v);
+        }
+    }
+
+    /// The bytes `len` from `addr` (empty outside the memory).
+    pub fn bytes(&self, addr: u16, len: usize) -> &[u8] {
+        let at = usize::from(addr);
+        self.mem.get(at..at + len).unwrap_or(&[])
+    }
+
+    /// The registers of sync manager `n`.
+    pub fn sm(&self, n: u8) -> SmRegs {
+        let at = reg::SM + 8 * u16::from(n);
+        SmRegs {
+            start: self.u16(at),
+            len: self.u16(at + 2),
+            control: self.u8(at + 4),
+            status: self.u8(at + 5),
+            activate: self.u8(at + 6),
+            pdi_control: self.u8(at + 7),
+        }
+    }
+
+    /// Sets the status byte of sync manager `n`.
+    pub fn set_sm_status(&mut self, n: u8, status: u8) {
+        self.set_u8(reg::SM + 8 * u16::from(n) + 5, status);
+    }
+
+    /// Sets the PDI control byte of sync manager `n` (bit 0: deactivated by the application).
+    pub fn set_sm_pdi_control(&mut self, n: u8, v: u8) {
+        self.set_u8(reg::SM + 8 * u16::from(n) + 7, v);
+    }
+
+    /// The events of the datagrams executed since the last call.
+    pub fn take_events(&mut self) -> Events {
+        core::mem::take(&mut self.events)
+    }
+
+    /// Executes `d` as this device, `position` the number of devices before it, and updates
+    /// its working counter and address field.
+    pub fn execute(&mut self, d: &mut Datagram<'_>, at: &Passing) {
+        let Some(cmd) = d.command() else { return };
+        let here = d.adp() == 0;
+        let me = d.adp() == self.u16(reg::STATION_ADDRESS);
+        let ado = d.ado();
+        let wkc = match cmd {
+            Command::Nop => 0,
+            Command::Aprd if here => self.read(ado, d.data, false, at),
+            Command::Apwr if here => self.write(ado, d.data, at),
+            Command::Aprw if here => self.read_write(ado, d.data, at),
+            Command::Fprd if me => self.read(ado, d.data, false, at),
+            Command::Fpwr if me => self.write(ado, d.data, at),
+            Command::Fprw if me => self.read_write(ado, d.data, at),
+            Command::Brd => self.read(ado, d.data, true, at),
+            Command::Bwr => self.write(ado, d.data, at),
+            Command::Brw => {
+                let incoming = d.data.to_vec();
+                let r = self.read(ado, d.data, true, at);
+                r + 2 * self.write(ado, &incoming, at)
+            }
+            Command::Armw if here => self.read(ado, d.data, false, at),
+            Command::Armw => self.write(ado, d.data, at),
+            Command::Frmw if me => self.read(ado, d.data, false, at),
+            Command::Frmw => self.write(ado, d.data, at),
+            Command::Lrd | Command::Lwr | Command::Lrw => self.logical(cmd, d.logical(), d.data),
+            _ => 0,
+        };
+        if matches!(
+            cmd,
+            Command::Aprd
+                | Command::Apwr
+                | Command::Aprw
+                | Command::Armw
+                | Command::Brd
+                | Command::Bwr
+                | Command::Brw
+        ) {
+            d.set_adp(d.adp().wrapping_add(1));
+        }
+        d.add_wkc(wkc);
+    }
+
+    fn read_write(&mut self, ado: u16, data: &mut [u8], at: &Passing) -> u16 {
+        let incoming = data.to_vec();
+        let r = self.read(ado, data, false, at);
+        if r == 0 {
+            return 0;
+        }
+        r + 2 * self.write(ado, &incoming, at)
+    }
+
+    /// Whether the sync managers allow the master this access, and which mailbox it
+    /// completes.
+    fn sm_check(&self, range: core::ops::Range<usize>, write: bool) -> Option<Option<u8>> {
+        let mut completes = None;
+        for n in 0..reg::SMS {
+            let sm = self.sm(n);
+            let area = sm.range();
+            if sm.activate & 1 == 0 || area.is_empty() {
+                continue;
+            }
+            let overlaps = range.start < area.end && area.start < range.end;
+            if !overlaps {
+                continue;
+            }
+            // Deactivated by the application (process data outside SAFE-OP and OP).
+            if sm.pdi_control & 1 != 0 {
+                return None;
+            }
+            if sm.is_mailbox() {
+                let full = sm.status & SM_FULL != 0;
+                if write != sm.master_writes() || (write && full) || (!write && !full) {
+                    return None;
+                }
+                if range.contains(&(area.end - 1)) {
+                    completes = Some(n);
+                }
+            } else if write != sm.master_writes() && write {
+                // An input area the master writes to: the ESC ignores it.
+                return None;
+            }
+        }
+        Some(completes)
+    }
+
+    /// A physical read into `data` (ORed into it for a broadcast); 1 if done, else 0.
+    fn read(&mut self, ado: u16, data: &mut [u8], or: bool, at: &Passing) -> u16 {
+        let start = usize::from(ado);
+        let range = start..start + data.len();
+        let Some(completes) = self.sm_check(range.clone(), false) else { return 0 };
+        self.clock.refresh(&mut self.mem, range.clone(), at);
+        for (i, d) in data.iter_mut().enumerate() {
+            let v = self.mem.get(start + i).copied().unwrap_or(0);
+            *d = if or { *d | v } else { v };
+        }
+        if let Some(n) = completes {
+            let status = self.sm(n).status & !SM_FULL;
+            self.set_sm_status(n, status);
+            self.events.mailbox_read = true;
+        }
+        1
+    }
+
+    /// A physical write of `data`; 1 if done, else 0.
+    fn write(&mut self, ado: u16, data: &[u8], at: &Passing) -> u16 {
+        let start = usize::from(ado);
+        let range = start..start + data.len();
+        let Some(completes) = self.sm_check(range.clone(), true) else { return 0 };
+        let before: Vec<u8> = (0..reg::SMS).map(|n| self.sm(n).activate).collect();
+        for (i, &v) in data.iter().enumerate() {
+            let Ok(addr) = u16::try_from(start + i) else { break };
+            if ecat_writable(addr) {
+                self.set_u8(addr, v);
+            }
+        }
+        let touches = |a: u16, len: usize| {
+            let a = usize::from(a);
+            range.start < a + len && a < range.end
+        };
+        if touches(reg::AL_CONTROL, 2) {
+            self.events.al_control = true;
+        }
+        if touches(reg::SII_CONTROL, 2) {
+            self.sii.command(&mut self.mem);
+        }
+        if touches(reg::DC_RECEIVE_TIME_PORT0, 1) {
+            self.clock.latch(&mut self.mem, at);
+        }
+        if range.start <= usize::from(reg::DC_SYSTEM_TIME)
+            && range.end >= usize::from(reg::DC_SYSTEM_TIME) + 4
+        {
+            let off = usize::from(reg::DC_SYSTEM_TIME) - range.start;
+            let mut v = [0u8; 8];
+            for (i, b) in v.iter_mut().enumerate() {
+                *b = data.get(off + i).copied().unwrap_or(0);
+            }
+            let wide = range.end >= usize::from(reg::DC_SYSTEM_TIME) + 8;
+            if !wide {
+                v[4..].fill(0);
+            }
+            self.clock.compare(&mut self.mem, u64::from_le_bytes(v), wide, at);
+        }
+        // Enabling or disabling a sync manager resets its mailbox state.
+        for (n, was) in (0..reg::SMS).zip(before) {
+            if (self.sm(n).activate ^ was) & 1 != 0 {
+                self.set_sm_status(n, 0);
+            }
+        }
+        if let Some(n) = completes {
+            let status = self.sm(n).status | SM_FULL;
+            self.set_sm_status(n, status);
+            self.events.mailbox_received = true;
+        }
+        1
+    }
+
+    /// A logical command through the FMMUs (ETG.1000.4 §6.6; byte-granular: the start and
+    /// stop bits of the FMMUs ethercrab configures are 0 and 7).
+    fn logical(&mut self, cmd: Command, addr: u32, data: &mut [u8]) -> u16 {
+        let (mut read, mut written) = (false, false);
+        let end = u64::from(addr) + data.len() as u64;
+        for n in 0..u16::from(reg::FMMUS) {
+            let f = reg::FMMU + 16 * n;
+            if self.u8(f + 12) & 1 == 0 {
+                continue;
+            }
+            let l_start = u64::from(self.u32(f));
+            let l_end = l_start + u64::from(self.u16(f + 4));
+            let (lo, hi) = (l_start.max(u64::from(addr)), l_end.min(end));
+            if lo >= hi {
+                continue;
+            }
+            let phys = u64::from(self.u16(f + 8)) + (lo - l_start);
+            let (Ok(phys), Ok(in_data), Ok(len)) = (
+                usize::try_from(phys),
+                usize::try_from(lo - u64::from(addr)),
+                usize::try_from(hi - lo),
+            ) else {
+                continue;
+            };
+            let kind = self.u8(f + 11);
+            let range = phys..phys + len;
+            if kind & 0x02 != 0
+                && matches!(cmd, Command::Lwr | Command::Lrw)
+                && self.sm_check(range.clone(), true).is_some()
+                && let (Some(dst), Some(src)) =
+                    (self.mem.get_mut(range.clone()), data.get(in_data..in_data + len))
+            {
+                dst.copy_from_slice(src);
+                written = true;
+            }
+            if kind & 0x01 != 0
+                && matches!(cmd, Command::Lrd | Command::Lrw)
+                && self.sm_check(range.clone(), false).is_some()
+                && let (Some(src), Some(dst)) =
+                    (self.mem.get(range), data.get_mut(in_data..in_data + len))
+            {
+                dst.copy_from_slice(src);
+                read = true;
+            }
+        }
+        match cmd {
+            Command::Lrw => u16::from(read) + 2 * u16::from(written),
+            _ => u16::from(read || written),
+        }
+    }
+}

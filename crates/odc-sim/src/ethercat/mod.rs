@@ -1,0 +1,38 @@
+//! A simulated EtherCAT SubDevice: an emulated EtherCAT slave controller (ESC) around the
+//! [`ModelDictionary`](crate::ModelDictionary) and the SII image of an ESI device, so that
+//! any master can be tested against a device made from the ESI it will ship with.
+//!
+//! Hand-written because no maintained Rust crate emulates an ESC: the EtherCAT crates are
+//! masters (ethercrab, SOEM bindings) or SubDevice stacks for real ESC chips, which need the
+//! chip. What is emulated is what a master sees:
+//!
+//! - [`frame`]: the frame and datagram codec;
+//! - [`esc`]: the address space and the execution of the 14 datagram commands, with the
+//!   working counter and the position auto-increment; [`registers`] the register map;
+//! - [`sii`]: the EEPROM interface over `odc_sii::write`'s image; [`dc`]: distributed
+//!   clocks as far as a master's set-up reads and writes them;
+//! - [`al`]: the AL state machine and the checks of the sync managers;
+//! - [`mailbox`] and [`coe`]: the mailbox on SM0/SM1 and the CoE SDO server;
+//! - [`pdo`]: process data through the FMMUs into and out of the dictionary;
+//! - [`SubDevice`] joins them (with a CiA 402 drive when the device is one) and [`Chain`]
+//!   runs a frame through several in a line.
+//!
+//! Simplifications, each visible to a master only in timing: an ESC answers at once (the
+//! SII is never busy, a mailbox reply is ready when the request is written), FMMUs are byte
+//! granular, process data sync managers have one buffer, and a DC clock takes the
+//! reference's time at the first comparison instead of through a control loop.
+
+pub mod al;
+mod chain;
+pub mod coe;
+pub mod dc;
+mod device;
+pub mod esc;
+pub mod frame;
+pub mod mailbox;
+pub mod pdo;
+pub mod registers;
+pub mod sii;
+
+pub use chain::{Chain, HOP_NS};
+pub use device::SubDevice;

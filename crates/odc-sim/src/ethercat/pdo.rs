@@ -1,0 +1,144 @@
+//! Process data: the sync managers' images laid out by the current PDO assignment
+//! (0x1C10 + SM) and mapping (0x1600…, 0x1A00…), copied between the ESC's memory and the
+//! dictionary bit by bit (ETG.1000.6 §5.6.7.4: entries packed in assignment and mapping
+//! order, a mapping value being index << 16 | sub-index << 8 | bit length).
+
+use crate::ModelDictionary;
+
+/// One mapped entry: where its bits are in the SM image.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Mapped {
+    /// The object (0 for a gap).
+    pub index: u16,
+    /// The sub-index.
+    pub sub: u8,
+    /// First bit in the image.
+    pub bit: usize,
+    /// Bits.
+    pub bits: usize,
+}
+
+/// The layout of one sync manager's image.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Layout {
+    /// The entries.
+    pub entries: Vec<Mapped>,
+    /// The image's bits.
+    pub bits: usize,
+}
+
+impl Layout {
+    /// The image's bytes.
+    pub fn bytes(&self) -> u16 {
+        u16::try_from(self.bits.div_ceil(8)).unwrap_or(u16::MAX)
+    }
+}
+
+fn read_u8(od: &ModelDictionary, index: u16, sub: u8) -> Option<u8> {
+    od.raw(index, sub)?.first().copied()
+}
+
+fn read_le(od: &ModelDictionary, index: u16, sub: u8) -> Option<u32> {
+    let b = od.raw(index, sub)?;
+    Some(b.iter().take(4).rev().fold(0u32, |acc, &x| acc << 8 | u32::from(x)))
+}
+
+/// A PDO assignment or mapping the device cannot serve.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Refused;
+
+/// The layout sync manager `sm` has by the dictionary's current assignment; an empty one
+/// when the device has no assignment object for it.
+///
+/// # Errors
+///
+/// An assigned PDO or mapped entry the dictionary does not have (the device refuses the
+/// configuration).
+pub fn layout(od: &ModelDictionary, sm: u8) -> Result<Layout, Refused> {
+    let assign = 0x1C10 + u16::from(sm);
+    let mut out = Layout::default();
+    let Some(count) = read_u8(od, assign, 0) else { return Ok(out) };
+    for i in 1..=count {
+        let pdo = read_le(od, assign, i).ok_or(Refused)? as u16;
+        let entries = read_u8(od, pdo, 0).ok_or(Refused)?;
+        for e in 1..=entries {
+            let v = read_le(od, pdo, e).ok_or(Refused)?;
+            let (index, sub, bits) = ((v >> 16) as u16, (v >> 8) as u8, (v & 0xFF) as usize);
+            // Indices 1–7 are the dummy types of gaps (CiA 301 §7.4.7.1).
+            let gap = index < 8;
+            if !gap && od.raw(index, sub).is_none_or(|b| b.len() * 8 < bits) {
+                return Err(Refused);
+            }
+            out.entries.push(Mapped {
+                index: if gap { 0 } else { index },
+                sub,
+                bit: out.bits,
+                bits,
+            });
+            out.bits += bits;
+        }
+    }
+    Ok(out)
+}
+
+fn get_bit(b: &[u8], i: usize) -> bool {
+    b.get(i / 8).is_some_and(|x| x >> (i % 8) & 1 != 0)
+}
+
+fn set_bit(b: &mut [u8], i: usize, v: bool) {
+    if let Some(x) = b.get_mut(i / 8) {
+        let m = 1 << (i % 8);
+        *x = if v { *x | m } else { *x & !m };
+    }
+}
+
+/// The image's entries into the dictionary (outputs in OP).
+pub fn image_to_dictionary(layout: &Layout, image: &[u8], od: &mut ModelDictionary) {
+    for e in layout.entries.iter().filter(|e| e.index != 0) {
+        if let Some(dst) = od.raw_mut(e.index, e.sub) {
+            if e.bit % 8 == 0 && e.bits % 8 == 0 {
+                let (from, n) = (e.bit / 8, e.bits / 8);
+                if let (Some(s), Some(d)) = (image.get(from..from + n), dst.get_mut(..n)) {
+                    d.copy_from_slice(s);
+                }
+                continue;
+            }
+            for i in 0..e.bits {
+                set_bit(dst, i, get_bit(image, e.bit + i));
+            }
+        }
+    }
+}
+
+/// The dictionary's entries into the image (inputs in SAFE-OP and OP).
+pub fn dictionary_to_image(layout: &Layout, od: &ModelDictionary, image: &mut [u8]) {
+    for e in layout.entries.iter().filter(|e| e.index != 0) {
+        if let Some(src) = od.raw(e.index, e.sub) {
+            if e.bit % 8 == 0 && e.bits % 8 == 0 {
+                let (to, n) = (e.bit / 8, e.bits / 8);
+                if let (Some(d), Some(s)) = (image.get_mut(to..to + n), src.get(..n)) {
+                    d.copy_from_slice(s);
+                }
+                continue;
+            }
+            for i in 0..e.bits {
+                set_bit(image, e.bit + i, get_bit(src, i));
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bits_pack_lsb_first() {
+        // ETG.1000.6: entries packed from bit 0 of the first byte, LSB first.
+        let mut b = [0u8; 2];
+        set_bit(&mut b, 0, true);
+        set_bit(&mut b, 9, true);
+        assert_eq!(b, [0x01, 0x02]);
+        assert!(get_bit(&b, 9) && !get_bit(&b, 8));
+    }
+}
