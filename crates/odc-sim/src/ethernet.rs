@@ -39,7 +39,7 @@ pub struct EthernetEndpoint {
 pub struct Served {
     /// EtherCAT frames worked on and sent back.
     pub frames: u64,
-    /// Frames of other EtherTypes, or too short, that were left alone.
+    /// Frames of other EtherTypes, too short, or refused by the devices, left alone.
     pub ignored: u64,
 }
 
@@ -71,14 +71,15 @@ impl EthernetEndpoint {
 
     /// Serves until `stop` says so (looked at every 50 ms at least): each EtherCAT frame a
     /// master sends is given whole (Ethernet header included) to `process`, which works on it
-    /// in place as the devices of the segment do, and is sent back marked as processed.
+    /// in place as the devices of the segment do and is sent back marked as processed; or,
+    /// when `process` returns false (a malformed frame), is dropped.
     ///
     /// # Errors
     ///
     /// The socket's errors, but for the receive timeouts that let `stop` be looked at.
     pub fn serve(
         &mut self,
-        mut process: impl FnMut(&mut [u8]),
+        mut process: impl FnMut(&mut [u8]) -> bool,
         stop: impl Fn() -> bool,
     ) -> io::Result<Served> {
         let mut served = Served::default();
@@ -92,7 +93,10 @@ impl EthernetEndpoint {
                     }
                     frame.clear();
                     frame.extend_from_slice(bytes);
-                    process(&mut frame);
+                    if !process(&mut frame) {
+                        served.ignored += 1;
+                        continue;
+                    }
                     frame[6] |= PROCESSED;
                     if let Some(sent) = self.tx.send_to(&frame, None) {
                         sent?;

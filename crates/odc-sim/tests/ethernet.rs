@@ -53,7 +53,15 @@ fn frames_come_back_worked_on_and_marked() {
     let stopped = Arc::clone(&stop);
     let server = std::thread::spawn(move || {
         // The "devices": each adds 1 to the working counter of the frame's one datagram.
-        endpoint.serve(|f| f[28] += 1, || stopped.load(Ordering::Relaxed)).unwrap()
+        endpoint
+            .serve(
+                |f| {
+                    f[28] += 1;
+                    true
+                },
+                || stopped.load(Ordering::Relaxed),
+            )
+            .unwrap()
     });
     let iface = pnet_datalink::interfaces().into_iter().find(|i| i.name == veth.b).unwrap();
     let config = Config { read_timeout: Some(Duration::from_millis(50)), ..Config::default() };

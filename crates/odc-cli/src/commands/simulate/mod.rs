@@ -1,14 +1,17 @@
-//! `odc simulate`: a device file as a live CANopen device on a bus, to test a master against.
+//! `odc simulate`: a device file as a live device, to test a master against: a CANopen device
+//! on a CAN bus (`--tcp`, `--can`), or EtherCAT devices on a network interface (`--interface`).
 
 use std::io::{BufRead, Write};
 use std::net::SocketAddr;
-use std::path::PathBuf;
+use std::path::Path;
 use std::process::ExitCode;
 
 use anyhow::{Context, bail};
 use odc_sim::{SimDevice, VirtualBus};
 
 use crate::input;
+
+mod ethercat;
 
 /// Run a device file as a CANopen device: its object dictionary (from the model, with the
 /// file's defaults, limits and access rights) served by odc's node (NMT and boot-up,
@@ -19,40 +22,57 @@ use crate::input;
 /// from one client go to the device and to every other client (16-byte SocketCAN-layout
 /// records, see tests/interop/README.md). The first line on standard output is
 /// `listening on HOST:PORT`. Ctrl-C or the end of standard input stops it.
+///
+/// `--interface` runs ESI devices as EtherCAT SubDevices on a network interface (such as one
+/// end of a veth pair; root or CAP_NET_RAW): an emulated slave controller each (registers,
+/// SII EEPROM from the ESI, AL states, mailbox with CoE, process data through the FMMUs), in
+/// the order of the files, first next to the master. `FILE@DEVICE` picks a device of a file
+/// with several.
 #[derive(clap::Args)]
-#[command(group(clap::ArgGroup::new("bus").required(true).args(["tcp", "can"])))]
+#[command(group(clap::ArgGroup::new("bus").required(true).args(["tcp", "can", "interface"])))]
 pub struct Args {
-    /// EDS or DCF file.
-    file: PathBuf,
-    /// The node-ID of the device, 1–127.
+    /// EDS or DCF file; with --interface, ESI files (`FILE@DEVICE` for one of several).
+    #[arg(required = true, value_name = "FILE")]
+    files: Vec<String>,
+    /// The node-ID of the CANopen device, 1–127.
     #[arg(long, value_parser = clap::value_parser!(u8).range(1..=127))]
-    node_id: u8,
+    node_id: Option<u8>,
     /// Listen on HOST:PORT as a virtual bus (port 0: a free port).
     #[arg(long, value_name = "HOST:PORT")]
     tcp: Option<SocketAddr>,
     /// A SocketCAN interface (can0, vcan0).
     #[arg(long, value_name = "IFACE")]
     can: Option<String>,
+    /// A network interface for EtherCAT (Linux): the devices answer a master on its wire.
+    #[arg(long, value_name = "IFACE")]
+    interface: Option<String>,
     #[command(flatten)]
     levels: input::Levels,
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let loaded = input::load(&args.file, &args.levels)?;
+    if let Some(iface) = &args.interface {
+        return ethercat::run(&args.files, &args.levels, iface);
+    }
+    let [file] = &args.files[..] else {
+        bail!("a CANopen device is one file; several files make an EtherCAT line (--interface)")
+    };
+    let Some(node_id) = args.node_id else { bail!("--node-id N: the CANopen device's node-ID") };
+    let loaded = input::load(Path::new(file), &args.levels)?;
     super::gate(&loaded)?;
     let model = loaded.device()?;
     if model.ethercat.is_some() {
         bail!(
-            "{}: odc simulate runs CANopen devices; this is an EtherCAT device",
+            "{}: an EtherCAT device runs on a network interface (--interface IFACE)",
             loaded.file_name()
         );
     }
-    let mut device = SimDevice::new(model, args.node_id);
+    let mut device = SimDevice::new(model, node_id);
     let what = if device.is_drive() { ", a CiA 402 drive" } else { "" };
     eprintln!(
         "simulating {} as node {}{what}: {} entries",
         model.name(),
-        args.node_id,
+        node_id,
         device.dictionary().len()
     );
     match (args.tcp, args.can) {

@@ -1,0 +1,101 @@
+//! `odc simulate FILE.xml... --interface IFACE`: ESI devices as EtherCAT SubDevices on a
+//! network interface, in a line in the order of the files.
+
+use std::io::{BufRead, Write};
+use std::path::Path;
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+use anyhow::{Context, bail};
+use odc_sim::ethercat::{Chain, SubDevice};
+
+use crate::input;
+
+/// Loads each `FILE[@DEVICE]`, builds the line of devices and serves it on `iface` until the
+/// end of standard input.
+pub fn run(files: &[String], levels: &input::Levels, iface: &str) -> anyhow::Result<ExitCode> {
+    let mut devices = Vec::with_capacity(files.len());
+    for spec in files {
+        let (path, levels) = split_spec(spec, levels);
+        let loaded = input::load(path, &levels)?;
+        super::super::gate(&loaded)?;
+        let model = loaded.device()?;
+        let Some(ecat) = model.ethercat.as_deref() else {
+            bail!("{}: --interface runs EtherCAT devices (ESI); this is a CANopen device", spec)
+        };
+        let device = SubDevice::new(model)
+            .with_context(|| format!("{spec}: cannot make the device's SII image"))?;
+        eprintln!(
+            "device {}: {} (vendor {:#010x}, product {:#010x}), {} dictionary entries",
+            devices.len() + 1,
+            device.name(),
+            ecat.vendor_id.unwrap_or(0),
+            ecat.product_code.unwrap_or(0),
+            device.dictionary().len()
+        );
+        devices.push(device);
+    }
+    serve(iface, Chain::new(devices))
+}
+
+/// `FILE@DEVICE` (when FILE exists) as the file and `--device DEVICE`; anything else as a
+/// file with the command line's `--device`.
+fn split_spec<'a>(spec: &'a str, levels: &input::Levels) -> (&'a Path, input::Levels) {
+    let mut levels = levels.clone();
+    if let Some((file, device)) = spec.rsplit_once('@')
+        && Path::new(file).is_file()
+    {
+        levels.device = Some(device.to_owned());
+        return (Path::new(file), levels);
+    }
+    (Path::new(spec), levels)
+}
+
+#[cfg(not(target_os = "linux"))]
+fn serve(iface: &str, _chain: Chain) -> anyhow::Result<ExitCode> {
+    bail!("--interface {iface}: raw Ethernet frames are supported on Linux only")
+}
+
+#[cfg(target_os = "linux")]
+fn serve(iface: &str, mut chain: Chain) -> anyhow::Result<ExitCode> {
+    let mut endpoint = odc_sim::EthernetEndpoint::open(iface)
+        .with_context(|| format!("--interface {iface}: cannot open it for raw frames"))?;
+    {
+        let mut stdout = std::io::stdout().lock();
+        writeln!(stdout, "serving {} devices on {iface}", chain.devices().len())?;
+        stdout.flush()?;
+    }
+    let stop = Arc::new(AtomicBool::new(false));
+    let stopper = Arc::clone(&stop);
+    // The end of standard input stops the devices (Ctrl-C ends the process as it is).
+    std::thread::spawn(move || {
+        for line in std::io::stdin().lock().lines() {
+            if line.is_err() {
+                break;
+            }
+        }
+        stopper.store(true, Ordering::Relaxed);
+    });
+    let start = Instant::now();
+    let clock = || u64::try_from(start.elapsed().as_nanos()).unwrap_or(u64::MAX);
+    let served = endpoint
+        .serve(|frame| chain.process(frame, clock()).is_ok(), || stop.load(Ordering::Relaxed))
+        .with_context(|| format!("--interface {iface}"))?;
+    eprintln!(
+        "{} frames ({} datagrams) served, {} malformed or not EtherCAT",
+        served.frames,
+        chain.datagrams(),
+        served.ignored
+    );
+    for (k, device) in chain.devices().iter().enumerate() {
+        eprintln!(
+            "device {}: AL state {:#04x}, status code {:#06x}",
+            k + 1,
+            device.al_state(),
+            device.al_status_code()
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
