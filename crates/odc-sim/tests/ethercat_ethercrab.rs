@@ -292,3 +292,131 @@ fn segmented_upload_with_the_smallest_mailbox() {
     });
     link.stop();
 }
+
+/// The outputs the test maps into RxPDO 1 (0x1600) for cyclic synchronous position (as
+/// `examples/ethercat_servoone.rs` does: the ServoOne has no factory mapping).
+#[derive(Clone, Copy, Debug, Default, PartialEq, odc::Pdo)]
+struct CspOutputs {
+    #[pdo(index = 0x6040, bits = 16)]
+    controlword: odc::cia402::Controlword,
+    #[pdo(index = 0x607A)]
+    target_position: i32,
+}
+odc::impl_wire!(CspOutputs);
+
+/// The inputs mapped into TxPDO 1 (0x1A00).
+#[derive(Clone, Copy, Debug, Default, PartialEq, odc::Pdo)]
+struct CspInputs {
+    #[pdo(index = 0x6041, bits = 16)]
+    statusword: odc::cia402::Statusword,
+    #[pdo(index = 0x6064)]
+    position_actual_value: i32,
+}
+odc::impl_wire!(CspInputs);
+
+/// Maps `T`'s entries into `pdo` and assigns it alone to SM `sm` (ETG.1020's order: clear,
+/// fill, count).
+async fn map<T: odc::Pdo, S>(
+    sd: &ethercrab::SubDeviceRef<'_, S>,
+    sm: u8,
+    pdo: u16,
+) -> Result<(), Error>
+where
+    S: std::ops::Deref<Target = ethercrab::SubDevice>,
+{
+    let assign = 0x1C10 + u16::from(sm);
+    sd.sdo_write(assign, 0, 0u8).await?;
+    sd.sdo_write(pdo, 0, 0u8).await?;
+    for (sub, entry) in (1u8..).zip(T::MAPPING) {
+        sd.sdo_write(pdo, sub, entry.to_u32()).await?;
+    }
+    sd.sdo_write(pdo, 0, T::MAPPING.len() as u8).await?;
+    sd.sdo_write(assign, 1, pdo).await?;
+    sd.sdo_write(assign, 0, 1u8).await
+}
+
+#[test]
+fn op_with_a_csp_ramp_for_a_thousand_cycles() {
+    use ethercrab::EtherCrabWireRead;
+    use ethercrab::EtherCrabWireWrite;
+    use odc::Pdo;
+    use odc::cia402::{Controlword, ModeOfOperation, State};
+    use servoone::od;
+
+    let servoone = load("esi/servoone.xml");
+    let (maindevice, link) = master(Chain::new(vec![SubDevice::new(&servoone).unwrap()]));
+    let (cycles_enabled, last_position, wkc) = smol::block_on(async {
+        let group = maindevice.init_single_group::<4, 64>(now).await.unwrap();
+        {
+            let sd = group.iter(&maindevice).next().unwrap();
+            servoone::startup::configure(&sd).await.unwrap();
+            map::<CspOutputs, _>(&sd, 2, 0x1600).await.unwrap();
+            map::<CspInputs, _>(&sd, 3, 0x1A00).await.unwrap();
+            let csp = ModeOfOperation::CyclicSyncPosition.to_i8();
+            ec::sdo_write(&sd, &od::MODES_OF_OPERATION, csp).await.unwrap();
+        }
+        // ethercrab reads 0x1C12/0x1C13 and the mappings back and sizes the image.
+        let group = group.into_pre_op_pdi(&maindevice).await.unwrap();
+        {
+            let sd = group.subdevice(&maindevice, 0).unwrap();
+            assert_eq!(sd.outputs_raw().len(), CspOutputs::LEN);
+            assert_eq!(sd.inputs_raw().len(), CspInputs::LEN);
+            assert_eq!((CspOutputs::LEN, CspInputs::LEN), (6, 6));
+        }
+        let group = group.into_safe_op(&maindevice).await.unwrap();
+        let group = group.into_op(&maindevice).await.unwrap();
+        let mut target: Option<i32> = None;
+        // The set-point the previous frame carried: the device takes the outputs after the
+        // frame has passed and has its inputs ready for the next one, so a cycle reads what
+        // the drive did with the previous cycle's outputs.
+        let mut sent: Option<i32> = None;
+        let mut enabled = 0u32;
+        let mut last = 0;
+        let mut wkc = 0;
+        for _ in 0..1500 {
+            let response = group.tx_rx(&maindevice).await.unwrap();
+            wkc = response.working_counter;
+            let sd = group.subdevice(&maindevice, 0).unwrap();
+            let inputs = CspInputs::unpack_from_slice(&sd.inputs_raw()).unwrap();
+            let state = inputs.statusword.state();
+            if state == Some(State::OperationEnabled) {
+                // The drive follows the set-point of the previous frame (an ideal CSP loop).
+                if enabled > 0
+                    && let Some(t) = sent
+                {
+                    assert_eq!(inputs.position_actual_value, t);
+                }
+                enabled += 1;
+            }
+            let position = match (state, target) {
+                (Some(State::OperationEnabled), Some(t)) => t + 10,
+                _ => inputs.position_actual_value,
+            };
+            sent = target;
+            target = Some(position);
+            last = inputs.position_actual_value;
+            let controlword = state
+                .and_then(State::next_command_towards_enabled)
+                .unwrap_or(Controlword::ENABLE_OPERATION);
+            let outputs = CspOutputs { controlword, target_position: position };
+            outputs.pack_to_slice(&mut sd.outputs_raw_mut()).unwrap();
+        }
+        let group = group.into_safe_op(&maindevice).await.unwrap();
+        let group = group.into_pre_op(&maindevice).await.unwrap();
+        group.into_init(&maindevice).await.unwrap();
+        (enabled, last, wkc)
+    });
+    // LRW through one device: read 1 + write 2 (ETG.1000.4 Table 7).
+    assert_eq!(wkc, 3);
+    assert!(cycles_enabled >= 1000, "{cycles_enabled} cycles in operation enabled");
+    // The ramp: 10 increments a cycle while enabled, from 0, one cycle behind.
+    assert_eq!(last_position, 10 * (cycles_enabled as i32 - 2));
+    let (frames, datagrams) = {
+        let chain = link.chain.lock().unwrap();
+        (chain.frames(), chain.datagrams())
+    };
+    link.stop();
+    eprintln!(
+        "servoone OP: {cycles_enabled} cycles enabled, {frames} frames, {datagrams} datagrams"
+    );
+}
