@@ -316,6 +316,7 @@ fn write(
         return Err(SdoAbort::DeviceState);
     }
     if !ca {
+        super::pdo::check_write(od, index, sub, data)?;
         return od.write(index, sub, data);
     }
     let (count, mut rest) = match sub {
@@ -337,6 +338,7 @@ fn write(
         // Each entry takes the bytes its value has now (the dictionary's storage).
         let n = od.read(index, s, &mut buf).map(|_| entry_len(od, index, s))?;
         let (value, tail) = rest.split_at_checked(n).ok_or(SdoAbort::TooShort)?;
+        super::pdo::check_write(od, index, s, value)?;
         od.write(index, s, value)?;
         rest = tail;
     }
@@ -344,6 +346,7 @@ fn write(
         return Err(SdoAbort::TooLong);
     }
     if sub == 0 && od.access(index, 0).is_some_and(|a| a.writable()) {
+        super::pdo::check_write(od, index, 0, &[count])?;
         od.write(index, 0, &[count])?;
     }
     Ok(())

@@ -288,9 +288,7 @@ impl SubDevice {
         }
         let pre_op = self.state == state::PRE_OP;
         // PDO assignment and mapping may be written in PRE-OP only (ETG.1000.6 §5.6.7.4).
-        let writable = move |index: u16| {
-            pre_op || !matches!(index, 0x1600..=0x17FF | 0x1A00..=0x1BFF | 0x1C10..=0x1C2F)
-        };
+        let writable = move |index: u16| pre_op || !pdo::is_pdo_config(index);
         let reply = self.mailbox.handle(&request, usize::from(tx.len), &mut self.od, &writable);
         if let Some(mut reply) = reply {
             reply.resize(usize::from(tx.len), 0);

@@ -66,7 +66,7 @@ pub fn layout(od: &ModelDictionary, sm: u8) -> Result<Layout, Refused> {
             let (index, sub, bits) = ((v >> 16) as u16, (v >> 8) as u8, (v & 0xFF) as usize);
             // Indices 1–7 are the dummy types of gaps (CiA 301 §7.4.7.1).
             let gap = index < 8;
-            if !gap && od.raw(index, sub).is_none_or(|b| b.len() * 8 < bits) {
+            if !mappable(od, v) {
                 return Err(Refused);
             }
             out.entries.push(Mapped {
@@ -79,6 +79,86 @@ pub fn layout(od: &ModelDictionary, sm: u8) -> Result<Layout, Refused> {
         }
     }
     Ok(out)
+}
+
+/// Whether `index` is a PDO mapping (0x1600–0x17FF, 0x1A00–0x1BFF) or assignment
+/// (0x1C10–0x1C2F) object.
+pub fn is_pdo_config(index: u16) -> bool {
+    matches!(index, 0x1600..=0x17FF | 0x1A00..=0x1BFF | 0x1C10..=0x1C2F)
+}
+
+/// The checks a device makes on a download to a PDO mapping or assignment object before it
+/// stores it (ETG.1000.6 §5.6.7.4 and Table 41, CiA 301 §7.5.2.35–36):
+///
+/// - a sub-index other than 0 while sub-index 0 is not 0: 0x06010003;
+/// - an assignment of an object that is no mapping object of the direction: 0x06090030;
+/// - a mapping of an entry the dictionary does not have, or longer than it: 0x06040041;
+/// - a sub-index 0 that enables entries that are not all valid: the first refusal above.
+///
+/// # Errors
+///
+/// The abort code.
+pub fn check_write(
+    od: &ModelDictionary,
+    index: u16,
+    sub: u8,
+    data: &[u8],
+) -> Result<(), odc::SdoAbort> {
+    use odc::SdoAbort;
+    if !is_pdo_config(index) {
+        return Ok(());
+    }
+    let le = |d: &[u8]| d.iter().take(4).rev().fold(0u32, |a, &x| a << 8 | u32::from(x));
+    if sub != 0 {
+        if read_u8(od, index, 0).is_some_and(|n| n != 0) {
+            return Err(SdoAbort::Other(0x0601_0003));
+        }
+        return match index {
+            0x1C10..=0x1C2F => {
+                let pdo = le(data) as u16;
+                let rx = matches!(pdo, 0x1600..=0x17FF);
+                let tx = matches!(pdo, 0x1A00..=0x1BFF);
+                // 0x1C12 takes receive PDOs, 0x1C13 transmit PDOs; other SMs by what they
+                // hold now.
+                let ok = match index {
+                    0x1C12 => rx,
+                    0x1C13 => tx,
+                    _ => rx || tx,
+                };
+                match ok && read_u8(od, pdo, 0).is_some() {
+                    true => Ok(()),
+                    false => Err(SdoAbort::InvalidValue),
+                }
+            }
+            _ => match mappable(od, le(data)) {
+                true => Ok(()),
+                false => Err(SdoAbort::NotMappable),
+            },
+        };
+    }
+    // Sub-index 0: every entry it enables must hold.
+    let n = data.first().copied().unwrap_or(0);
+    for s in 1..=n {
+        let value = od.raw(index, s).ok_or(SdoAbort::InvalidValue)?;
+        match index {
+            0x1C10..=0x1C2F => {
+                let pdo = le(value) as u16;
+                if read_u8(od, pdo, 0).is_none() {
+                    return Err(SdoAbort::InvalidValue);
+                }
+            }
+            _ if !mappable(od, le(value)) => return Err(SdoAbort::NotMappable),
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// A mapping value (index << 16 | sub-index << 8 | bits) the dictionary can serve: a gap
+/// (dummy type index 1–7, or 0), or an entry at least `bits` long.
+fn mappable(od: &ModelDictionary, v: u32) -> bool {
+    let (i, s, bits) = ((v >> 16) as u16, (v >> 8) as u8, (v & 0xFF) as usize);
+    i < 8 || od.raw(i, s).is_some_and(|b| b.len() * 8 >= bits && bits > 0)
 }
 
 fn get_bit(b: &[u8], i: usize) -> bool {

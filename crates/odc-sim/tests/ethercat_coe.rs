@@ -1,0 +1,180 @@
+//! The mailbox and CoE SDO server of the simulated device, byte by byte against ETG.1000.4
+//! §5.6 (mailbox header: length, address, channel/priority, type/counter) and ETG.1000.6
+//! §5.6.2 (CoE header: number, service 2 request / 3 response; SDO command bytes as CiA 301:
+//! initiate download 0x2x, initiate upload 0x40, segments 0x00/0x60 with toggle bit 4, the
+//! responses 0x60, 0x4x, 0x0x/0x2x, abort 0x80), through datagrams on a chain.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use odc_sim::ethercat::{Chain, SubDevice};
+
+fn servoone() -> odc_model::Device {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../esi/servoone.xml");
+    let loaded = odc_pipeline::load(&path, &odc_pipeline::Options::new()).unwrap();
+    loaded.device().unwrap().clone()
+}
+
+/// One datagram in a frame, run through the chain: (data, WKC).
+fn datagram(c: &mut Chain, cmd: u8, adp: u16, ado: u16, data: &[u8]) -> (Vec<u8>, u16) {
+    let mut f = vec![0xFF; 6];
+    f.extend([0x02, 0, 0, 0, 0, 0, 0x88, 0xA4]);
+    f.extend(((12 + data.len()) as u16 | 0x1000).to_le_bytes());
+    f.extend([cmd, 0]);
+    f.extend(adp.to_le_bytes());
+    f.extend(ado.to_le_bytes());
+    f.extend((data.len() as u16).to_le_bytes());
+    f.extend([0, 0]);
+    f.extend(data);
+    f.extend([0, 0]);
+    c.process(&mut f, 0).unwrap();
+    let d = f[26..26 + data.len()].to_vec();
+    let w = 26 + data.len();
+    (d, u16::from_le_bytes([f[w], f[w + 1]]))
+}
+
+const FPRD: u8 = 4;
+const FPWR: u8 = 5;
+const APWR: u8 = 2;
+const ADDR: u16 = 0x1001;
+
+fn sm(start: u16, len: u16, control: u8) -> [u8; 8] {
+    let [s0, s1] = start.to_le_bytes();
+    let [l0, l1] = len.to_le_bytes();
+    [s0, s1, l0, l1, control, 0, 1, 0]
+}
+
+/// A device in PRE-OP with mailboxes of `mbx` bytes at the ESI's addresses.
+fn pre_op(device: &odc_model::Device, mbx: u16) -> Chain {
+    let mut c = Chain::new(vec![SubDevice::new(device).unwrap()]);
+    datagram(&mut c, APWR, 0, 0x0010, &ADDR.to_le_bytes());
+    datagram(&mut c, FPWR, ADDR, 0x0800, &sm(0x1000, mbx, 0x26));
+    datagram(&mut c, FPWR, ADDR, 0x0808, &sm(0x1080, mbx, 0x22));
+    datagram(&mut c, FPWR, ADDR, 0x0120, &[0x02, 0]);
+    assert_eq!(datagram(&mut c, FPRD, ADDR, 0x0130, &[0, 0]).0, [0x02, 0]);
+    c
+}
+
+/// Sends the CoE data `coe` in a mailbox (counter 1) and returns the reply's mailbox
+/// (header and data, as long as its header says).
+fn exchange(c: &mut Chain, mbx: u16, coe: &[u8]) -> Vec<u8> {
+    let mut m = (coe.len() as u16).to_le_bytes().to_vec();
+    m.extend([0, 0, 0, 0x13]);
+    m.extend(coe);
+    m.resize(usize::from(mbx), 0);
+    assert_eq!(datagram(c, FPWR, ADDR, 0x1000, &m).1, 1);
+    // SM1 status: mailbox full (bit 3).
+    assert_eq!(datagram(c, FPRD, ADDR, 0x080D, &[0]).0[0] & 0x08, 0x08);
+    let (reply, wkc) = datagram(c, FPRD, ADDR, 0x1080, &vec![0; usize::from(mbx)]);
+    assert_eq!(wkc, 1);
+    let len = usize::from(u16::from_le_bytes([reply[0], reply[1]]));
+    // Type 3 (CoE) in the low nibble of byte 5.
+    assert_eq!(reply[5] & 0x0F, 3);
+    reply[..6 + len].to_vec()
+}
+
+/// The SDO part of a reply (after mailbox and CoE headers); checks the CoE header says SDO
+/// response (service 3).
+fn sdo(reply: &[u8]) -> &[u8] {
+    assert_eq!(reply[7] >> 4, 3, "SDO response");
+    &reply[8..]
+}
+
+#[test]
+fn expedited_upload_and_download() {
+    let mut c = pre_op(&servoone(), 128);
+    // Upload 0x1000:00 → expedited, 4 bytes: 0x43, the ESI's default 0x00020192.
+    let r = exchange(&mut c, 128, &[0x00, 0x20, 0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]);
+    assert_eq!(sdo(&r), [0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]);
+    // Download 0x6060:00 = 8 (1 byte: 0x2F), then upload: 0x4F (3 bytes unused).
+    let r = exchange(&mut c, 128, &[0x00, 0x20, 0x2F, 0x60, 0x60, 0x00, 8, 0, 0, 0]);
+    assert_eq!(sdo(&r), [0x60, 0x60, 0x60, 0x00, 0, 0, 0, 0]);
+    let r = exchange(&mut c, 128, &[0x00, 0x20, 0x40, 0x60, 0x60, 0x00, 0, 0, 0, 0]);
+    assert_eq!(sdo(&r), [0x4F, 0x60, 0x60, 0x00, 8, 0, 0, 0]);
+    // Abort codes: 0x1000 is read-only (0x06010002), 0x5FFE does not exist (0x06020000),
+    // 0x1018:09 does not (0x06090011).
+    let r = exchange(&mut c, 128, &[0x00, 0x20, 0x23, 0x00, 0x10, 0x00, 1, 0, 0, 0]);
+    assert_eq!(sdo(&r), [0x80, 0x00, 0x10, 0x00, 0x02, 0x00, 0x01, 0x06]);
+    let r = exchange(&mut c, 128, &[0x00, 0x20, 0x40, 0xFE, 0x5F, 0x00, 0, 0, 0, 0]);
+    assert_eq!(sdo(&r), [0x80, 0xFE, 0x5F, 0x00, 0x00, 0x00, 0x02, 0x06]);
+    let r = exchange(&mut c, 128, &[0x00, 0x20, 0x40, 0x18, 0x10, 0x09, 0, 0, 0, 0]);
+    assert_eq!(sdo(&r), [0x80, 0x18, 0x10, 0x09, 0x11, 0x00, 0x09, 0x06]);
+}
+
+#[test]
+fn normal_and_segmented_transfers() {
+    let mut c = pre_op(&servoone(), 34);
+    // Normal download (0x21: size indicated, not expedited) of a 2-byte value with its
+    // complete size: 0x6040:00 = 0x0006 — then a download of 0x607A:00 in segments: size 4
+    // announced, no data in the initiate (a 34-byte mailbox could carry it, but a client may
+    // segment), then one last segment of 4 bytes (0x00 | n=3 << 1 | c=1 = 0x07), padded to 7.
+    let r = exchange(&mut c, 34, &[0x00, 0x20, 0x21, 0x40, 0x60, 0x00, 2, 0, 0, 0, 0x06, 0x00]);
+    assert_eq!(sdo(&r)[..4], [0x60, 0x40, 0x60, 0x00]);
+    let r = exchange(&mut c, 34, &[0x00, 0x20, 0x21, 0x7A, 0x60, 0x00, 4, 0, 0, 0]);
+    assert_eq!(sdo(&r)[..4], [0x60, 0x7A, 0x60, 0x00]);
+    let r = exchange(&mut c, 34, &[0x00, 0x20, 0x07, 0x78, 0x56, 0x34, 0x12, 0, 0, 0]);
+    assert_eq!(sdo(&r)[0], 0x20, "download segment response, toggle 0");
+    let r = exchange(&mut c, 34, &[0x00, 0x20, 0x40, 0x7A, 0x60, 0x00, 0, 0, 0, 0]);
+    assert_eq!(sdo(&r), [0x43, 0x7A, 0x60, 0x00, 0x78, 0x56, 0x34, 0x12]);
+    // A wrong toggle bit aborts with 0x05030000.
+    exchange(&mut c, 34, &[0x00, 0x20, 0x21, 0x7A, 0x60, 0x00, 4, 0, 0, 0]);
+    let r = exchange(&mut c, 34, &[0x00, 0x20, 0x17, 1, 2, 3, 4, 0, 0, 0]);
+    assert_eq!(sdo(&r)[4..], [0x00, 0x00, 0x03, 0x05]);
+
+    // Segmented upload of a 31-byte string through a 34-byte mailbox: the initiate
+    // response (0x41: size indicated, normal) carries the size 31 and 34 − 6 − 2 − 8 = 18
+    // bytes; the upload segment (request 0x60, toggle 0) brings the other 13 with c = 1
+    // (0x01), no unused-byte count (13 ≥ 7).
+    let name = "ServoOne simulated from its ESI";
+    c.devices_mut()[0]
+        .dictionary_mut()
+        .set(0x1008, 0, odc::VisibleString::<32>::new(name).unwrap())
+        .unwrap();
+    let r = exchange(&mut c, 34, &[0x00, 0x20, 0x40, 0x08, 0x10, 0x00, 0, 0, 0, 0]);
+    assert_eq!(u16::from_le_bytes([r[0], r[1]]), 28);
+    let s = sdo(&r);
+    assert_eq!(s[..8], [0x41, 0x08, 0x10, 0x00, 31, 0, 0, 0]);
+    assert_eq!(&s[8..], &name.as_bytes()[..18]);
+    let r = exchange(&mut c, 34, &[0x00, 0x20, 0x60, 0, 0, 0, 0, 0, 0, 0]);
+    assert_eq!(u16::from_le_bytes([r[0], r[1]]), 3 + 13);
+    let s = sdo(&r);
+    assert_eq!(s[0], 0x01);
+    assert_eq!(&s[1..], &name.as_bytes()[18..]);
+}
+
+#[test]
+fn complete_access_where_the_esi_allows_it() {
+    // esi/servoone.xml says CompleteAccess="false": the device refuses it (0x06010000).
+    let mut c = pre_op(&servoone(), 128);
+    let r = exchange(&mut c, 128, &[0x00, 0x20, 0x50, 0x18, 0x10, 0x00, 0, 0, 0, 0]);
+    assert_eq!(sdo(&r), [0x80, 0x18, 0x10, 0x00, 0x00, 0x00, 0x01, 0x06]);
+    // The same device as if its ESI allowed complete access: 0x1018 from sub-index 0 is
+    // sub-index 0 padded to 16 bits, then the four UNSIGNED32 (ETG.1000.6 §5.6.2.1.1): 18
+    // bytes, a normal upload (0x51: size indicated, complete access).
+    let mut device = servoone();
+    let coe = device.ethercat.as_mut().unwrap().mailbox.as_mut().unwrap().coe.as_mut().unwrap();
+    coe.complete_access = true;
+    let mut c = pre_op(&device, 128);
+    let r = exchange(&mut c, 128, &[0x00, 0x20, 0x50, 0x18, 0x10, 0x00, 0, 0, 0, 0]);
+    let s = sdo(&r);
+    assert_eq!(s[..8], [0x51, 0x18, 0x10, 0x00, 18, 0, 0, 0]);
+    assert_eq!(s[8..10], [4, 0]);
+    assert_eq!(s.len(), 8 + 18);
+    // A complete-access download of 0x1C12 from sub-index 0 (0x31: complete access, size
+    // indicated, normal): count 1 and padding, then 0x1600 — the assignment reads back.
+    let r =
+        exchange(&mut c, 128, &[0x00, 0x20, 0x31, 0x12, 0x1C, 0x00, 4, 0, 0, 0, 1, 0, 0x00, 0x16]);
+    assert_eq!(sdo(&r)[0], 0x60, "{r:02X?}");
+    let r = exchange(&mut c, 128, &[0x00, 0x20, 0x40, 0x12, 0x1C, 0x01, 0, 0, 0, 0]);
+    assert_eq!(sdo(&r), [0x4B, 0x12, 0x1C, 0x01, 0x00, 0x16, 0, 0]);
+}
+
+#[test]
+fn other_mailbox_protocols_get_a_mailbox_error() {
+    let mut c = pre_op(&servoone(), 128);
+    // Type 4 (FoE) is not served: mailbox error (type 0), service 1, detail 2.
+    let mut m = vec![4, 0, 0, 0, 0, 0x14, 0, 0, 0, 0];
+    m.resize(128, 0);
+    datagram(&mut c, FPWR, ADDR, 0x1000, &m);
+    let (r, _) = datagram(&mut c, FPRD, ADDR, 0x1080, &[0; 128]);
+    assert_eq!(r[5] & 0x0F, 0);
+    assert_eq!(r[6..10], [0x01, 0x00, 0x02, 0x00]);
+}
