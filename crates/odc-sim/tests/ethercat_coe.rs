@@ -78,6 +78,13 @@ fn sdo(reply: &[u8]) -> &[u8] {
     &reply[8..]
 }
 
+/// The SDO part of an abort, which a device sends as CoE service 2, SDO request (ETG.1000.6,
+/// Abort SDO Transfer Request).
+fn abort(reply: &[u8]) -> &[u8] {
+    assert_eq!(reply[7] >> 4, 2, "an abort is an SDO request");
+    &reply[8..]
+}
+
 #[test]
 fn expedited_upload_and_download() {
     let mut c = pre_op(&servoone(), 128);
@@ -92,11 +99,11 @@ fn expedited_upload_and_download() {
     // Abort codes: 0x1000 is read-only (0x06010002), 0x5FFE does not exist (0x06020000),
     // 0x1018:09 does not (0x06090011).
     let r = exchange(&mut c, 128, &[0x00, 0x20, 0x23, 0x00, 0x10, 0x00, 1, 0, 0, 0]);
-    assert_eq!(sdo(&r), [0x80, 0x00, 0x10, 0x00, 0x02, 0x00, 0x01, 0x06]);
+    assert_eq!(abort(&r), [0x80, 0x00, 0x10, 0x00, 0x02, 0x00, 0x01, 0x06]);
     let r = exchange(&mut c, 128, &[0x00, 0x20, 0x40, 0xFE, 0x5F, 0x00, 0, 0, 0, 0]);
-    assert_eq!(sdo(&r), [0x80, 0xFE, 0x5F, 0x00, 0x00, 0x00, 0x02, 0x06]);
+    assert_eq!(abort(&r), [0x80, 0xFE, 0x5F, 0x00, 0x00, 0x00, 0x02, 0x06]);
     let r = exchange(&mut c, 128, &[0x00, 0x20, 0x40, 0x18, 0x10, 0x09, 0, 0, 0, 0]);
-    assert_eq!(sdo(&r), [0x80, 0x18, 0x10, 0x09, 0x11, 0x00, 0x09, 0x06]);
+    assert_eq!(abort(&r), [0x80, 0x18, 0x10, 0x09, 0x11, 0x00, 0x09, 0x06]);
 }
 
 #[test]
@@ -117,7 +124,8 @@ fn normal_and_segmented_transfers() {
     // A wrong toggle bit aborts with 0x05030000.
     exchange(&mut c, 34, &[0x00, 0x20, 0x21, 0x7A, 0x60, 0x00, 4, 0, 0, 0]);
     let r = exchange(&mut c, 34, &[0x00, 0x20, 0x17, 1, 2, 3, 4, 0, 0, 0]);
-    assert_eq!(sdo(&r)[4..], [0x00, 0x00, 0x03, 0x05]);
+    assert_eq!(abort(&r)[..4], [0x80, 0x7A, 0x60, 0x00]);
+    assert_eq!(abort(&r)[4..], [0x00, 0x00, 0x03, 0x05]);
 
     // Segmented upload of a 31-byte string through a 34-byte mailbox: the initiate
     // response (0x41: size indicated, normal) carries the size 31 and 34 − 6 − 2 − 8 = 18
@@ -145,7 +153,7 @@ fn complete_access_where_the_esi_allows_it() {
     // esi/servoone.xml says CompleteAccess="false": the device refuses it (0x06010000).
     let mut c = pre_op(&servoone(), 128);
     let r = exchange(&mut c, 128, &[0x00, 0x20, 0x50, 0x18, 0x10, 0x00, 0, 0, 0, 0]);
-    assert_eq!(sdo(&r), [0x80, 0x18, 0x10, 0x00, 0x00, 0x00, 0x01, 0x06]);
+    assert_eq!(abort(&r), [0x80, 0x18, 0x10, 0x00, 0x00, 0x00, 0x01, 0x06]);
     // The same device as if its ESI allowed complete access: 0x1018 from sub-index 0 is
     // sub-index 0 padded to 16 bits, then the four UNSIGNED32 (ETG.1000.6 §5.6.2.1.1): 18
     // bytes, a normal upload (0x51: size indicated, complete access).

@@ -19,6 +19,10 @@ use crate::ModelDictionary;
 const SDO_REQUEST: u8 = 2;
 /// The CoE header of an SDO response (number 0, service 3).
 const SDO_RESPONSE: [u8; 2] = [0x00, 0x30];
+/// The CoE header of an abort from the device: service 2, SDO request (ETG.1000.6, Abort SDO
+/// Transfer Request; SOES sends it so, and SOEM takes an abort under service 3 for a malformed
+/// response).
+const SDO_ABORT: [u8; 2] = [0x00, 0x20];
 /// The largest value moved in one transfer (as the CANopen simulation's SDO buffer).
 const MAX_VALUE: usize = crate::SDO_BUFFER;
 
@@ -89,7 +93,7 @@ impl CoeServer {
         };
         Ok(Some(reply.unwrap_or_else(|((index, sub), abort)| {
             self.transfer = Transfer::None;
-            let mut r = SDO_RESPONSE.to_vec();
+            let mut r = SDO_ABORT.to_vec();
             r.push(0x80);
             r.extend_from_slice(&index.to_le_bytes());
             r.push(sub);
