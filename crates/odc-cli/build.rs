@@ -4,6 +4,7 @@
 //! `cfg(odc_cli_no_python)`, which marks it ignored with the reason.
 
 fn main() {
+    soem();
     println!("cargo::rustc-check-cfg=cfg(odc_cli_no_python)");
     println!("cargo:rerun-if-env-changed=ODC_INTEROP_PYTHON");
     println!("cargo:rerun-if-env-changed=ODC_INTEROP_REQUIRED");
@@ -20,5 +21,30 @@ fn main() {
         }
     } else if std::env::var_os("ODC_INTEROP_REQUIRED").is_none() {
         println!("cargo:rustc-cfg=odc_cli_no_python");
+    }
+}
+
+/// The SOEM test (tests/simulate_soem.rs) needs pysoem in that python and a veth pair in a
+/// network namespace of its own (root, iproute2); without them, and unless both
+/// `ODC_INTEROP_REQUIRED` and `ODC_NET_REQUIRED` are set (`.ci/run`), it is compiled with
+/// `cfg(odc_cli_no_soem)` and shows as ignored with the reason.
+fn soem() {
+    use std::process::{Command, Stdio};
+    println!("cargo::rustc-check-cfg=cfg(odc_cli_no_soem)");
+    println!("cargo:rerun-if-env-changed=ODC_NET_REQUIRED");
+    let py = std::env::var_os("ODC_INTEROP_PYTHON").unwrap_or_else(|| "python3".into());
+    let runs = |cmd: &mut Command| {
+        cmd.stdout(Stdio::null()).stderr(Stdio::null()).status().is_ok_and(|s| s.success())
+    };
+    let pysoem = runs(Command::new(&py).args(["-c", "import pysoem"]));
+    let root = Command::new("id")
+        .arg("-u")
+        .output()
+        .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0");
+    let ip = runs(Command::new("ip").arg("-V"));
+    let required = std::env::var_os("ODC_INTEROP_REQUIRED").is_some()
+        && std::env::var_os("ODC_NET_REQUIRED").is_some();
+    if !(pysoem && root && ip) && !required {
+        println!("cargo:rustc-cfg=odc_cli_no_soem");
     }
 }
