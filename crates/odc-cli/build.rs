@@ -44,7 +44,7 @@ fn soem() {
     let ip = runs(Command::new("ip").arg("-V"));
     let required = std::env::var_os("ODC_INTEROP_REQUIRED").is_some()
         && std::env::var_os("ODC_NET_REQUIRED").is_some();
-    if !(pysoem && root && ip) && !required {
+    if !(required || pysoem && root && ip) {
         println!("cargo:rustc-cfg=odc_cli_no_soem");
     }
 }
