@@ -61,7 +61,7 @@ def run(master, plan, out):
     reached = False
     for _ in range(200):
         master.send_processdata()
-        master.receive_processdata(2000)
+        master.receive_processdata(20_000)
         if master.state_check(pysoem.OP_STATE, 5000) == pysoem.OP_STATE:
             reached = True
             break
@@ -100,15 +100,24 @@ def exchange(master, plan, out):
         want = plan["devices"][k] if k < len(plan["devices"]) else {}
         if want.get("outputs"):
             slave.output = bytes.fromhex(want["outputs"])
-    good = 0
-    for _ in range(cycles):
+    # Until `cycles` frames have come back; a frame that does not within 20 ms (a loaded
+    # machine) is counted as lost and the cycle repeated.
+    good, lost, wrong = 0, 0, []
+    while good + len(wrong) < cycles and lost < cycles:
         master.send_processdata()
-        wkc = master.receive_processdata(2000)
-        good += wkc == master.expected_wkc
+        wkc = master.receive_processdata(20_000)
+        if wkc == master.expected_wkc:
+            good += 1
+        elif wkc <= 0:
+            lost += 1
+        else:
+            wrong.append(wkc)
         time.sleep(0.0005)
     out["cycles"] = cycles
     out["expected_wkc"] = master.expected_wkc
     out["cycles_with_expected_wkc"] = good
+    out["cycles_with_other_wkc"] = wrong
+    out["frames_lost"] = lost
     for k, slave in enumerate(master.slaves):
         out["devices"][k]["inputs"] = hexb(slave.input)
 
