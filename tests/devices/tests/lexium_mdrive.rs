@@ -9,16 +9,27 @@
 //! accepts. The homing example sends 10 downloads with command byte 0x22 (expedited, size not
 //! indicated), which odc's client does not produce; they are built with odc's frame codec.
 //!
-//! Count (67 frames printed): 55 reproduced here, the 12 of LSS in `lexium_mdrive_lss.rs`:
-//! - Figure 3.8 (1 frame): the SDO response reading the device type; the print's byte order is
-//!   garbled (`43 00 00 01 00029210`). Rebuilt as the LXM23A manual prints the same figure of
-//!   the same template, `43 00 10 00 92 01 02 00`: the same eight bytes in CANopen's order, and
-//!   the value 0002 0192h the file's [Comments] take from it. Reproduced.
-//! - Profile position (20), profile velocity (9), homing (20), profile torque (4): reproduced.
-//!   The print lost a digit in `A0 86 01 0` (100000 = 0x000186A0): `A0 86 01 00`.
-//! - EMCY, Figure 3.24 (1): reproduced with the manual's layout (bytes 3–4 reserved, 5 PDO
-//!   number, 6–7 vendor code) in the runtime's 5-byte manufacturer field.
-//! - LSS, 5.5–5.6 (12 frames on 7E5h/7E4h): rebuilt with odc's `LssSlave` in `lexium_mdrive_lss.rs`.
+//! Count: 72 printed, 72 reproduced (tests/devices/README.md).
+//!
+//! The 12 frames of LSS (5.5–5.6) are counted in `lexium_mdrive_lss.rs`.
+//!
+//! What is transcribed rather than copied, and what is not compared:
+//! - Figures 3.8 and 3.9 (the SDO response reading the device type): the print's byte order
+//!   is garbled (`43 00 00 01 00029210`). Rebuilt as the LXM23A manual prints the same figure
+//!   of the same template, `43 00 10 00 92 01 02 00`: the same eight bytes in CANopen's order.
+//!   The value 0002 0192h is one drive's answer; the file holds 8.5.1's default 0044 0192h.
+//! - Profile position: the print lost a digit in `A0 86 01 0` (100000 = 0x000186A0):
+//!   `A0 86 01 00`.
+//! - EMCY, Figure 3.24: built with odc's EMCY codec with the manual's layout (bytes 3–4
+//!   reserved, 5 PDO number, 6–7 vendor code) in the runtime's 5-byte manufacturer field.
+//! - Figure 3.18 (PDO mapping): the print moves bytes as in the LSS frames; the figure's
+//!   object list gives the values and so the order (see `pdo_mapping`).
+//! - Figure 3.30 prints the heartbeat's data byte as `xxh`: it is compared with the state list
+//!   under the figure (05h, operational).
+//!
+//! The figures of network services (NMT, guarding, heartbeat, PDO mapping) run odc's
+//! `master::Master` against odc's `node::Node` on the generated slave dictionary
+//! (`node_bench`).
 //!
 //! Where the text and the frames disagree the frames are trusted: the homing example
 //! "demonstrates home method 18" but writes 0x13 = 19 (its own action column says 19); the
@@ -390,4 +401,11 @@ fn preset_pdo_layouts() {
         (Rpdo4::cob_id(0), Rpdo4::LEN, Rpdo4::MAPPING_VALUES),
         (0x500, 4, [0x6040_0010, 0x6071_0010])
     );
+}
+
+/// 3.2.1 (Table 3.2 text): "384+node ID = 384 (180h) + 5 = 389 (185h)", T_PDO1 of node 5.
+#[test]
+fn cob_id_example() {
+    assert_eq!(pdo::Tpdo1::cob_id(5), 0x185);
+    assert_eq!(pdo::Tpdo1::cob_id(5), 389);
 }

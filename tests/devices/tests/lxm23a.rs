@@ -9,11 +9,19 @@
 //! Transcription: the OCR reads `0` as `O` and `D` as `O` in places (`DO 07` for `D0 07`, `OF`
 //! for `0F`, `OA` for `0A`); those are fixed below and nothing else.
 //!
-//! Count (84 frames printed in the examples): 84 reproduced. In 4 SDO read responses
-//! (`4F 61 60 00 mm 61 01 00`) bytes 5..7 hold what the manual's own Table 4 and Figure 13 call
-//! undefined ("the content of these data fields is not defined"); the device leaves `61 01 00`
-//! there, odc's server zeros: those 3 bytes are not compared. In the Profile Torque example
-//! the print lost the last byte of 6 SDO frames (7 bytes shown): the 7 printed are compared.
+//! Count: 97 printed, 97 reproduced (tests/devices/README.md).
+//!
+//! What is not compared, byte by byte: in 4 SDO read responses (`4F 61 60 00 mm 61 01 00`)
+//! bytes 5..7 hold what the manual's own Table 4 and Figure 13 call undefined ("the content of
+//! these data fields is not defined"); the device leaves `61 01 00` there, odc's server zeros:
+//! those 3 bytes are not compared. In the Profile Torque example the print lost the last byte
+//! of 6 SDO frames (7 bytes shown): the 7 printed are compared. The requests of node guarding
+//! (Figure 31) are drawn as arrows, not printed: the answers are compared. Figure 33 prints
+//! the heartbeat's COB-ID: its data byte is compared with the state list under the figure.
+//!
+//! The figures of network services (NMT, guarding, heartbeat, EMCY, PDO mapping) run odc's
+//! `master::Master` against odc's `node::Node` on the generated slave dictionary
+//! (`node_bench`).
 
 mod common;
 mod node_bench;
