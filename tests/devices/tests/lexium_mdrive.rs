@@ -242,11 +242,6 @@ fn emcy_layout() {
     assert_eq!(decoded.code, EmcyCode(0x2212));
 }
 
-/// The heartbeat / guarding identifier of node `node` (700h + node-ID).
-fn error_control_id(node: u8) -> u32 {
-    u32::from(Function::Heartbeat.can_id(NodeId::new(node).unwrap()).unwrap())
-}
-
 /// Figure 3.27: the NMT message "start remote node" (01h) to every node (node-ID 0), COB-ID 0:
 /// `0 01 00`, sent by odc's master; odc's node 41h goes operational.
 #[test]
@@ -267,7 +262,7 @@ fn node_guarding() {
     m.write(NODE, &od::GUARD_TIME, 100).unwrap();
     m.write(NODE, &od::LIFE_TIME_FACTOR, 3).unwrap();
     m.nmt(NmtCommand::Start, NODE).unwrap();
-    let id = error_control_id(NODE);
+    let id = u32::from(Function::Heartbeat.can_id(NodeId::new(NODE).unwrap()).unwrap());
     let start = m.bus_mut().log.len();
     for _ in 0..3 {
         m.send(&CanFrame::remote(id, 1)).unwrap();
@@ -300,8 +295,9 @@ fn heartbeat() {
     m.write(NODE, &od::PRODUCER_HEARTBEAT_TIME, 100).unwrap();
     m.nmt(NmtCommand::Start, NODE).unwrap();
     m.bus_mut().advance(250);
+    let id = u32::from(Function::Heartbeat.can_id(NodeId::new(NODE).unwrap()).unwrap());
     assert_same(
-        &m.bus_mut().frames(error_control_id(NODE)),
+        &m.bus_mut().frames(id),
         &[printed("741 / 00"), printed("741 / 05"), printed("741 / 05")],
     );
 }
