@@ -134,7 +134,7 @@ fn generate_and_check_say_in_one_line_what_they_did() {
     let dir = scratch("oneline");
     let rs = dir.join("lxm23a.rs");
     let out = odc(&["generate", lxm.to_str().unwrap(), "-o", rs.to_str().unwrap()]);
-    assert_eq!(stderr(&out).trim_end(), format!("wrote {}: 83 objects, 8 PDOs", rs.display()));
+    assert_eq!(stderr(&out).trim_end(), format!("wrote {}: 98 objects, 8 PDOs", rs.display()));
     let _ = std::fs::remove_dir_all(&dir);
 }
 

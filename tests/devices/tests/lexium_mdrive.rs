@@ -9,16 +9,27 @@
 //! accepts. The homing example sends 10 downloads with command byte 0x22 (expedited, size not
 //! indicated), which odc's client does not produce; they are built with odc's frame codec.
 //!
-//! Count (67 frames printed): 55 reproduced here, the 12 of LSS in `lexium_mdrive_lss.rs`:
-//! - Figure 3.8 (1 frame): the SDO response reading the device type; the print's byte order is
-//!   garbled (`43 00 00 01 00029210`). Rebuilt as the LXM23A manual prints the same figure of
-//!   the same template, `43 00 10 00 92 01 02 00`: the same eight bytes in CANopen's order, and
-//!   the value 0002 0192h the file's [Comments] take from it. Reproduced.
-//! - Profile position (20), profile velocity (9), homing (20), profile torque (4): reproduced.
-//!   The print lost a digit in `A0 86 01 0` (100000 = 0x000186A0): `A0 86 01 00`.
-//! - EMCY, Figure 3.24 (1): reproduced with the manual's layout (bytes 3–4 reserved, 5 PDO
-//!   number, 6–7 vendor code) in the runtime's 5-byte manufacturer field.
-//! - LSS, 5.5–5.6 (12 frames on 7E5h/7E4h): rebuilt with odc's `LssSlave` in `lexium_mdrive_lss.rs`.
+//! Count: 72 printed, 72 reproduced (tests/devices/README.md).
+//!
+//! The 12 frames of LSS (5.5–5.6) are counted in `lexium_mdrive_lss.rs`.
+//!
+//! What is transcribed rather than copied, and what is not compared:
+//! - Figures 3.8 and 3.9 (the SDO response reading the device type): the print's byte order
+//!   is garbled (`43 00 00 01 00029210`). Rebuilt as the LXM23A manual prints the same figure
+//!   of the same template, `43 00 10 00 92 01 02 00`: the same eight bytes in CANopen's order.
+//!   The value 0002 0192h is one drive's answer; the file holds 8.5.1's default 0044 0192h.
+//! - Profile position: the print lost a digit in `A0 86 01 0` (100000 = 0x000186A0):
+//!   `A0 86 01 00`.
+//! - EMCY, Figure 3.24: built with odc's EMCY codec with the manual's layout (bytes 3–4
+//!   reserved, 5 PDO number, 6–7 vendor code) in the runtime's 5-byte manufacturer field.
+//! - Figure 3.18 (PDO mapping): the print moves bytes as in the LSS frames; the figure's
+//!   object list gives the values and so the order (see `pdo_mapping`).
+//! - Figure 3.30 prints the heartbeat's data byte as `xxh`: it is compared with the state list
+//!   under the figure (05h, operational).
+//!
+//! The figures of network services (NMT, guarding, heartbeat, PDO mapping) run odc's
+//! `master::Master` against odc's `node::Node` on the generated slave dictionary
+//! (`node_bench`).
 //!
 //! Where the text and the frames disagree the frames are trusted: the homing example
 //! "demonstrates home method 18" but writes 0x13 = 19 (its own action column says 19); the
@@ -27,11 +38,16 @@
 //! controlword 0000h, which is "disable voltage", not a homing stop.
 
 mod common;
+mod node_bench;
 
 use common::{Bench, assert_same, printed};
-use odc::cia402::{Controlword, ModeOfOperation};
+use odc::Pdo;
+use odc::can::CanFrame;
+use odc::cia402::{Controlword, ModeOfOperation, Statusword};
+use odc::cob::{Function, NodeId};
 use odc::emcy::{EmcyCode, EmcyFrame, ErrorRegister};
-use odc_tests_devices::lexium_mdrive::{od, slave};
+use odc::nmt::{NmtCommand, NmtState};
+use odc_tests_devices::lexium_mdrive::{od, pdo, slave};
 
 /// "Node ID 41h" of every example.
 const NODE: u8 = 0x41;
@@ -200,7 +216,11 @@ fn sdo_message_example() {
     assert_eq!(b.wire.od.get(od::DEVICE_TYPE), Ok(0x0044_0192), "the manual's default");
     b.wire.od.set(od::DEVICE_TYPE, 0x0002_0192).unwrap();
     assert_eq!(b.read(&od::DEVICE_TYPE), 0x0002_0192);
+    // Figure 3.8 prints it (`43 00 00 01 00029210`, see the module comment), and Figure 3.9
+    // again with "Hex: 1000h, 00020192h", the index and the value in their order.
     assert_same(&b.wire.log[1..], &[printed("581 / 43 00 10 00 92 01 02 00")]);
+    assert_same(&b.wire.log[1..], &[printed("581 / 43 00 10 00 92 01 02 00")]);
+    assert_eq!(od::DEVICE_TYPE.addr.index, 0x1000);
 }
 
 /// Figure 3.24: the EMCY of node 41h with error code 2212h, error register 0, and the
@@ -220,4 +240,168 @@ fn emcy_layout() {
     assert_same(&b.wire.log, &[printed("C1 / 12 22 00 00 00 00 00 00")]);
     let decoded = EmcyFrame::decode(&emcy.encode()).expect("8 bytes");
     assert_eq!(decoded.code, EmcyCode(0x2212));
+}
+
+/// Figure 3.27: the NMT message "start remote node" (01h) to every node (node-ID 0), COB-ID 0:
+/// `0 01 00`, sent by odc's master; odc's node 41h goes operational.
+#[test]
+fn nmt_message() {
+    let mut m = node_bench::master(NODE, slave::Dictionary::new(NODE));
+    let start = m.bus_mut().log.len();
+    m.nmt(NmtCommand::Start, 0).unwrap();
+    assert_same(&m.bus_mut().log[start..], &[printed("0 / 01 00")]);
+    assert_eq!(m.bus_mut().node.state(), NmtState::Operational);
+}
+
+/// Figure 3.28: node guarding of node 41h, three cycles: the master's request (a remote frame
+/// on 741h) and the answer of odc's node, operational: 05h, then 85h (bit 7 toggles), then
+/// 05h. "The first request when connection monitoring is started begins with bit 7 = 0."
+#[test]
+fn node_guarding() {
+    let mut m = node_bench::master(NODE, slave::Dictionary::new(NODE));
+    m.write(NODE, &od::GUARD_TIME, 100).unwrap();
+    m.write(NODE, &od::LIFE_TIME_FACTOR, 3).unwrap();
+    m.nmt(NmtCommand::Start, NODE).unwrap();
+    let id = u32::from(Function::Heartbeat.can_id(NodeId::new(NODE).unwrap()).unwrap());
+    let start = m.bus_mut().log.len();
+    for _ in 0..3 {
+        m.send(&CanFrame::remote(id, 1)).unwrap();
+        m.bus_mut().advance(100);
+    }
+    // The node's TPDOs (started, event-driven) share the wire: the figure shows 741h only.
+    let guarding: Vec<_> =
+        m.bus_mut().log[start..].iter().filter(|f| f.id == id).copied().collect();
+    assert_same(
+        &guarding,
+        &[
+            printed("741 RTR"),
+            printed("741 / 05"),
+            printed("741 RTR"),
+            printed("741 / 85"),
+            printed("741 RTR"),
+            printed("741 / 05"),
+        ],
+    );
+}
+
+/// Figure 3.30: heartbeat of the producer node 41h on 741h. The figure prints the data byte
+/// as `xxh`, the producer's state: 05h "Operational" from the list under it. The first frame
+/// is the boot-up message, "a Heartbeat message with one data byte 00" (3.6.2.2; 3.5.1: "COB
+/// ID 700h + node ID and one data byte (00h)"). odc's node 41h, producer heartbeat time
+/// (1017h) 100 ms written by odc's master, started, for 250 ms.
+#[test]
+fn heartbeat() {
+    let mut m = node_bench::master(NODE, slave::Dictionary::new(NODE));
+    m.write(NODE, &od::PRODUCER_HEARTBEAT_TIME, 100).unwrap();
+    m.nmt(NmtCommand::Start, NODE).unwrap();
+    m.bus_mut().advance(250);
+    let id = u32::from(Function::Heartbeat.can_id(NodeId::new(NODE).unwrap()).unwrap());
+    assert_same(
+        &m.bus_mut().frames(id),
+        &[printed("741 / 00"), printed("741 / 05"), printed("741 / 05")],
+    );
+}
+
+/// Figure 3.18: PDO mapping, node 41h: T_PDO3 (3C1h) and R_PDO3 (441h) mapped first with the
+/// statusword (controlword) alone, then with the position actual value (target position).
+///
+/// The print moves bytes as in the LSS frames (`10 0A 11 000E03`, `1F 00 0A 000000`); the
+/// figure's object list gives the values (statusword 0A10h, position actual value 000E1103h,
+/// controlword 001Fh, target position 00000A00h), which put them in CANopen's order, as the
+/// LXM23A manual prints the same figure (`10 0A 03 11 0E 00`, `1F 00 00 0A 00 00`).
+///
+/// odc's master maps them (CiA 301's sequence, with the layouts of the generated T_PDO1/2 and
+/// R_PDO1/2 structs, which are the figure's) on odc's node holding the figure's object
+/// values; the node sends T_PDO3 once it is mapped and valid (event-driven, type 255); the
+/// master sends R_PDO3 and the node writes it into the dictionary.
+#[test]
+fn pdo_mapping() {
+    use od::{_3rd_receive_pdo_parameter as r3, _3rd_transmit_pdo_parameter as t3};
+    use odc::master::mapping_plan;
+    use pdo::{Rpdo1, Rpdo2, Tpdo1, Tpdo2};
+    let mut m = node_bench::master(NODE, slave::Dictionary::new(NODE));
+    let dev = &mut m.bus_mut().od;
+    dev.set(od::STATUSWORD, Statusword(0x0A10)).unwrap();
+    dev.set(od::POSITION_ACTUAL_VALUE, 0x000E_1103).unwrap();
+    let tx = odc::slave::initial(&t3::COB_ID_USED_BY_PDO, NODE, 0);
+    let rx = odc::slave::initial(&r3::COB_ID_USED_BY_PDO, NODE, 0);
+    let (t3_comm, t3_map) = (t3::COB_ID_USED_BY_PDO.addr.index, 0x1A02);
+    let (r3_comm, r3_map) = (r3::COB_ID_USED_BY_PDO.addr.index, 0x1602);
+    // In pre-operational (no PDO runs), T_PDO3 gets the statusword alone; the node sends it
+    // when started.
+    m.execute(NODE, &mapping_plan::<Tpdo1>(t3_comm, t3_map, tx, 255)).unwrap();
+    m.nmt(NmtCommand::Start, NODE).unwrap();
+    m.bus_mut().advance(1);
+    m.execute(NODE, &mapping_plan::<Tpdo2>(t3_comm, t3_map, tx, 255)).unwrap();
+    m.execute(NODE, &mapping_plan::<Rpdo1>(r3_comm, r3_map, rx, 255)).unwrap();
+    m.send_pdo(rx, &Rpdo1 { controlword: Controlword(0x001F) }).unwrap();
+    assert_eq!(m.bus_mut().od.get(od::CONTROLWORD), Ok(Controlword(0x001F)));
+    m.execute(NODE, &mapping_plan::<Rpdo2>(r3_comm, r3_map, rx, 255)).unwrap();
+    let target = Rpdo2 { controlword: Controlword(0x001F), target_position: 0x0A00 };
+    m.send_pdo(rx, &target).unwrap();
+    assert_eq!(m.bus_mut().od.get(od::TARGET_POSITION), Ok(0x0000_0A00));
+
+    let wire = m.bus_mut();
+    let pdos: Vec<_> =
+        wire.log.iter().filter(|f| f.id == tx & 0x7FF || f.id == rx & 0x7FF).copied().collect();
+    assert_same(
+        &pdos,
+        &[
+            printed("3C1 / 10 0A"),
+            // Printed `10 0A 11 000E03`.
+            printed("3C1 / 10 0A 03 11 0E 00"),
+            printed("441 / 1F 00"),
+            // Printed `1F 00 0A 000000`.
+            printed("441 / 1F 00 00 0A 00 00"),
+        ],
+    );
+}
+
+/// Figure 3.19: the entries of a PDO mapping object, 6041h 00h 10h and 606Ch 00h 20h: the
+/// generated T_PDO3's.
+#[test]
+fn mapping_entries() {
+    assert_eq!(pdo::Tpdo3::MAPPING_VALUES, [0x6041_0010, 0x606C_0020]);
+}
+
+/// Figures 3.16 and 3.17: the preset PDOs (COB-ID base + node-ID, bytes, objects) as the
+/// generated structs have them. R_PDO4 is drawn with 6 bytes, "Target torque (60FFh)", and
+/// mapped 6071 0020h in 8.5.19; 6071h is INTEGER16 and the torque example writes it with 2
+/// bytes, so the file maps it with 16 bits (its [Comments] Line7): 4 bytes, the one layout
+/// that differs.
+#[test]
+fn preset_pdo_layouts() {
+    use pdo::*;
+    let layouts = [
+        (Rpdo1::cob_id(0), Rpdo1::LEN, &Rpdo1::MAPPING_VALUES[..]),
+        (Rpdo2::cob_id(0), Rpdo2::LEN, &Rpdo2::MAPPING_VALUES[..]),
+        (Rpdo3::cob_id(0), Rpdo3::LEN, &Rpdo3::MAPPING_VALUES[..]),
+        (Tpdo1::cob_id(0), Tpdo1::LEN, &Tpdo1::MAPPING_VALUES[..]),
+        (Tpdo2::cob_id(0), Tpdo2::LEN, &Tpdo2::MAPPING_VALUES[..]),
+        (Tpdo3::cob_id(0), Tpdo3::LEN, &Tpdo3::MAPPING_VALUES[..]),
+        (Tpdo4::cob_id(0), Tpdo4::LEN, &Tpdo4::MAPPING_VALUES[..]),
+    ];
+    let figures: [(u32, usize, &[u32]); 7] = [
+        (0x200, 2, &[0x6040_0010]),
+        (0x300, 6, &[0x6040_0010, 0x607A_0020]),
+        (0x400, 6, &[0x6040_0010, 0x60FF_0020]),
+        (0x180, 2, &[0x6041_0010]),
+        (0x280, 6, &[0x6041_0010, 0x6064_0020]),
+        (0x380, 6, &[0x6041_0010, 0x606C_0020]),
+        (0x480, 2, &[0x6041_0010]),
+    ];
+    for (ours, theirs) in layouts.iter().zip(figures) {
+        assert_eq!(*ours, theirs);
+    }
+    assert_eq!(
+        (Rpdo4::cob_id(0), Rpdo4::LEN, Rpdo4::MAPPING_VALUES),
+        (0x500, 4, [0x6040_0010, 0x6071_0010])
+    );
+}
+
+/// 3.2.1 (Table 3.2 text): "384+node ID = 384 (180h) + 5 = 389 (185h)", T_PDO1 of node 5.
+#[test]
+fn cob_id_example() {
+    assert_eq!(pdo::Tpdo1::cob_id(5), 0x185);
+    assert_eq!(pdo::Tpdo1::cob_id(5), 389);
 }

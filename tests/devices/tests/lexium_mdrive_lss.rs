@@ -3,8 +3,10 @@
 //! (`odc::lss::Request`), the answers by odc's `LssSlave` with the address the generated
 //! dictionary of `eds/lexium-mdrive.eds` holds in 0x1018.
 //!
-//! Count (12 frames printed: 9 requests on 7E5h, 3 answers on 7E4h): all 12 reproduced, 5 of
-//! them after fixing the print, each said where it is transcribed:
+//! Count: 12 printed, 12 reproduced (tests/devices/README.md).
+//!
+//! The 12 are 9 requests on 7E5h and 3 answers on 7E4h; 5 of them are compared after fixing
+//! the print, each said where it is transcribed:
 //! - The print moves byte 2 to the end of the frame in the three frames that use it
 //!   (`13 00 00 00 00 00000006` for bit timing index 6, `40 1B 00 00 00 00000002` for vendor
 //!   021Bh, `42 07 00 00 00 00000005` for revision 0507h): the labels (table selector, then

@@ -1,0 +1,113 @@
+//! The bench of the figures of network services (NMT, node guarding, heartbeat, EMCY, PDO
+//! mapping): odc's `master::Master` and one device run by odc's `node::Node` on a generated
+//! slave dictionary, on one wire that logs every frame in the order it goes on the bus.
+//!
+//! Time is simulated: each reading of the clock is one millisecond later, and the node is
+//! polled then (its heartbeat, event-driven TPDOs, EMCY inhibit time run as on a device).
+#![allow(clippy::unwrap_used, clippy::expect_used, dead_code)] // test helpers; not every test uses all
+
+use std::collections::VecDeque;
+
+use odc::can::CanFrame;
+use odc::master::Master;
+use odc::node::Node;
+use odc::slave::ObjectDictionary;
+use odc::transport::Bus;
+
+/// The node of the bench: 4 RPDOs and 4 TPDOs, as both Schneider drives have.
+pub type DriveNode = Node<64, 4, 4>;
+
+/// The wire with the device on it.
+pub struct NodeWire<D> {
+    /// The device's CANopen node.
+    pub node: DriveNode,
+    /// The device's dictionary.
+    pub od: D,
+    /// Every frame, both directions, in bus order.
+    pub log: Vec<CanFrame>,
+    inbox: VecDeque<CanFrame>,
+    now_us: u64,
+}
+
+impl<D: ObjectDictionary> NodeWire<D> {
+    /// Node `node_id` on dictionary `od`, powered on: its boot-up message is the first frame
+    /// of the log.
+    pub fn new(node_id: u8, od: D) -> Self {
+        let mut wire = NodeWire {
+            node: Node::new(node_id),
+            od,
+            log: Vec::new(),
+            inbox: VecDeque::new(),
+            now_us: 0,
+        };
+        let (node, od, log, inbox) = (&mut wire.node, &mut wire.od, &mut wire.log, &mut wire.inbox);
+        node.start(od, 0, &mut |f| {
+            log.push(f);
+            inbox.push_back(f);
+        });
+        wire
+    }
+
+    /// Lets `ms` milliseconds pass, the node polled every millisecond.
+    pub fn advance(&mut self, ms: u64) {
+        for _ in 0..ms {
+            self.tick();
+        }
+    }
+
+    fn tick(&mut self) {
+        self.now_us += 1_000;
+        let (node, od, log, inbox) = (&mut self.node, &mut self.od, &mut self.log, &mut self.inbox);
+        node.poll(od, self.now_us, &mut |f| {
+            log.push(f);
+            inbox.push_back(f);
+        });
+    }
+
+    /// The current time in µs (for the node's own calls, such as `raise_emcy`).
+    pub fn now_us(&self) -> u64 {
+        self.now_us
+    }
+
+    /// The device raises an error (`Node::raise_emcy`): its EMCY goes on the wire.
+    pub fn raise_emcy(&mut self, code: odc::emcy::EmcyCode, manufacturer: [u8; 5]) {
+        let (node, log, inbox) = (&mut self.node, &mut self.log, &mut self.inbox);
+        node.raise_emcy(code, manufacturer, self.now_us, &mut |f| {
+            log.push(f);
+            inbox.push_back(f);
+        });
+    }
+
+    /// The logged frames with CAN-ID `id` (data and remote).
+    pub fn frames(&self, id: u32) -> Vec<CanFrame> {
+        self.log.iter().filter(|f| f.id == id && !f.extended).copied().collect()
+    }
+}
+
+impl<D: ObjectDictionary> Bus for NodeWire<D> {
+    type Error = std::convert::Infallible;
+
+    fn send(&mut self, frame: &CanFrame) -> Result<(), Self::Error> {
+        self.log.push(*frame);
+        let (node, od, log, inbox) = (&mut self.node, &mut self.od, &mut self.log, &mut self.inbox);
+        node.handle(od, frame, self.now_us, &mut |f| {
+            log.push(f);
+            inbox.push_back(f);
+        });
+        Ok(())
+    }
+
+    fn recv(&mut self, _deadline_ms: u64) -> Result<Option<CanFrame>, Self::Error> {
+        Ok(self.inbox.pop_front())
+    }
+
+    fn now_ms(&mut self) -> u64 {
+        self.tick();
+        self.now_us / 1_000
+    }
+}
+
+/// odc's master on a wire with node `node_id` (booted) on dictionary `od`.
+pub fn master<D: ObjectDictionary>(node_id: u8, od: D) -> Master<NodeWire<D>> {
+    Master::new(NodeWire::new(node_id, od)).with_timeout(50)
+}
