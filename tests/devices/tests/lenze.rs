@@ -82,6 +82,19 @@ fn sdo_command_bytes() {
     assert_eq!(Response::Abort(a, SdoAbort::NotMappable).encode()[0], 0x80);
 }
 
+/// 9.2.3: the data bytes of a 1-byte value ("Parameter value (1 byte) 0x00 0x00 0x00") and a
+/// 2-byte value ("Parameter value (2 bytes) 0x00 0x00"): the unused bytes are zero.
+#[test]
+fn data_byte_layout() {
+    let mut b = bench(1);
+    b.write(&lenze::C00011, 0xFF);
+    b.client.download(&mut b.wire, 0x5FF4, 0, &[0xFF]).expect_err("C00011 is 4 bytes");
+    b.client.download(&mut b.wire, 0x5FF4, 0, &[0xFF, 0xFF]).expect_err("C00011 is 4 bytes");
+    let requests = b.requests();
+    assert_eq!((requests[1].data[0], &requests[1].data[5..8]), (0x2F, &[0x00, 0x00, 0x00][..]));
+    assert_eq!((requests[2].data[0], &requests[2].data[6..8]), (0x2B, &[0x00, 0x00][..]));
+}
+
 /// 9.2.2: C00011 is index 24575 − 11 = 0x5FF4, subindex 0; the telegram's bytes 2–4 are
 /// `0xF4 0x5F 0x00`.
 #[test]
@@ -285,6 +298,55 @@ fn heartbeat() {
         node.poll(&mut od, ms * 1_000, &mut |f| wire.push(f));
     }
     assert_same(&wire, &[printed("701 / 05"), printed("701 / 05")]);
+}
+
+/// 10.3: the table of emergency error codes and the error register each comes with: 0x1000
+/// with 0x01, the communication errors 0x8100, 0x8130, 0x8150, 0x8210, 0x8220 with 0x11, and
+/// 0x0000 ("One of several errors eliminated" with the register that remains, "Single error
+/// eliminated (no more errors)" with 0x00). Not compared: 0x3100 with 0x01 and 0x8700 with
+/// 0x11, the device's own registers (odc's node sets bit 2 for a voltage code and only the
+/// generic bit for 0x87xx, which CiA 301 does not define).
+#[test]
+fn emcy_codes() {
+    let mut od = slave::Dictionary::new(1);
+    let mut node: Node<64> = Node::new(1);
+    let mut wire = Vec::new();
+    node.start(&mut od, 0, &mut |f| wire.push(f));
+    let mut at = 0;
+    for code in [0x1000, 0x8100, 0x8130, 0x8150, 0x8210, 0x8220] {
+        at += 1_000;
+        node.raise_emcy(EmcyCode(code), [0; 5], at, &mut |f| wire.push(f));
+        at += 1_000;
+        node.clear_emcy(EmcyCode(code), at, &mut |f| wire.push(f));
+    }
+    // Two errors, one eliminated: code 0 with the other's register; then none.
+    node.raise_emcy(EmcyCode(0x1000), [0; 5], 20_000, &mut |f| wire.push(f));
+    node.raise_emcy(EmcyCode(0x8100), [0; 5], 21_000, &mut |f| wire.push(f));
+    node.clear_emcy(EmcyCode(0x8100), 22_000, &mut |f| wire.push(f));
+    node.clear_emcy(EmcyCode(0x1000), 23_000, &mut |f| wire.push(f));
+    let rows: Vec<(u16, u8)> =
+        wire[1..].iter().map(|f| (u16::from_le_bytes([f.data[0], f.data[1]]), f.data[2])).collect();
+    assert_eq!(
+        rows,
+        [
+            (0x1000, 0x01),
+            (0x0000, 0x00),
+            (0x8100, 0x11),
+            (0x0000, 0x00),
+            (0x8130, 0x11),
+            (0x0000, 0x00),
+            (0x8150, 0x11),
+            (0x0000, 0x00),
+            (0x8210, 0x11),
+            (0x0000, 0x00),
+            (0x8220, 0x11),
+            (0x0000, 0x00),
+            (0x1000, 0x01),
+            (0x8100, 0x11),
+            (0x0000, 0x01),
+            (0x0000, 0x00),
+        ]
+    );
 }
 
 /// 10.3: the EMCY "generic error" with Lenze error 0x007B001B (encoder wire breakage).

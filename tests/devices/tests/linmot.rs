@@ -302,6 +302,38 @@ const SERVICE_COMMANDS: [&str; 45] = [
     "581 / 42 00 20 87 00 00 00 00",
 ];
 
+/// 5.1: the default mapping of RxPDO 1–3 and TxPDO 1–3 (the items in order, their widths),
+/// as the overlay declares it: each layout's fields packed little-endian in the printed
+/// order, on the pre-defined connection set's identifiers (5.1.3, hex column).
+#[test]
+fn default_mapping_layouts() {
+    use linmot_e1200::process::{RxPdo1, RxPdo2, RxPdo3, TxPdo1, TxPdo2, TxPdo3};
+    // "Control Word [16Bit], Motion Cmd Header [16Bit], Motion Cmd Par Byte 00..03 [32Bit]".
+    let rx1 = RxPdo1 { control_word: 0x0201, mc_header: 0x0403, mc_par_bytes_0_3: 0x0807_0605 };
+    // "Motion Cmd Par Byte 04..07 [32Bit], 08..11 [32Bit]", "12..15, 16..19".
+    let rx2 = RxPdo2 { mc_par_bytes_4_7: 0x0403_0201, mc_par_bytes_8_11: 0x0807_0605 };
+    let rx3 = RxPdo3 { mc_par_bytes_12_15: 0x0403_0201, mc_par_bytes_16_19: 0x0807_0605 };
+    // "Status Word [16Bit], State Var [16Bit], Actual Position [32Bit]".
+    let tx1 = TxPdo1 { status_word: 0x0201, state_var: 0x0403, actual_position: 0x0807_0605 };
+    // "Demand Position [32Bit], Demand Current [32Bit]".
+    let tx2 = TxPdo2 { demand_position: 0x0403_0201, demand_current: 0x0807_0605 };
+    // "Warn Word [16Bit], Logged Error Code [16Bit]", UPIDs "[32Bit]".
+    let tx3 = TxPdo3 { warn_word: 0x0201, logged_error_code: 0x0403, upid_data: 0x0807_0605 };
+    let counting = [1, 2, 3, 4, 5, 6, 7, 8];
+    for packed in [rx1.pack(), rx2.pack(), rx3.pack(), tx1.pack(), tx2.pack(), tx3.pack()] {
+        assert_eq!(packed, counting);
+    }
+    let ids = [
+        RxPdo1::cob_id(NODE),
+        RxPdo2::cob_id(NODE),
+        RxPdo3::cob_id(NODE),
+        TxPdo1::cob_id(NODE),
+        TxPdo2::cob_id(NODE),
+        TxPdo3::cob_id(NODE),
+    ];
+    assert_eq!(ids, [0x201, 0x301, 0x401, 0x181, 0x281, 0x381]);
+}
+
 /// 9.1.3: TxPDO 4 carries X4.4 Analog Voltage (UPID 1CA4h, UInt16), Diff Analog Voltage
 /// (1CA6h, SInt16) and Difference Velocity (1B91h, SInt32).
 #[test]
