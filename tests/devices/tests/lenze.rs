@@ -3,7 +3,7 @@
 //! and the odc runtime. Codes are addressed through the generated Lenze scheme
 //! (`lenze::C00061`, …), so the examples also check the code → index rule.
 //!
-//! Count: 46 printed, 46 reproduced (tests/devices/README.md).
+//! Count: 56 printed, 54 reproduced (tests/devices/README.md).
 //!
 //! What is compared, and what is not:
 //! - The partial frames of 9.2.2 (bytes 2–4), 9.2.3 and 9.2.4 (bytes 5–8) are compared in
@@ -16,6 +16,8 @@
 //!   little-endian (Intel), and so is CiA 301: the examples are trusted.
 //! - The node guarding and heartbeat tables of 10.1.1 and 10.2.1 print the state bytes (in
 //!   binary, the toggle bit as "0/1"); odc's `node::Node` answers and sends them.
+//! - The EMCY code table of 10.3: odc's node gives each code's error register from its
+//!   class; 0x3100 with 0x01 and 0x8700 with 0x11 are the device's own and not compared.
 //! - The two bit-packed configuration values of chapter 10 are rebuilt as well: the node
 //!   guarding entry 0x050203E8 (C13386: life time factor 5, node 2, guard time 1000 ms) and
 //!   the heartbeat consumer entry 0x0001000F (C13385: node 1, 15 ms). The heartbeat example

@@ -2,7 +2,7 @@
 //! manual.txt`), rebuilt from the code generated from `eds/linmot-e1200.eds` (and its UPID
 //! scheme and `[[process-data]]` layouts) and the odc runtime.
 //!
-//! Count: 78 printed, 73 reproduced (tests/devices/README.md).
+//! Count: 71 printed, 69 reproduced (tests/devices/README.md).
 //!
 //! What is compared, and what is not:
 //! - 6.2 command templates (`yy yy` = 2000h + UPID or 2000h + CurveID/EntryNr/ErrCode, `xx` a
@@ -20,6 +20,8 @@
 //! - 7.1 homing and motion command (4 RxPDO frames): the generated `process` structs; the
 //!   command's parameter bytes are the fields of the overlay's `RxPdo1GoToPos16` and
 //!   `RxPdo2GoToPos16`, with the manual's values.
+//! - 5.1 default mapping: RxPDO 1–3 and TxPDO 1–3 as the overlay declares them, packed in
+//!   the printed order; RxPDO 4 and TxPDO 4 are mapped by UPID (no fixed layout).
 //! - 9.1.3 UPIDs in TxPDO 4: values, no frames; the mapping entries `4F080110h` (printed
 //!   garbled as "ARUSITEn"), `4F080210h`, `4F080320h` are rebuilt from the UPID objects' types.
 //! - The TxPDO 4 picture of 9.1.3 (`xxh zzh`) and the "Read Command" screenshot of 7.1 print

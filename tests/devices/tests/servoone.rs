@@ -1,7 +1,7 @@
 //! The worked examples of the ServoOne manual (`shared/seeds/servoone-canopen-ethercat-
 //! manual.txt`), rebuilt from the code generated from `eds/servoone.eds` and the odc runtime.
 //!
-//! Count: 37 printed, 37 reproduced (tests/devices/README.md).
+//! Count: 53 printed, 53 reproduced (tests/devices/README.md).
 //!
 //! What is compared, and what is not:
 //! - 8.2.4, segmented upload of parameter 3 (32 frames over two tables): all compared. The 16
@@ -12,6 +12,9 @@
 //!   serves those 100 bytes and leaves every other object to the generated dictionary.
 //! - 8.4.2, Figure 8.1: the heartbeat byte's values 0 boot-up, 4 stopped, 5 operational, 127
 //!   pre-operational (bit 7 reserved); sent by odc's `node::Node` on 700h + node.
+//! - 10.1.4, Table 10.1 and 10.1.5, Table 10.2: the status word bits of each device state and
+//!   the control word bits of each command, against odc's CiA 402 state machine. "Switch on"
+//!   is compared with bit 3 clear only: odc runs transitions 3 and 4 at once when it is set.
 //! - 13.3, Table 13.2: the "error acknowledgement" EMCY, eight zero bytes, sent by odc's node
 //!   when the error is cleared; the manual prints the identifier as "Emergency" (80h + node by
 //!   the pre-defined connection set, 0x1014).
