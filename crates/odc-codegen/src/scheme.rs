@@ -20,6 +20,8 @@
 //! element = { name = "subcode", range = "1..=255", offset = 0, function = "code_sub", const-name = "C{code:05}_{subcode}" }
 //! # Or instead: sub-indexes with a meaning of their own, as an enum argument:
 //! # selector = { type = "Sub", values = [{ name = "ram", sub = 1, doc = "RAM value" }] }
+//! # Optional: the device takes every write at this width (bytes), whatever the type:
+//! # write-size = 4
 //! ```
 //!
 //! For each scheme the module holds:
@@ -31,7 +33,8 @@
 //!   file that the rule reaches, named by `const-name`, so `sdo.write(lenze::C00088, 102)` is
 //!   type-checked against the file's data type;
 //! - `ENTRIES` and `lookup(addr)`: the file's description (data type, access, name) of an
-//!   address computed at run time.
+//!   address computed at run time;
+//! - with `write-size`, `WRITE_SIZE`: the width to give `Client::write_widened`.
 //!
 //! The generator checks a scheme before using it: expressions parse and name only declared
 //! arguments, every argument range keeps the index within `0..=0xFFFF` and the element's
@@ -144,6 +147,11 @@ pub struct Scheme {
     /// the functions answer `None` for them and no alias is made.
     #[serde(default)]
     pub exclude: Vec<String>,
+    /// The width in bytes (1..=4) at which the device takes every write of these parameters,
+    /// whatever their type (LinMot: command 23h, 4 bytes, "size depends on the UPID"):
+    /// generated as `WRITE_SIZE`, for the SDO client's `write_widened`.
+    #[serde(default)]
+    pub write_size: Option<u8>,
 }
 
 /// An argument of a scheme and the values it may take.
@@ -250,12 +258,20 @@ mod tests {
             element: None,
             selector: None,
             exclude: Vec::new(),
+            write_size: None,
         }
     }
 
     #[test]
     fn checks_refuse_bad_schemes() {
         assert!(check(&scheme("0x2000 + n", "0..=0x3FFF")).is_ok());
+        let widths = |n| {
+            let s = Scheme { write_size: Some(n), ..scheme("0x2000 + n", "0..=9") };
+            check(&s).err()
+        };
+        assert_eq!(widths(4), None);
+        assert!(widths(0).unwrap().contains("write-size"));
+        assert!(widths(5).unwrap().contains("write-size"));
         let e = check(&scheme("0x2000 + n", "0..=0xFFFF")).err().unwrap();
         assert!(e.contains("beyond 0..=0xFFFF"), "{e}");
         assert!(check(&scheme("0x2000 + m", "0..=5")).err().unwrap().contains("no argument"));

@@ -54,6 +54,21 @@ fn selector_scheme_module() {
     insta::assert_snapshot!(module(&code, "upid"));
 }
 
+/// `write-size` gives the module the width its device takes every write at.
+#[test]
+fn write_size_constant() {
+    let rule = "[[scheme]]\nmodule = \"v\"\nfunction = \"f\"\nindex = \"0x2000 + n\"\nargs = [{ name = \"n\", range = \"0..=9\" }]\n";
+    let code = generate(&common::drive(), &with_schemes(&format!("{rule}write-size = 4\n")))
+        .expect("generates");
+    let code = code.split_whitespace().collect::<Vec<_>>().join(" ");
+    assert!(code.contains("pub const WRITE_SIZE: usize = 4;"), "{code}");
+    let plain = generate(&common::drive(), &with_schemes(rule)).expect("generates");
+    assert!(!plain.contains("WRITE_SIZE"));
+    let errors = generate(&common::drive(), &with_schemes(&format!("{rule}write-size = 8\n")))
+        .expect_err("wider than an expedited transfer");
+    assert!(errors[0].message.contains("write-size"), "{}", errors[0].message);
+}
+
 #[test]
 fn bad_schemes_are_g604_errors() {
     let cases = [

@@ -1,23 +1,31 @@
 //! The worked examples of the LinMot E1200 manual (`shared/seeds/linmot-e1200-canopen-
 //! manual.txt`), rebuilt from the code generated from `eds/linmot-e1200.eds` (and its UPID
-//! scheme) and the odc runtime.
+//! scheme and `[[process-data]]` layouts) and the odc runtime.
 //!
-//! Count (12 frames or frame templates printed with bytes): 12 reproduced.
-//! - 6.2.1 UPID commands (8 request templates, `yy yy` = 2000h + UPID, `xx` the value): built
-//!   with odc's client on the scheme's aliases for UPID 1B91h (SInt32) and compared with the
-//!   template's fixed bytes: reproduced. For a 16-bit UPID the template's write command 23h
-//!   ("size depends on the UPID") differs from odc's 2Bh (2 bytes, size indicated, CiA 301);
-//!   the 32-bit UPID is where both agree. The device answers with 42h (no size); odc's server
-//!   indicates the size, and odc's client accepts 42h answers (checked below).
-//! - 7.1 homing and motion command (4 RxPDO frames): reproduced with the generated `process`
-//!   structs. The manual gives the content of RxPDO 1/2 (Control Word, MC Header, MC parameter
-//!   bytes) but no object for these built-in items (the file's [Comments] Line5), so the file
-//!   maps nothing and the `pdo` module is empty; the layout is declared as `[[process-data]]`
-//!   in the overlay beside the file, from manual 5.1, and generated from there.
-//! - 9.1.3 UPIDs in TxPDO 4: values, no frames. The UPID writes to 4F08h sub 1–3 go through
-//!   the generated descriptors; the device's mapping entries `4F080110h` (printed garbled as
-//!   "ARUSITEn"), `4F080210h`, `4F080320h` are rebuilt from the UPID objects' data types,
-//!   which the scheme's aliases give.
+//! Count: 71 printed, 69 reproduced (tests/devices/README.md).
+//!
+//! What is compared, and what is not:
+//! - 6.2 command templates (`yy yy` = 2000h + UPID or 2000h + CurveID/EntryNr/ErrCode, `xx` a
+//!   value, `-` unused): every request is sent by odc's client on a generated descriptor and
+//!   compared in full, the template's `xx` being the value the test writes and `-` zero. The
+//!   writes use command 23h (4 bytes) as every template does, through the scheme's
+//!   `write-size` (a UInt16 UPID too: `23 A4 3C 01 34 12 00 00`). The device's answers are
+//!   42h (expedited, size not indicated): odc's server indicates the size (43h), so the
+//!   answers are built with odc's frame codec from the value in the generated dictionary.
+//!   Templates whose index is "2000h + CurveID" (or EntryNr, ErrCode) are sent at 2000h
+//!   (CurveID 0), where the file defines the command objects; several templates print `00h
+//!   20h` in the request and `CurveID 20h` in the answer of one command, so only that case
+//!   reads the same both ways. Not compared: the "Start getting UPID List" template's `yy yy`
+//!   (printed "2000h + UPID" where the object table gives 2000h sub 20h): its index is 2000h.
+//! - 7.1 homing and motion command (4 RxPDO frames): the generated `process` structs; the
+//!   command's parameter bytes are the fields of the overlay's `RxPdo1GoToPos16` and
+//!   `RxPdo2GoToPos16`, with the manual's values.
+//! - 5.1 default mapping: RxPDO 1–3 and TxPDO 1–3 as the overlay declares them, packed in
+//!   the printed order; RxPDO 4 and TxPDO 4 are mapped by UPID (no fixed layout).
+//! - 9.1.3 UPIDs in TxPDO 4: values, no frames; the mapping entries `4F080110h` (printed
+//!   garbled as "ARUSITEn"), `4F080210h`, `4F080320h` are rebuilt from the UPID objects' types.
+//! - The TxPDO 4 picture of 9.1.3 (`xxh zzh`) and the "Read Command" screenshot of 7.1 print
+//!   placeholders and the values of the frames above, not frames of their own.
 
 mod common;
 
@@ -25,13 +33,83 @@ use common::{Bench, assert_same, printed};
 use odc::can::CanFrame;
 use odc::sdo::Client;
 use odc::sdo::frame::{Init, Response};
-use odc::{MappingEntry, ObjectAddr};
+use odc::slave::ObjectDictionary;
+use odc::{Entry, MappingEntry, ObjValue, ObjectAddr, SdoAbort};
 use odc_tests_devices::linmot_e1200::{self, od, slave, upid};
 
 const NODE: u8 = 1;
 
-fn bench() -> Bench<slave::Dictionary> {
-    Bench::new(NODE, slave::Dictionary::new(NODE))
+/// The generated dictionary, taking writes as the E1200 does: 4 bytes whatever the object's
+/// width ("size depends on the UPID that will be written"), the value in the low bytes.
+struct LinMot {
+    od: slave::Dictionary,
+}
+
+impl ObjectDictionary for LinMot {
+    fn read(&self, index: u16, sub: u8, buf: &mut [u8]) -> Result<usize, SdoAbort> {
+        self.od.read(index, sub, buf)
+    }
+
+    fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
+        match self.od.write(index, sub, data) {
+            // A narrower object: the low bytes, when the rest only extends them.
+            Err(SdoAbort::TooLong) => {
+                for n in [2, 1] {
+                    let (low, rest) = data.split_at(n.min(data.len()));
+                    let negative = low.last().is_some_and(|b| b & 0x80 != 0);
+                    let extends = rest.iter().all(|&b| b == 0)
+                        || (negative && rest.iter().all(|&b| b == 0xFF));
+                    match self.od.write(index, sub, low) {
+                        Err(SdoAbort::TooLong) => continue,
+                        _ if !extends => return Err(SdoAbort::TooLong),
+                        r => return r,
+                    }
+                }
+                Err(SdoAbort::TooLong)
+            }
+            r => r,
+        }
+    }
+}
+
+fn bench() -> Bench<LinMot> {
+    Bench::new(NODE, LinMot { od: slave::Dictionary::new(NODE) })
+}
+
+/// A write as the templates send it: command 23h, 4 bytes (the scheme's `write-size`).
+fn write<T: ObjValue>(b: &mut Bench<LinMot>, entry: &Entry<T>, value: T) {
+    b.client.write_widened(&mut b.wire, entry, value, upid::WRITE_SIZE).expect("accepted");
+}
+
+/// The device's answer to a read of `entry`: 42h (expedited, size not indicated), the 4
+/// data bytes from its dictionary, built with odc's frame codec.
+fn answer<T: ObjValue>(b: &Bench<LinMot>, entry: &Entry<T>) -> CanFrame {
+    let mut data = [0u8; 4];
+    let mut buf = [0u8; 4];
+    let n = b.wire.od.read(entry.addr.index, entry.addr.sub, &mut buf).expect("readable");
+    data[..n].copy_from_slice(&buf[..n]);
+    let init = Init::Expedited { data, len: 4, sized: false };
+    CanFrame::new(b.client.response_id(), Response::InitiateUpload(entry.addr, init).encode())
+}
+
+/// A read as the templates print it: odc's client's request, and the device's 42h answer.
+fn read<T: ObjValue>(b: &mut Bench<LinMot>, entry: &Entry<T>, frames: &mut Vec<CanFrame>) {
+    let before = b.wire.log.len();
+    b.read(entry);
+    frames.push(b.wire.log[before]);
+    frames.push(answer(b, entry));
+}
+
+/// A write as the templates print it: odc's client's request (23h).
+fn send<T: ObjValue>(
+    b: &mut Bench<LinMot>,
+    entry: &Entry<T>,
+    value: T,
+    frames: &mut Vec<CanFrame>,
+) {
+    let before = b.wire.log.len();
+    write(b, entry, value);
+    frames.push(b.wire.log[before]);
 }
 
 /// 6.2.1: the UPID command requests, for UPID 1B91h (Difference Velocity, SInt32) at
@@ -43,34 +121,48 @@ fn upid_commands() {
     let mut b = bench();
     let value = -1234;
     b.read(&upid::U1B91_RAM);
-    b.write(&upid::U1B91_RAM, value);
+    write(&mut b, &upid::U1B91_RAM, value);
     b.read(&upid::U1B91_ROM);
-    b.write(&upid::U1B91_ROM, value);
+    write(&mut b, &upid::U1B91_ROM, value);
     b.read(&upid::U1B91_MIN);
     b.read(&upid::U1B91_MAX);
     b.read(&upid::U1B91_DEFAULT);
-    b.write(&upid::U1B91_RAM_ROM, value);
-    // The templates' fixed bytes (command, index, sub-index) are compared; their `xx` are the
-    // value written (compared too) or "-" (not used, zero).
-    let v = value.to_le_bytes();
-    let write = |sub: u8| {
-        let f = CanFrame::new(0x601, [0x23, 0x91, 0x3B, sub, v[0], v[1], v[2], v[3]]);
-        let text = format!("601 / {}", f.data.map(|b| format!("{b:02X}")).join(" "));
-        printed(Box::leak(text.into_boxed_str()))
-    };
+    write(&mut b, &upid::U1B91_RAM_ROM, value);
+    assert_eq!(b.wire.od.od.get(upid::U1B91_RAM), Ok(value));
+    // The templates' fixed bytes (command, index, sub-index) and the value written (-1234 =
+    // FFFFFB2Eh) in the `xx`; "-" is not used (zero).
     assert_same(
         &b.requests(),
         &[
             printed("601 / 40 91 3B 01 00 00 00 00"),
-            write(0x01),
+            printed("601 / 23 91 3B 01 2E FB FF FF"),
             printed("601 / 40 91 3B 02 00 00 00 00"),
-            write(0x02),
+            printed("601 / 23 91 3B 02 2E FB FF FF"),
             printed("601 / 40 91 3B 03 00 00 00 00"),
             printed("601 / 40 91 3B 04 00 00 00 00"),
             printed("601 / 40 91 3B 05 00 00 00 00"),
-            write(0x06),
+            printed("601 / 23 91 3B 06 2E FB FF FF"),
         ],
     );
+}
+
+/// 6.2.1 with a 16-bit UPID: X4.4 Analog Voltage (1CA4h, UInt16) written with the template's
+/// command 23h, the value in the low bytes ("size depends on the UPID").
+#[test]
+fn upid_write_16_bit() {
+    let mut b = bench();
+    assert_eq!(upid::U1CA4_RAM.data_type().bytes(), Some(2));
+    write(&mut b, &upid::U1CA4_RAM, 0x1234);
+    write(&mut b, &upid::U1CA4_RAM_ROM, 0x1234);
+    assert_eq!(b.wire.od.od.get(upid::U1CA4_RAM), Ok(0x1234));
+    assert_same(
+        &b.requests(),
+        &[printed("601 / 23 A4 3C 01 34 12 00 00"), printed("601 / 23 A4 3C 06 34 12 00 00")],
+    );
+    // CiA 301's own form of this write (2Bh, 2 bytes) is what the manual does not print.
+    let mut plain = bench();
+    plain.write(&upid::U1CA4_RAM, 0x1234);
+    assert_eq!(plain.requests()[0].data[0], 0x2B);
 }
 
 /// The device answers reads with command 42h (expedited, size not indicated, 4 bytes); odc's
@@ -89,6 +181,159 @@ fn answers_without_size() {
     assert_eq!(client.handle(&frame, 1), Some(odc::sdo::Step::Done));
     let value: u16 = odc::ObjValue::decode(&client.data()[..2]).expect("2 bytes");
     assert_eq!(value, 0x1234);
+}
+
+/// 6.2.1: the UPID list: "Start getting UPID List" (2000h sub 20h, Unsigned16, sent as 23h),
+/// "Get Next UPID List item" (sub 21h) and its answer, here the end of the list ("When the end
+/// of the list is reached, the UPID FFFFh is sent"; address usage 0).
+#[test]
+fn upid_list() {
+    use od::command_interface_system_upid_list_curve_error_log_command_table as cmd;
+    let mut b = bench();
+    write(&mut b, &cmd::START_GETTING_UPID_LIST, 0x0000);
+    let mut frames = b.requests();
+    // The answer: "yy yy: Address Usage", "xx xx: UPID which was found" (low word, high word).
+    b.wire.od.od.set(cmd::GET_NEXT_UPID_LIST_ITEM, 0xFFFF_0000).expect("0x2000:21");
+    read(&mut b, &cmd::GET_NEXT_UPID_LIST_ITEM, &mut frames);
+    assert_same(
+        &frames,
+        &[
+            printed("601 / 23 00 20 20 00 00 00 00"),
+            printed("601 / 40 00 20 21 00 00 00 00"),
+            printed("581 / 42 00 20 21 00 00 FF FF"),
+        ],
+    );
+}
+
+/// 6.2.2–6.2.5: the system, curve service, error log and command table templates, at 2000h
+/// (CurveID, EntryNr and ErrCode 0), "any data" written as 0.
+#[test]
+fn service_commands() {
+    use od::command_interface_system_upid_list_curve_error_log_command_table as cmd;
+    let mut b = bench();
+    let mut frames = Vec::new();
+    // 6.2.2 system commands.
+    for e in [
+        &cmd::SET_ROM_TO_DEFAULT_OS,
+        &cmd::SET_ROM_TO_DEFAULT_MC_SW,
+        &cmd::SET_ROM_TO_DEFAULT_INTERFACE,
+        &cmd::SET_ROM_TO_DEFAULT_APPLICATION,
+        &cmd::RESET_CONTROLLER,
+        &cmd::STOP_MC_AND_APPL_SOFTWARE,
+        &cmd::START_MC_AND_APPL_SOFTWARE,
+    ] {
+        send(&mut b, e, 0, &mut frames);
+    }
+    // 6.2.3 curve service: "Add Curve" carries the info block size (low word) and the data
+    // block size (high word); the test's curve has none.
+    send(&mut b, &cmd::CURVE_SERVICE_SAVE_TO_FLASH, 0, &mut frames);
+    send(&mut b, &cmd::CURVE_SERVICE_DELETE_ALL_CURVES_RAM, 0, &mut frames);
+    read(&mut b, &cmd::CURVE_SERVICE_POLL_FLASH, &mut frames);
+    read(&mut b, &cmd::CURVE_SERVICE_GET_LAST_RESULT, &mut frames);
+    send(&mut b, &cmd::CURVE_SERVICE_ADD_CURVE, 0, &mut frames);
+    send(&mut b, &cmd::CURVE_SERVICE_ADD_CURVE_DATA_32BIT, 0, &mut frames);
+    send(&mut b, &cmd::CURVE_SERVICE_ADD_CURVE_INFO_BLOCK_32BIT, 0, &mut frames);
+    read(&mut b, &cmd::CURVE_SERVICE_GET_CURVE, &mut frames);
+    read(&mut b, &cmd::CURVE_SERVICE_GET_CURVE_INFO_BLOCK, &mut frames);
+    read(&mut b, &cmd::CURVE_SERVICE_GET_CURVE_DATA_BLOCK, &mut frames);
+    // 6.2.4 error log.
+    read(&mut b, &cmd::GET_ERROR_LOG_ENTRY_COUNTER, &mut frames);
+    read(&mut b, &cmd::GET_ERROR_LOG_ENTRY_ERROR_CODE, &mut frames);
+    read(&mut b, &cmd::GET_ERROR_LOG_ENTRY_TIME_LOW, &mut frames);
+    read(&mut b, &cmd::GET_ERROR_LOG_ENTRY_TIME_HIGH, &mut frames);
+    read(&mut b, &cmd::GET_ERROR_CODE_TEXT_STRINGLET_NR_0, &mut frames);
+    // 6.2.5 command table: sub 80h writes "Save to Flash" and reads "Poll Flash".
+    send(&mut b, &cmd::CT_SAVE_TO_FLASH_POLL_FLASH, 0, &mut frames);
+    read(&mut b, &cmd::CT_SAVE_TO_FLASH_POLL_FLASH, &mut frames);
+    send(&mut b, &cmd::CT_DELETE_ALL_ENTRIES_RAM, 0, &mut frames);
+    send(&mut b, &cmd::CT_DELETE_ENTRY, 0, &mut frames);
+    send(&mut b, &cmd::CT_WRITE_ENTRY, 0, &mut frames);
+    send(&mut b, &cmd::CT_WRITE_ENTRY_DATA, 0, &mut frames);
+    read(&mut b, &cmd::CT_GET_ENTRY, &mut frames);
+    read(&mut b, &cmd::CT_GET_ENTRY_DATA, &mut frames);
+    read(&mut b, &cmd::CT_GET_ENTRY_LIST_ENTRY_0_31, &mut frames);
+    assert_same(&frames, &SERVICE_COMMANDS.map(printed));
+}
+
+/// The frames of 6.2.2–6.2.5 in the order of the manual, as `service_commands` sends them.
+const SERVICE_COMMANDS: [&str; 45] = [
+    "601 / 23 00 20 07 00 00 00 00",
+    "601 / 23 00 20 08 00 00 00 00",
+    "601 / 23 00 20 09 00 00 00 00",
+    "601 / 23 00 20 0A 00 00 00 00",
+    "601 / 23 00 20 0B 00 00 00 00",
+    "601 / 23 00 20 35 00 00 00 00",
+    "601 / 23 00 20 36 00 00 00 00",
+    "601 / 23 00 20 40 00 00 00 00",
+    "601 / 23 00 20 41 00 00 00 00",
+    "601 / 40 00 20 42 00 00 00 00",
+    "581 / 42 00 20 42 00 00 00 00",
+    "601 / 40 00 20 43 00 00 00 00",
+    "581 / 42 00 20 43 00 00 00 00",
+    "601 / 23 00 20 50 00 00 00 00",
+    "601 / 23 00 20 53 00 00 00 00",
+    "601 / 23 00 20 54 00 00 00 00",
+    "601 / 40 00 20 60 00 00 00 00",
+    "581 / 42 00 20 60 00 00 00 00",
+    "601 / 40 00 20 61 00 00 00 00",
+    "581 / 42 00 20 61 00 00 00 00",
+    "601 / 40 00 20 62 00 00 00 00",
+    "581 / 42 00 20 62 00 00 00 00",
+    "601 / 40 00 20 70 00 00 00 00",
+    "581 / 42 00 20 70 00 00 00 00",
+    "601 / 40 00 20 71 00 00 00 00",
+    "581 / 42 00 20 71 00 00 00 00",
+    "601 / 40 00 20 72 00 00 00 00",
+    "581 / 42 00 20 72 00 00 00 00",
+    "601 / 40 00 20 73 00 00 00 00",
+    "581 / 42 00 20 73 00 00 00 00",
+    "601 / 40 00 20 74 00 00 00 00",
+    "581 / 42 00 20 74 00 00 00 00",
+    "601 / 23 00 20 80 00 00 00 00",
+    "601 / 40 00 20 80 00 00 00 00",
+    "581 / 42 00 20 80 00 00 00 00",
+    "601 / 23 00 20 81 00 00 00 00",
+    "601 / 23 00 20 82 00 00 00 00",
+    "601 / 23 00 20 83 00 00 00 00",
+    "601 / 23 00 20 84 00 00 00 00",
+    "601 / 40 00 20 85 00 00 00 00",
+    "581 / 42 00 20 85 00 00 00 00",
+    "601 / 40 00 20 86 00 00 00 00",
+    "581 / 42 00 20 86 00 00 00 00",
+    "601 / 40 00 20 87 00 00 00 00",
+    "581 / 42 00 20 87 00 00 00 00",
+];
+
+/// 5.1: the default mapping of RxPDO 1–3 and TxPDO 1–3 (the items in order, their widths),
+/// as the overlay declares it: each layout's fields packed little-endian in the printed
+/// order, on the pre-defined connection set's identifiers (5.1.3, hex column).
+#[test]
+fn default_mapping_layouts() {
+    use linmot_e1200::process::{RxPdo1, RxPdo2, RxPdo3, TxPdo1, TxPdo2, TxPdo3};
+    // "Control Word [16Bit], Motion Cmd Header [16Bit], Motion Cmd Par Byte 00..03 [32Bit]".
+    let rx1 = RxPdo1 { control_word: 0x0201, mc_header: 0x0403, mc_par_bytes_0_3: 0x0807_0605 };
+    // "Motion Cmd Par Byte 04..07 [32Bit], 08..11 [32Bit]", "12..15, 16..19".
+    let rx2 = RxPdo2 { mc_par_bytes_4_7: 0x0403_0201, mc_par_bytes_8_11: 0x0807_0605 };
+    let rx3 = RxPdo3 { mc_par_bytes_12_15: 0x0403_0201, mc_par_bytes_16_19: 0x0807_0605 };
+    // "Status Word [16Bit], State Var [16Bit], Actual Position [32Bit]".
+    let tx1 = TxPdo1 { status_word: 0x0201, state_var: 0x0403, actual_position: 0x0807_0605 };
+    // "Demand Position [32Bit], Demand Current [32Bit]".
+    let tx2 = TxPdo2 { demand_position: 0x0403_0201, demand_current: 0x0807_0605 };
+    // "Warn Word [16Bit], Logged Error Code [16Bit]", UPIDs "[32Bit]".
+    let tx3 = TxPdo3 { warn_word: 0x0201, logged_error_code: 0x0403, upid_data: 0x0807_0605 };
+    let counting = [1, 2, 3, 4, 5, 6, 7, 8];
+    for packed in [rx1.pack(), rx2.pack(), rx3.pack(), tx1.pack(), tx2.pack(), tx3.pack()] {
+        assert_eq!(packed, counting);
+    }
+    let ids = [
+        RxPdo1::cob_id(NODE),
+        RxPdo2::cob_id(NODE),
+        RxPdo3::cob_id(NODE),
+        TxPdo1::cob_id(NODE),
+        TxPdo2::cob_id(NODE),
+        TxPdo3::cob_id(NODE),
+    ];
+    assert_eq!(ids, [0x201, 0x301, 0x401, 0x181, 0x281, 0x381]);
 }
 
 /// 9.1.3: TxPDO 4 carries X4.4 Analog Voltage (UPID 1CA4h, UInt16), Diff Analog Voltage
@@ -123,29 +368,26 @@ fn upids_in_txpdo4() {
 
 /// 7.1: homing, "Enter Operational State", and the motion command "VAI 16Bit Go To Pos"
 /// (090xh), with the default PDO mapping: RxPDO 1 and 2 as the overlay declares them (manual
-/// 5.1), node 1.
+/// 5.1 and 7.1), node 1.
 #[test]
 fn motion_command_interface() {
-    use linmot_e1200::process::{RxPdo1, RxPdo2};
+    use linmot_e1200::process::{RxPdo1, RxPdo1GoToPos16, RxPdo2, RxPdo2GoToPos16};
     let mut b = bench();
     // 1) Homing, 2) Enter Operational State.
     for control_word in [0x083F, 0x003F] {
         b.frame(RxPdo1::cob_id(NODE), &RxPdo1 { control_word, ..RxPdo1::default() }.pack());
     }
-    // 3) VAI 16Bit Go To Pos, count nibble 1: position 50 mm (0.1 mm/LSB), maximal velocity
-    // 1 m/s (mm/s), acceleration and deceleration 10 m/s² (0.1 m/s²): parameter bytes 0..7.
-    let (position, velocity, acceleration, deceleration) = (500u16, 1000u16, 100u16, 100u16);
-    let command = RxPdo1 {
+    // 3) VAI 16Bit Go To Pos, header 0901h (count nibble 1): position 50 mm (0.1 mm/LSB),
+    // maximal velocity 1 m/s (mm/s), acceleration and deceleration 10 m/s² (0.1 m/s²).
+    let command = RxPdo1GoToPos16 {
         control_word: 0x003F,
-        mc_header: 0x0900 | 1,
-        mc_par_bytes_0_3: u32::from(position) | u32::from(velocity) << 16,
+        mc_header: 0x0901,
+        target_position: 500,
+        maximal_velocity: 1000,
     };
-    b.frame(RxPdo1::cob_id(NODE), &command.pack());
-    let rest = RxPdo2 {
-        mc_par_bytes_4_7: u32::from(acceleration) | u32::from(deceleration) << 16,
-        mc_par_bytes_8_11: 0,
-    };
-    b.frame(RxPdo2::cob_id(NODE), &rest.pack());
+    b.frame(RxPdo1GoToPos16::cob_id(NODE), &command.pack());
+    let rest = RxPdo2GoToPos16 { acceleration: 100, deceleration: 100, mc_par_bytes_8_11: 0 };
+    b.frame(RxPdo2GoToPos16::cob_id(NODE), &rest.pack());
     assert_same(
         &b.wire.log,
         &[
@@ -155,7 +397,11 @@ fn motion_command_interface() {
             printed("301 / 64 00 64 00 00 00 00 00"),
         ],
     );
-    assert_eq!(RxPdo1::unpack(&command.pack()), Some(command));
+    // The same frames in the general layouts of 5.1: the parameter bytes as 32-bit words.
+    let general = RxPdo1::unpack(&command.pack()).expect("8 bytes");
+    assert_eq!((general.control_word, general.mc_header), (0x003F, 0x0901));
+    assert_eq!(RxPdo2::unpack(&rest.pack()).map(|p| p.mc_par_bytes_8_11), Some(0));
+    assert_eq!(RxPdo1GoToPos16::unpack(&command.pack()), Some(command));
     // TxPDO 1 (Status Word, State Var, Actual Position) the other way, a negative position.
     use linmot_e1200::process::TxPdo1;
     let status = TxPdo1 { status_word: 0x0C37, state_var: 0x0800, actual_position: -500 };

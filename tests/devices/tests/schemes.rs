@@ -44,9 +44,14 @@ fn servoone_device_parameters() {
     use servoone::param;
     // Manual 8.2.3: "2000 h + 1C7 h (0455 hex) = 21C7 h".
     assert_eq!(param::p(455), addr(0x21C7, 0));
-    // P 455 is named in the manual without type, so the file leaves it out: addressable, but
-    // the file has nothing to say about it.
-    assert_eq!(param::lookup(ObjectAddr::new(0x21C7, 0)), None);
+    // P 455 MOT_FNOM, which 8.2.3 reads and writes: its type is not printed, so the file
+    // gives it the 32 bits every SDO value takes (Table 8.3).
+    let fnom: Entry<u32> = typed(param::P0455);
+    assert_eq!(fnom.addr, ObjectAddr::new(0x21C7, 0));
+    assert_eq!(
+        param::lookup(ObjectAddr::new(0x21C7, 0)).map(|e| (e.data_type, e.access)),
+        Some((DataType::Unsigned32, Access::Rw))
+    );
     // Field parameter P 2007 COM_301_EvMask, element [0] EvMsk_TxPdo1L at sub-index 1.
     assert_eq!(param::p_element(2007, 0), addr(0x27D7, 1));
     assert_eq!(param::p_element(2007, 7), addr(0x27D7, 8));

@@ -13,7 +13,7 @@ pub(super) struct Checked<'a> {
 }
 
 pub(super) const RESERVED_MODULES: &[&str] = &["od", "pdo", "cia402", "slave", "master"];
-pub(super) const RESERVED_ITEMS: &[&str] = &["index", "lookup", "ENTRIES"];
+pub(super) const RESERVED_ITEMS: &[&str] = &["index", "lookup", "ENTRIES", "WRITE_SIZE"];
 /// Enumerating the arguments' ranges finds the parameters the device file defines; a rule
 /// with more combinations than this is refused rather than slowing every build down.
 pub(super) const MAX_COMBINATIONS: i64 = 1 << 22;
@@ -27,6 +27,9 @@ pub(super) fn check(s: &Scheme) -> Result<Checked<'_>, String> {
     }
     if s.args.is_empty() {
         return Err("a scheme needs at least one argument".into());
+    }
+    if s.write_size.is_some_and(|n| !(1..=4).contains(&n)) {
+        return Err("`write-size` is the width of an expedited transfer, 1..=4 bytes".into());
     }
     let index = Linear::parse(&s.index).map_err(|e| format!("index `{}`: {e}", s.index))?;
     let mut args = Vec::new();

@@ -230,6 +230,15 @@ pub(super) fn module(ctx: &Ctx<'_>, c: &Checked<'_>, aliases: &[Alias]) -> Token
         });
         infos.push(quote!(#path.info()));
     }
+    if let Some(size) = s.write_size {
+        let size = Literal::usize_unsuffixed(usize::from(size));
+        items.push(quote! {
+            /// The width in bytes at which the device takes every write of these parameters,
+            /// whatever their type (declared in the overlay): give it to `write_widened` of
+            /// the SDO client.
+            pub const WRITE_SIZE: usize = #size;
+        });
+    }
     let n = Literal::usize_unsuffixed(infos.len());
     items.push(quote! {
         /// The entries of the device file that the scheme reaches, sorted by address.

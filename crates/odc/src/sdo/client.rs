@@ -589,6 +589,35 @@ impl<const N: usize> Client<N> {
         self.download(bus, entry.addr.index, entry.addr.sub, tmp.get(..n).unwrap_or(&[]))
     }
 
+    /// Writes `value` into a generated descriptor's entry as an expedited transfer of `size`
+    /// bytes, the value zero-extended (sign-extended for a signed integer type) to that size.
+    /// For devices that take every parameter write at one width whatever the object's type:
+    /// LinMot's UPID commands always send command 23h (4 bytes) with the value "size depends
+    /// on the UPID" in the low bytes; a vendor scheme declares it as `write-size`.
+    ///
+    /// # Errors
+    ///
+    /// As for [`Client::download`]; a local [`SdoAbort::TooLong`] when `size` is not 1..=4 or
+    /// the value takes more than `size` bytes.
+    pub fn write_widened<B: Bus, T: ObjValue>(
+        &mut self,
+        bus: &mut B,
+        entry: &Entry<T>,
+        value: T,
+        size: usize,
+    ) -> Result<(), SdoError<B::Error>> {
+        let mut data = [0u8; 4];
+        let n = value.encode(&mut data).map_err(|e| SdoError::Local(e.into()))?;
+        if !(1..=4).contains(&size) || n > size {
+            return Err(SdoError::Local(SdoAbort::TooLong));
+        }
+        let negative = n > 0 && data[n - 1] & 0x80 != 0;
+        if entry.data_type().is_signed_integer() && negative {
+            data[n..].fill(0xFF);
+        }
+        self.download(bus, entry.addr.index, entry.addr.sub, data.get(..size).unwrap_or(&data))
+    }
+
     /// Executes a configuration plan (say a generated `master::plan(node)`) in order, stopping
     /// at the first failure.
     ///

@@ -330,6 +330,36 @@ fn client_typed_and_plans() {
     assert_eq!(c.execute(&mut bus, &bad), Err((1, SdoError::Remote(SdoAbort::NoSuchSub))));
 }
 
+/// A write at a fixed width: the request carries the value zero- or sign-extended to the
+/// width (CiA 301 expedited download with size indicated: 4 bytes is command 23h).
+#[test]
+fn client_widened_writes() {
+    const WO: Entry<u16> = Entry::new(0x2002, 0, "Write only", Access::Wo, false);
+    const SIGNED: Entry<i16> = Entry::new(0x2002, 0, "Signed", Access::Wo, false);
+    let mut bus = Loop::new();
+    let mut c = Client::<64>::new(NODE);
+    // The test dictionary takes exactly 2 bytes: the server's abort for 4 comes back, and
+    // the request was sent as asked.
+    assert_eq!(c.write_widened(&mut bus, &WO, 0x1234, 4), Err(SdoError::Remote(SdoAbort::TooLong)));
+    assert_eq!(bus.last_sent.map(|f| f.data), Some([0x23, 0x02, 0x20, 0x00, 0x34, 0x12, 0, 0]));
+    let _ = c.write_widened(&mut bus, &SIGNED, -2, 4);
+    assert_eq!(
+        bus.last_sent.map(|f| f.data),
+        Some([0x23, 0x02, 0x20, 0x00, 0xFE, 0xFF, 0xFF, 0xFF])
+    );
+    let _ = c.write_widened(&mut bus, &SIGNED, 2, 4);
+    assert_eq!(bus.last_sent.map(|f| f.data), Some([0x23, 0x02, 0x20, 0x00, 0x02, 0, 0, 0]));
+    // At the object's own width it is the ordinary write (2Bh).
+    c.write_widened(&mut bus, &WO, 0x1234, 2).unwrap();
+    assert_eq!(bus.od.wo, 0x1234);
+    assert_eq!(bus.last_sent.map(|f| f.data[0]), Some(0x2B));
+    // Narrower than the value, or beyond an expedited transfer: refused before sending.
+    let sent = bus.sent;
+    assert_eq!(c.write_widened(&mut bus, &WO, 1, 1), Err(SdoError::Local(SdoAbort::TooLong)));
+    assert_eq!(c.write_widened(&mut bus, &WO, 1, 5), Err(SdoError::Local(SdoAbort::TooLong)));
+    assert_eq!(bus.sent, sent);
+}
+
 #[test]
 fn client_timeout_toggle_and_busy() {
     let mut bus = Loop::new();
