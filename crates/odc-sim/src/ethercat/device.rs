@@ -26,6 +26,9 @@ pub struct SubDevice {
     state: u8,
     /// The layouts of the process data sync managers, fixed on entering SAFE-OP.
     layouts: Vec<(u8, Layout)>,
+    /// The layouts the ESI gives the sync managers (for a device without assignment
+    /// objects).
+    fixed: Vec<(u8, Layout)>,
     drive: Option<Drive>,
     last_ns: Option<u64>,
     carry_ns: u64,
@@ -64,6 +67,11 @@ impl SubDevice {
             })
             .collect();
         let od = ModelDictionary::new(device, 0);
+        let fixed = ecat
+            .sync_managers
+            .iter()
+            .map(|sm| (sm.number, pdo::fixed_layout(device, sm.number)))
+            .collect();
         let drive = od.is_drive().then(Drive::new);
         let name = ecat
             .names
@@ -81,6 +89,7 @@ impl SubDevice {
             od,
             state: state::INIT,
             layouts: Vec::new(),
+            fixed,
             drive,
             last_ns: None,
             carry_ns: 0,
@@ -241,8 +250,16 @@ impl SubDevice {
                         al::OUTPUTS => code::INVALID_OUTPUT_CONFIG,
                         _ => code::INVALID_INPUT_CONFIG,
                     };
-                    layouts
-                        .push((spec.number, pdo::layout(&self.od, spec.number).map_err(|_| err)?));
+                    let layout = match pdo::layout(&self.od, spec.number).map_err(|_| err)? {
+                        Some(layout) => layout,
+                        None => self
+                            .fixed
+                            .iter()
+                            .find(|(n, _)| *n == spec.number)
+                            .map(|(_, l)| l.clone())
+                            .unwrap_or_default(),
+                    };
+                    layouts.push((spec.number, layout));
                 }
                 let bytes =
                     |n: u8| layouts.iter().find(|(sm, _)| *sm == n).map_or(0, |(_, l)| l.bytes());
