@@ -631,3 +631,40 @@ fn a_chain_of_three_to_op() {
     drop(chain);
     link.stop();
 }
+
+#[test]
+fn sdo_information_object_lists() {
+    use ethercrab::ObjectDescriptionListQuery as Q;
+    let servoone = load("esi/servoone.xml");
+    // The indices of the ESI's dictionary, in order (the parsed file, not the simulation).
+    let all: Vec<u16> = servoone.objects.keys().copied().collect();
+    let (maindevice, link) = master(Chain::new(vec![SubDevice::new(&servoone).unwrap()]));
+    // ethercrab's SDO information buffers are large arrays (128 KiB each) on the stack:
+    // more than a test thread's default 2 MiB holds in a debug build.
+    let run = move || {
+        smol::block_on(async {
+            let group = maindevice.init_single_group::<4, 64>(now).await.unwrap();
+            let sd = group.iter(&maindevice).next().unwrap();
+            let counts = sd.sdo_info_object_quantities().await.unwrap().unwrap();
+            assert_eq!(counts.all as usize, all.len());
+            // The list of all objects (96 indices, 192 bytes) does not fit one 128-byte mailbox:
+            // the device sends it in two fragments. ethercrab takes 8 bytes off every fragment's
+            // length for the headers and the list type, which only the first carries
+            // (ETG.1000.6 §5.6.3.3), so it loses the last index of each later fragment.
+            let list = sd.sdo_info_object_description_list(Q::All).await.unwrap().unwrap();
+            let lost: Vec<u16> = all.iter().copied().filter(|i| !list.contains(i)).collect();
+            assert_eq!(list.len(), all.len() - 1, "lost {lost:04X?}");
+            assert_eq!(lost, [all[all.len() - 1]]);
+            assert!(list.iter().zip(&all).all(|(a, b)| a == b));
+        });
+    };
+    std::thread::scope(|s| {
+        std::thread::Builder::new()
+            .stack_size(64 << 20)
+            .spawn_scoped(s, run)
+            .unwrap()
+            .join()
+            .unwrap();
+    });
+    link.stop();
+}

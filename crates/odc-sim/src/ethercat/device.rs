@@ -30,6 +30,8 @@ pub struct SubDevice {
     /// objects).
     fixed: Vec<(u8, Layout)>,
     drive: Option<Drive>,
+    /// Mailbox replies waiting for the read mailbox (fragments after the first).
+    pending: std::collections::VecDeque<Vec<u8>>,
     last_ns: Option<u64>,
     carry_ns: u64,
 }
@@ -91,6 +93,7 @@ impl SubDevice {
             layouts: Vec::new(),
             fixed,
             drive,
+            pending: Default::default(),
             last_ns: None,
             carry_ns: 0,
         };
@@ -161,6 +164,9 @@ impl SubDevice {
         }
         if ev.mailbox_received {
             self.mailbox_received();
+        }
+        if ev.mailbox_read {
+            self.send_pending();
         }
     }
 
@@ -234,6 +240,7 @@ impl SubDevice {
         match to {
             state::INIT => {
                 self.mailbox.reset();
+                self.pending.clear();
                 self.deactivate_process_data();
             }
             state::PRE_OP => {
@@ -300,20 +307,33 @@ impl SubDevice {
         let request = self.esc.bytes(rx.start, usize::from(rx.len)).to_vec();
         // The application has read the mailbox: empty again.
         self.esc.set_sm_status(out_sm, rx.status & !SM_FULL);
-        if self.state < state::PRE_OP || tx.activate & 1 == 0 || tx.status & SM_FULL != 0 {
+        if self.state < state::PRE_OP || tx.activate & 1 == 0 {
             return;
         }
         let pre_op = self.state == state::PRE_OP;
         // PDO assignment and mapping may be written in PRE-OP only (ETG.1000.6 §5.6.7.4).
         let writable = move |index: u16| pre_op || !pdo::is_pdo_config(index);
-        let reply = self.mailbox.handle(&request, usize::from(tx.len), &mut self.od, &writable);
-        if let Some(mut reply) = reply {
+        let replies = self.mailbox.handle(&request, usize::from(tx.len), &mut self.od, &writable);
+        self.pending = replies.into();
+        self.send_pending();
+        if let Some(drive) = &mut self.drive {
+            drive.update(&mut self.od);
+        }
+    }
+
+    /// The next waiting reply into the read mailbox, if it is empty.
+    fn send_pending(&mut self) {
+        let Some(in_sm) = self.sms.iter().find(|s| s.kind == al::MBOX_IN).map(|s| s.number) else {
+            return;
+        };
+        let tx = self.esc.sm(in_sm);
+        if tx.status & SM_FULL != 0 || tx.activate & 1 == 0 {
+            return;
+        }
+        if let Some(mut reply) = self.pending.pop_front() {
             reply.resize(usize::from(tx.len), 0);
             self.esc.set_bytes(tx.start, &reply);
             self.esc.set_sm_status(in_sm, tx.status | SM_FULL);
-        }
-        if let Some(drive) = &mut self.drive {
-            drive.update(&mut self.od);
         }
     }
 }

@@ -12,7 +12,8 @@
 //! - [`sii`]: the EEPROM interface over `odc_sii::write`'s image; [`dc`]: distributed
 //!   clocks as far as a master's set-up reads and writes them;
 //! - [`al`]: the AL state machine and the checks of the sync managers;
-//! - [`mailbox`] and [`coe`]: the mailbox on SM0/SM1 and the CoE SDO server;
+//! - [`mailbox`] and [`coe`]: the mailbox on SM0/SM1 and the CoE SDO server; [`info`] the
+//!   SDO Information service;
 //! - [`pdo`]: process data through the FMMUs into and out of the dictionary;
 //! - [`SubDevice`] joins them (with a CiA 402 drive when the device is one) and [`Chain`]
 //!   runs a frame through several in a line.
@@ -29,6 +30,7 @@ pub mod dc;
 mod device;
 pub mod esc;
 pub mod frame;
+pub mod info;
 pub mod mailbox;
 pub mod pdo;
 pub mod registers;
