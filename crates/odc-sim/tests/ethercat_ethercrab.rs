@@ -668,3 +668,47 @@ fn sdo_information_object_lists() {
     });
     link.stop();
 }
+
+#[test]
+fn distributed_clocks_as_the_example_sets_them_up() {
+    use ethercrab::subdevice_group::DcConfiguration;
+    let servoone = load("esi/servoone.xml");
+    let (maindevice, link) = master(Chain::new(vec![SubDevice::new(&servoone).unwrap()]));
+    let cycle = Duration::from_millis(1);
+    let (cycles, sync0) = smol::block_on(async {
+        let mut group = maindevice.init_single_group::<4, 64>(now).await.unwrap();
+        // The ESI's op-mode `DC` (AssignActivate 0x0300: cyclic unit and SYNC0).
+        let dc = servoone::startup::DC_OP_MODES.iter().find(|m| m.name == "DC").unwrap();
+        for mut sd in group.iter_mut(&maindevice) {
+            sd.set_dc_sync(ec::dc_sync(dc, cycle));
+        }
+        let group = group.into_pre_op_pdi(&maindevice).await.unwrap();
+        let config = DcConfiguration {
+            start_delay: Duration::from_millis(10),
+            sync0_period: cycle,
+            sync0_shift: cycle / 2,
+        };
+        let group = group.configure_dc_sync(&maindevice, config).await.unwrap();
+        let sync0 = {
+            let sd = group.subdevice(&maindevice, 0).unwrap();
+            let active: u8 = sd.register_read(0x0981u16).await.unwrap();
+            let period: u32 = sd.register_read(0x09A0u16).await.unwrap();
+            (active, period)
+        };
+        let group = group.into_safe_op(&maindevice).await.unwrap();
+        let group = group.request_into_op(&maindevice).await.unwrap();
+        let mut cycles = 0;
+        for _ in 0..200 {
+            let start = Instant::now();
+            let response = group.tx_rx_dc(&maindevice).await.unwrap();
+            cycles += 1;
+            smol::Timer::at(start + response.extra.next_cycle_wait).await;
+        }
+        (cycles, sync0)
+    });
+    // SYNC0 active with the cyclic unit (0x0981 bits 0 and 1), period 1 ms in ns (0x09A0).
+    assert_eq!(sync0, (0x03, 1_000_000));
+    assert_eq!(cycles, 200);
+    assert_eq!(link.chain.lock().unwrap().devices()[0].al_state(), 8, "OP");
+    link.stop();
+}
