@@ -276,7 +276,7 @@ impl Esc {
                 if range.contains(&(area.end - 1)) {
                     completes = Some(n);
                 }
-            } else if write != sm.master_writes() && write {
+            } else if write && !sm.master_writes() {
                 // An input area the master writes to: the ESC ignores it.
                 return None;
             }

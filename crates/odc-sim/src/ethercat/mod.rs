@@ -21,7 +21,9 @@
 //! Simplifications, each visible to a master only in timing: an ESC answers at once (the
 //! SII is never busy, a mailbox reply is ready when the request is written), FMMUs are byte
 //! granular, process data sync managers have one buffer, and a DC clock takes the
-//! reference's time at the first comparison instead of through a control loop.
+//! reference's time at the first comparison instead of through a control loop. Not
+//! emulated: the mailbox repeat request (SM activate bit 1), the watchdogs' expiry, SYNC
+//! pulses and latches, EoE/FoE/SoE (answered with the mailbox error "unsupported protocol").
 
 pub mod al;
 mod chain;
