@@ -186,3 +186,65 @@ fn other_mailbox_protocols_get_a_mailbox_error() {
     assert_eq!(r[5] & 0x0F, 0);
     assert_eq!(r[6..10], [0x01, 0x00, 0x02, 0x00]);
 }
+
+/// An SDO Information request (CoE service 8, ETG.1000.6 §5.6.3): opcode, reserved,
+/// fragments left 0, then the data.
+fn info_request(opcode: u8, data: &[u8]) -> Vec<u8> {
+    let mut r = vec![0x00, 0x80, opcode, 0, 0, 0];
+    r.extend(data);
+    r
+}
+
+#[test]
+fn sdo_information_descriptions() {
+    let mut c = pre_op(&servoone(), 128);
+    // Get OD (opcode 3) of 0x1018: response opcode 4, index, data type, max sub-index,
+    // object code 9 (RECORD), the ESI's name.
+    let r = exchange(&mut c, 128, &info_request(0x03, &[0x18, 0x10]));
+    assert_eq!(r[7] >> 4, 8, "SDO Information");
+    assert_eq!(r[8..12], [0x04, 0, 0, 0]);
+    assert_eq!(r[12..14], [0x18, 0x10]);
+    assert_eq!(r[16..18], [4, 9]);
+    assert_eq!(&r[18..], b"Identity_Object");
+    // Get ED (opcode 5) of 0x1018:01: UNSIGNED32 (0x0007), 32 bits, read-only in every
+    // state (access bits 0–2), name "Vendor ID".
+    let r = exchange(&mut c, 128, &info_request(0x05, &[0x18, 0x10, 0x01, 0x00]));
+    assert_eq!(r[8], 0x06);
+    assert_eq!(r[12..16], [0x18, 0x10, 0x01, 0x00]);
+    assert_eq!(r[16..18], [0x07, 0x00]);
+    assert_eq!(r[18..20], [32, 0]);
+    assert_eq!(r[20..22], [0x07, 0x00]);
+    assert_eq!(&r[22..], b"Vendor ID");
+    // An object that does not exist: SDO Information error (opcode 7) with 0x06020000.
+    let r = exchange(&mut c, 128, &info_request(0x03, &[0xFE, 0x5F]));
+    assert_eq!(r[8], 0x07);
+    assert_eq!(r[12..16], [0x00, 0x00, 0x02, 0x06]);
+}
+
+#[test]
+fn sdo_information_list_in_fragments() {
+    let device = servoone();
+    let all: Vec<u16> = device.objects.keys().copied().collect();
+    let mut c = pre_op(&device, 34);
+    // A 34-byte mailbox carries 34 − 6 − 2 − 4 = 22 bytes of list a fragment; the list type
+    // (1: all objects) comes first in the first one only.
+    let mut got = Vec::new();
+    let first = exchange(&mut c, 34, &info_request(0x01, &[0x01, 0x00]));
+    let mut left = u16::from_le_bytes([first[10], first[11]]);
+    assert_eq!(first[8], 0x82, "response opcode 2, incomplete");
+    assert_eq!(first[12..14], [0x01, 0x00]);
+    got.extend_from_slice(&first[14..]);
+    while left > 0 {
+        // The next fragment follows once the master has read the previous one.
+        assert_eq!(datagram(&mut c, FPRD, ADDR, 0x080D, &[0]).0[0] & 0x08, 0x08);
+        let (m, _) = datagram(&mut c, FPRD, ADDR, 0x1080, &[0; 34]);
+        let len = usize::from(u16::from_le_bytes([m[0], m[1]]));
+        let next = u16::from_le_bytes([m[10], m[11]]);
+        assert_eq!(next, left - 1);
+        assert_eq!(m[8] & 0x80 != 0, next > 0, "incomplete flag until the last");
+        got.extend_from_slice(&m[12..6 + len]);
+        left = next;
+    }
+    let list: Vec<u16> = got.chunks(2).map(|b| u16::from_le_bytes([b[0], b[1]])).collect();
+    assert_eq!(list, all);
+}

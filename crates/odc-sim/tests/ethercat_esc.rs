@@ -320,3 +320,29 @@ fn receive_times_show_the_line() {
     assert_eq!(t(2, 1).wrapping_sub(t(2, 0)) as u64, 2 * HOP_NS);
     assert_eq!(t(3, 1), 0, "the last device's port 1 is closed");
 }
+
+#[test]
+fn system_times_follow_the_reference_clock() {
+    let mut c = chain(3);
+    address(&mut c);
+    let system_times = |c: &mut Chain| {
+        let dgs: Vec<Dg> = (0x1001..=0x1003).map(|a| dg(FPRD, a, 0x0910, &[0; 8])).collect();
+        let r = run(c, &dgs);
+        r.iter().map(|(_, d, _)| u64::from_le_bytes(d[..].try_into().unwrap())).collect::<Vec<_>>()
+    };
+    // Free-running clocks that started at different moments disagree.
+    let t = system_times(&mut c);
+    assert!(t[1].abs_diff(t[0]) > 1_000_000, "{t:?}");
+    // The master writes each device's transmission delay from the reference (0x0928,
+    // here the hops the frame makes to it), then distributes the reference's time with FRMW
+    // (ETG.1000.4 §9.2.3): every device takes it, plus its delay.
+    for (i, a) in (0u64..).zip(0x1002..=0x1003u16) {
+        run(&mut c, &[dg(FPWR, a, 0x0928, &((i + 1) as u32 * HOP_NS as u32).to_le_bytes())]);
+    }
+    run(&mut c, &[dg(FRMW, 0x1001, 0x0910, &[0; 8])]);
+    // Read in one frame, each device at the moment the frame passes it: one clock, read
+    // HOP_NS apart.
+    let t = system_times(&mut c);
+    assert_eq!(t[1] - t[0], HOP_NS);
+    assert_eq!(t[2] - t[0], 2 * HOP_NS);
+}

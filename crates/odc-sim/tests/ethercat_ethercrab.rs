@@ -420,3 +420,295 @@ fn op_with_a_csp_ramp_for_a_thousand_cycles() {
         "servoone OP: {cycles_enabled} cycles enabled, {frames} frames, {datagrams} datagrams"
     );
 }
+
+/// The default RxPDO 1 of the corpus drive (`ingenia__ecat402-drive.xml`, 0x1600).
+#[derive(Clone, Copy, Debug, Default, PartialEq, odc::Pdo)]
+#[pdo(max_bits = 88)]
+struct DriveOutputs {
+    #[pdo(index = 0x6040, bits = 16)]
+    controlword: odc::cia402::Controlword,
+    #[pdo(index = 0x607A)]
+    target_position: i32,
+    #[pdo(index = 0x60FF)]
+    target_velocity: i32,
+    #[pdo(index = 0x6060)]
+    modes_of_operation: i8,
+}
+odc::impl_wire!(DriveOutputs);
+
+/// Its default TxPDO 1 (0x1A00).
+#[derive(Clone, Copy, Debug, Default, PartialEq, odc::Pdo)]
+#[pdo(max_bits = 88)]
+struct DriveInputs {
+    #[pdo(index = 0x6041, bits = 16)]
+    statusword: odc::cia402::Statusword,
+    #[pdo(index = 0x6064)]
+    position_actual_value: i32,
+    #[pdo(index = 0x606C)]
+    velocity_actual_value: i32,
+    #[pdo(index = 0x6061)]
+    modes_of_operation_display: i8,
+}
+odc::impl_wire!(DriveInputs);
+
+/// Downloads the mapping and assignment an ESI gives its PDOs (`RxPdo@Sm`, `TxPdo@Sm`), in
+/// ETG.1020's order: assignment cleared, each mapping cleared, filled and counted, then the
+/// assignment filled and counted.
+async fn esi_assignment<S>(sd: &ethercrab::SubDeviceRef<'_, S>, device: &odc_model::Device)
+where
+    S: std::ops::Deref<Target = ethercrab::SubDevice>,
+{
+    for sm in [2u8, 3] {
+        let assign = 0x1C10 + u16::from(sm);
+        let pdos: Vec<_> = device.pdos.iter().filter(|p| p.sync_manager == Some(sm)).collect();
+        sd.sdo_write(assign, 0, 0u8).await.unwrap();
+        for pdo in &pdos {
+            sd.sdo_write(pdo.mapping_index, 0, 0u8).await.unwrap();
+            for (sub, e) in (1u8..).zip(&pdo.entries) {
+                let v = u32::from(e.index) << 16 | u32::from(e.sub) << 8 | u32::from(e.bits);
+                sd.sdo_write(pdo.mapping_index, sub, v).await.unwrap();
+            }
+            sd.sdo_write(pdo.mapping_index, 0, pdo.entries.len() as u8).await.unwrap();
+        }
+        for (sub, pdo) in (1u8..).zip(&pdos) {
+            sd.sdo_write(assign, sub, pdo.mapping_index).await.unwrap();
+        }
+        sd.sdo_write(assign, 0, pdos.len() as u8).await.unwrap();
+    }
+}
+
+fn load_corpus(file: &str, select: Option<&str>) -> Option<odc_model::Device> {
+    let corpus =
+        std::env::var_os("ODC_CORPUS").map(std::path::PathBuf::from).unwrap_or_else(|| {
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/corpus")
+        });
+    let path = corpus.join("esi").join(file);
+    if !path.is_file() {
+        eprintln!("no corpus at {}: the chain test is skipped", corpus.display());
+        return None;
+    }
+    let mut options = odc_pipeline::Options::new();
+    if let Some(s) = select {
+        options = options.select(odc_pipeline::Select::Spec(s.into()));
+    }
+    let loaded = odc_pipeline::load(&path, &options).unwrap();
+    Some(loaded.device().unwrap().clone())
+}
+
+#[test]
+fn a_chain_of_three_to_op() {
+    use ethercrab::EtherCrabWireRead;
+    use ethercrab::EtherCrabWireWrite;
+    use odc::cia402::{Controlword, ModeOfOperation, State};
+
+    let servoone = load("esi/servoone.xml");
+    // A Beckhoff terminal with fixed PDOs and no mailbox, and a CiA 402 drive with fixed PDOs.
+    let Some(el2008) = load_corpus("beckhoff__Beckhoff_EL2xxx.xml", Some("EL2008")) else {
+        return;
+    };
+    let Some(drive) = load_corpus("ingenia__ecat402-drive.xml", None) else { return };
+    let devices = [&servoone, &el2008, &drive].map(|d| SubDevice::new(d).unwrap());
+    let (maindevice, link) = master(Chain::new(devices.into()));
+    let (enabled, terminal_byte) = smol::block_on(async {
+        let group = maindevice.init_single_group::<4, 64>(now).await.unwrap();
+        assert_eq!(group.len(), 3);
+        let ids: Vec<_> = group
+            .iter(&maindevice)
+            .map(|sd| {
+                let id = sd.identity();
+                (sd.name().to_string(), id.vendor_id, id.product_id, id.revision)
+            })
+            .collect();
+        // The identities of the three ESIs (Vendor/Id, Type@ProductCode, Type@RevisionNo),
+        // as ethercrab reads them from each SII.
+        assert_eq!(
+            ids,
+            [
+                ("ServoOne".to_string(), 0, 0, 0),
+                ("EL2008".to_string(), 2, 0x07D8_3052, 0x0010_0000),
+                // Vendor #x0000029c, ProductCode 61935618, RevisionNo 327685 (decimal).
+                ("EVS-NET-01".to_string(), 0x29C, 61_935_618, 327_685),
+            ]
+        );
+        {
+            let mut sds = group.iter(&maindevice);
+            let sd = sds.next().unwrap();
+            servoone::startup::configure(&sd).await.unwrap();
+            map::<CspOutputs, _>(&sd, 2, 0x1600).await.unwrap();
+            map::<CspInputs, _>(&sd, 3, 0x1A00).await.unwrap();
+            let csp = ModeOfOperation::CyclicSyncPosition.to_i8();
+            sd.sdo_write(0x6060, 0, csp).await.unwrap();
+            // The drive's ESI assigns its PDOs (`@Sm`) but its 0x1C12/0x1C13 start empty: the
+            // master downloads the ESI's mapping and assignment (what odc's generated
+            // `startup::configure` does for it).
+            esi_assignment(&sds.nth(1).unwrap(), &drive).await;
+        }
+        let group = group.into_pre_op_pdi(&maindevice).await.unwrap();
+        // The sizes ethercrab computed: from CoE (ServoOne, drive) and from the SII's PDO
+        // categories (EL2008: eight 1-bit outputs).
+        let sizes: Vec<_> = group
+            .iter(&maindevice)
+            .map(|sd| (sd.outputs_raw().len(), sd.inputs_raw().len()))
+            .collect();
+        // The drive's default assignment (0x1C12/0x1C13 → 0x1600/0x1A00, 11 bytes each).
+        assert_eq!(sizes, [(6, 6), (1, 0), (11, 11)]);
+        let group = group.into_safe_op(&maindevice).await.unwrap();
+        let group = group.into_op(&maindevice).await.unwrap();
+        let mut targets = [None::<i32>; 2];
+        let mut enabled = [0u32; 2];
+        let mut byte = 0u8;
+        for cycle in 0..1200u32 {
+            let response = group.tx_rx(&maindevice).await.unwrap();
+            // Two drives read and write (3 each), the terminal is written (2).
+            assert_eq!(response.working_counter, 8);
+            for (k, i) in [0usize, 2].into_iter().enumerate() {
+                let sd = group.subdevice(&maindevice, i).unwrap();
+                let (statusword, actual) = match i {
+                    0 => {
+                        let inputs = CspInputs::unpack_from_slice(&sd.inputs_raw()).unwrap();
+                        (inputs.statusword, inputs.position_actual_value)
+                    }
+                    _ => {
+                        let inputs = DriveInputs::unpack_from_slice(&sd.inputs_raw()).unwrap();
+                        (inputs.statusword, inputs.position_actual_value)
+                    }
+                };
+                let state = statusword.state();
+                if state == Some(State::OperationEnabled) {
+                    enabled[k] += 1;
+                }
+                let position = match (state, targets[k]) {
+                    (Some(State::OperationEnabled), Some(t)) => t + 10,
+                    _ => actual,
+                };
+                targets[k] = Some(position);
+                let controlword = state
+                    .and_then(State::next_command_towards_enabled)
+                    .unwrap_or(Controlword::ENABLE_OPERATION);
+                let mut image = sd.outputs_raw_mut();
+                match i {
+                    0 => CspOutputs { controlword, target_position: position }
+                        .pack_to_slice(&mut image)
+                        .map(|_| ())
+                        .unwrap(),
+                    _ => DriveOutputs {
+                        controlword,
+                        target_position: position,
+                        target_velocity: 0,
+                        modes_of_operation: ModeOfOperation::CyclicSyncPosition.to_i8(),
+                    }
+                    .pack_to_slice(&mut image)
+                    .map(|_| ())
+                    .unwrap(),
+                }
+            }
+            byte = (cycle % 251) as u8;
+            group.subdevice(&maindevice, 1).unwrap().outputs_raw_mut()[0] = byte;
+        }
+        // One more exchange carries the last outputs.
+        group.tx_rx(&maindevice).await.unwrap();
+        (enabled, byte)
+    });
+    assert!(enabled.iter().all(|&n| n >= 1000), "{enabled:?}");
+    let chain = link.chain.lock().unwrap();
+    // The terminal's eight outputs (0x7000:01, 0x7010:01, … BOOLEAN) hold the bits of the
+    // last byte, channel 1 in bit 0 (the SII's PDO order).
+    let terminal = chain.devices()[1].dictionary();
+    for ch in 0..8u16 {
+        let v = terminal.raw(0x7000 + 0x10 * ch, 1).unwrap()[0];
+        assert_eq!(v, terminal_byte >> ch & 1, "channel {}", ch + 1);
+    }
+    // Both drives followed their ramps.
+    for i in [0, 2] {
+        let position: i32 = chain.devices()[i].dictionary().get(0x6064, 0).unwrap();
+        assert!(position >= 10 * 990, "device {i}: {position}");
+    }
+    eprintln!(
+        "chain of three: {enabled:?} cycles enabled, {} frames, {} datagrams",
+        chain.frames(),
+        chain.datagrams()
+    );
+    drop(chain);
+    link.stop();
+}
+
+#[test]
+fn sdo_information_object_lists() {
+    use ethercrab::ObjectDescriptionListQuery as Q;
+    let servoone = load("esi/servoone.xml");
+    // The indices of the ESI's dictionary, in order (the parsed file, not the simulation).
+    let all: Vec<u16> = servoone.objects.keys().copied().collect();
+    let (maindevice, link) = master(Chain::new(vec![SubDevice::new(&servoone).unwrap()]));
+    // ethercrab's SDO information buffers are large arrays (128 KiB each) on the stack:
+    // more than a test thread's default 2 MiB holds in a debug build.
+    let run = move || {
+        smol::block_on(async {
+            let group = maindevice.init_single_group::<4, 64>(now).await.unwrap();
+            let sd = group.iter(&maindevice).next().unwrap();
+            let counts = sd.sdo_info_object_quantities().await.unwrap().unwrap();
+            assert_eq!(counts.all as usize, all.len());
+            // The list of all objects (96 indices, 192 bytes) does not fit one 128-byte mailbox:
+            // the device sends it in two fragments. ethercrab takes 8 bytes off every fragment's
+            // length for the headers and the list type, which only the first carries
+            // (ETG.1000.6 §5.6.3.3), so it loses the last index of each later fragment.
+            let list = sd.sdo_info_object_description_list(Q::All).await.unwrap().unwrap();
+            let lost: Vec<u16> = all.iter().copied().filter(|i| !list.contains(i)).collect();
+            assert_eq!(list.len(), all.len() - 1, "lost {lost:04X?}");
+            assert_eq!(lost, [all[all.len() - 1]]);
+            assert!(list.iter().zip(&all).all(|(a, b)| a == b));
+        });
+    };
+    std::thread::scope(|s| {
+        std::thread::Builder::new()
+            .stack_size(64 << 20)
+            .spawn_scoped(s, run)
+            .unwrap()
+            .join()
+            .unwrap();
+    });
+    link.stop();
+}
+
+#[test]
+fn distributed_clocks_as_the_example_sets_them_up() {
+    use ethercrab::subdevice_group::DcConfiguration;
+    let servoone = load("esi/servoone.xml");
+    let (maindevice, link) = master(Chain::new(vec![SubDevice::new(&servoone).unwrap()]));
+    let cycle = Duration::from_millis(1);
+    let (cycles, sync0) = smol::block_on(async {
+        let mut group = maindevice.init_single_group::<4, 64>(now).await.unwrap();
+        // The ESI's op-mode `DC` (AssignActivate 0x0300: cyclic unit and SYNC0).
+        let dc = servoone::startup::DC_OP_MODES.iter().find(|m| m.name == "DC").unwrap();
+        for mut sd in group.iter_mut(&maindevice) {
+            sd.set_dc_sync(ec::dc_sync(dc, cycle));
+        }
+        let group = group.into_pre_op_pdi(&maindevice).await.unwrap();
+        let config = DcConfiguration {
+            start_delay: Duration::from_millis(10),
+            sync0_period: cycle,
+            sync0_shift: cycle / 2,
+        };
+        let group = group.configure_dc_sync(&maindevice, config).await.unwrap();
+        let sync0 = {
+            let sd = group.subdevice(&maindevice, 0).unwrap();
+            let active: u8 = sd.register_read(0x0981u16).await.unwrap();
+            let period: u32 = sd.register_read(0x09A0u16).await.unwrap();
+            (active, period)
+        };
+        let group = group.into_safe_op(&maindevice).await.unwrap();
+        let group = group.request_into_op(&maindevice).await.unwrap();
+        let mut cycles = 0;
+        for _ in 0..200 {
+            let start = Instant::now();
+            let response = group.tx_rx_dc(&maindevice).await.unwrap();
+            cycles += 1;
+            smol::Timer::at(start + response.extra.next_cycle_wait).await;
+        }
+        (cycles, sync0)
+    });
+    // SYNC0 active with the cyclic unit (0x0981 bits 0 and 1), period 1 ms in ns (0x09A0).
+    assert_eq!(sync0, (0x03, 1_000_000));
+    assert_eq!(cycles, 200);
+    assert_eq!(link.chain.lock().unwrap().devices()[0].al_state(), 8, "OP");
+    link.stop();
+}

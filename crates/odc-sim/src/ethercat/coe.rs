@@ -10,13 +10,17 @@
 
 use odc::SdoAbort;
 use odc::slave::ObjectDictionary;
+use odc_model::Device;
 use odc_model::ethercat::CoE;
 
+use super::info::SdoInfo;
 use super::mailbox::error;
 use crate::ModelDictionary;
 
 /// Service of an SDO request in the CoE header.
 const SDO_REQUEST: u8 = 2;
+/// Service of SDO Information in the CoE header.
+const SDO_INFO: u8 = 8;
 /// The CoE header of an SDO response (number 0, service 3).
 const SDO_RESPONSE: [u8; 2] = [0x00, 0x30];
 /// The CoE header of an abort from the device: service 2, SDO request (ETG.1000.6, Abort SDO
@@ -46,13 +50,15 @@ enum Transfer {
 #[derive(Debug)]
 pub struct CoeServer {
     complete_access: bool,
+    info: Option<SdoInfo>,
     transfer: Transfer,
 }
 
 impl CoeServer {
-    /// The server for a device whose ESI says `coe`.
-    pub fn new(coe: &CoE) -> Self {
-        Self { complete_access: coe.complete_access, transfer: Transfer::None }
+    /// The server for `device`, whose ESI says `coe`.
+    pub fn new(device: &Device, coe: &CoE) -> Self {
+        let info = coe.sdo_info.then(|| SdoInfo::new(device));
+        Self { complete_access: coe.complete_access, info, transfer: Transfer::None }
     }
 
     /// Forgets a transfer under way.
@@ -60,16 +66,31 @@ impl CoeServer {
         self.transfer = Transfer::None;
     }
 
-    /// The reply's CoE data, `None` for none; `Err` a mailbox error detail.
+    /// The replies' CoE data (none, one, or the fragments of an SDO Information reply);
+    /// `Err` a mailbox error detail.
     pub fn handle(
         &mut self,
         req: Request<'_>,
         od: &mut ModelDictionary,
         writable: &dyn Fn(u16) -> bool,
-    ) -> Result<Option<Vec<u8>>, u16> {
+    ) -> Result<Vec<Vec<u8>>, u16> {
         let Some((&[_, service], sdo)) = req.data.split_first_chunk::<2>() else {
             return Err(error::SIZE_TOO_SHORT);
         };
+        if let (SDO_INFO, Some(info)) = (service >> 4, &self.info) {
+            return Ok(info.handle(sdo, req.room));
+        }
+        Ok(self.sdo(service, sdo, req.room, od, writable)?.into_iter().collect())
+    }
+
+    fn sdo(
+        &mut self,
+        service: u8,
+        sdo: &[u8],
+        room: usize,
+        od: &mut ModelDictionary,
+        writable: &dyn Fn(u16) -> bool,
+    ) -> Result<Option<Vec<u8>>, u16> {
         if service >> 4 != SDO_REQUEST {
             // Emergency, TxPDO, RxPDO, remote requests and SDO information are not served.
             return Err(error::UNSUPPORTED_PROTOCOL);
@@ -82,8 +103,8 @@ impl CoeServer {
         let reply = match (command >> 5, addr) {
             (1, Some((index, sub))) => self.download(command, index, sub, sdo, od, writable),
             (0, _) => self.download_segment(command, sdo, od, writable),
-            (2, Some((index, sub))) => self.upload(command, index, sub, req.room, od),
-            (3, _) => self.upload_segment(command, req.room),
+            (2, Some((index, sub))) => self.upload(command, index, sub, room, od),
+            (3, _) => self.upload_segment(command, room),
             // Abort from the master: the transfer ends, no reply.
             (4, _) => {
                 self.transfer = Transfer::None;

@@ -26,7 +26,12 @@ pub struct SubDevice {
     state: u8,
     /// The layouts of the process data sync managers, fixed on entering SAFE-OP.
     layouts: Vec<(u8, Layout)>,
+    /// The layouts the ESI gives the sync managers (for a device without assignment
+    /// objects).
+    fixed: Vec<(u8, Layout)>,
     drive: Option<Drive>,
+    /// Mailbox replies waiting for the read mailbox (fragments after the first).
+    pending: std::collections::VecDeque<Vec<u8>>,
     last_ns: Option<u64>,
     carry_ns: u64,
 }
@@ -64,6 +69,11 @@ impl SubDevice {
             })
             .collect();
         let od = ModelDictionary::new(device, 0);
+        let fixed = ecat
+            .sync_managers
+            .iter()
+            .map(|sm| (sm.number, pdo::fixed_layout(device, sm.number)))
+            .collect();
         let drive = od.is_drive().then(Drive::new);
         let name = ecat
             .names
@@ -81,7 +91,9 @@ impl SubDevice {
             od,
             state: state::INIT,
             layouts: Vec::new(),
+            fixed,
             drive,
+            pending: Default::default(),
             last_ns: None,
             carry_ns: 0,
         };
@@ -152,6 +164,9 @@ impl SubDevice {
         }
         if ev.mailbox_received {
             self.mailbox_received();
+        }
+        if ev.mailbox_read {
+            self.send_pending();
         }
     }
 
@@ -225,6 +240,7 @@ impl SubDevice {
         match to {
             state::INIT => {
                 self.mailbox.reset();
+                self.pending.clear();
                 self.deactivate_process_data();
             }
             state::PRE_OP => {
@@ -241,8 +257,16 @@ impl SubDevice {
                         al::OUTPUTS => code::INVALID_OUTPUT_CONFIG,
                         _ => code::INVALID_INPUT_CONFIG,
                     };
-                    layouts
-                        .push((spec.number, pdo::layout(&self.od, spec.number).map_err(|_| err)?));
+                    let layout = match pdo::layout(&self.od, spec.number).map_err(|_| err)? {
+                        Some(layout) => layout,
+                        None => self
+                            .fixed
+                            .iter()
+                            .find(|(n, _)| *n == spec.number)
+                            .map(|(_, l)| l.clone())
+                            .unwrap_or_default(),
+                    };
+                    layouts.push((spec.number, layout));
                 }
                 let bytes =
                     |n: u8| layouts.iter().find(|(sm, _)| *sm == n).map_or(0, |(_, l)| l.bytes());
@@ -283,20 +307,33 @@ impl SubDevice {
         let request = self.esc.bytes(rx.start, usize::from(rx.len)).to_vec();
         // The application has read the mailbox: empty again.
         self.esc.set_sm_status(out_sm, rx.status & !SM_FULL);
-        if self.state < state::PRE_OP || tx.activate & 1 == 0 || tx.status & SM_FULL != 0 {
+        if self.state < state::PRE_OP || tx.activate & 1 == 0 {
             return;
         }
         let pre_op = self.state == state::PRE_OP;
         // PDO assignment and mapping may be written in PRE-OP only (ETG.1000.6 §5.6.7.4).
         let writable = move |index: u16| pre_op || !pdo::is_pdo_config(index);
-        let reply = self.mailbox.handle(&request, usize::from(tx.len), &mut self.od, &writable);
-        if let Some(mut reply) = reply {
+        let replies = self.mailbox.handle(&request, usize::from(tx.len), &mut self.od, &writable);
+        self.pending = replies.into();
+        self.send_pending();
+        if let Some(drive) = &mut self.drive {
+            drive.update(&mut self.od);
+        }
+    }
+
+    /// The next waiting reply into the read mailbox, if it is empty.
+    fn send_pending(&mut self) {
+        let Some(in_sm) = self.sms.iter().find(|s| s.kind == al::MBOX_IN).map(|s| s.number) else {
+            return;
+        };
+        let tx = self.esc.sm(in_sm);
+        if tx.status & SM_FULL != 0 || tx.activate & 1 == 0 {
+            return;
+        }
+        if let Some(mut reply) = self.pending.pop_front() {
             reply.resize(usize::from(tx.len), 0);
             self.esc.set_bytes(tx.start, &reply);
             self.esc.set_sm_status(in_sm, tx.status | SM_FULL);
-        }
-        if let Some(drive) = &mut self.drive {
-            drive.update(&mut self.od);
         }
     }
 }

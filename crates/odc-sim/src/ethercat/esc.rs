@@ -119,6 +119,8 @@ impl Esc {
         self.set_u16(reg::WATCHDOG_DIVIDER, 0x09C2);
         self.set_u16(reg::WATCHDOG_PDI, 0x03E8);
         self.set_u16(reg::WATCHDOG_PD, 0x03E8);
+        // Bit 0: the process data watchdog has not expired (the simulation does not run it).
+        self.set_u16(reg::WATCHDOG_STATUS, 0x0001);
         let (pdi_control, pdi_config, alias) = self.sii.power_on_words();
         self.set_u16(reg::PDI_CONTROL, pdi_control);
         self.set_u16(reg::PDI_CONFIG, pdi_config);
@@ -195,8 +197,8 @@ impl Esc {
         core::mem::take(&mut self.events)
     }
 
-    /// Executes `d` as this device, `position` the number of devices before it, and updates
-    /// its working counter and address field.
+    /// Executes `d` as this device (the frame passing it `at`), and updates its working
+    /// counter and address field.
     pub fn execute(&mut self, d: &mut Datagram<'_>, at: &Passing) {
         let Some(cmd) = d.command() else { return };
         let here = d.adp() == 0;
@@ -274,7 +276,7 @@ impl Esc {
                 if range.contains(&(area.end - 1)) {
                     completes = Some(n);
                 }
-            } else if write != sm.master_writes() && write {
+            } else if write && !sm.master_writes() {
                 // An input area the master writes to: the ESC ignores it.
                 return None;
             }

@@ -43,7 +43,7 @@ impl Mailbox {
             .as_ref()
             .and_then(|e| e.mailbox.as_ref())
             .and_then(|m| m.coe.as_ref())
-            .map(CoeServer::new);
+            .map(|coe| CoeServer::new(device, coe));
         Self { coe, counter: 0 }
     }
 
@@ -55,33 +55,33 @@ impl Mailbox {
         self.counter = 0;
     }
 
-    /// The reply to the mailbox `request` (header included), at most `max` bytes long, or
-    /// `None` when it takes none.
+    /// The replies to the mailbox `request` (headers included), each at most `max` bytes
+    /// long, in the order the master is to read them (none when it takes none).
     pub fn handle(
         &mut self,
         request: &[u8],
         max: usize,
         od: &mut ModelDictionary,
         writable: &dyn Fn(u16) -> bool,
-    ) -> Option<Vec<u8>> {
+    ) -> Vec<Vec<u8>> {
         let (len, kind) = match request.get(..HEADER) {
             Some(&[l0, l1, _, _, _, t]) => (usize::from(u16::from_le_bytes([l0, l1])), t & 0x0F),
-            _ => return Some(self.error(error::SYNTAX)),
+            _ => return vec![self.error(error::SYNTAX)],
         };
         let Some(data) = request.get(HEADER..HEADER + len) else {
-            return Some(self.error(error::INVALID_SIZE));
+            return vec![self.error(error::INVALID_SIZE)];
         };
-        let reply = match (kind, &mut self.coe) {
+        let replies = match (kind, &mut self.coe) {
             (TYPE_COE, Some(coe)) => {
                 let room = max.saturating_sub(HEADER);
                 match coe.handle(Request { data, room }, od, writable) {
-                    Ok(reply) => reply,
-                    Err(detail) => return Some(self.error(detail)),
+                    Ok(replies) => replies,
+                    Err(detail) => return vec![self.error(detail)],
                 }
             }
-            _ => return Some(self.error(error::UNSUPPORTED_PROTOCOL)),
+            _ => return vec![self.error(error::UNSUPPORTED_PROTOCOL)],
         };
-        reply.map(|r| self.frame(TYPE_COE, &r))
+        replies.iter().map(|r| self.frame(TYPE_COE, r)).collect()
     }
 
     fn frame(&mut self, kind: u8, data: &[u8]) -> Vec<u8> {

@@ -12,7 +12,8 @@
 //! - [`sii`]: the EEPROM interface over `odc_sii::write`'s image; [`dc`]: distributed
 //!   clocks as far as a master's set-up reads and writes them;
 //! - [`al`]: the AL state machine and the checks of the sync managers;
-//! - [`mailbox`] and [`coe`]: the mailbox on SM0/SM1 and the CoE SDO server;
+//! - [`mailbox`] and [`coe`]: the mailbox on SM0/SM1 and the CoE SDO server; [`info`] the
+//!   SDO Information service;
 //! - [`pdo`]: process data through the FMMUs into and out of the dictionary;
 //! - [`SubDevice`] joins them (with a CiA 402 drive when the device is one) and [`Chain`]
 //!   runs a frame through several in a line.
@@ -20,7 +21,9 @@
 //! Simplifications, each visible to a master only in timing: an ESC answers at once (the
 //! SII is never busy, a mailbox reply is ready when the request is written), FMMUs are byte
 //! granular, process data sync managers have one buffer, and a DC clock takes the
-//! reference's time at the first comparison instead of through a control loop.
+//! reference's time at the first comparison instead of through a control loop. Not
+//! emulated: the mailbox repeat request (SM activate bit 1), the watchdogs' expiry, SYNC
+//! pulses and latches, EoE/FoE/SoE (answered with the mailbox error "unsupported protocol").
 
 pub mod al;
 mod chain;
@@ -29,6 +32,7 @@ pub mod dc;
 mod device;
 pub mod esc;
 pub mod frame;
+pub mod info;
 pub mod mailbox;
 pub mod pdo;
 pub mod registers;

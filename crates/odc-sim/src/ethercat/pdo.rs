@@ -47,17 +47,18 @@ fn read_le(od: &ModelDictionary, index: u16, sub: u8) -> Option<u32> {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Refused;
 
-/// The layout sync manager `sm` has by the dictionary's current assignment; an empty one
-/// when the device has no assignment object for it.
+/// The layout sync manager `sm` has by the dictionary's current assignment; `None` when the
+/// device has no assignment object for it (then its ESI's PDOs of that SM are fixed:
+/// [`fixed_layout`]).
 ///
 /// # Errors
 ///
 /// An assigned PDO or mapped entry the dictionary does not have (the device refuses the
 /// configuration).
-pub fn layout(od: &ModelDictionary, sm: u8) -> Result<Layout, Refused> {
+pub fn layout(od: &ModelDictionary, sm: u8) -> Result<Option<Layout>, Refused> {
     let assign = 0x1C10 + u16::from(sm);
     let mut out = Layout::default();
-    let Some(count) = read_u8(od, assign, 0) else { return Ok(out) };
+    let Some(count) = read_u8(od, assign, 0) else { return Ok(None) };
     for i in 1..=count {
         let pdo = read_le(od, assign, i).ok_or(Refused)? as u16;
         let entries = read_u8(od, pdo, 0).ok_or(Refused)?;
@@ -78,7 +79,23 @@ pub fn layout(od: &ModelDictionary, sm: u8) -> Result<Layout, Refused> {
             out.bits += bits;
         }
     }
-    Ok(out)
+    Ok(Some(out))
+}
+
+/// The layout of sync manager `sm` as the ESI assigns PDOs to it (`RxPdo@Sm`, `TxPdo@Sm`, in
+/// file order): what a device without CoE serves, and what its SII's PDO categories tell
+/// the master.
+pub fn fixed_layout(device: &odc_model::Device, sm: u8) -> Layout {
+    let mut out = Layout::default();
+    for pdo in device.pdos.iter().filter(|p| p.sync_manager == Some(sm)) {
+        for e in &pdo.entries {
+            let bits = usize::from(e.bits);
+            let index = if e.is_gap() { 0 } else { e.index };
+            out.entries.push(Mapped { index, sub: e.sub, bit: out.bits, bits });
+            out.bits += bits;
+        }
+    }
+    out
 }
 
 /// Whether `index` is a PDO mapping (0x1600–0x17FF, 0x1A00–0x1BFF) or assignment
