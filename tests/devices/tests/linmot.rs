@@ -77,12 +77,14 @@ fn bench() -> Bench<LinMot> {
 }
 
 /// A write as the templates send it: command 23h, 4 bytes (the scheme's `write-size`).
+#[allow(clippy::expect_used)] // a test helper: a refused write is the test failing
 fn write<T: ObjValue>(b: &mut Bench<LinMot>, entry: &Entry<T>, value: T) {
     b.client.write_widened(&mut b.wire, entry, value, upid::WRITE_SIZE).expect("accepted");
 }
 
 /// The device's answer to a read of `entry`: 42h (expedited, size not indicated), the 4
 /// data bytes from its dictionary, built with odc's frame codec.
+#[allow(clippy::expect_used)] // a test helper: an unreadable object is the test failing
 fn answer<T: ObjValue>(b: &Bench<LinMot>, entry: &Entry<T>) -> CanFrame {
     let mut data = [0u8; 4];
     let mut buf = [0u8; 4];
