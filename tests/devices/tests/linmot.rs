@@ -59,9 +59,11 @@ impl ObjectDictionary for LinMot {
                     let negative = low.last().is_some_and(|b| b & 0x80 != 0);
                     let extends = rest.iter().all(|&b| b == 0)
                         || (negative && rest.iter().all(|&b| b == 0xFF));
+                    if !extends {
+                        break;
+                    }
                     match self.od.write(index, sub, low) {
                         Err(SdoAbort::TooLong) => continue,
-                        _ if !extends => return Err(SdoAbort::TooLong),
                         r => return r,
                     }
                 }
@@ -161,6 +163,14 @@ fn upid_write_16_bit() {
         &b.requests(),
         &[printed("601 / 23 A4 3C 01 34 12 00 00"), printed("601 / 23 A4 3C 06 34 12 00 00")],
     );
+    // A signed UPID (1CA6h, SInt16) is sign-extended; the manual prints no such value, the
+    // device takes the low bytes.
+    write(&mut b, &upid::U1CA6_RAM, -2);
+    assert_eq!(b.requests()[2].data, [0x23, 0xA6, 0x3C, 0x01, 0xFE, 0xFF, 0xFF, 0xFF]);
+    assert_eq!(b.wire.od.od.get(upid::U1CA6_RAM), Ok(-2));
+    // A value that does not fit the UPID's 16 bits is refused.
+    let e = b.client.download(&mut b.wire, 0x3CA4, 0x01, &[0x34, 0x12, 0x01, 0x00]);
+    assert_eq!(e.err().and_then(|e| e.abort()), Some(SdoAbort::TooLong));
     // CiA 301's own form of this write (2Bh, 2 bytes) is what the manual does not print.
     let mut plain = bench();
     plain.write(&upid::U1CA4_RAM, 0x1234);
