@@ -17,7 +17,9 @@
 //! - The node guarding and heartbeat tables of 10.1.1 and 10.2.1 print the state bytes (in
 //!   binary, the toggle bit as "0/1"); odc's `node::Node` answers and sends them.
 //! - The EMCY code table of 10.3: odc's node gives each code's error register from its
-//!   class; 0x3100 with 0x01 and 0x8700 with 0x11 are the device's own and not compared.
+//!   class; 0x3100 with 0x01 and 0x8700 with 0x11 are the device's own and not compared. The
+//!   EMCY example is raised by odc's node, bytes 5–8 the Lenze error number the device holds
+//!   in C00168 (byte 4 "reserved").
 //! - The two bit-packed configuration values of chapter 10 are rebuilt as well: the node
 //!   guarding entry 0x050203E8 (C13386: life time factor 5, node 2, guard time 1000 ms) and
 //!   the heartbeat consumer entry 0x0001000F (C13385: node 1, 15 ms). The heartbeat example

@@ -13,10 +13,10 @@
 //!   42h (expedited, size not indicated): odc's server indicates the size (43h), so the
 //!   answers are built with odc's frame codec from the value in the generated dictionary.
 //!   Templates whose index is "2000h + CurveID" (or EntryNr, ErrCode) are sent at 2000h
-//!   (CurveID 0), where the file defines the command objects; several templates print `00h
-//!   20h` in the request and `CurveID 20h` in the answer of one command, so only that case
-//!   reads the same both ways. Not compared: the "Start getting UPID List" template's `yy yy`
-//!   (printed "2000h + UPID" where the object table gives 2000h sub 20h): its index is 2000h.
+//!   (CurveID 0), where the file defines the command objects; several commands print `00h
+//!   20h` in the request and `CurveID 20h` in the answer, and CurveID 0 is the one reading
+//!   under which both agree. The "Start getting UPID List" template prints its `yy yy` as
+//!   "2000h + UPID" where the object table gives 2000h sub 20h: it is sent at 2000h.
 //! - 7.1 homing and motion command (4 RxPDO frames): the generated `process` structs; the
 //!   command's parameter bytes are the fields of the overlay's `RxPdo1GoToPos16` and
 //!   `RxPdo2GoToPos16`, with the manual's values.
