@@ -3,7 +3,7 @@
 //! and the odc runtime. Codes are addressed through the generated Lenze scheme
 //! (`lenze::C00061`, …), so the examples also check the code → index rule.
 //!
-//! Count: 56 printed, 54 reproduced (tests/devices/README.md).
+//! Count: 85 printed, 83 reproduced (tests/devices/README.md).
 //!
 //! What is compared, and what is not:
 //! - The partial frames of 9.2.2 (bytes 2–4), 9.2.3 and 9.2.4 (bytes 5–8) are compared in
@@ -140,6 +140,49 @@ fn error_response_bytes() {
     let mut b = bench(5);
     let e = b.client.write(&mut b.wire, &lenze::C00061, 1).expect_err("read-only");
     assert_eq!(e.abort(), Some(SdoAbort::WriteOfReadOnly));
+}
+
+/// 9.2.4, "Error codes": the 29 codes of the table, each the abort odc's server sends for that
+/// cause, in bytes 5–8 of an error response ("reversed to the read direction").
+#[test]
+fn abort_codes() {
+    use SdoAbort::*;
+    let table: [(u32, SdoAbort); 29] = [
+        (0x0503_0000, ToggleBit),
+        (0x0504_0000, Timeout),
+        (0x0504_0001, InvalidCommand),
+        (0x0504_0002, InvalidBlockSize),
+        (0x0504_0003, InvalidSequence),
+        (0x0504_0004, CrcError),
+        (0x0504_0005, OutOfMemory),
+        (0x0601_0000, UnsupportedAccess),
+        (0x0601_0001, ReadOfWriteOnly),
+        (0x0601_0002, WriteOfReadOnly),
+        (0x0602_0000, NoSuchObject),
+        (0x0604_0041, NotMappable),
+        (0x0604_0042, PdoLengthExceeded),
+        (0x0604_0043, ParameterIncompatible),
+        (0x0604_0047, InternalIncompatible),
+        (0x0606_0000, HardwareError),
+        (0x0607_0010, LengthMismatch),
+        (0x0607_0012, TooLong),
+        (0x0607_0013, TooShort),
+        (0x0609_0011, NoSuchSub),
+        (0x0609_0030, InvalidValue),
+        (0x0609_0031, ValueTooHigh),
+        (0x0609_0032, ValueTooLow),
+        (0x0609_0036, MaxLessThanMin),
+        (0x0800_0000, General),
+        (0x0800_0020, DataTransfer),
+        (0x0800_0021, LocalControl),
+        (0x0800_0022, DeviceState),
+        (0x0800_0023, NoObjectDictionary),
+    ];
+    for (code, abort) in table {
+        assert_eq!(SdoAbort::from_u32(code), abort, "{code:#010X}");
+        let frame = Response::Abort(lenze::C00011.addr, abort).encode();
+        assert_eq!(frame[4..8], code.to_le_bytes(), "{abort:?}");
+    }
 }
 
 /// 9.3.1: read the heatsink temperature C00061 (INTEGER32, factor 1) of node 5: 43 °C.
