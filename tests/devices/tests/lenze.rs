@@ -3,7 +3,7 @@
 //! and the odc runtime. Codes are addressed through the generated Lenze scheme
 //! (`lenze::C00061`, …), so the examples also check the code → index rule.
 //!
-//! Count: 56 printed, 54 reproduced (tests/devices/README.md).
+//! Count: 85 printed, 83 reproduced (tests/devices/README.md).
 //!
 //! What is compared, and what is not:
 //! - The partial frames of 9.2.2 (bytes 2–4), 9.2.3 and 9.2.4 (bytes 5–8) are compared in
@@ -17,7 +17,9 @@
 //! - The node guarding and heartbeat tables of 10.1.1 and 10.2.1 print the state bytes (in
 //!   binary, the toggle bit as "0/1"); odc's `node::Node` answers and sends them.
 //! - The EMCY code table of 10.3: odc's node gives each code's error register from its
-//!   class; 0x3100 with 0x01 and 0x8700 with 0x11 are the device's own and not compared.
+//!   class; 0x3100 with 0x01 and 0x8700 with 0x11 are the device's own and not compared. The
+//!   EMCY example is raised by odc's node, bytes 5–8 the Lenze error number the device holds
+//!   in C00168 (byte 4 "reserved").
 //! - The two bit-packed configuration values of chapter 10 are rebuilt as well: the node
 //!   guarding entry 0x050203E8 (C13386: life time factor 5, node 2, guard time 1000 ms) and
 //!   the heartbeat consumer entry 0x0001000F (C13385: node 1, 15 ms). The heartbeat example
@@ -138,6 +140,49 @@ fn error_response_bytes() {
     let mut b = bench(5);
     let e = b.client.write(&mut b.wire, &lenze::C00061, 1).expect_err("read-only");
     assert_eq!(e.abort(), Some(SdoAbort::WriteOfReadOnly));
+}
+
+/// 9.2.4, "Error codes": the 29 codes of the table, each the abort odc's server sends for that
+/// cause, in bytes 5–8 of an error response ("reversed to the read direction").
+#[test]
+fn abort_codes() {
+    use SdoAbort::*;
+    let table: [(u32, SdoAbort); 29] = [
+        (0x0503_0000, ToggleBit),
+        (0x0504_0000, Timeout),
+        (0x0504_0001, InvalidCommand),
+        (0x0504_0002, InvalidBlockSize),
+        (0x0504_0003, InvalidSequence),
+        (0x0504_0004, CrcError),
+        (0x0504_0005, OutOfMemory),
+        (0x0601_0000, UnsupportedAccess),
+        (0x0601_0001, ReadOfWriteOnly),
+        (0x0601_0002, WriteOfReadOnly),
+        (0x0602_0000, NoSuchObject),
+        (0x0604_0041, NotMappable),
+        (0x0604_0042, PdoLengthExceeded),
+        (0x0604_0043, ParameterIncompatible),
+        (0x0604_0047, InternalIncompatible),
+        (0x0606_0000, HardwareError),
+        (0x0607_0010, LengthMismatch),
+        (0x0607_0012, TooLong),
+        (0x0607_0013, TooShort),
+        (0x0609_0011, NoSuchSub),
+        (0x0609_0030, InvalidValue),
+        (0x0609_0031, ValueTooHigh),
+        (0x0609_0032, ValueTooLow),
+        (0x0609_0036, MaxLessThanMin),
+        (0x0800_0000, General),
+        (0x0800_0020, DataTransfer),
+        (0x0800_0021, LocalControl),
+        (0x0800_0022, DeviceState),
+        (0x0800_0023, NoObjectDictionary),
+    ];
+    for (code, abort) in table {
+        assert_eq!(SdoAbort::from_u32(code), abort, "{code:#010X}");
+        let frame = Response::Abort(lenze::C00011.addr, abort).encode();
+        assert_eq!(frame[4..8], code.to_le_bytes(), "{abort:?}");
+    }
 }
 
 /// 9.3.1: read the heatsink temperature C00061 (INTEGER32, factor 1) of node 5: 43 °C.

@@ -13,10 +13,10 @@
 //!   42h (expedited, size not indicated): odc's server indicates the size (43h), so the
 //!   answers are built with odc's frame codec from the value in the generated dictionary.
 //!   Templates whose index is "2000h + CurveID" (or EntryNr, ErrCode) are sent at 2000h
-//!   (CurveID 0), where the file defines the command objects; several templates print `00h
-//!   20h` in the request and `CurveID 20h` in the answer of one command, so only that case
-//!   reads the same both ways. Not compared: the "Start getting UPID List" template's `yy yy`
-//!   (printed "2000h + UPID" where the object table gives 2000h sub 20h): its index is 2000h.
+//!   (CurveID 0), where the file defines the command objects; several commands print `00h
+//!   20h` in the request and `CurveID 20h` in the answer, and CurveID 0 is the one reading
+//!   under which both agree. The "Start getting UPID List" template prints its `yy yy` as
+//!   "2000h + UPID" where the object table gives 2000h sub 20h: it is sent at 2000h.
 //! - 7.1 homing and motion command (4 RxPDO frames): the generated `process` structs; the
 //!   command's parameter bytes are the fields of the overlay's `RxPdo1GoToPos16` and
 //!   `RxPdo2GoToPos16`, with the manual's values.
@@ -59,9 +59,11 @@ impl ObjectDictionary for LinMot {
                     let negative = low.last().is_some_and(|b| b & 0x80 != 0);
                     let extends = rest.iter().all(|&b| b == 0)
                         || (negative && rest.iter().all(|&b| b == 0xFF));
+                    if !extends {
+                        break;
+                    }
                     match self.od.write(index, sub, low) {
                         Err(SdoAbort::TooLong) => continue,
-                        _ if !extends => return Err(SdoAbort::TooLong),
                         r => return r,
                     }
                 }
@@ -77,12 +79,14 @@ fn bench() -> Bench<LinMot> {
 }
 
 /// A write as the templates send it: command 23h, 4 bytes (the scheme's `write-size`).
+#[allow(clippy::expect_used)] // a test helper: a refused write is the test failing
 fn write<T: ObjValue>(b: &mut Bench<LinMot>, entry: &Entry<T>, value: T) {
     b.client.write_widened(&mut b.wire, entry, value, upid::WRITE_SIZE).expect("accepted");
 }
 
 /// The device's answer to a read of `entry`: 42h (expedited, size not indicated), the 4
 /// data bytes from its dictionary, built with odc's frame codec.
+#[allow(clippy::expect_used)] // a test helper: an unreadable object is the test failing
 fn answer<T: ObjValue>(b: &Bench<LinMot>, entry: &Entry<T>) -> CanFrame {
     let mut data = [0u8; 4];
     let mut buf = [0u8; 4];
@@ -159,6 +163,14 @@ fn upid_write_16_bit() {
         &b.requests(),
         &[printed("601 / 23 A4 3C 01 34 12 00 00"), printed("601 / 23 A4 3C 06 34 12 00 00")],
     );
+    // A signed UPID (1CA6h, SInt16) is sign-extended; the manual prints no such value, the
+    // device takes the low bytes.
+    write(&mut b, &upid::U1CA6_RAM, -2);
+    assert_eq!(b.requests()[2].data, [0x23, 0xA6, 0x3C, 0x01, 0xFE, 0xFF, 0xFF, 0xFF]);
+    assert_eq!(b.wire.od.od.get(upid::U1CA6_RAM), Ok(-2));
+    // A value that does not fit the UPID's 16 bits is refused.
+    let e = b.client.download(&mut b.wire, 0x3CA4, 0x01, &[0x34, 0x12, 0x01, 0x00]);
+    assert_eq!(e.err().and_then(|e| e.abort()), Some(SdoAbort::TooLong));
     // CiA 301's own form of this write (2Bh, 2 bytes) is what the manual does not print.
     let mut plain = bench();
     plain.write(&upid::U1CA4_RAM, 0x1234);

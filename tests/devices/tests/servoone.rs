@@ -267,3 +267,87 @@ fn event_mask_example() {
         &[printed("601 / 23 D7 27 01 FF FF 00 00"), printed("601 / 23 D7 27 02 00 00 00 00")],
     );
 }
+
+/// The ESI's sync manager parameter objects, which ETG.6010 asks of a CiA 402 drive
+/// synchronised by DC (the manual names none): the ETG.1020 sub-items and their types.
+#[test]
+fn esi_sync_manager_parameters() {
+    use odc::Entry;
+    use odc::ObjectAddr;
+    use odc_tests_devices::servoone_ecat::od::{sm_input_parameter, sm_output_parameter};
+    // ETG.1020's types: UINT sync type (1), UDINT cycle and shift time (2, 3), UINT supported
+    // types (4), UDINT minimum cycle, calc-and-copy and delay time (5, 6, 9), UINT counters
+    // (11, 12), BOOL sync error (32); the annotation makes the compiler check the descriptors'.
+    type Sm = (
+        u16,
+        Entry<u16>,
+        Entry<u32>,
+        Entry<u32>,
+        Entry<u16>,
+        Entry<u32>,
+        Entry<u32>,
+        Entry<u32>,
+        Entry<u16>,
+        Entry<u16>,
+        Entry<bool>,
+    );
+    let addr = |index, sub| ObjectAddr::new(index, sub);
+    let objects: [Sm; 2] = [
+        (
+            0x1C32,
+            sm_output_parameter::SYNCHRONIZATION_TYPE,
+            sm_output_parameter::CYCLE_TIME,
+            sm_output_parameter::SHIFT_TIME,
+            sm_output_parameter::SYNCHRONIZATION_TYPES_SUPPORTED,
+            sm_output_parameter::MINIMUM_CYCLE_TIME,
+            sm_output_parameter::CALC_AND_COPY_TIME,
+            sm_output_parameter::DELAY_TIME,
+            sm_output_parameter::SM_EVENT_MISSED,
+            sm_output_parameter::CYCLE_TIME_TOO_SMALL,
+            sm_output_parameter::SYNC_ERROR,
+        ),
+        (
+            0x1C33,
+            sm_input_parameter::SYNCHRONIZATION_TYPE,
+            sm_input_parameter::CYCLE_TIME,
+            sm_input_parameter::SHIFT_TIME,
+            sm_input_parameter::SYNCHRONIZATION_TYPES_SUPPORTED,
+            sm_input_parameter::MINIMUM_CYCLE_TIME,
+            sm_input_parameter::CALC_AND_COPY_TIME,
+            sm_input_parameter::DELAY_TIME,
+            sm_input_parameter::SM_EVENT_MISSED,
+            sm_input_parameter::CYCLE_TIME_TOO_SMALL,
+            sm_input_parameter::SYNC_ERROR,
+        ),
+    ];
+    for (
+        index,
+        sync_type,
+        cycle,
+        shift,
+        supported,
+        minimum,
+        calc_copy,
+        delay,
+        missed,
+        small,
+        error,
+    ) in objects
+    {
+        let subs = [
+            sync_type.addr,
+            cycle.addr,
+            shift.addr,
+            supported.addr,
+            minimum.addr,
+            calc_copy.addr,
+            delay.addr,
+            missed.addr,
+            small.addr,
+            error.addr,
+        ];
+        let want = [1, 2, 3, 4, 5, 6, 9, 11, 12, 32].map(|s| addr(index, s));
+        assert_eq!(subs, want);
+    }
+    assert_eq!(sm_output_parameter::NUMBER_OF_ENTRIES.default.and_then(|d| d.resolve(1)), Some(32));
+}
