@@ -5,6 +5,7 @@
 
 fn main() {
     soem();
+    find_corpus();
     println!("cargo::rustc-check-cfg=cfg(odc_cli_no_python)");
     println!("cargo:rerun-if-env-changed=ODC_INTEROP_PYTHON");
     println!("cargo:rerun-if-env-changed=ODC_INTEROP_REQUIRED");
@@ -46,5 +47,22 @@ fn soem() {
         && std::env::var_os("ODC_NET_REQUIRED").is_some();
     if !(required || pysoem && root && ip) {
         println!("cargo:rustc-cfg=odc_cli_no_soem");
+    }
+}
+
+/// `cfg(odc_cli_no_corpus)` without the real-world corpus (`ODC_CORPUS`, default
+/// `../shared/corpus` beside the repository); its path reaches the tests as `ODC_CLI_CORPUS`.
+fn find_corpus() {
+    println!("cargo::rustc-check-cfg=cfg(odc_cli_no_corpus)");
+    println!("cargo:rerun-if-env-changed=ODC_CORPUS");
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let corpus = std::env::var_os("ODC_CORPUS")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|| root.join("../shared/corpus"));
+    if corpus.join("MANIFEST.tsv").is_file() {
+        println!("cargo:rustc-env=ODC_CLI_CORPUS={}", corpus.display());
+    } else {
+        println!("cargo:rustc-cfg=odc_cli_no_corpus");
+        println!("cargo:rustc-env=ODC_CLI_CORPUS=");
     }
 }

@@ -30,12 +30,13 @@ struct Wire {
 }
 
 impl Wire {
-    fn new() -> Wire {
+    /// `tag` tells apart the wires of tests that run at once.
+    fn new(tag: char) -> Wire {
         let id = std::process::id() % 100_000;
         let wire = Wire {
-            netns: format!("odcsoem{id}"),
-            devices: format!("odcs{id}d"),
-            master: format!("odcs{id}m"),
+            netns: format!("odcsoem{tag}{id}"),
+            devices: format!("odc{tag}{id}d"),
+            master: format!("odc{tag}{id}m"),
         };
         ip(&["netns", "add", &wire.netns]);
         ip(&["link", "add", &wire.devices, "type", "veth", "peer", "name", &wire.master]);
@@ -92,17 +93,16 @@ fn map(assign: u16, pdo: u16, entries: &[(u16, u8, u8)]) -> Vec<Value> {
     w
 }
 
-#[test]
-#[cfg_attr(
-    odc_cli_no_soem,
-    ignore = "needs pysoem (ODC_INTEROP_PYTHON), root and iproute2 for a veth pair in a network namespace (ODC_NET_REQUIRED)"
-)]
-fn soem_finds_maps_and_runs_the_servoone() {
+/// Runs `odc simulate SPECS... --interface` and soem_master.py with `devices` (the plan of
+/// each device, in line order) on the other end; returns SOEM's report and what odc
+/// simulate printed.
+fn soem(tag: char, specs: &[String], devices: Value) -> (Value, String) {
     let python = PathBuf::from(std::env::var_os("ODC_INTEROP_PYTHON").unwrap_or("python3".into()));
-    let wire = Wire::new();
-    let esi = repo("esi/servoone.xml");
+    let wire = Wire::new(tag);
     let mut sim = realtime(env!("CARGO_BIN_EXE_odc"))
-        .args(["simulate", esi.to_str().unwrap(), "--interface", &wire.devices])
+        .arg("simulate")
+        .args(specs)
+        .args(["--interface", &wire.devices])
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -110,24 +110,8 @@ fn soem_finds_maps_and_runs_the_servoone() {
         .unwrap();
     let mut first = String::new();
     BufReader::new(sim.stdout.take().unwrap()).read_line(&mut first).unwrap();
-    assert_eq!(first.trim(), format!("serving 1 devices on {}", wire.devices));
-
-    // The ServoOne assigns no PDO (manual 8.3): SOEM's configuration callback maps cyclic
-    // synchronous position, controlword + target position out, statusword + position in.
-    let mut writes = map(0x1C12, 0x1600, &[(0x6040, 0, 16), (0x607A, 0, 32)]);
-    writes.extend(map(0x1C13, 0x1A00, &[(0x6041, 0, 16), (0x6064, 0, 32)]));
-    let plan = json!({
-        "iface": wire.master,
-        "cycles": 1000,
-        "devices": [{
-            "preop_writes": writes,
-            "reads": [[0x1000, 0], [0x1018, 1], [0x6502, 0]],
-            "writes": [[0x6060, 0, "08"], [0x607A, 0, hex(&1000i32.to_le_bytes())]],
-            "aborts": [[0x1234, 0, null], [0x1000, 0, "00000000"], [0x1018, 9, null]],
-            // Controlword 0x0006, shutdown; target position 1000.
-            "outputs": hex(&[0x06, 0x00, 0xE8, 0x03, 0x00, 0x00]),
-        }],
-    });
+    assert_eq!(first.trim(), format!("serving {} devices on {}", specs.len(), wire.devices));
+    let plan = json!({ "iface": wire.master, "cycles": 1000, "devices": devices });
     let mut master = Command::new("ip")
         .args(["netns", "exec", &wire.netns])
         .arg(&python)
@@ -151,7 +135,7 @@ fn soem_finds_maps_and_runs_the_servoone() {
     let out = master.wait_with_output().unwrap();
     drop(sim.stdin.take());
     let sim_out = sim.wait_with_output().unwrap();
-    let sim_err = String::from_utf8_lossy(&sim_out.stderr);
+    let sim_err = String::from_utf8_lossy(&sim_out.stderr).into_owned();
     let stdout = String::from_utf8_lossy(&out.stdout);
     let report: Value =
         stdout.lines().last().and_then(|l| serde_json::from_str(l).ok()).unwrap_or_else(|| {
@@ -159,8 +143,28 @@ fn soem_finds_maps_and_runs_the_servoone() {
         });
     println!("SOEM: {report}\nodc simulate: {sim_err}");
     assert_eq!(report["errors"], json!([]), "{report}");
-    assert_eq!(report["found"], 1);
-    let dev = &report["devices"][0];
+    assert!(sim_err.contains("frames"), "{sim_err}");
+    (report, sim_err)
+}
+
+/// The ServoOne's plan: it assigns no PDO (manual 8.3), so SOEM's configuration callback maps
+/// cyclic synchronous position, controlword + target position out, statusword + position in;
+/// then reads, writes read back, three accesses that must abort, and "shutdown" out.
+fn servoone_plan() -> Value {
+    let mut writes = map(0x1C12, 0x1600, &[(0x6040, 0, 16), (0x607A, 0, 32)]);
+    writes.extend(map(0x1C13, 0x1A00, &[(0x6041, 0, 16), (0x6064, 0, 32)]));
+    json!({
+        "preop_writes": writes,
+        "reads": [[0x1000, 0], [0x1018, 1], [0x6502, 0]],
+        "writes": [[0x6060, 0, "08"], [0x607A, 0, hex(&1000i32.to_le_bytes())]],
+        "aborts": [[0x1234, 0, null], [0x1000, 0, "00000000"], [0x1018, 9, null]],
+        // Controlword 0x0006, shutdown; target position 1000.
+        "outputs": hex(&[0x06, 0x00, 0xE8, 0x03, 0x00, 0x00]),
+    })
+}
+
+/// What SOEM must have found of the ServoOne (`dev`, its part of the report).
+fn check_servoone(dev: &Value) {
     // The ESI's identity (esi/servoone.xml: vendor, product and revision 0, as the manual
     // gives none) and name, read by SOEM from the SII.
     assert_eq!(
@@ -170,8 +174,6 @@ fn soem_finds_maps_and_runs_the_servoone() {
     assert_eq!(dev["name"], "ServoOne");
     // config_map: 6 bytes each way (INTEGER16/UNSIGNED16 + INTEGER32, CiA 402).
     assert_eq!((&dev["outputs_len"], &dev["inputs_len"]), (&json!(6), &json!(6)));
-    assert_eq!(report["io_map_size"], 12);
-    assert_eq!((&report["safe_op"], &report["op"]), (&json!(true), &json!(true)));
     // 0x1000 = 0x00020192 (the ESI's default), 0x1018:1 = 0, 0x6502 supported modes.
     let reads = &dev["reads"];
     assert_eq!(reads[0], json!([0x1000, 0, "92010200"]));
@@ -187,19 +189,123 @@ fn soem_finds_maps_and_runs_the_servoone() {
             [0x1018, 9, 0x0609_0011u32]
         ])
     );
-    // 1,000 cycles whose frame came back, each with the working counter SOEM expects (LRW:
-    // 3 for one device with outputs and inputs); frames that did not come back within 20 ms
-    // (a loaded machine) are repeated and reported.
-    assert_eq!(report["expected_wkc"], 3);
-    assert_eq!(report["cycles_with_expected_wkc"], 1000);
-    assert_eq!(report["cycles_with_other_wkc"], json!([]));
-    println!("frames lost: {}", report["frames_lost"]);
     // After "shutdown" the drive is "ready to switch on": statusword xxxx xxxx x01x 0001
-    // (CiA 402 Table 30), and the position input is there.
+    // (CiA 402 Table 30).
     let inputs = hex_bytes(dev["inputs"].as_str().unwrap());
     let statusword = u16::from_le_bytes([inputs[0], inputs[1]]);
     assert_eq!(statusword & 0x6F, 0x21, "statusword {statusword:#06x}");
-    assert!(sim_err.contains("frames"), "{sim_err}");
+}
+
+/// 1,000 cycles whose frame came back, each with the working counter SOEM expects; frames
+/// that did not come back within 20 ms (a loaded machine) are repeated and reported.
+fn check_cycles(report: &Value, expected_wkc: u32) {
+    assert_eq!((&report["safe_op"], &report["op"]), (&json!(true), &json!(true)));
+    assert_eq!(report["expected_wkc"], expected_wkc);
+    assert_eq!(report["cycles_with_expected_wkc"], 1000);
+    assert_eq!(report["cycles_with_other_wkc"], json!([]));
+    println!("frames lost: {}", report["frames_lost"]);
+}
+
+#[test]
+#[cfg_attr(
+    odc_cli_no_soem,
+    ignore = "needs pysoem (ODC_INTEROP_PYTHON), root and iproute2 for a veth pair in a network namespace (ODC_NET_REQUIRED)"
+)]
+fn soem_finds_maps_and_runs_the_servoone() {
+    let esi = repo("esi/servoone.xml").to_str().unwrap().to_owned();
+    let (report, _) = soem('a', &[esi], json!([servoone_plan()]));
+    assert_eq!(report["found"], 1);
+    check_servoone(&report["devices"][0]);
+    assert_eq!(report["io_map_size"], 12);
+    // LRW: 3 for one device with outputs and inputs.
+    check_cycles(&report, 3);
+}
+
+/// A device of the corpus and the process image odc computes for it from its ESI
+/// (`odc_codegen::image`, the sizes of the generated `pdi` structs): (device, outputs, inputs).
+fn corpus_device(file: &str, select: Option<&str>) -> (String, odc_model::Device, usize, usize) {
+    use odc_codegen::image::{default_assignment, image};
+    let path = Path::new(env!("ODC_CLI_CORPUS")).join("esi").join(file);
+    let mut options = odc_pipeline::Options::new();
+    if let Some(s) = select {
+        options = options.select(odc_pipeline::Select::Spec(s.into()));
+    }
+    let device = odc_pipeline::load(&path, &options).unwrap().device().unwrap().clone();
+    let assignment = default_assignment(&device);
+    let outputs = image(&device, &assignment, odc_model::Direction::Rx).unwrap().len();
+    let inputs = image(&device, &assignment, odc_model::Direction::Tx).unwrap().len();
+    let spec = match select {
+        Some(s) => format!("{}@{s}", path.display()),
+        None => path.display().to_string(),
+    };
+    (spec, device, outputs, inputs)
+}
+
+/// The ESI's identity as SOEM reports it.
+fn identity(device: &odc_model::Device) -> Value {
+    let ecat = device.ethercat.as_deref().unwrap();
+    json!([ecat.vendor_id.unwrap_or(0), ecat.product_code.unwrap_or(0), ecat.revision.unwrap_or(0)])
+}
+
+#[test]
+#[cfg_attr(
+    odc_cli_no_soem,
+    ignore = "needs pysoem (ODC_INTEROP_PYTHON), root and iproute2 for a veth pair in a network namespace (ODC_NET_REQUIRED)"
+)]
+#[cfg_attr(odc_cli_no_corpus, ignore = "needs the real-world corpus (ODC_CORPUS)")]
+fn soem_runs_a_line_of_three() {
+    use odc_codegen::image::default_assignment;
+    // The ServoOne; a Beckhoff EL2008 (8 digital outputs, fixed PDOs, no mailbox: SOEM maps
+    // it from the SII's PDO categories); an Ingenia CiA 402 drive, whose ESI assigns PDOs but
+    // whose dictionary starts with 0x1C12/0x1C13 empty, so SOEM's callback writes the ESI's
+    // assignment as a configuration tool does.
+    let (el2008, terminal, t_out, t_in) =
+        corpus_device("beckhoff__Beckhoff_EL2xxx.xml", Some("EL2008"));
+    let (ingenia, drive, d_out, d_in) = corpus_device("ingenia__ecat402-drive.xml", None);
+    let mut assign = Vec::new();
+    for (sm, pdos) in default_assignment(&drive) {
+        let object = 0x1C10 + u16::from(sm);
+        assign.push(json!([object, 0, "00"]));
+        for (k, pdo) in pdos.iter().enumerate() {
+            assign.push(json!([object, k + 1, hex(&pdo.to_le_bytes())]));
+        }
+        assign.push(json!([object, 0, hex(&[pdos.len() as u8])]));
+    }
+    let esi = repo("esi/servoone.xml").to_str().unwrap().to_owned();
+    let plan = json!([
+        servoone_plan(),
+        { "outputs": "a5" },
+        { "preop_writes": assign, "reads": [[0x1000, 0], [0x1C00, 0], [0x1C00, 3], [0x1C00, 4]] },
+    ]);
+    let (report, sim_err) = soem('b', &[esi, el2008, ingenia], plan);
+    assert_eq!(report["found"], 3);
+    let devs = &report["devices"];
+    check_servoone(&devs[0]);
+    for (dev, model, outputs, inputs) in
+        [(&devs[1], &terminal, t_out, t_in), (&devs[2], &drive, d_out, d_in)]
+    {
+        let found = json!([dev["vendor"], dev["product"], dev["revision"]]);
+        assert_eq!(found, identity(model), "{dev}");
+        // config_map's sizes against odc's process image of the ESI.
+        assert_eq!(
+            (&dev["outputs_len"], &dev["inputs_len"]),
+            (&json!(outputs), &json!(inputs)),
+            "{dev}"
+        );
+    }
+    // As ethercrab computes them (crates/odc-sim/tests/ethercat_ethercrab.rs): 1/0 and 11/11.
+    assert_eq!((t_out, t_in, d_out, d_in), (1, 0, 11, 11));
+    assert_eq!(report["io_map_size"], 12 + 1 + 22);
+    // 0x1000 of the Ingenia reads as an UNSIGNED32 whose low word is the profile, 402.
+    let device_type = hex_bytes(devs[2]["reads"][0][2].as_str().unwrap());
+    assert_eq!(device_type[..2], [0x92, 0x01], "{}", devs[2]);
+    // 0x1C00, which its ESI's dictionary leaves out and SOEM reads: 4 sync managers, SM2
+    // outputs (3), SM3 inputs (4), from the ESI's `Sm` elements.
+    let reads = &devs[2]["reads"];
+    assert_eq!([&reads[1][2], &reads[2][2], &reads[3][2]], ["04", "03", "04"], "{}", devs[2]);
+    // LRW: 2 for each of 3 devices with outputs, 1 for each of 2 with inputs.
+    check_cycles(&report, 8);
+    assert!(sim_err.contains("device 3:"), "{sim_err}");
 }
 
 fn hex_bytes(s: &str) -> Vec<u8> {

@@ -46,6 +46,35 @@ fn kind(usage: &SmUsage) -> u8 {
     }
 }
 
+/// The device with 0x1C00, the sync managers' communication types (ETG.1000.6: 1 mailbox
+/// out, 2 mailbox in, 3 outputs, 4 inputs, 0 unused), built from the ESI's `Sm` elements when
+/// a CoE device's dictionary leaves it out. The firmware of such a device has it, and masters
+/// read it: SOEM's `config_map` asks for 0x1C00 before it reads a CoE device's PDO assignment.
+/// `None` when there is nothing to add.
+fn sm_types(device: &Device, sms: &[odc_model::ethercat::SyncManager]) -> Option<Device> {
+    use odc_model::{Access, DataType, Object, ObjectKind, Span, Spanned, SubObject, Value};
+    let coe = device
+        .ethercat
+        .as_deref()
+        .is_some_and(|e| e.mailbox.as_ref().is_some_and(|m| m.coe.is_some()));
+    if !coe || sms.is_empty() || device.objects.contains_key(&0x1C00) {
+        return None;
+    }
+    let mut object = Object::new(0x1C00, "Sync manager type", ObjectKind::Array, Span::DUMMY);
+    let count = u8::try_from(sms.len()).unwrap_or(u8::MAX);
+    let mut s0 = SubObject::new(0, "SubIndex 000", DataType::Unsigned8, Access::Ro);
+    s0.default = Some(Spanned::synthetic(Value::Unsigned(u64::from(count))));
+    object.subs.insert(0, s0);
+    for (n, sm) in (1..=count).zip(sms) {
+        let mut s = SubObject::new(n, format!("SubIndex {n:03}"), DataType::Unsigned8, Access::Ro);
+        s.default = Some(Spanned::synthetic(Value::Unsigned(u64::from(kind(&sm.usage)))));
+        object.subs.insert(n, s);
+    }
+    let mut device = device.clone();
+    device.objects.insert(0x1C00, object);
+    Some(device)
+}
+
 impl SubDevice {
     /// The device of an ESI `device`: its EEPROM holds `odc_sii::write`'s image, its
     /// dictionary is the [`ModelDictionary`] of the device.
@@ -68,7 +97,8 @@ impl SubDevice {
                 control: sm.control_byte.as_ref().map_or(0, |c| c.value),
             })
             .collect();
-        let od = ModelDictionary::new(device, 0);
+        let with_types = sm_types(device, &ecat.sync_managers);
+        let od = ModelDictionary::new(with_types.as_ref().unwrap_or(device), 0);
         let fixed = ecat
             .sync_managers
             .iter()
