@@ -3,9 +3,11 @@
 //! `canopen` and `can` (and without `ODC_INTEROP_REQUIRED`), the test is compiled with
 //! `cfg(odc_cli_no_python)`, which marks it ignored with the reason.
 
+include!("../../build-support/probes.rs");
+
 fn main() {
     soem();
-    find_corpus();
+    find_corpus("odc_cli");
     println!("cargo::rustc-check-cfg=cfg(odc_cli_no_python)");
     println!("cargo:rerun-if-env-changed=ODC_INTEROP_PYTHON");
     println!("cargo:rerun-if-env-changed=ODC_INTEROP_REQUIRED");
@@ -38,31 +40,9 @@ fn soem() {
         cmd.stdout(Stdio::null()).stderr(Stdio::null()).status().is_ok_and(|s| s.success())
     };
     let pysoem = runs(Command::new(&py).args(["-c", "import pysoem"]));
-    let root = Command::new("id")
-        .arg("-u")
-        .output()
-        .is_ok_and(|o| String::from_utf8_lossy(&o.stdout).trim() == "0");
-    let ip = runs(Command::new("ip").arg("-V"));
     let required = std::env::var_os("ODC_INTEROP_REQUIRED").is_some()
         && std::env::var_os("ODC_NET_REQUIRED").is_some();
-    if !(required || pysoem && root && ip) {
+    if !(required || pysoem && can_make_netdevs()) {
         println!("cargo:rustc-cfg=odc_cli_no_soem");
-    }
-}
-
-/// `cfg(odc_cli_no_corpus)` without the real-world corpus (`ODC_CORPUS`, default
-/// `../shared/corpus` beside the repository); its path reaches the tests as `ODC_CLI_CORPUS`.
-fn find_corpus() {
-    println!("cargo::rustc-check-cfg=cfg(odc_cli_no_corpus)");
-    println!("cargo:rerun-if-env-changed=ODC_CORPUS");
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let corpus = std::env::var_os("ODC_CORPUS")
-        .map(std::path::PathBuf::from)
-        .unwrap_or_else(|| root.join("../shared/corpus"));
-    if corpus.join("MANIFEST.tsv").is_file() {
-        println!("cargo:rustc-env=ODC_CLI_CORPUS={}", corpus.display());
-    } else {
-        println!("cargo:rustc-cfg=odc_cli_no_corpus");
-        println!("cargo:rustc-env=ODC_CLI_CORPUS=");
     }
 }

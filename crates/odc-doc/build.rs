@@ -6,8 +6,10 @@
 
 use std::process::{Command, Stdio};
 
+include!("../../build-support/probes.rs");
+
 fn main() {
-    find_corpus();
+    find_corpus("odc_doc");
     println!("cargo::rustc-check-cfg=cfg(odc_doc_no_browser)");
     println!("cargo:rerun-if-env-changed=ODC_CHROMIUM");
     println!("cargo:rerun-if-env-changed=ODC_BROWSER_REQUIRED");
@@ -31,22 +33,5 @@ fn main() {
             println!("cargo:rustc-env=ODC_DOC_CHROMIUM=chromium");
         }
         None => println!("cargo:rustc-cfg=odc_doc_no_browser"),
-    }
-}
-
-/// Sets `cfg(odc_doc_no_corpus)` when the real-world corpus (`ODC_CORPUS`, default
-/// `../shared/corpus` beside the repository) is absent; passes its path otherwise.
-fn find_corpus() {
-    println!("cargo::rustc-check-cfg=cfg(odc_doc_no_corpus)");
-    println!("cargo:rerun-if-env-changed=ODC_CORPUS");
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let corpus = std::env::var_os("ODC_CORPUS")
-        .map(std::path::PathBuf::from)
-        .unwrap_or_else(|| root.join("../shared/corpus"));
-    if corpus.join("MANIFEST.tsv").is_file() {
-        println!("cargo:rustc-env=ODC_DOC_CORPUS={}", corpus.display());
-    } else {
-        println!("cargo:rustc-cfg=odc_doc_no_corpus");
-        println!("cargo:rustc-env=ODC_DOC_CORPUS=");
     }
 }

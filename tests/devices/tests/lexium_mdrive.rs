@@ -291,15 +291,9 @@ fn node_guarding() {
 /// (1017h) 100 ms written by odc's master, started, for 250 ms.
 #[test]
 fn heartbeat() {
-    let mut m = node_bench::master(NODE, slave::Dictionary::new(NODE));
-    m.write(NODE, &od::PRODUCER_HEARTBEAT_TIME, 100).unwrap();
-    m.nmt(NmtCommand::Start, NODE).unwrap();
-    m.bus_mut().advance(250);
-    let id = u32::from(Function::Heartbeat.can_id(NodeId::new(NODE).unwrap()).unwrap());
-    assert_same(
-        &m.bus_mut().frames(id),
-        &[printed("741 / 00"), printed("741 / 05"), printed("741 / 05")],
-    );
+    let dictionary = slave::Dictionary::new(NODE);
+    let frames = node_bench::heartbeats(NODE, dictionary, &od::PRODUCER_HEARTBEAT_TIME, 100, 250);
+    assert_same(&frames, &[printed("741 / 00"), printed("741 / 05"), printed("741 / 05")]);
 }
 
 /// Figure 3.18: PDO mapping, node 41h: T_PDO3 (3C1h) and R_PDO3 (441h) mapped first with the

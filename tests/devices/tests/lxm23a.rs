@@ -489,15 +489,9 @@ fn node_guarding() {
 #[test]
 fn heartbeat() {
     let node = 4;
-    let mut m = node_bench::master(node, slave::Dictionary::new(node));
-    m.write(node, &od::PRODUCER_HEARTBEAT_TIME, 100).unwrap();
-    m.nmt(NmtCommand::Start, node).unwrap();
-    m.bus_mut().advance(250);
-    let id = u32::from(Function::Heartbeat.can_id(NodeId::new(node).unwrap()).unwrap());
-    assert_same(
-        &m.bus_mut().frames(id),
-        &[printed("704 / 00"), printed("704 / 05"), printed("704 / 05")],
-    );
+    let dictionary = slave::Dictionary::new(node);
+    let frames = node_bench::heartbeats(node, dictionary, &od::PRODUCER_HEARTBEAT_TIME, 100, 250);
+    assert_same(&frames, &[printed("704 / 00"), printed("704 / 05"), printed("704 / 05")]);
 }
 
 /// Figure 22: the entries of a PDO mapping object, 6041h 00h 10h (statusword, 16 bits) and

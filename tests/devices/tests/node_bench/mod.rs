@@ -111,3 +111,22 @@ impl<D: ObjectDictionary> Bus for NodeWire<D> {
 pub fn master<D: ObjectDictionary>(node_id: u8, od: D) -> Master<NodeWire<D>> {
     Master::new(NodeWire::new(node_id, od)).with_timeout(50)
 }
+
+/// The heartbeat frames of node `node_id` on `od`, boot-up first: its producer heartbeat time
+/// (`time`, 1017h) written to `period_ms` by odc's master, the node started, `ms` milliseconds
+/// on.
+pub fn heartbeats<D: ObjectDictionary>(
+    node_id: u8,
+    od: D,
+    time: &odc::Entry<u16>,
+    period_ms: u16,
+    ms: u64,
+) -> Vec<CanFrame> {
+    use odc::cob::{Function, NodeId};
+    let mut m = master(node_id, od);
+    m.write(node_id, time, period_ms).unwrap();
+    m.nmt(odc::nmt::NmtCommand::Start, node_id).unwrap();
+    m.bus_mut().advance(ms);
+    let id = Function::Heartbeat.can_id(NodeId::new(node_id).unwrap()).unwrap();
+    m.bus_mut().frames(u32::from(id))
+}

@@ -1,12 +1,8 @@
 //! `odc simulate FILE.xml... --interface IFACE`: ESI devices as EtherCAT SubDevices on a
 //! network interface, in a line in the order of the files.
 
-use std::io::{BufRead, Write};
 use std::path::Path;
 use std::process::ExitCode;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::time::Instant;
 
 use anyhow::{Context, bail};
 use odc_sim::ethercat::{Chain, SubDevice};
@@ -60,6 +56,9 @@ fn serve(iface: &str, _chain: Chain) -> anyhow::Result<ExitCode> {
 
 #[cfg(target_os = "linux")]
 fn serve(iface: &str, mut chain: Chain) -> anyhow::Result<ExitCode> {
+    use std::io::Write;
+    use std::sync::atomic::Ordering;
+    use std::time::Instant;
     let mut endpoint = odc_sim::EthernetEndpoint::open(iface)
         .with_context(|| format!("--interface {iface}: cannot open it for raw frames"))?;
     {
@@ -67,17 +66,7 @@ fn serve(iface: &str, mut chain: Chain) -> anyhow::Result<ExitCode> {
         writeln!(stdout, "serving {} devices on {iface}", chain.devices().len())?;
         stdout.flush()?;
     }
-    let stop = Arc::new(AtomicBool::new(false));
-    let stopper = Arc::clone(&stop);
-    // The end of standard input stops the devices (Ctrl-C ends the process as it is).
-    std::thread::spawn(move || {
-        for line in std::io::stdin().lock().lines() {
-            if line.is_err() {
-                break;
-            }
-        }
-        stopper.store(true, Ordering::Relaxed);
-    });
+    let stop = super::stop_at_end_of_stdin();
     let start = Instant::now();
     let clock = || u64::try_from(start.elapsed().as_nanos()).unwrap_or(u64::MAX);
     let served = endpoint

@@ -113,13 +113,23 @@ fn can(iface: &str, _device: &mut SimDevice) -> anyhow::Result<ExitCode> {
 /// process as it is).
 #[cfg(all(feature = "socketcan", target_os = "linux"))]
 fn can(iface: &str, device: &mut SimDevice) -> anyhow::Result<ExitCode> {
-    use std::sync::Arc;
-    use std::sync::atomic::{AtomicBool, Ordering};
+    use std::sync::atomic::Ordering;
     let mut bus = odc::transport::socketcan::SocketCan::open(iface)
         .with_context(|| format!("--can {iface}: cannot open the SocketCAN interface"))?;
     eprintln!("on {iface}");
-    let stop = Arc::new(AtomicBool::new(false));
-    let stopper = Arc::clone(&stop);
+    let stop = stop_at_end_of_stdin();
+    let tick_ms = u64::try_from(odc_sim::TICK.as_millis()).unwrap_or(10);
+    odc_sim::run_on_bus(&mut bus, device, tick_ms, || stop.load(Ordering::Relaxed))
+        .with_context(|| format!("--can {iface}"))?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// A flag that turns true at the end of standard input, from a thread that reads it (Ctrl-C
+/// ends the process as it is).
+fn stop_at_end_of_stdin() -> std::sync::Arc<std::sync::atomic::AtomicBool> {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let stop = std::sync::Arc::new(AtomicBool::new(false));
+    let stopper = std::sync::Arc::clone(&stop);
     std::thread::spawn(move || {
         for line in std::io::stdin().lock().lines() {
             if line.is_err() {
@@ -128,8 +138,5 @@ fn can(iface: &str, device: &mut SimDevice) -> anyhow::Result<ExitCode> {
         }
         stopper.store(true, Ordering::Relaxed);
     });
-    let tick_ms = u64::try_from(odc_sim::TICK.as_millis()).unwrap_or(10);
-    odc_sim::run_on_bus(&mut bus, device, tick_ms, || stop.load(Ordering::Relaxed))
-        .with_context(|| format!("--can {iface}"))?;
-    Ok(ExitCode::SUCCESS)
+    stop
 }
