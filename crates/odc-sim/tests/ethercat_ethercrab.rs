@@ -5,14 +5,11 @@
 //! image sizes) is compared with what the ESI says.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Mutex, OnceLock};
-use std::task::{Wake, Waker};
-use std::thread::{self, JoinHandle, Thread};
+use std::sync::OnceLock;
 use std::time::{Duration, Instant};
 
-use ethercrab::{MainDevice, MainDeviceConfig, PduRx, PduStorage, PduTx, Timeouts};
-use odc_sim::ethercat::{Chain, SubDevice};
+use ethercrab::{MainDevice, MainDeviceConfig, PduStorage, Timeouts};
+use odc_sim::ethercat::{Chain, EthercrabLink, SubDevice};
 
 const MAX_FRAMES: usize = 16;
 const MAX_PDU_DATA: usize = PduStorage::element_size(1100);
@@ -23,62 +20,6 @@ fn now() -> u64 {
     START.get_or_init(Instant::now).elapsed().as_nanos() as u64
 }
 
-struct Unpark(Thread);
-
-impl Wake for Unpark {
-    fn wake(self: Arc<Self>) {
-        self.0.unpark();
-    }
-}
-
-/// The in-process link: a thread that takes each frame ethercrab has to send, runs it
-/// through the chain and hands the answer to ethercrab's receiver.
-struct Link {
-    chain: Arc<Mutex<Chain>>,
-    stop: Arc<AtomicBool>,
-    thread: Option<JoinHandle<u64>>,
-}
-
-impl Link {
-    fn start(mut tx: PduTx<'static>, mut rx: PduRx<'static>, chain: Chain) -> Self {
-        let chain = Arc::new(Mutex::new(chain));
-        let stop = Arc::new(AtomicBool::new(false));
-        let (c, s) = (chain.clone(), stop.clone());
-        let thread = thread::spawn(move || {
-            let waker = Waker::from(Arc::new(Unpark(thread::current())));
-            let mut frames = 0u64;
-            while !s.load(Ordering::Relaxed) {
-                tx.replace_waker(&waker);
-                let mut any = false;
-                while let Some(frame) = tx.next_sendable_frame() {
-                    let mut buf = Vec::new();
-                    frame
-                        .send_blocking(|bytes| {
-                            buf.extend_from_slice(bytes);
-                            Ok(bytes.len())
-                        })
-                        .unwrap();
-                    c.lock().unwrap().process(&mut buf, now()).unwrap();
-                    rx.receive_frame(&buf).unwrap();
-                    frames += 1;
-                    any = true;
-                }
-                if !any {
-                    thread::park_timeout(Duration::from_millis(1));
-                }
-            }
-            frames
-        });
-        Self { chain, stop, thread: Some(thread) }
-    }
-
-    /// Stops the thread: the frames it carried.
-    fn stop(mut self) -> u64 {
-        self.stop.store(true, Ordering::Relaxed);
-        self.thread.take().map(|t| t.join().unwrap()).unwrap_or(0)
-    }
-}
-
 fn load(path: &str) -> odc_model::Device {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(path);
     let loaded = odc_pipeline::load(&path, &odc_pipeline::Options::new()).unwrap();
@@ -86,11 +27,11 @@ fn load(path: &str) -> odc_model::Device {
 }
 
 /// A master on its own PDU storage (each test has one: `try_split` works once per storage).
-fn master(chain: Chain) -> (MainDevice<'static>, Link) {
+fn master(chain: Chain) -> (MainDevice<'static>, EthercrabLink) {
     let storage: &'static PduStorage<MAX_FRAMES, MAX_PDU_DATA> =
         Box::leak(Box::new(PduStorage::new()));
     let (tx, rx, pdu_loop) = storage.try_split().unwrap();
-    let link = Link::start(tx, rx, chain);
+    let link = EthercrabLink::start(tx, rx, chain, now);
     let config = MainDeviceConfig { dc_static_sync_iterations: 100, ..Default::default() };
     // ethercrab's defaults (10 ms for the EEPROM, 30 ms a PDU) suit a device that answers in
     // microseconds; the simulated one answers from a thread that a loaded 2-core machine may
@@ -128,13 +69,14 @@ fn ethercrab_finds_the_servoone_and_reaches_pre_op() {
     let master_time = now();
     assert!(master_time.abs_diff(system_time) < 50_000_000, "{system_time} vs {master_time}");
     let (state, datagrams) = {
-        let chain = link.chain.lock().unwrap();
+        let chain = link.chain();
         (chain.devices()[0].al_state(), chain.datagrams())
     };
     assert_eq!(state, 2, "the simulated device is in PRE-OP");
-    let frames = link.stop();
-    eprintln!("servoone to PRE-OP: {frames} frames, {datagrams} datagrams");
-    assert!(frames > 10, "{frames} frames");
+    let carried = link.stop();
+    eprintln!("servoone to PRE-OP: {} frames, {datagrams} datagrams", carried.frames);
+    assert!(carried.frames > 10, "{carried:?}");
+    assert_eq!(carried.dropped, 0, "every frame ethercrab sent was an EtherCAT frame");
 }
 
 /// The master side odc generates from `esi/servoone.xml`: descriptors, start-up.
@@ -162,7 +104,7 @@ fn sdo_through_generated_descriptors_values_and_aborts() {
     // The firmware's name in 0x1008 (STRING(32), no default in the ESI): 31 characters, more
     // than an expedited transfer carries.
     let name = "ServoOne simulated from its ESI";
-    link.chain.lock().unwrap().devices_mut()[0]
+    link.chain().devices_mut()[0]
         .dictionary_mut()
         .set(0x1008, 0, odc::VisibleString::<32>::new(name).unwrap())
         .unwrap();
@@ -208,8 +150,8 @@ fn sdo_through_generated_descriptors_values_and_aborts() {
         let r = sd.sdo_read::<u16>(0x1C12, ethercrab::SubIndex::Complete).await;
         assert_eq!(abort(r), CoeAbortCode::UnsupportedAccess);
     });
-    let frames = link.stop();
-    eprintln!("servoone SDO test: {frames} frames");
+    let carried = link.stop();
+    eprintln!("servoone SDO test: {} frames", carried.frames);
 }
 
 /// An SM register block (ETG.1000.4 Table 58) as ethercrab writes a u64: start, length,
@@ -420,7 +362,7 @@ fn op_with_a_csp_ramp_for_a_thousand_cycles() {
     // The ramp: 10 increments a cycle while enabled, from 0, one cycle behind.
     assert_eq!(last_position, 10 * (cycles_enabled as i32 - 2));
     let (frames, datagrams) = {
-        let chain = link.chain.lock().unwrap();
+        let chain = link.chain();
         (chain.frames(), chain.datagrams())
     };
     link.stop();
@@ -610,7 +552,7 @@ fn a_chain_of_three_to_op() {
         (enabled, byte)
     });
     assert!(enabled.iter().all(|&n| n >= 1000), "{enabled:?}");
-    let chain = link.chain.lock().unwrap();
+    let chain = link.chain();
     // The terminal's eight outputs (0x7000:01, 0x7010:01, … BOOLEAN) hold the bits of the
     // last byte, channel 1 in bit 0 (the SII's PDO order).
     let terminal = chain.devices()[1].dictionary();
@@ -709,6 +651,6 @@ fn distributed_clocks_as_the_example_sets_them_up() {
     // SYNC0 active with the cyclic unit (0x0981 bits 0 and 1), period 1 ms in ns (0x09A0).
     assert_eq!(sync0, (0x03, 1_000_000));
     assert_eq!(cycles, 200);
-    assert_eq!(link.chain.lock().unwrap().devices()[0].al_state(), 8, "OP");
+    assert_eq!(link.chain().devices()[0].al_state(), 8, "OP");
     link.stop();
 }

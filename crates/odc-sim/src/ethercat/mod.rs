@@ -16,7 +16,8 @@
 //!   SDO Information service;
 //! - [`pdo`]: process data through the FMMUs into and out of the dictionary;
 //! - [`SubDevice`] joins them (with a CiA 402 drive when the device is one) and [`Chain`]
-//!   runs a frame through several in a line.
+//!   runs a frame through several in a line; [`EthercrabLink`] (feature `ethercrab`) wires
+//!   a chain to an ethercrab master in the same process.
 //!
 //! Simplifications, each visible to a master only in timing: an ESC answers at once (the
 //! SII is never busy, a mailbox reply is ready when the request is written), FMMUs are byte
@@ -33,6 +34,8 @@ mod device;
 pub mod esc;
 pub mod frame;
 pub mod info;
+#[cfg(feature = "ethercrab")]
+mod link;
 pub mod mailbox;
 pub mod pdo;
 pub mod registers;
@@ -40,3 +43,5 @@ pub mod sii;
 
 pub use chain::{Chain, HOP_NS};
 pub use device::SubDevice;
+#[cfg(feature = "ethercrab")]
+pub use link::{Carried, EthercrabLink};
