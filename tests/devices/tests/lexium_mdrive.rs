@@ -335,9 +335,7 @@ fn pdo_mapping() {
     m.send_pdo(rx, &target).unwrap();
     assert_eq!(m.bus_mut().od.get(od::TARGET_POSITION), Ok(0x0000_0A00));
 
-    let wire = m.bus_mut();
-    let pdos: Vec<_> =
-        wire.log.iter().filter(|f| f.id == tx & 0x7FF || f.id == rx & 0x7FF).copied().collect();
+    let pdos = m.bus_mut().frames_of(&[tx & 0x7FF, rx & 0x7FF]);
     assert_same(
         &pdos,
         &[

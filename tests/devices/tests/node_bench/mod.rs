@@ -80,7 +80,12 @@ impl<D: ObjectDictionary> NodeWire<D> {
 
     /// The logged frames with CAN-ID `id` (data and remote).
     pub fn frames(&self, id: u32) -> Vec<CanFrame> {
-        self.log.iter().filter(|f| f.id == id && !f.extended).copied().collect()
+        self.frames_of(&[id])
+    }
+
+    /// The logged frames with any of the CAN-IDs `ids`, in bus order.
+    pub fn frames_of(&self, ids: &[u32]) -> Vec<CanFrame> {
+        self.log.iter().filter(|f| ids.contains(&f.id) && !f.extended).copied().collect()
     }
 }
 
