@@ -137,8 +137,8 @@ fn odc_sdo_reads_and_writes_python_canopen_by_name() {
                 // Every writable (and readable) entry but the PDO parameters (a new mapping
                 // or COB-ID is the plans' business): a value of its type in its limits.
                 let limit = || match (&s.low_limit, &s.high_limit) {
-                    (Some(lo), _) => Some(odc_eds::value_text(&lo.value)),
-                    (None, Some(hi)) => Some(odc_eds::value_text(&hi.value)),
+                    (Some(lo), _) => Some(odc_analysis::value_text(&lo.value)),
+                    (None, Some(hi)) => Some(odc_analysis::value_text(&hi.value)),
                     _ => None,
                 };
                 let value = match s.data_type.class() {

@@ -222,9 +222,9 @@ fn soem_finds_maps_and_runs_the_servoone() {
 }
 
 /// A device of the corpus and the process image odc computes for it from its ESI
-/// (`odc_codegen::image`, the sizes of the generated `pdi` structs): (device, outputs, inputs).
+/// (`odc_analysis::image`, the sizes of the generated `pdi` structs): (device, outputs, inputs).
 fn corpus_device(file: &str, select: Option<&str>) -> (String, odc_model::Device, usize, usize) {
-    use odc_codegen::image::{default_assignment, image};
+    use odc_analysis::image::{default_assignment, image};
     let path = Path::new(env!("ODC_CLI_CORPUS")).join("esi").join(file);
     let mut options = odc_pipeline::Options::new();
     if let Some(s) = select {
@@ -254,7 +254,7 @@ fn identity(device: &odc_model::Device) -> Value {
 )]
 #[cfg_attr(odc_cli_no_corpus, ignore = "needs the real-world corpus (ODC_CORPUS)")]
 fn soem_runs_a_line_of_three() {
-    use odc_codegen::image::default_assignment;
+    use odc_analysis::image::default_assignment;
     // The ServoOne; a Beckhoff EL2008 (8 digital outputs, fixed PDOs, no mailbox: SOEM maps
     // it from the SII's PDO categories); an Ingenia CiA 402 drive, whose ESI assigns PDOs but
     // whose dictionary starts with 0x1C12/0x1C13 empty, so SOEM's callback writes the ESI's

@@ -1,6 +1,6 @@
 //! `cia402`: the modes of operation a CiA 402 drive supports.
 
-use odc_model::{Device, Value};
+use odc_analysis::cia402::{MODES, supported_mode_bits};
 
 use crate::types::RustTy;
 use proc_macro2::{Ident, Literal, Span, TokenStream};
@@ -8,81 +8,32 @@ use quote::quote;
 
 use crate::{Ctx, doc};
 
-/// Standard modes: bit of 0x6502, value of 0x6060, variant name, description.
-const MODES: &[(u32, i8, &str, &str)] = &[
-    (0, 1, "ProfilePosition", "Profile position mode (pp)."),
-    (1, 2, "Velocity", "Velocity mode (vl)."),
-    (2, 3, "ProfileVelocity", "Profile velocity mode (pv)."),
-    (3, 4, "ProfileTorque", "Profile torque mode (tq)."),
-    (5, 6, "Homing", "Homing mode (hm)."),
-    (6, 7, "InterpolatedPosition", "Interpolated position mode (ip)."),
-    (7, 8, "CyclicSyncPosition", "Cyclic synchronous position mode (csp)."),
-    (8, 9, "CyclicSyncVelocity", "Cyclic synchronous velocity mode (csv)."),
-    (9, 10, "CyclicSyncTorque", "Cyclic synchronous torque mode (cst)."),
-    (
-        10,
-        11,
-        "CyclicSyncTorqueWithCommutation",
-        "Cyclic synchronous torque mode with commutation angle (cstca).",
-    ),
-];
-
-/// Whether the device declares the CiA 402 profile.
-pub fn is_cia402(device: &Device) -> bool {
-    let device_type = device.sub(0x1000, 0).and_then(|s| s.initial_value()).map(|v| &v.value);
-    let by_type = matches!(device_type, Some(Value::Unsigned(v)) if v & 0xFFFF == 402);
-    let by_profile = device
-        .ethercat
-        .as_ref()
-        .is_some_and(|e| e.profiles.iter().any(|p| p.profile_no == Some(402)));
-    by_type || by_profile
-}
-
-/// The standard modes the device supports: (value of 0x6060, name, description), from the
-/// default of 0x6502 (every standard mode when it has none, as the generated `Mode` lists).
-pub fn supported_modes(device: &Device) -> Vec<(i8, &'static str, &'static str)> {
-    let supported = supported_bits(device);
-    MODES
-        .iter()
-        .filter(|(bit, ..)| supported.is_none_or(|s| s & (1 << bit) != 0))
-        .map(|&(_, v, name, text)| (v, name, text))
-        .collect()
-}
-
-/// The default of 0x6502, if it is a number.
-fn supported_bits(device: &Device) -> Option<u32> {
-    device.sub(0x6502, 0).and_then(|s| s.initial_value()).and_then(|v| match v.value {
-        Value::Unsigned(u) => u32::try_from(u).ok(),
-        _ => None,
-    })
-}
-
 /// The `cia402` module, or nothing.
 pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
     if !ctx.names.cia402 {
         return TokenStream::new();
     }
     let rt = &ctx.rt;
-    let supported = supported_bits(ctx.device);
+    let supported = supported_mode_bits(ctx.device);
     let modes: Vec<_> =
-        MODES.iter().filter(|(bit, ..)| supported.is_none_or(|s| s & (1 << bit) != 0)).collect();
+        MODES.iter().filter(|m| supported.is_none_or(|s| s & (1 << m.bit) != 0)).collect();
     let source = match supported {
         Some(s) => format!("the default of 0x6502 (supported drive modes) is `0x{s:08X}`"),
         None => "the device has no 0x6502 default, so every standard mode is listed".to_string(),
     };
-    let variants = modes.iter().map(|(_, v, name, text)| {
-        let name = Ident::new(name, Span::call_site());
-        let v = Literal::i8_unsuffixed(*v);
-        let text = format!(" {text}");
+    let variants = modes.iter().map(|m| {
+        let name = Ident::new(m.name, Span::call_site());
+        let v = Literal::i8_unsuffixed(m.value);
+        let text = format!(" {}", m.text);
         quote!(#[doc = #text] #name = #v,)
     });
-    let arms = modes.iter().map(|(_, v, name, _)| {
-        let name = Ident::new(name, Span::call_site());
-        let v = Literal::i8_unsuffixed(*v);
+    let arms = modes.iter().map(|m| {
+        let name = Ident::new(m.name, Span::call_site());
+        let v = Literal::i8_unsuffixed(m.value);
         quote!(#v => Some(Mode::#name),)
     });
-    let all = modes.iter().map(|(_, _, name, _)| {
-        let name = Ident::new(name, Span::call_site());
+    let all = modes.iter().map(|m| {
+        let name = Ident::new(m.name, Span::call_site());
         quote!(Mode::#name)
     });
     let n = Literal::usize_unsuffixed(modes.len());

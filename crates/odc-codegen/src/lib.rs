@@ -40,7 +40,6 @@
 //! few entries gets no warning.
 
 mod cia402;
-pub mod image;
 mod master;
 mod names;
 mod od;
@@ -53,41 +52,15 @@ mod standard;
 mod startup;
 mod types;
 
-pub use cia402::{is_cia402, supported_modes};
-use odc_model::{Device, Diagnostic, RuleInfo, Severity, SubObject};
+pub use odc_analysis::image;
+pub use odc_analysis::{RustTy, SlaveEntry, is_cia402, slave_entries, supported_modes};
+use odc_model::{Device, Diagnostic, RuleInfo, Severity};
 use proc_macro2::TokenStream;
 pub use process::{ProcessData, ProcessField};
 use quote::quote;
 pub use scheme::{
     Arg, Element, Overlay, Scheme, SchemeEntry, Selector, SelectorValue, scheme_entries,
 };
-pub use types::RustTy;
-
-/// One entry of the `slave` dictionary generated for a device: its address, its sub-object in
-/// the model and the value type it is stored as.
-#[derive(Clone, Copy, Debug)]
-pub struct SlaveEntry<'a> {
-    /// The object's index.
-    pub index: u16,
-    /// The sub-object (its sub-index, access, limits, default).
-    pub sub: &'a SubObject,
-    /// The value type; limits and defaults that are no value of it are not used.
-    pub ty: RustTy,
-}
-
-/// The entries of the `slave` dictionary [`generate`] makes for `device`, in address order:
-/// every typed sub-object of `od` (a VAR's sub-index 0, every typed sub-object of a record or
-/// array). A dictionary built at run time from the model (`odc-sim`) serves exactly these.
-pub fn slave_entries(device: &Device) -> Vec<SlaveEntry<'_>> {
-    let cia402 = cia402::is_cia402(device);
-    device
-        .objects
-        .iter()
-        .flat_map(|(&index, object)| {
-            od::typed_subs(object, cia402).map(move |(sub, ty)| SlaveEntry { index, sub, ty })
-        })
-        .collect()
-}
 
 /// Which side of the bus the code is for.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

@@ -2,13 +2,15 @@
 
 use std::collections::BTreeMap;
 
-use odc_model::{Access, Device, Object, SubObject, Value};
+use odc_model::{Access, Device, SubObject, Value};
 use proc_macro2::{Ident, Span, TokenStream};
 use quote::quote;
 
 use crate::names::{self, Namer};
 use crate::standard;
-use crate::types::{RustTy, index_literal, sub_literal};
+use odc_analysis::{typed_subs, value_text};
+
+use crate::types::{RustTy, RustTyTokens, index_literal, sub_literal};
 use crate::{Ctx, doc};
 
 /// The name of one typed sub-object in the generated code.
@@ -50,7 +52,7 @@ fn ident(s: &str) -> Ident {
 impl OdNames {
     /// Names the device's objects.
     pub fn new(device: &Device) -> Self {
-        let cia402 = crate::cia402::is_cia402(device);
+        let cia402 = odc_analysis::is_cia402(device);
         // Objects: VARs get a constant, records and arrays a module; two namespaces.
         let mut consts = Namer::new();
         let mut mods = Namer::new();
@@ -96,37 +98,6 @@ impl OdNames {
             }
         }
         OdNames { entries, modules, cia402 }
-    }
-}
-
-/// The sub-objects of an object that have a Rust type, in sub-index order; `cia402` as for
-/// [`RustTy::of_entry`].
-pub fn typed_subs(object: &Object, cia402: bool) -> impl Iterator<Item = (&SubObject, RustTy)> {
-    let var = !object.kind.has_subs();
-    object
-        .subs
-        .values()
-        .filter(move |s| !var || s.sub_index == 0)
-        .filter_map(move |s| RustTy::of_entry(s, object.index, var, cia402).map(|t| (s, t)))
-}
-
-/// A value as the doc comments show it.
-pub fn value_text(v: &Value) -> String {
-    match v {
-        Value::Bool(b) => b.to_string(),
-        Value::Unsigned(u) if *u >= 0x100 => format!("0x{u:X}"),
-        Value::Unsigned(u) => u.to_string(),
-        Value::Signed(i) => i.to_string(),
-        Value::Real32(b) => format!("{}", f32::from_bits(*b)),
-        Value::Real64(b) => format!("{}", f64::from_bits(*b)),
-        Value::Text(s) => format!("{s:?}"),
-        Value::Bytes(b) => b.iter().map(|x| format!("{x:02X}")).collect::<Vec<_>>().join(" "),
-        Value::Unicode(u) => String::from_utf16_lossy(u),
-        Value::Time { ms, days } => format!("{days} days {ms} ms"),
-        Value::NodeIdPlus(0) => "$NODEID".to_string(),
-        Value::NodeIdPlus(n) if *n >= 0x100 => format!("$NODEID + 0x{n:X}"),
-        Value::NodeIdPlus(n) => format!("$NODEID + {n}"),
-        Value::Invalid(s) => format!("{s:?} (invalid)"),
     }
 }
 

@@ -1,5 +1,5 @@
 //! `pdi`: the process data image of an EtherCAT device as the master maps it, one struct per
-//! direction (`Outputs`, `Inputs`), laid out by [`crate::image`].
+//! direction (`Outputs`, `Inputs`), laid out by [`odc_analysis::image`].
 //!
 //! Where `pdo` has one struct per PDO, a master sees the SubDevice's bytes as one block per
 //! direction (ethercrab's `inputs_raw()`/`outputs_raw()`): these structs unpack that block
@@ -11,11 +11,11 @@ use odc_model::{Direction, Pdo};
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::quote;
 
-use crate::image::{self, Image};
 use crate::names::Namer;
 use crate::pdo::{FieldName, field_name, field_type};
-use crate::types::{index_literal, sub_literal};
+use crate::types::{RustTyTokens, index_literal, sub_literal};
 use crate::{Ctx, doc};
+use odc_analysis::image::{self, Image};
 
 /// [`field_name`], without the object's name where the sub-object's repeats it (a dictionary
 /// synthesised from the PDOs names object and sub-object alike: `Output 1`, `Output 1`).

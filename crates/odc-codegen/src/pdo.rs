@@ -7,10 +7,10 @@ use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::quote;
 
 use crate::names::{self, Namer};
-use crate::od::value_text;
 use crate::standard;
-use crate::types::{RustTy, hex_literal, index_literal, int_literal, sub_literal};
+use crate::types::{RustTy, RustTyTokens, hex_literal, index_literal, int_literal, sub_literal};
 use crate::{Ctx, doc};
+use odc_analysis::value_text;
 
 /// The COB-ID's "PDO not valid" bit.
 pub const COB_INVALID: u64 = 0x8000_0000;
@@ -215,12 +215,12 @@ pub fn enabled_by_default(pdo: &Pdo) -> bool {
 pub type SmImages = BTreeMap<u8, (usize, Vec<usize>)>;
 
 /// Bit offset of each PDO in its sync manager's image, and each image, for the default
-/// assignment as [`crate::image`] lays it out (PDOs bit-packed, the sync manager rounded up
+/// assignment as [`odc_analysis::image`] lays it out (PDOs bit-packed, the sync manager rounded up
 /// to whole bytes): the `pdi` structs and these constants agree.
 pub fn sm_layout(device: &odc_model::Device) -> (Vec<Option<u32>>, SmImages) {
     let mut offsets = vec![None; device.pdos.len()];
     let mut sms = SmImages::new();
-    let Ok((outputs, inputs)) = crate::image::default_images(device) else {
+    let Ok((outputs, inputs)) = odc_analysis::image::default_images(device) else {
         return (offsets, sms);
     };
     for seg in outputs.segments.iter().chain(&inputs.segments) {

@@ -10,7 +10,7 @@
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
-use crate::types::RustTy;
+use crate::types::{RustTy, RustTyTokens};
 use crate::{Ctx, doc};
 
 /// `impl odc::cia402::DriveObjects for Dictionary` when the device is a CiA 402 drive whose

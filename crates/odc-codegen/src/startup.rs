@@ -11,9 +11,9 @@ use odc_model::ethercat::{EtherCat, InitCmd, SmUsage};
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
-use crate::image::{self, Assignment};
 use crate::types::{hex_literal, index_literal, sub_literal};
 use crate::{Ctx, doc};
+use odc_analysis::image::{self, Assignment};
 
 /// One SDO download as tokens; `data` is an expression of type `&[u8]` (a struct literal
 /// field, so that `&0x7000_0101u32.to_le_bytes()` lives as long as the constant).

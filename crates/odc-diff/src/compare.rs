@@ -60,7 +60,7 @@ fn value(v: Option<&Spanned<Value>>) -> String {
 
 /// A value in CiA 306 form, so that `0x0A` and `10` compare equal.
 fn plain(v: Option<&Value>) -> String {
-    v.map_or(String::new(), odc_eds::value_text)
+    v.map_or(String::new(), odc_analysis::value_text)
 }
 
 impl Diff {
@@ -367,7 +367,7 @@ impl Diff {
         let images = |d: &Device| {
             d.ethercat
                 .as_ref()
-                .and_then(|_| odc_codegen::image::default_images(d).ok())
+                .and_then(|_| odc_analysis::image::default_images(d).ok())
                 .map(|(o, i)| [image_text(d, &o), image_text(d, &i)])
                 .unwrap_or_default()
         };
@@ -427,7 +427,7 @@ fn describe_pdo(p: &Pdo) -> String {
     format!("{dir} \"{}\": {} ({bits} bits)", p.name, entries(p))
 }
 
-fn image_text(d: &Device, image: &odc_codegen::image::Image) -> String {
+fn image_text(d: &Device, image: &odc_analysis::image::Image) -> String {
     let mut parts = Vec::new();
     for seg in &image.segments {
         let pdos: Vec<String> = seg

@@ -60,7 +60,7 @@ fn hand_edits_are_found_and_nothing_else() {
     let expected = vec![
         changed(object(0x6040), "access", "rww", "rw"),
         changed(object(0x6040), "PDO mapping", "RPDO", "RPDO/TPDO"),
-        // Values in CiA 306 canonical form (odc_eds::value_text): unsigned as hex.
+        // Values in CiA 306 canonical form (odc_analysis::value_text): unsigned as hex.
         changed(object(0x6040), "default", "0x0", "0x6"),
         changed(object(0x6060), "name", "Modes of operation", "Operating mode"),
         changed(Place::Sub { index: 0x1A01, sub: 2 }, "default", "0x60640020", "0x606C0020"),

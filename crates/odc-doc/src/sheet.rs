@@ -1,7 +1,7 @@
 //! What a data sheet says, gathered once from the model: both renderers draw from a [`Sheet`],
 //! so the HTML page and the Markdown file cannot tell different stories.
 
-use odc_codegen::image::{Image, default_images};
+use odc_analysis::image::{Image, default_images};
 use odc_model::{
     Device, Diagnostic, Direction, Format, Object, Severity, Sources, SubObject, Value,
 };
@@ -17,7 +17,7 @@ pub struct Input<'a> {
     /// What `odc check` says about the device.
     pub diagnostics: &'a [Diagnostic],
     /// The vendor parameter schemes of the overlay.
-    pub schemes: &'a [odc_codegen::Scheme],
+    pub schemes: &'a [odc_analysis::Scheme],
 }
 
 /// A device's data sheet.
@@ -166,10 +166,10 @@ pub fn sheet(input: &Input<'_>) -> Sheet {
         file: input.file.to_owned(),
         identity: identity(dev),
         capabilities: capabilities(dev),
-        modes: if odc_codegen::is_cia402(dev) {
-            odc_codegen::supported_modes(dev)
+        modes: if odc_analysis::is_cia402(dev) {
+            odc_analysis::supported_modes(dev)
                 .into_iter()
-                .map(|(v, _, t)| (v, t.to_owned()))
+                .map(|m| (m.value, m.text.to_owned()))
                 .collect()
         } else {
             Vec::new()
@@ -290,7 +290,7 @@ fn capabilities(dev: &Device) -> Vec<(String, String)> {
 }
 
 fn value_text(v: Option<&odc_model::Spanned<Value>>) -> String {
-    v.map_or(String::new(), |v| odc_eds::value_text(&v.value))
+    v.map_or(String::new(), |v| odc_analysis::value_text(&v.value))
 }
 
 fn objects(dev: &Device) -> Vec<ObjectRow> {
@@ -455,7 +455,7 @@ fn image_diagram(dev: &Device, image: &Image, name: &str, anchor: &str) -> Diagr
     }
 }
 
-fn scheme(dev: &Device, s: &odc_codegen::Scheme) -> SchemeDoc {
+fn scheme(dev: &Device, s: &odc_analysis::Scheme) -> SchemeDoc {
     let args: Vec<String> = s.args.iter().map(|a| format!("{} in {}", a.name, a.range)).collect();
     let mut rule = format!("index = {} ({})", s.index, args.join(", "));
     if let Some(e) = &s.element {
@@ -466,7 +466,7 @@ fn scheme(dev: &Device, s: &odc_codegen::Scheme) -> SchemeDoc {
         };
         rule.push_str(&format!("; sub-index = {}{offset} ({} in {})", e.name, e.name, e.range));
     }
-    let (entries, error) = match odc_codegen::scheme_entries(dev, s) {
+    let (entries, error) = match odc_analysis::scheme_entries(dev, s) {
         Ok(list) => (
             list.into_iter()
                 .map(|e| {

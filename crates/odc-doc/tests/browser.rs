@@ -92,7 +92,7 @@ fn check_page(name: &str, loaded: &odc_pipeline::Loaded, device: &Device) -> (us
         .map(|p| (format!("svg-pdo-{:04X}", p.mapping_index), p.entries.len()))
         .collect();
     if device.ethercat.is_some()
-        && let Ok((outputs, inputs)) = odc_codegen::image::default_images(device)
+        && let Ok((outputs, inputs)) = odc_analysis::image::default_images(device)
     {
         for (image, id) in [(outputs, "svg-image-out"), (inputs, "svg-image-in")] {
             let n: usize = image.segments.iter().map(|s| s.entries.len()).sum();

@@ -298,12 +298,6 @@ pub fn read_value(text: &str, dt: odc_model::DataType) -> Result<odc_model::Valu
     }
 }
 
-/// A value in the canonical CiA 306 form the EDS writer writes (`0x1A`, `$NODEID+0x180`, hex
-/// bytes), for writers of formats that use CiA 306 value syntax (XDD).
-pub fn value_text(v: &odc_model::Value) -> String {
-    write::value_text(v)
-}
-
 /// Writes the model as EDS or DCF text (`Format::Esi` writes EDS). Deterministic.
 pub fn write(device: &odc_model::Device, format: odc_model::Format) -> String {
     write::write(device, format)

@@ -1,46 +1,14 @@
 //! The writer: model → EDS/DCF text with CiA 306 spellings and canonical values.
 
-use std::fmt::Write as _;
-
 use odc_model::subs::implied_name;
 use odc_model::{
     Access, Device, Direction, Format, Module, Object, Origin, PdoMapping, RawEntry, Spanned,
     SubObject, Value,
 };
 
-use crate::lower::{COMPACT_SUB0_NAME, is_compact_template_key};
+use odc_analysis::value_text;
 
-/// Writes a value in its canonical form.
-pub(crate) fn value_text(v: &Value) -> String {
-    match v {
-        Value::Bool(b) => u8::from(*b).to_string(),
-        Value::Unsigned(u) => format!("0x{u:X}"),
-        Value::Signed(i) => i.to_string(),
-        Value::Real32(bits) => {
-            let f = f32::from_bits(*bits);
-            if f.is_nan() { format!("0x{bits:08X}") } else { format!("{f}") }
-        }
-        Value::Real64(bits) => {
-            let f = f64::from_bits(*bits);
-            if f.is_nan() { format!("0x{bits:016X}") } else { format!("{f}") }
-        }
-        Value::Text(s) | Value::Invalid(s) => s.to_string(),
-        Value::Bytes(b) => {
-            let mut s = String::with_capacity(b.len() * 2);
-            for x in b {
-                let _ = write!(s, "{x:02X}");
-            }
-            s
-        }
-        Value::Unicode(u) => String::from_utf16_lossy(u),
-        Value::Time { ms, days } => format!("{days} {ms}"),
-        Value::NodeIdPlus(n) => match *n {
-            0 => "$NODEID".to_owned(),
-            n if n > 0 => format!("$NODEID+0x{n:X}"),
-            n => format!("$NODEID-0x{:X}", n.unsigned_abs()),
-        },
-    }
-}
+use crate::lower::{COMPACT_SUB0_NAME, is_compact_template_key};
 
 /// The access to write for a sub-object. An EDS says in which PDOs an object may be mapped
 /// through its access alone (CiA 306 §4.6.3: `ro`/`rwr` transmit, `wo`/`rww` receive, `rw`

@@ -6,7 +6,7 @@ use core::fmt;
 use odc::cia402::{Controlword, DriveObjects, ModeOfOperation, Statusword};
 use odc::slave::ObjectDictionary;
 use odc::{Access, DataType, ObjValue, ObjectAddr, SdoAbort};
-use odc_codegen::RustTy;
+use odc_analysis::RustTy;
 use odc_model::Device;
 
 use crate::value::{Slot, slot};
@@ -29,7 +29,7 @@ impl Row {
 /// `odc simulate` serves.
 ///
 /// Its entries are those of the generated `slave::Dictionary` of the same file
-/// ([`odc_codegen::slave_entries`]), and so are their semantics: the values stored in their
+/// ([`odc_analysis::slave_entries`]), and so are their semantics: the values stored in their
 /// SDO encoding, initial values from the default with `$NODEID` applied (else zero moved into
 /// the limits), SDO reads and writes with the same access, length and limit checks and the
 /// same abort codes. The crate's tests compare the two entry by entry for every CANopen file
@@ -67,7 +67,7 @@ impl ModelDictionary {
         let mut rows = Vec::new();
         let mut at = 0;
         let mut drive = (false, false);
-        for e in odc_codegen::slave_entries(device) {
+        for e in odc_analysis::slave_entries(device) {
             let slot = slot(e.sub, e.ty);
             let len = slot.len();
             match (e.index, e.ty) {

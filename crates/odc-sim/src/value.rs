@@ -5,7 +5,7 @@
 
 use odc::{DataType, DefaultValue, Entry, ObjValue, SdoAbort, ValueError};
 use odc::{I24, I40, I48, I56, TimeDifference, TimeOfDay, U24, U40, U48, U56};
-use odc_codegen::RustTy;
+use odc_analysis::RustTy;
 use odc_model::{SubObject, Value};
 
 /// What the read and write paths need of an entry's type.

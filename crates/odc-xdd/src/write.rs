@@ -65,7 +65,7 @@ fn esc(s: &str) -> String {
 }
 
 fn value(v: &Value) -> String {
-    esc(&odc_eds::value_text(v))
+    esc(&odc_analysis::value_text(v))
 }
 
 impl W<'_> {

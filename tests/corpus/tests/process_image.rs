@@ -1,16 +1,16 @@
-//! The default process image of every device of every corpus ESI file (`odc_codegen::image`):
+//! The default process image of every device of every corpus ESI file (`odc_analysis::image`):
 //! computed for each, its sync-manager lengths against the ESI's `Sm@DefaultSize`, and every
 //! entry's bit offset against an independent computation (`etg2000_offsets`, below).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use std::collections::BTreeMap;
 
-use odc_codegen::image::{self, Image};
+use odc_analysis::image::{self, Image};
 use odc_model::ethercat::SmUsage;
 use odc_model::{Device, Direction, Sources, Value};
 
 /// Bit offsets of the default process data, computed from ETG.2000 alone (not from
-/// `odc_codegen::image` nor `odc-layout`): a PDO's `Sm` attribute is the sync manager it is
+/// `odc_analysis::image` nor `odc-layout`): a PDO's `Sm` attribute is the sync manager it is
 /// assigned to by default (ETG.2000 `PdoType@Sm`); a master appends the
 /// sync managers of one direction in ascending number, and in each the PDOs in the order the
 /// ESI lists them and their entries one after another with their `BitLen` (padding entries,

@@ -1,7 +1,9 @@
 //! D501–D507: CiA 402 drives (CiA 402-2; over EtherCAT ETG.6010).
 //!
-//! A device is a CiA 402 drive when 0x1000 says device profile 402, or (ESI) when a `Profile`
-//! says `ProfileNo` 402, for the whole device or per channel (`ChannelCount`, `ChannelInfo`).
+//! Which devices are CiA 402 drives, and their axes, is [`odc_analysis::cia402`]'s rule (0x1000
+//! decides when it has a value; else an ESI `Profile` that says `ProfileNo` 402, for the whole
+//! device or per channel).
+//!
 //! A multi-axis device repeats the profile area every 0x800 indexes (axis n at
 //! 0x6000 + n·0x800); each axis is checked on its own.
 
@@ -11,77 +13,15 @@ use super::rule;
 use crate::Ctx;
 use crate::util::{as_u64, first_span, idx, initial_u64};
 
-/// The profile area repeats at most 8 times (0x6000–0x9FFF).
-const MAX_AXES: u16 = 8;
-
-/// What 0x1000 says: `Some(true)` when bits 0–15 are 402, `Some(false)` for another profile,
-/// `None` when the object or its value is absent.
-fn device_type_402(dev: &Device) -> Option<bool> {
-    initial_u64(dev, 0x1000, 0).map(|v| v & 0xFFFF == 402)
-}
-
-/// The axes (0-based) an ESI `Profile` list declares as CiA 402: channels are counted over
-/// the profiles in order; a profile covers `ChannelCount` channels (one when not given), or one
-/// per `ChannelInfo`, each with its own `ProfileNo`.
-fn esi_402_axes(dev: &Device) -> Vec<u16> {
-    let Some(ec) = dev.ethercat.as_deref() else { return Vec::new() };
-    let mut out = Vec::new();
-    let mut channel: u32 = 0;
-    for p in &ec.profiles {
-        if p.channel_profiles.is_empty() {
-            let n = p.channel_count.unwrap_or(1).max(1);
-            if p.profile_no == Some(402) {
-                out.extend(
-                    (channel..channel.saturating_add(n)).filter_map(|c| u16::try_from(c).ok()),
-                );
-            }
-            channel = channel.saturating_add(n);
-        } else {
-            for cp in &p.channel_profiles {
-                if *cp == Some(402)
-                    && let Ok(c) = u16::try_from(channel)
-                {
-                    out.push(c);
-                }
-                channel = channel.saturating_add(1);
-            }
-        }
-    }
-    out.retain(|&a| a < MAX_AXES);
-    out
-}
-
-/// The index offsets of the axes to check: n·0x800 for each axis the device declares as a
-/// CiA 402 one, plus every further axis whose controlword or statusword exists.
-///
-/// 0x1000 decides when it has a value: an ESI whose `Profile` says 402 while 0x1000 says
-/// another profile (Beckhoff's AX5805 safety card and Synapticon's multi-device file say 5001,
-/// modular devices whose axes come with their modules) is not a drive itself. The ESI profile
-/// decides when 0x1000 has no value, and gives the number of axes of a 402 device. Devices whose
-/// ESI has no dictionary (its objects are only the PDO entries) are not checked.
+/// The index offsets of the axes to check: the device's CiA 402 axes
+/// ([`odc_analysis::cia402::axes`]: the one rule the generator and the data sheet use too;
+/// 0x1000 decides when it has a value, the ESI profile when it has none). Devices whose ESI
+/// has no dictionary (its objects are only the PDO entries) are not checked.
 fn axes(dev: &Device) -> Vec<u16> {
     if dev.ethercat.as_deref().is_some_and(|e| e.dictionary_synthesised) {
         return Vec::new();
     }
-    let mut out: Vec<u16> = match device_type_402(dev) {
-        Some(false) => return Vec::new(),
-        Some(true) => vec![0],
-        None => Vec::new(),
-    };
-    out.extend(esi_402_axes(dev).into_iter().map(|a| a * 0x800));
-    if out.is_empty() {
-        return out;
-    }
-    for n in 1..MAX_AXES {
-        let base = n * 0x800;
-        if dev.objects.contains_key(&(0x6040 + base)) || dev.objects.contains_key(&(0x6041 + base))
-        {
-            out.push(base);
-        }
-    }
-    out.sort_unstable();
-    out.dedup();
-    out
+    odc_analysis::cia402::axes(dev)
 }
 
 /// Where and why the device counts as a 402 drive: the value of 0x1000 when it has one, else
@@ -117,7 +57,11 @@ fn why_402(dev: &Device) -> (Span, String) {
 }
 
 fn axis_text(base: u16) -> String {
-    if base == 0 { String::new() } else { format!(" (axis {})", base / 0x800 + 1) }
+    if base == 0 {
+        String::new()
+    } else {
+        format!(" (axis {})", base / odc_analysis::cia402::AXIS_OFFSET + 1)
+    }
 }
 
 /// The VAR-like value of an object (sub 0).

@@ -1,110 +1,30 @@
-//! The scheme's small languages: linear index expressions, ranges, and the `{arg:05}`
-//! name patterns.
+//! Tokens of the scheme's expressions and argument types.
 
-use super::*;
+use odc_analysis::scheme::Linear;
+use proc_macro2::{Ident, Span, TokenStream};
+use quote::quote;
 
-/// A linear expression: `constant + Σ coefficient·argument`.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub(crate) struct Linear {
-    pub(super) constant: i64,
-    pub(super) terms: Vec<(i64, String)>,
-}
+use crate::types::int_literal;
 
-impl Linear {
-    /// Parses `0x2000 + 0x100 * group + number`, `0x5FFF - code`, `element + 1`.
-    pub(crate) fn parse(text: &str) -> Result<Linear, String> {
-        let mut out = Linear { constant: 0, terms: Vec::new() };
-        let mut rest = text.trim();
-        if rest.is_empty() {
-            return Err("empty expression".into());
-        }
-        let mut sign = 1i64;
-        if let Some(r) = rest.strip_prefix('-') {
-            sign = -1;
-            rest = r.trim_start();
-        } else if let Some(r) = rest.strip_prefix('+') {
-            rest = r.trim_start();
-        }
-        loop {
-            let end = rest.find(['+', '-']).unwrap_or(rest.len());
-            let (term, tail) = rest.split_at(end);
-            out.add_term(sign, term.trim())?;
-            let Some(op) = tail.chars().next() else { break };
-            sign = if op == '-' { -1 } else { 1 };
-            rest = tail.get(1..).unwrap_or("").trim_start();
-        }
-        Ok(out)
-    }
-
-    pub(super) fn add_term(&mut self, sign: i64, term: &str) -> Result<(), String> {
-        if term.is_empty() {
-            return Err("a `+` or `-` without a term after it".into());
-        }
-        let factors: Vec<&str> = term.split('*').map(str::trim).collect();
-        let (mut coef, mut var) = (sign, None::<String>);
-        for f in factors {
-            if let Some(n) = number(f) {
-                coef = coef.checked_mul(n).ok_or_else(|| format!("`{term}` overflows"))?;
-            } else if is_ident(f) {
-                if var.is_some() {
-                    return Err(format!(
-                        "`{term}` multiplies two arguments; the rule must be linear"
-                    ));
-                }
-                var = Some(f.to_string());
-            } else {
-                return Err(format!("`{f}` is neither a number nor an argument name"));
+/// `0x2000 + 0x100 * (group as i64) + (number as i64)` as tokens, in `i64`.
+pub(super) fn linear_tokens(l: &Linear) -> TokenStream {
+    let c = signed_literal(l.constant);
+    let terms = l.terms.iter().map(|(coef, v)| {
+        let v = ident(v);
+        match *coef {
+            1 => quote!(+ (#v as i64)),
+            -1 => quote!(- (#v as i64)),
+            c if c < 0 => {
+                let m = signed_literal(c.saturating_neg());
+                quote!(- #m * (#v as i64))
+            }
+            c => {
+                let m = signed_literal(c);
+                quote!(+ #m * (#v as i64))
             }
         }
-        match var {
-            Some(v) => self.terms.push((coef, v)),
-            None => {
-                self.constant =
-                    self.constant.checked_add(coef).ok_or_else(|| format!("`{term}` overflows"))?;
-            }
-        }
-        Ok(())
-    }
-
-    /// The value for the given arguments (names missing from `args` count as zero).
-    pub(crate) fn eval(&self, args: &BTreeMap<&str, i64>) -> i64 {
-        self.terms.iter().fold(self.constant, |acc, (c, v)| {
-            acc.saturating_add(c.saturating_mul(args.get(v.as_str()).copied().unwrap_or(0)))
-        })
-    }
-
-    /// The smallest and largest value over the argument ranges.
-    pub(super) fn bounds(&self, ranges: &BTreeMap<&str, (i64, i64)>) -> (i64, i64) {
-        let (mut lo, mut hi) = (self.constant, self.constant);
-        for (c, v) in &self.terms {
-            let (a, b) = ranges.get(v.as_str()).copied().unwrap_or((0, 0));
-            let (x, y) = (c.saturating_mul(a), c.saturating_mul(b));
-            lo = lo.saturating_add(x.min(y));
-            hi = hi.saturating_add(x.max(y));
-        }
-        (lo, hi)
-    }
-
-    /// `0x2000 + 0x100 * (group as i64) + (number as i64)` as tokens, in `i64`.
-    pub(super) fn tokens(&self) -> TokenStream {
-        let c = signed_literal(self.constant);
-        let terms = self.terms.iter().map(|(coef, v)| {
-            let v = ident(v);
-            match *coef {
-                1 => quote!(+ (#v as i64)),
-                -1 => quote!(- (#v as i64)),
-                c if c < 0 => {
-                    let m = signed_literal(c.saturating_neg());
-                    quote!(- #m * (#v as i64))
-                }
-                c => {
-                    let m = signed_literal(c);
-                    quote!(+ #m * (#v as i64))
-                }
-            }
-        });
-        quote!(#c #(#terms)*)
-    }
+    });
+    quote!(#c #(#terms)*)
 }
 
 pub(super) fn signed_literal(v: i64) -> TokenStream {
@@ -117,40 +37,8 @@ pub(super) fn signed_literal(v: i64) -> TokenStream {
     }
 }
 
-pub(super) fn number(s: &str) -> Option<i64> {
-    let s = s.replace('_', "");
-    match s.strip_prefix("0x").or_else(|| s.strip_prefix("0X")) {
-        Some(hex) if !hex.is_empty() => i64::from_str_radix(hex, 16).ok(),
-        Some(_) => None,
-        None if s.starts_with(|c: char| c.is_ascii_digit()) => s.parse().ok(),
-        None => None,
-    }
-}
-
-pub(super) fn is_ident(s: &str) -> bool {
-    s.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_')
-        && s.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
-        && syn::parse_str::<Ident>(s).is_ok()
-}
-
 pub(super) fn ident(s: &str) -> Ident {
     Ident::new(s, Span::call_site())
-}
-
-/// `LOW..=HIGH` with non-negative bounds.
-pub(super) fn parse_range(text: &str) -> Result<(i64, i64), String> {
-    let (lo, hi) = text
-        .split_once("..=")
-        .ok_or_else(|| format!("range `{text}` is not of the form `LOW..=HIGH`"))?;
-    let lo = number(lo.trim()).ok_or_else(|| format!("`{lo}` in `{text}` is not a number"))?;
-    let hi = number(hi.trim()).ok_or_else(|| format!("`{hi}` in `{text}` is not a number"))?;
-    if lo > hi {
-        return Err(format!("range `{text}` is empty"));
-    }
-    if hi > i64::from(u32::MAX) {
-        return Err(format!("range `{text}` goes beyond u32"));
-    }
-    Ok((lo, hi))
 }
 
 /// The narrowest unsigned Rust type for values up to `hi`.
@@ -161,53 +49,5 @@ pub(super) fn arg_type(hi: i64) -> (TokenStream, i64) {
         (quote!(u16), i64::from(u16::MAX))
     } else {
         (quote!(u32), i64::from(u32::MAX))
-    }
-}
-
-/// A name pattern: text with `{arg}`, `{arg:05}` (zero-padded decimal), `{arg:04X}` or
-/// `{arg:x}` (hex) placeholders.
-pub(super) fn render(
-    pattern: &str,
-    values: &BTreeMap<&str, Placeholder>,
-) -> Result<String, String> {
-    let mut out = String::new();
-    let mut rest = pattern;
-    while let Some(open) = rest.find('{') {
-        out.push_str(rest.get(..open).unwrap_or(""));
-        let after = rest.get(open + 1..).unwrap_or("");
-        let close = after.find('}').ok_or_else(|| format!("`{pattern}`: unclosed `{{`"))?;
-        let spec = after.get(..close).unwrap_or("");
-        let (name, format) = spec.split_once(':').unwrap_or((spec, ""));
-        let value =
-            values.get(name.trim()).ok_or_else(|| format!("`{pattern}`: no argument `{name}`"))?;
-        match value {
-            Placeholder::Number(v) => out.push_str(&format_number(*v, format, pattern)?),
-            Placeholder::Text(t) => out.push_str(t),
-        }
-        rest = after.get(close + 1..).unwrap_or("");
-    }
-    out.push_str(rest);
-    Ok(out)
-}
-
-/// What a placeholder stands for: an argument's value or a selector's name.
-#[derive(Clone, Debug)]
-pub(super) enum Placeholder {
-    Number(i64),
-    Text(String),
-}
-
-pub(super) fn format_number(v: i64, format: &str, pattern: &str) -> Result<String, String> {
-    let bad = || format!("`{pattern}`: format `{format}` is not `05`, `04X`, `x` or empty");
-    let (width, kind) = match format.find(|c: char| !c.is_ascii_digit()) {
-        Some(p) => format.split_at(p),
-        None => (format, ""),
-    };
-    let width: usize = if width.is_empty() { 0 } else { width.parse().map_err(|_| bad())? };
-    match kind {
-        "" => Ok(format!("{v:0width$}")),
-        "X" => Ok(format!("{v:0width$X}")),
-        "x" => Ok(format!("{v:0width$x}")),
-        _ => Err(bad()),
     }
 }

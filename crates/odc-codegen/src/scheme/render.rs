@@ -1,5 +1,8 @@
 //! The generated module of a checked scheme.
 
+use std::collections::BTreeSet;
+
+use super::expr::{arg_type, ident, linear_tokens, signed_literal};
 use super::*;
 
 /// The modules of every scheme, or `G604` diagnostics.
@@ -15,7 +18,7 @@ pub(crate) fn generate(
             if !modules.insert(s.module.clone()) {
                 return Err(format!("two schemes generate module `{}`", s.module));
             }
-            let aliases = aliases(ctx, &c)?;
+            let aliases = aliases(ctx.device, &c)?;
             Ok(module(ctx, &c, &aliases))
         });
         match result {
@@ -71,7 +74,7 @@ pub(super) fn module(ctx: &Ctx<'_>, c: &Checked<'_>, aliases: &[Alias]) -> Token
             }
         },
     };
-    let expr = c.index.tokens();
+    let expr = linear_tokens(&c.index);
     let excluded: Vec<TokenStream> = c
         .exclude
         .iter()

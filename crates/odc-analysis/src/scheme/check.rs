@@ -4,21 +4,33 @@
 use super::*;
 
 /// A scheme checked and ready to generate.
-pub(super) struct Checked<'a> {
-    pub(super) scheme: &'a Scheme,
-    pub(super) index: Linear,
-    pub(super) exclude: Vec<(i64, i64)>,
-    pub(super) args: Vec<(String, (i64, i64))>,
-    pub(super) element: Option<(String, (i64, i64), i64, String)>,
+pub struct Checked<'a> {
+    /// The scheme.
+    pub scheme: &'a Scheme,
+    /// The index rule.
+    pub index: Linear,
+    /// The excluded index ranges, inclusive.
+    pub exclude: Vec<(i64, i64)>,
+    /// The arguments and their inclusive ranges, in declaration order.
+    pub args: Vec<(String, (i64, i64))>,
+    /// The element: its name, inclusive range, sub-index offset and function name.
+    pub element: Option<(String, (i64, i64), i64, String)>,
 }
 
-pub(super) const RESERVED_MODULES: &[&str] = &["od", "pdo", "cia402", "slave", "master"];
-pub(super) const RESERVED_ITEMS: &[&str] = &["index", "lookup", "ENTRIES", "WRITE_SIZE"];
+/// Module names a scheme cannot take: the generated modules.
+pub const RESERVED_MODULES: &[&str] = &["od", "pdo", "cia402", "slave", "master"];
+/// Item names a scheme function or alias cannot take: the generated module's own.
+pub const RESERVED_ITEMS: &[&str] = &["index", "lookup", "ENTRIES", "WRITE_SIZE"];
 /// Enumerating the arguments' ranges finds the parameters the device file defines; a rule
 /// with more combinations than this is refused rather than slowing every build down.
-pub(super) const MAX_COMBINATIONS: i64 = 1 << 22;
+const MAX_COMBINATIONS: i64 = 1 << 22;
 
-pub(super) fn check(s: &Scheme) -> Result<Checked<'_>, String> {
+/// Checks a scheme (G604): names, ranges, expressions.
+///
+/// # Errors
+///
+/// What is wrong, as one sentence.
+pub fn check(s: &Scheme) -> Result<Checked<'_>, String> {
     if !is_ident(&s.module) || RESERVED_MODULES.contains(&s.module.as_str()) {
         return Err(format!("module `{}` is not a free Rust identifier", s.module));
     }
@@ -117,18 +129,27 @@ pub(super) fn check(s: &Scheme) -> Result<Checked<'_>, String> {
 }
 
 /// A typed alias of a device entry reached by a scheme.
-pub(super) struct Alias {
-    pub(super) name: String,
-    pub(super) index: u16,
-    pub(super) sub: u8,
-    pub(super) what: String,
+pub struct Alias {
+    /// The name (the pattern filled in).
+    pub name: String,
+    /// Object index.
+    pub index: u16,
+    /// Sub-index.
+    pub sub: u8,
+    /// The object's name, and the sub-object's for an element.
+    pub what: String,
 }
 
 /// The aliases: every typed entry of the device whose index the rule produces, named by the
 /// patterns (objects by `const-name`, elements by the element pattern, selected sub-objects
 /// by the pattern with `{<selector arg>}` as the value's upper-case name).
-pub(super) fn aliases(ctx: &Ctx<'_>, c: &Checked<'_>) -> Result<Vec<Alias>, String> {
+///
+/// # Errors
+///
+/// A name pattern that does not render, or renders no upper-case identifier or one name twice.
+pub fn aliases(device: &Device, c: &Checked<'_>) -> Result<Vec<Alias>, String> {
     let s = c.scheme;
+    let cia402 = crate::cia402::is_cia402(device);
     let Some(pattern) = &s.const_name else { return Ok(Vec::new()) };
     // Which parameter each index belongs to: enumerate the (bounded) argument space, like an
     // odometer with the last argument turning fastest; the first parameter to reach an index
@@ -140,7 +161,7 @@ pub(super) fn aliases(ctx: &Ctx<'_>, c: &Checked<'_>) -> Result<Vec<Alias>, Stri
             c.args.iter().map(|(n, _)| n.as_str()).zip(current.iter().copied()).collect();
         let i = c.index.eval(&values);
         if let Ok(i) = u16::try_from(i)
-            && ctx.device.objects.contains_key(&i)
+            && device.objects.contains_key(&i)
             && !c.exclude.iter().any(|(lo, hi)| (*lo..=*hi).contains(&i64::from(i)))
         {
             by_index.entry(i).or_insert(values);
@@ -156,7 +177,7 @@ pub(super) fn aliases(ctx: &Ctx<'_>, c: &Checked<'_>) -> Result<Vec<Alias>, Stri
     }
     let mut out = Vec::new();
     for (&index, values) in &by_index {
-        let Some(object) = ctx.device.objects.get(&index) else { continue };
+        let Some(object) = device.objects.get(&index) else { continue };
         fn placeholders<'k>(
             values: &BTreeMap<&'k str, i64>,
             extra: Option<(&'k str, Placeholder)>,
@@ -168,7 +189,7 @@ pub(super) fn aliases(ctx: &Ctx<'_>, c: &Checked<'_>) -> Result<Vec<Alias>, Stri
             }
             m
         }
-        for (sub, _) in typed_subs(object, ctx.names.cia402) {
+        for (sub, _) in typed_subs(object, cia402) {
             let si = sub.sub_index;
             let name = if !object.kind.has_subs() {
                 render(pattern, &placeholders(values, None))?
