@@ -25,7 +25,7 @@
 //! A device file may have an overlay beside it ([`overlay_path`]: `<stem>.odc.toml`, else
 //! `odc.toml` in its directory), the same file `odc check` reads: its checker settings (the
 //! device's quirk allowances) apply unless [`Config::check_config`] was called, and its
-//! `[[scheme]]` tables (vendor parameter numbering, see [`odc_codegen::Scheme`]) become modules
+//! `[[scheme]]` tables (vendor parameter numbering, see `odc_analysis::scheme`) become modules
 //! of the generated code.
 // Bad input is a diagnostic, never a panic: no unwrap, expect or panic outside tests. A
 // proven invariant may opt out with an `#[allow]` and a comment saying why.
@@ -82,7 +82,7 @@ pub enum Error {
         /// What is wrong, with its position.
         message: String,
     },
-    /// The SII EEPROM image asked for ([`Config::sii_image`]) cannot be made.
+    /// The SII EEPROM image asked for (`Config::sii_image`, feature `sii`) cannot be made.
     #[error("{}: SII image: {message}", path.display())]
     Sii {
         /// The device file.
@@ -118,7 +118,9 @@ struct Input {
     path: PathBuf,
     module: Option<String>,
     device: usize,
+    #[cfg(feature = "sii")]
     sii: bool,
+    #[cfg(feature = "data-sheet")]
     sheet: bool,
 }
 
@@ -131,10 +133,10 @@ pub struct Generated {
     pub code: String,
     /// The device file.
     pub path: PathBuf,
-    /// The SII EEPROM image (ETG.2010), when asked for with [`Config::sii_image`].
+    /// The SII EEPROM image (ETG.2010), when asked for with `Config::sii_image` (feature `sii`).
     pub sii: Option<Vec<u8>>,
     /// The data sheet (`odc doc`): HTML page and Markdown, when asked for with
-    /// [`Config::data_sheet`].
+    /// `Config::data_sheet` (feature `data-sheet`).
     pub sheet: Option<(String, String)>,
 }
 
@@ -199,7 +201,9 @@ impl Config {
             path: path.as_ref().to_path_buf(),
             module: None,
             device: 0,
+            #[cfg(feature = "sii")]
             sii: false,
+            #[cfg(feature = "data-sheet")]
             sheet: false,
         });
         self
@@ -226,6 +230,8 @@ impl Config {
     /// Also writes the SII EEPROM image (ETG.2010, see `odc_sii`) of the ESI device added
     /// last, as `<module>.sii.bin` beside its code: firmware that emulates its EEPROM can
     /// `include_bytes!` it. A device that is not an ESI device is an [`Error::Sii`].
+    /// Feature `sii`.
+    #[cfg(feature = "sii")]
     pub fn sii_image(&mut self) -> &mut Self {
         if let Some(last) = self.inputs.last_mut() {
             last.sii = true;
@@ -236,7 +242,8 @@ impl Config {
     /// Also writes the data sheet of the device added last (what `odc doc` writes: a
     /// self-contained `<module>.html` with the PDOs drawn bit by bit, and `<module>.md`)
     /// beside its code, so the documentation of the device a crate is built for stays in
-    /// step with its code.
+    /// step with its code. Feature `data-sheet`.
+    #[cfg(feature = "data-sheet")]
     pub fn data_sheet(&mut self) -> &mut Self {
         if let Some(last) = self.inputs.last_mut() {
             last.sheet = true;
@@ -302,6 +309,7 @@ impl Config {
                 Error::Diagnostics { path: input.path.clone(), report: loaded.render(&diags) }
             })?;
             let module = input.module.clone().unwrap_or_else(|| module_name(&input.path));
+            #[cfg(feature = "sii")]
             let sii = match input.sii {
                 true => Some(odc_sii::write(device).map_err(|e| Error::Sii {
                     path: input.path.clone(),
@@ -309,6 +317,9 @@ impl Config {
                 })?),
                 false => None,
             };
+            #[cfg(not(feature = "sii"))]
+            let sii = None;
+            #[cfg(feature = "data-sheet")]
             let sheet = input.sheet.then(|| {
                 let sheet = odc_doc::sheet(&odc_doc::Input {
                     device,
@@ -319,6 +330,8 @@ impl Config {
                 });
                 (odc_doc::html::page(&sheet), odc_doc::markdown::markdown(&sheet))
             });
+            #[cfg(not(feature = "data-sheet"))]
+            let sheet = None;
             out.generated.push(Generated { module, code, path: input.path.clone(), sii, sheet });
         }
         Ok(out)
@@ -516,7 +529,10 @@ mod tests {
         assert!(code.contains("pub mod keypad {"));
         assert!(code.contains("pub const P3_05: ::odc::Entry<u16>"));
         // An explicit checker configuration wins over the overlay's; the schemes stay.
-        let out = Config::new().device(&eds).check_config(odc_check::Config::default()).generate();
+        let out = Config::new()
+            .device(&eds)
+            .check_config(odc_check::Config::in_registry(odc_pipeline::registry()))
+            .generate();
         assert!(out.is_ok_and(|o| o.warnings.iter().any(|w| w.contains("D504"))));
         // A broken overlay is an error naming the file.
         let _ = std::fs::write(dir.join("lxm23a.odc.toml"), "[[scheme]]\nmodule = 1\n");

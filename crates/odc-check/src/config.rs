@@ -12,9 +12,12 @@ const GROUPS: &[&str] = &["format", "cia301", "cia402", "etg", "all"];
 /// How to report: levels per rule, group or `all`; strictness; per-object allowances.
 /// See the crate documentation for the `odc.toml` form.
 ///
-/// Rule names are resolved in a [`Registry`]: by default this crate's rules
-/// ([`crate::rules`]); a driver that also reports the front-ends' and the generator's codes
-/// gives the registry of all of them ([`Config::in_registry`], [`Config::from_toml_in`]).
+/// Rule names are resolved in a [`Registry`], given when the configuration is made
+/// ([`Config::in_registry`], [`Config::from_toml_in`]): the drivers' registry of every code
+/// (`odc_pipeline::registry`, which knows the front-ends' `F` and the generator's `G` codes),
+/// or this crate's rules alone ([`crate::rules`]). There is no `Default`: a default made of
+/// this crate's rules alone refused a level set on an `F` code, and this crate cannot know the
+/// others.
 #[derive(Clone, Debug, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub struct Config {
@@ -31,12 +34,6 @@ pub struct Config {
     /// The rules names are resolved in.
     #[serde(skip, default = "crate::rules")]
     registry: Registry,
-}
-
-impl Default for Config {
-    fn default() -> Config {
-        Config::in_registry(crate::rules())
-    }
 }
 
 /// A rule or group name that no rule has.
@@ -129,12 +126,6 @@ impl Config {
     /// The rules names are resolved in.
     pub fn registry(&self) -> &Registry {
         &self.registry
-    }
-
-    /// Reads an `odc.toml` (see the crate documentation for its form), naming this crate's
-    /// rules.
-    pub fn from_toml(text: &str) -> Result<Config, ConfigError> {
-        Config::from_toml_in(text, crate::rules())
     }
 
     /// Reads an `odc.toml` whose rule names are resolved in `registry`.
@@ -296,9 +287,10 @@ mod tests {
 
     #[test]
     fn reads_levels_and_allowances() {
-        let c = Config::from_toml(
+        let c = Config::from_toml_in(
             "strict = true\n[rules]\nC201 = \"allow\"\ncia402 = \"deny\"\n\
              [allow-object]\nC201 = [\"0x2003\", \"1A00:1\"]\n[generate]\nx = 1\n",
+            crate::rules(),
         );
         let c = match c {
             Ok(c) => c,
@@ -314,25 +306,25 @@ mod tests {
     #[test]
     fn rejects_unknown_rules_and_bad_addresses() {
         assert!(matches!(
-            Config::from_toml("[rules]\nno-such-rule = \"warn\"\n"),
+            Config::from_toml_in("[rules]\nno-such-rule = \"warn\"\n", crate::rules()),
             Err(ConfigError::UnknownRule(_))
         ));
         assert!(matches!(
-            Config::from_toml("[rules]\nC201 = \"loud\"\n"),
+            Config::from_toml_in("[rules]\nC201 = \"loud\"\n", crate::rules()),
             Err(ConfigError::Toml(_))
         ));
         assert!(matches!(
-            Config::from_toml("[allow-object]\nC201 = [\"0x12345\"]\n"),
+            Config::from_toml_in("[allow-object]\nC201 = [\"0x12345\"]\n", crate::rules()),
             Err(ConfigError::BadObject { .. })
         ));
-        let mut c = Config::default();
+        let mut c = Config::in_registry(crate::rules());
         assert_eq!(c.set_level("nope", Level::Warn), Err(UnknownRule("nope".into())));
         assert_eq!(c.set_level("etg", Level::Warn), Ok(()));
     }
 
     #[test]
     fn rule_beats_group_beats_all() {
-        let mut c = Config::default();
+        let mut c = Config::in_registry(crate::rules());
         let info = &crate::RULES[0].info;
         assert_eq!(c.level_of(info), None);
         assert!(c.set_level("all", Level::Allow).is_ok());

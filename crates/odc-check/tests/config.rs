@@ -27,7 +27,7 @@ fn default_levels() {
 
 #[test]
 fn levels_by_rule_name_and_group() {
-    let mut c = Config::default();
+    let mut c = Config::in_registry(odc_check::rules());
     c.set_level("value-out-of-type-range", Level::Warn).unwrap();
     c.set_level("cia301", Level::Deny).unwrap();
     insta::assert_snapshot!(run_with(noisy(), &c), @r"
@@ -41,7 +41,7 @@ fn levels_by_rule_name_and_group() {
 
 #[test]
 fn strict_turns_warnings_into_errors() {
-    let mut c = Config::default();
+    let mut c = Config::in_registry(odc_check::rules());
     c.strict(true);
     let out = run_with(noisy(), &c);
     assert!(!out.contains("warning"), "{out}");
@@ -50,12 +50,21 @@ fn strict_turns_warnings_into_errors() {
 
 #[test]
 fn allowances_per_object_and_sub() {
-    let c = Config::from_toml("[allow-object]\nC201 = [\"0x2000\", \"0x2001:1\"]\n").unwrap();
+    let c = Config::from_toml_in(
+        "[allow-object]\nC201 = [\"0x2000\", \"0x2001:1\"]\n",
+        odc_check::rules(),
+    )
+    .unwrap();
     insta::assert_snapshot!(run_with(noisy(), &c), @"warning[C206]: 0x1017 is UNSIGNED32; CiA 301 makes it UNSIGNED16");
     // A sub-index selects only that sub-object.
-    let c = Config::from_toml("[allow-object]\nvalue-out-of-type-range = [\"2001:2\"]\n").unwrap();
+    let c = Config::from_toml_in(
+        "[allow-object]\nvalue-out-of-type-range = [\"2001:2\"]\n",
+        odc_check::rules(),
+    )
+    .unwrap();
     assert!(run_with(noisy(), &c).contains("0x2001:01"));
     // A group allowance covers every rule of the group.
-    let c = Config::from_toml("[allow-object]\ncia301 = [\"0x1017\"]\n").unwrap();
+    let c = Config::from_toml_in("[allow-object]\ncia301 = [\"0x1017\"]\n", odc_check::rules())
+        .unwrap();
     assert!(!run_with(noisy(), &c).contains("C206"));
 }

@@ -12,7 +12,7 @@ fn render(path: &Path) -> (String, usize) {
     let bytes = std::fs::read(path).unwrap();
     let name = format!("{}", path.file_name().unwrap().to_string_lossy());
     let mut sources = Sources::new();
-    let config = Config::default();
+    let config = Config::in_registry(odc_check::rules());
     let mut diags = Vec::new();
     if name.ends_with(".xml") {
         let parsed = odc_esi::parse(&mut sources, &name, &bytes);
@@ -66,7 +66,7 @@ fn empty_limits_of_strings_are_no_limits() {
         );
         let mut sources = Sources::new();
         let parsed = odc_eds::parse(&mut sources, "t.eds", text.as_bytes());
-        let diags = check(&parsed.device, &Config::default());
+        let diags = check(&parsed.device, &Config::in_registry(odc_check::rules()));
         assert!(!diags.iter().any(|d| d.code == "C208"), "{dt}: {diags:?}");
     }
 }

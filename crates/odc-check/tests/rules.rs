@@ -984,7 +984,7 @@ fn bit_fields_padded_to_a_byte_are_aligned() {
 fn c207_notes_byte_swapped_identity_in_an_esi() {
     let d = esi_io().with(|d| d.device_info.vendor_number = Some(Spanned::synthetic(0x3412_0000)));
     let device = d.build();
-    let diags = odc_check::check(&device, &odc_check::Config::default());
+    let diags = odc_check::check(&device, &odc_check::Config::in_registry(odc_check::rules()));
     let c207: Vec<_> = diags.iter().filter(|d| d.code == "C207").collect();
     assert_eq!(c207.len(), 1, "{diags:?}");
     assert!(c207[0].notes.iter().any(|n| n.contains("bytes are reversed")), "{c207:?}");
@@ -1018,7 +1018,7 @@ fn esi_rules_do_not_run_on_canopen_devices() {
     d.pdos.clear();
     let out = odc_model::diag::render_short(
         &odc_model::Sources::new(),
-        &odc_check::check(&d, &odc_check::Config::default()),
+        &odc_check::check(&d, &odc_check::Config::in_registry(odc_check::rules())),
     );
     assert!(!out.contains("[T6"), "{out}");
 }

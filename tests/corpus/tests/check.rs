@@ -29,7 +29,7 @@ fn corpus() {
     let only_kind = std::env::var("ODC_CORPUS_KIND").ok();
     let mut printed: BTreeMap<&str, usize> = BTreeMap::new();
     // Rules that are off by default are counted too (reported at warning level here).
-    let mut config = Config::default();
+    let mut config = Config::in_registry(odc_check::rules());
     for r in RULES.iter().filter(|r| r.level == Level::Allow) {
         config.set_level(r.info.code, Level::Warn).unwrap();
     }

@@ -53,7 +53,11 @@ fn corpus_files_that_pass_check_convert_to_files_that_pass_check() {
         };
         for (n, device) in devices.iter().enumerate() {
             inputs += 1;
-            let mut before = check(device, std::mem::take(&mut front_end), &Config::default());
+            let mut before = check(
+                device,
+                std::mem::take(&mut front_end),
+                &Config::in_registry(odc_check::rules()),
+            );
             if before.iter().any(Diagnostic::is_error) {
                 refused += 1;
                 continue;
@@ -64,7 +68,7 @@ fn corpus_files_that_pass_check_convert_to_files_that_pass_check() {
             // that breaks those rules is refused; allowed by their codes (`-A C304`), it is
             // written, and its output passes check at the same levels.
             let mut device = device.clone();
-            let mut config = Config::default();
+            let mut config = Config::in_registry(odc_check::rules());
             if device.format == Some(Format::Esi) {
                 odc_eds::add_mandatory_objects(&mut device);
                 let canopen = odc_eds::as_canopen(&device);

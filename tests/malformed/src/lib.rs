@@ -87,7 +87,7 @@ pub fn run_as(name: &str, bytes: &[u8], kind: &str, generate: bool) -> Outcome {
     let kind = std::path::Path::new(kind);
     let parsed = odc_pipeline::parse(&mut sources, name, kind, bytes.to_vec());
     let (devices, diagnostics) = (parsed.devices, parsed.diagnostics);
-    let config = odc_check::Config::default();
+    let config = odc_check::Config::in_registry(odc_check::rules());
     let mut checked = Vec::new();
     let mut generator = Vec::new();
     for d in &devices {

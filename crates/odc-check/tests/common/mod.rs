@@ -392,14 +392,14 @@ pub fn esi_io() -> Dev {
 
 /// Every rule on, the ones that are off by default at warning level.
 pub fn all_rules_on() -> Config {
-    let mut c = Config::default();
+    let mut c = Config::in_registry(odc_check::rules());
     c.set_level("all", odc_check::Level::Warn).unwrap();
     c
 }
 
 /// Checks with the default configuration and renders the short form.
 pub fn run(dev: Dev) -> String {
-    run_with(dev, &Config::default())
+    run_with(dev, &Config::in_registry(odc_check::rules()))
 }
 
 pub fn run_with(dev: Dev, config: &Config) -> String {
