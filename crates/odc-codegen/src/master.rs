@@ -2,99 +2,91 @@
 
 use odc_model::{Direction, Pdo};
 use proc_macro2::{Ident, Literal, TokenStream};
-use quote::quote;
+use quote::{format_ident, quote};
 
-use crate::pdo::{COB_INVALID, enabled_by_default, pdo_names, sm_layout};
+use crate::pdo::{enabled_by_default, pdo_names, sm_layout};
 use crate::types::{hex_literal, index_literal, sub_literal};
 use crate::{Ctx, doc};
 
-/// The CiA 301 writes for one CANopen PDO; `ty` is its struct, for `cob_id`.
-fn canopen_writes(pdo: &Pdo, ty: &Ident, rt: &TokenStream) -> Vec<TokenStream> {
-    let mut w = Vec::new();
+/// The `PdoConfig` of one CANopen PDO: what the runtime's CiA 301 procedure
+/// (`odc::plan::PdoConfig`) writes for it.
+fn canopen_config(pdo: &Pdo, ty: &Ident, rt: &TokenStream) -> TokenStream {
     let map = index_literal(pdo.mapping_index);
-    let comm = pdo.comm_index.map(index_literal);
-    let has_cob = pdo.cob_id.is_some() && comm.is_some();
-    let invalid = hex_literal(COB_INVALID, 8);
-    let valid_mask = hex_literal(!COB_INVALID & 0xFFFF_FFFF, 8);
-    if let (true, Some(c)) = (has_cob, &comm) {
-        w.push(
-            quote!(#rt::plan::SdoWrite::u32(#c, 0x01, super::pdo::#ty::cob_id(node_id) | #invalid)),
-        );
-    }
-    if !pdo.entries.is_empty() {
-        w.push(quote!(#rt::plan::SdoWrite::u8(#map, 0x00, 0)));
-    }
-    for (i, e) in pdo.entries.iter().enumerate() {
-        let sub = sub_literal(u8::try_from(i + 1).unwrap_or(u8::MAX));
-        let v = hex_literal(u64::from(e.mapping_value()), 8);
-        w.push(quote!(#rt::plan::SdoWrite::u32(#map, #sub, #v)));
-    }
-    let n = Literal::u8_unsuffixed(u8::try_from(pdo.entries.len()).unwrap_or(u8::MAX));
-    w.push(quote!(#rt::plan::SdoWrite::u8(#map, 0x00, #n)));
-    if let Some(c) = &comm {
+    let mut e = quote!(#rt::plan::PdoConfig::new(#map, &super::pdo::#ty::MAPPING_VALUES));
+    if let Some(c) = pdo.comm_index {
+        let c = index_literal(c);
+        let has_cob = pdo.cob_id.is_some();
+        e.extend(quote!(.with_comm(#c, #has_cob)));
         if let Some(tt) = pdo.transmission_type {
             let tt = Literal::u8_unsuffixed(tt);
-            w.push(quote!(#rt::plan::SdoWrite::u8(#c, 0x02, #tt)));
+            e.extend(quote!(.with_transmission_type(#tt)));
         }
         if let (Direction::Tx, Some(t)) = (pdo.direction, pdo.inhibit_time) {
             let t = Literal::u16_unsuffixed(t);
-            w.push(quote!(#rt::plan::SdoWrite::u16(#c, 0x03, #t)));
+            e.extend(quote!(.with_inhibit_time(#t)));
         }
         if let Some(t) = pdo.event_timer {
             let t = Literal::u16_unsuffixed(t);
-            w.push(quote!(#rt::plan::SdoWrite::u16(#c, 0x05, #t)));
+            e.extend(quote!(.with_event_timer(#t)));
         }
         if let (Direction::Tx, Some(s)) = (pdo.direction, pdo.sync_start) {
             let s = Literal::u8_unsuffixed(s);
-            w.push(quote!(#rt::plan::SdoWrite::u8(#c, 0x06, #s)));
-        }
-        if has_cob {
-            w.push(quote!(#rt::plan::SdoWrite::u32(#c, 0x01, super::pdo::#ty::cob_id(node_id) & #valid_mask)));
+            e.extend(quote!(.with_sync_start(#s)));
         }
     }
-    w
+    e
+}
+
+/// Whether the procedure of `pdo` uses its COB-ID (it has a communication object and one).
+fn uses_cob_id(pdo: &Pdo) -> bool {
+    pdo.cob_id.is_some() && pdo.comm_index.is_some()
 }
 
 fn canopen(ctx: &Ctx<'_>) -> TokenStream {
     let rt = &ctx.rt;
     let names = pdo_names(ctx);
     let mut items = Vec::new();
-    let mut all = Vec::new();
+    let (mut all, mut all_cobs) = (Vec::new(), Vec::new());
     for (pdo, name) in ctx.device.pdos.iter().zip(&names) {
-        let writes = canopen_writes(pdo, &name.ty, rt);
-        let n = Literal::usize_unsuffixed(writes.len());
         let f = &name.func;
         let ty = &name.ty;
-        let uses_node = pdo.cob_id.is_some() && pdo.comm_index.is_some();
-        let param = if uses_node { quote!(node_id) } else { quote!(_node_id) };
-        let text = format!(
+        let config = format_ident!("{}_CONFIG", f.to_string().to_ascii_uppercase());
+        let value = canopen_config(pdo, ty, rt);
+        let (param, cob) = if uses_cob_id(pdo) {
+            (quote!(node_id), quote!(super::pdo::#ty::cob_id(node_id)))
+        } else {
+            (quote!(_node_id), quote!(0))
+        };
+        let config_doc = doc(&format!(
+            "[`{ty}`](super::pdo::{ty})'s default mapping and communication parameters, as \
+             the CiA 301 PDO mapping procedure (`odc::plan::PdoConfig`) writes them."
+        ));
+        let text = doc(&format!(
             "The writes that set [`{ty}`](super::pdo::{ty})'s default mapping on node `node_id` \
              and leave it valid: invalidate the COB-ID, clear the mapping count, write each \
              entry, set the count, the communication parameters, then re-validate the COB-ID."
-        );
-        let d = doc(&text);
+        ));
         items.push(quote! {
-            #d
-            pub const fn #f(#param: u8) -> [#rt::plan::SdoWrite; #n] {
-                [#(#writes),*]
+            #config_doc
+            pub const #config: #rt::plan::PdoConfig<'static> = #value;
+
+            #text
+            pub const fn #f(#param: u8) -> [#rt::plan::SdoWrite; #config.len()] {
+                #config.writes(#cob)
             }
         });
         if enabled_by_default(pdo) {
-            all.extend(writes);
+            all.push(config);
+            all_cobs.push(cob);
         }
     }
-    let n = Literal::usize_unsuffixed(all.len());
-    let uses_node = ctx
-        .device
-        .pdos
-        .iter()
-        .any(|p| enabled_by_default(p) && p.cob_id.is_some() && p.comm_index.is_some());
+    let uses_node = ctx.device.pdos.iter().any(|p| enabled_by_default(p) && uses_cob_id(p));
     let param = if uses_node { quote!(node_id) } else { quote!(_node_id) };
     quote! {
         /// The writes that set the default mapping of every PDO that is valid by default, for
         /// node `node_id`, in order (CiA 301 PDO mapping procedure).
-        pub const fn plan(#param: u8) -> [#rt::plan::SdoWrite; #n] {
-            [#(#all),*]
+        pub const fn plan(#param: u8) -> [#rt::plan::SdoWrite; #rt::plan::plan_len(&[#(#all),*])] {
+            #rt::plan::plan(&[#(#all),*], &[#(#all_cobs),*])
         }
 
         #(#items)*

@@ -60,3 +60,239 @@ impl SdoWrite {
         (self.value.to_le_bytes(), self.size as usize)
     }
 }
+
+/// A PDO as the CiA 301 mapping procedure (7.5.2.35–36) configures it: its mapping object
+/// and entries, and its communication parameters when it has them.
+///
+/// This is the one implementation of the procedure: generated `master` modules describe each
+/// PDO of the default mapping as a `PdoConfig` and call [`PdoConfig::writes`] and [`plan`];
+/// `master::mapping_plan` (feature `std`) builds one from a [`Pdo`](crate::Pdo) struct.
+/// The writes, in order:
+/// 1. the COB-ID with bit 31 set (PDO invalid), when [`PdoConfig::sets_cob_id`];
+/// 2. the mapping count 0, when there are entries to write;
+/// 3. each mapping entry (sub-index 1..);
+/// 4. the mapping count;
+/// 5. the transmission type, inhibit time, event timer and SYNC start value that are given;
+/// 6. the COB-ID with bit 31 clear (valid again), when [`PdoConfig::sets_cob_id`].
+///
+/// ```
+/// use odc::plan::{PdoConfig, SdoWrite};
+///
+/// const RPDO1: PdoConfig<'static> =
+///     PdoConfig::new(0x1600, &[0x6040_0010]).with_comm(0x1400, true).with_transmission_type(255);
+/// let writes: [SdoWrite; RPDO1.len()] = RPDO1.writes(0x205);
+/// assert_eq!(writes[0], SdoWrite::u32(0x1400, 1, 0x8000_0205));
+/// assert_eq!(writes[2], SdoWrite::u32(0x1600, 1, 0x6040_0010));
+/// assert_eq!(writes[5], SdoWrite::u32(0x1400, 1, 0x205));
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct PdoConfig<'a> {
+    /// The mapping object (0x1600.., 0x1A00..).
+    pub mapping_index: u16,
+    /// The mapping entries (`index << 16 | sub << 8 | bits`), in wire order.
+    pub mapping: &'a [u32],
+    /// The communication parameter object (0x1400.., 0x1800..), if the PDO has one.
+    pub comm_index: Option<u16>,
+    /// Whether the procedure invalidates the COB-ID first and validates it last (the PDO has
+    /// a communication object and a COB-ID).
+    pub sets_cob_id: bool,
+    /// Transmission type (communication sub-index 2).
+    pub transmission_type: Option<u8>,
+    /// Inhibit time in 100 µs (sub-index 3; transmit PDOs).
+    pub inhibit_time: Option<u16>,
+    /// Event timer in ms (sub-index 5).
+    pub event_timer: Option<u16>,
+    /// SYNC start value (sub-index 6; transmit PDOs).
+    pub sync_start: Option<u8>,
+}
+
+/// The COB-ID's bit 31: the PDO does not exist (is invalid).
+const COB_INVALID: u32 = 0x8000_0000;
+
+impl<'a> PdoConfig<'a> {
+    /// A PDO's mapping without communication parameters.
+    pub const fn new(mapping_index: u16, mapping: &'a [u32]) -> Self {
+        PdoConfig {
+            mapping_index,
+            mapping,
+            comm_index: None,
+            sets_cob_id: false,
+            transmission_type: None,
+            inhibit_time: None,
+            event_timer: None,
+            sync_start: None,
+        }
+    }
+
+    /// With its communication object; `sets_cob_id` as the field.
+    pub const fn with_comm(mut self, comm_index: u16, sets_cob_id: bool) -> Self {
+        self.comm_index = Some(comm_index);
+        self.sets_cob_id = sets_cob_id;
+        self
+    }
+
+    /// With a transmission type to write.
+    pub const fn with_transmission_type(mut self, t: u8) -> Self {
+        self.transmission_type = Some(t);
+        self
+    }
+
+    /// With an inhibit time to write (100 µs units).
+    pub const fn with_inhibit_time(mut self, t: u16) -> Self {
+        self.inhibit_time = Some(t);
+        self
+    }
+
+    /// With an event timer to write (ms).
+    pub const fn with_event_timer(mut self, t: u16) -> Self {
+        self.event_timer = Some(t);
+        self
+    }
+
+    /// With a SYNC start value to write.
+    pub const fn with_sync_start(mut self, s: u8) -> Self {
+        self.sync_start = Some(s);
+        self
+    }
+
+    /// How many writes [`PdoConfig::writes`] gives.
+    pub const fn len(&self) -> usize {
+        self.write_into(0, &mut [], 0)
+    }
+
+    /// Whether the procedure writes nothing (never: the mapping count is always written).
+    pub const fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The writes of the procedure, with `cob_id` the PDO's COB-ID (bit 31 is set and
+    /// cleared by the procedure; ignored unless [`PdoConfig::sets_cob_id`]). `N` is
+    /// [`PdoConfig::len`]: a longer array ends in unused `0x0000:00` writes, a shorter one
+    /// holds the first `N`.
+    pub const fn writes<const N: usize>(&self, cob_id: u32) -> [SdoWrite; N] {
+        let mut out = [SdoWrite::u8(0, 0, 0); N];
+        self.write_into(cob_id, &mut out, 0);
+        out
+    }
+
+    /// The writes of the procedure as a vector, for a PDO configured at run time.
+    #[cfg(feature = "std")]
+    pub fn to_vec(&self, cob_id: u32) -> std::vec::Vec<SdoWrite> {
+        let mut out = std::vec![SdoWrite::u8(0, 0, 0); self.len()];
+        self.write_into(cob_id, &mut out, 0);
+        out
+    }
+
+    /// Writes the procedure into `out` from position `at` (what does not fit is left out) and
+    /// returns the position after it.
+    const fn write_into(&self, cob_id: u32, out: &mut [SdoWrite], at: usize) -> usize {
+        let mut at = at;
+        let (comm, cob) = match self.comm_index {
+            Some(c) => (c, self.sets_cob_id),
+            None => (0, false),
+        };
+        if cob {
+            at = put(out, at, SdoWrite::u32(comm, 1, cob_id | COB_INVALID));
+        }
+        let map = self.mapping_index;
+        if !self.mapping.is_empty() {
+            at = put(out, at, SdoWrite::u8(map, 0, 0));
+        }
+        let mut i = 0;
+        while i < self.mapping.len() && i < u8::MAX as usize {
+            at = put(out, at, SdoWrite::u32(map, i as u8 + 1, self.mapping[i]));
+            i += 1;
+        }
+        at = put(out, at, SdoWrite::u8(map, 0, i as u8));
+        if self.comm_index.is_some() {
+            if let Some(t) = self.transmission_type {
+                at = put(out, at, SdoWrite::u8(comm, 2, t));
+            }
+            if let Some(t) = self.inhibit_time {
+                at = put(out, at, SdoWrite::u16(comm, 3, t));
+            }
+            if let Some(t) = self.event_timer {
+                at = put(out, at, SdoWrite::u16(comm, 5, t));
+            }
+            if let Some(s) = self.sync_start {
+                at = put(out, at, SdoWrite::u8(comm, 6, s));
+            }
+        }
+        if cob {
+            at = put(out, at, SdoWrite::u32(comm, 1, cob_id & !COB_INVALID));
+        }
+        at
+    }
+}
+
+/// `w` at `out[at]` when it fits; the position after it either way.
+const fn put(out: &mut [SdoWrite], at: usize, w: SdoWrite) -> usize {
+    if at < out.len() {
+        out[at] = w;
+    }
+    at + 1
+}
+
+/// How many writes [`plan`] gives for `pdos`.
+pub const fn plan_len(pdos: &[PdoConfig<'_>]) -> usize {
+    let (mut n, mut i) = (0, 0);
+    while i < pdos.len() {
+        n += pdos[i].len();
+        i += 1;
+    }
+    n
+}
+
+/// The procedure of each PDO of `pdos` in turn, with `cob_ids[i]` the COB-ID of `pdos[i]`
+/// (0 when missing); `N` is [`plan_len`], as for [`PdoConfig::writes`].
+pub const fn plan<const N: usize>(pdos: &[PdoConfig<'_>], cob_ids: &[u32]) -> [SdoWrite; N] {
+    let mut out = [SdoWrite::u8(0, 0, 0); N];
+    let (mut at, mut i) = (0, 0);
+    while i < pdos.len() {
+        let cob = if i < cob_ids.len() { cob_ids[i] } else { 0 };
+        at = pdos[i].write_into(cob, &mut out, at);
+        i += 1;
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_procedure_in_order() {
+        // A TPDO with every communication parameter: CiA 301 7.5.2.35-36.
+        const T: PdoConfig<'static> = PdoConfig::new(0x1A00, &[0x6041_0010, 0x6064_0020])
+            .with_comm(0x1800, true)
+            .with_transmission_type(1)
+            .with_inhibit_time(100)
+            .with_event_timer(0)
+            .with_sync_start(2);
+        let w: [SdoWrite; T.len()] = T.writes(0x181);
+        assert_eq!(
+            w,
+            [
+                SdoWrite::u32(0x1800, 1, 0x8000_0181),
+                SdoWrite::u8(0x1A00, 0, 0),
+                SdoWrite::u32(0x1A00, 1, 0x6041_0010),
+                SdoWrite::u32(0x1A00, 2, 0x6064_0020),
+                SdoWrite::u8(0x1A00, 0, 2),
+                SdoWrite::u8(0x1800, 2, 1),
+                SdoWrite::u16(0x1800, 3, 100),
+                SdoWrite::u16(0x1800, 5, 0),
+                SdoWrite::u8(0x1800, 6, 2),
+                SdoWrite::u32(0x1800, 1, 0x181),
+            ]
+        );
+        // No communication object, no entries: the count alone.
+        let m = PdoConfig::new(0x1601, &[]);
+        assert_eq!(m.writes::<1>(0), [SdoWrite::u8(0x1601, 0, 0)]);
+        // A plan is the PDOs' procedures in turn; an array too short keeps the first writes.
+        const P: [PdoConfig<'static>; 2] = [T, PdoConfig::new(0x1601, &[])];
+        let p: [SdoWrite; plan_len(&P)] = plan(&P, &[0x181]);
+        assert_eq!(p.len(), 11);
+        assert_eq!(p[10], SdoWrite::u8(0x1601, 0, 0));
+        assert_eq!(T.writes::<2>(0x181), [w[0], w[1]]);
+    }
+}

@@ -43,7 +43,6 @@ pub mod lss;
 use std::boxed::Box;
 use std::collections::{BTreeMap, VecDeque};
 use std::fmt;
-use std::vec;
 use std::vec::Vec;
 
 use crate::can::CanFrame;
@@ -743,25 +742,19 @@ impl<B: Bus> Master<B> {
 /// The CiA 301 writes that give a PDO a mapping of the application's choice (for a device
 /// whose file has no default mapping, or another one): invalidate the COB-ID (bit 31), clear
 /// the mapping, write `P::MAPPING`, set the count and the transmission type, validate the
-/// COB-ID (CiA 301 7.5.2.36). Run it with [`Master::execute`].
+/// COB-ID (CiA 301 7.5.2.36), by the one procedure, [`PdoConfig`](crate::plan::PdoConfig).
+/// Run it with [`Master::execute`].
 pub fn mapping_plan<P: Pdo>(
     comm_index: u16,
     mapping_index: u16,
     cob_id: u32,
     transmission_type: u8,
 ) -> Vec<SdoWrite> {
-    let cob = crate::cob::CobId(cob_id);
-    let mut plan = vec![
-        SdoWrite::u32(comm_index, 1, cob.with_valid(false).0),
-        SdoWrite::u8(mapping_index, 0, 0),
-    ];
-    for (i, e) in P::MAPPING.iter().enumerate() {
-        plan.push(SdoWrite::u32(mapping_index, u8::try_from(i + 1).unwrap_or(u8::MAX), e.to_u32()));
-    }
-    plan.push(SdoWrite::u8(mapping_index, 0, u8::try_from(P::MAPPING.len()).unwrap_or(u8::MAX)));
-    plan.push(SdoWrite::u8(comm_index, 2, transmission_type));
-    plan.push(SdoWrite::u32(comm_index, 1, cob.with_valid(true).0));
-    plan
+    let mapping: Vec<u32> = P::MAPPING.iter().map(|e| e.to_u32()).collect();
+    crate::plan::PdoConfig::new(mapping_index, &mapping)
+        .with_comm(comm_index, true)
+        .with_transmission_type(transmission_type)
+        .to_vec(cob_id)
 }
 
 /// A data frame of at most 8 bytes.
