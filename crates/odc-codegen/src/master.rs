@@ -5,7 +5,7 @@ use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
 
 use crate::pdo::{enabled_by_default, pdo_names, sm_layout};
-use crate::types::{hex_literal, index_literal, sub_literal};
+use crate::types::{index_literal, sub_literal};
 use crate::{Ctx, doc};
 
 /// The `PdoConfig` of one CANopen PDO: what the runtime's CiA 301 procedure
@@ -96,36 +96,42 @@ fn canopen(ctx: &Ctx<'_>) -> TokenStream {
 fn ethercat(ctx: &Ctx<'_>) -> TokenStream {
     let rt = &ctx.rt;
     let pdos = &ctx.device.pdos;
+    let names = pdo_names(ctx);
     let (_, sms) = sm_layout(ctx.device);
-    let mut w = Vec::new();
+    let mut steps = Vec::new();
     for (sm, (_, members)) in &sms {
         let assign = index_literal(0x1C10 + u16::from(*sm));
-        w.push(quote!(#rt::plan::SdoWrite::u8(#assign, 0x00, 0)));
-        for pdo in members.iter().filter_map(|&i| pdos.get(i)).filter(|p| !p.fixed) {
-            let map = index_literal(pdo.mapping_index);
-            w.push(quote!(#rt::plan::SdoWrite::u8(#map, 0x00, 0)));
-            for (i, e) in pdo.entries.iter().enumerate() {
-                let sub = sub_literal(u8::try_from(i + 1).unwrap_or(u8::MAX));
-                let v = hex_literal(u64::from(e.mapping_value()), 8);
-                w.push(quote!(#rt::plan::SdoWrite::u32(#map, #sub, #v)));
+        steps.push(quote!(.push(#rt::plan::SdoWrite::u8(#assign, 0x00, 0))));
+        for (pdo, name) in members.iter().filter_map(|&i| Some((pdos.get(i)?, names.get(i)?))) {
+            if pdo.fixed {
+                continue;
             }
-            let n = Literal::u8_unsuffixed(u8::try_from(pdo.entries.len()).unwrap_or(u8::MAX));
-            w.push(quote!(#rt::plan::SdoWrite::u8(#map, 0x00, #n)));
+            let map = index_literal(pdo.mapping_index);
+            let ty = &name.ty;
+            steps.push(quote!(.pdo(
+                &#rt::plan::PdoConfig::new(#map, &super::pdo::#ty::MAPPING_VALUES),
+                0
+            )));
         }
         for (i, pdo) in members.iter().filter_map(|&i| pdos.get(i)).enumerate() {
             let sub = sub_literal(u8::try_from(i + 1).unwrap_or(u8::MAX));
             let map = index_literal(pdo.mapping_index);
-            w.push(quote!(#rt::plan::SdoWrite::u16(#assign, #sub, #map)));
+            steps.push(quote!(.push(#rt::plan::SdoWrite::u16(#assign, #sub, #map))));
         }
         let n = Literal::u8_unsuffixed(u8::try_from(members.len()).unwrap_or(u8::MAX));
-        w.push(quote!(#rt::plan::SdoWrite::u8(#assign, 0x00, #n)));
+        steps.push(quote!(.push(#rt::plan::SdoWrite::u8(#assign, 0x00, #n))));
     }
-    let n = Literal::usize_unsuffixed(w.len());
     quote! {
         /// The CoE writes that set the default process data: per sync manager, clear its
-        /// assignment (0x1C1x:00 = 0), write the mapping of each PDO that is not fixed, assign
-        /// the PDOs and set the count. Execute them in PREOP.
-        pub const PLAN: [#rt::plan::SdoWrite; #n] = [#(#w),*];
+        /// assignment (0x1C1x:00 = 0), write the mapping of each PDO that is not fixed (the
+        /// runtime's CiA 301 procedure, `odc::plan::PdoConfig`), assign the PDOs and set the
+        /// count. Execute them in PREOP.
+        pub const PLAN: [#rt::plan::SdoWrite; build::<0>().len()] = build().finish();
+
+        /// [`PLAN`] built into `N` slots (`N = 0` counts its writes).
+        const fn build<const N: usize>() -> #rt::plan::PlanBuilder<N> {
+            #rt::plan::PlanBuilder::new() #(#steps)*
+        }
     }
 }
 

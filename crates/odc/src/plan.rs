@@ -1,7 +1,7 @@
 //! Configuration plans: SDO writes as plain data, for any SDO client to execute in order.
 //!
-//! Generated `master` modules build them (the CiA 301 PDO mapping procedure, the EtherCAT
-//! 0x1C12/0x1C13 assignment); [`sdo::Client::execute`](crate::sdo::Client::execute) runs one
+//! Generated `master` modules build them (the CiA 301 PDO mapping procedure, [`PdoConfig`],
+//! the one implementation of it; the EtherCAT 0x1C12/0x1C13 assignment, [`PlanBuilder`]); [`sdo::Client::execute`](crate::sdo::Client::execute) runs one
 //! over a bus. A plan is data, so any client can run it, or a test can apply it to a dictionary:
 //!
 //! ```
@@ -222,6 +222,71 @@ impl<'a> PdoConfig<'a> {
             at = put(out, at, SdoWrite::u32(comm, 1, cob_id & !COB_INVALID));
         }
         at
+    }
+}
+
+/// A plan built in a `const` context, for plans that interleave the PDO procedure with other
+/// writes (the EtherCAT sync-manager assignment): writes are appended in order into `N`
+/// slots, and [`PlanBuilder::len`] counts every write appended, so building it once with
+/// `N = 0` gives the `N` to build it with:
+///
+/// ```
+/// use odc::plan::{PdoConfig, PlanBuilder, SdoWrite};
+///
+/// const fn build<const N: usize>() -> PlanBuilder<N> {
+///     PlanBuilder::new()
+///         .push(SdoWrite::u8(0x1C12, 0, 0))
+///         .pdo(&PdoConfig::new(0x1600, &[0x7000_0110]), 0)
+///         .push(SdoWrite::u16(0x1C12, 1, 0x1600))
+///         .push(SdoWrite::u8(0x1C12, 0, 1))
+/// }
+/// const PLAN: [SdoWrite; build::<0>().len()] = build().finish();
+/// assert_eq!(PLAN.len(), 6);
+/// assert_eq!(PLAN[2], SdoWrite::u32(0x1600, 1, 0x7000_0110));
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct PlanBuilder<const N: usize> {
+    writes: [SdoWrite; N],
+    len: usize,
+}
+
+impl<const N: usize> Default for PlanBuilder<N> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<const N: usize> PlanBuilder<N> {
+    /// No writes yet.
+    pub const fn new() -> Self {
+        PlanBuilder { writes: [SdoWrite::u8(0, 0, 0); N], len: 0 }
+    }
+
+    /// With one more write.
+    pub const fn push(mut self, w: SdoWrite) -> Self {
+        self.len = put(&mut self.writes, self.len, w);
+        self
+    }
+
+    /// With the CiA 301 procedure of `pdo` ([`PdoConfig::writes`]) appended.
+    pub const fn pdo(mut self, pdo: &PdoConfig<'_>, cob_id: u32) -> Self {
+        self.len = pdo.write_into(cob_id, &mut self.writes, self.len);
+        self
+    }
+
+    /// How many writes were appended (those beyond `N` included).
+    pub const fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether none was.
+    pub const fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// The writes: the first `N` appended (unused slots are `0x0000:00` writes).
+    pub const fn finish(self) -> [SdoWrite; N] {
+        self.writes
     }
 }
 

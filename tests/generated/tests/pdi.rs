@@ -6,7 +6,7 @@
 
 use ethercrab_wire::{EtherCrabWireRead, EtherCrabWireSized, EtherCrabWireWrite, WireError};
 use odc::Pdo;
-use odc_tests_generated::pdi_terminal::{pdi, startup};
+use odc_tests_generated::pdi_terminal::{master, pdi, startup};
 
 /// input_1 = 1, input_2 = 0, counter = -2 (0xFFFF_FFFE) shifted to bit 2: 0x3_FFFF_FFF9.
 const INPUTS: [u8; 5] = [0xF9, 0xFF, 0xFF, 0xFF, 0x03];
@@ -57,4 +57,32 @@ fn startup_plan() {
     assert_eq!((last.index, last.sub, last.data), (0x1C13, 0, &[2u8][..]));
     assert_eq!((plan.output_len, plan.input_len), (3, 5));
     assert_eq!(startup::SHORT_COUNTER.input_len, 3);
+}
+
+/// The master's CoE plan (`master::PLAN`, the runtime's procedure through
+/// `odc::plan::PlanBuilder`): per sync manager, clear the assignment, map each configurable
+/// PDO, assign, count; and every mapping write carries the bytes of the same write in
+/// `startup::PLAN`, which the generator writes on its own.
+#[test]
+fn master_plan_maps_and_assigns() {
+    use odc::plan::SdoWrite;
+    let plan = master::PLAN;
+    let addrs: Vec<(u16, u8)> = plan.iter().map(|w| (w.index, w.sub)).collect();
+    let maps_1600 = addrs.iter().filter(|a| a.0 == 0x1600 && a.1 > 0).count();
+    let maps_1a01 = addrs.iter().filter(|a| a.0 == 0x1A01 && a.1 > 0).count();
+    assert_eq!(plan.first(), Some(&SdoWrite::u8(0x1C12, 0, 0)));
+    assert_eq!(plan.get(1), Some(&SdoWrite::u8(0x1600, 0, 0)));
+    assert_eq!(plan.get(2 + maps_1600), Some(&SdoWrite::u8(0x1600, 0, maps_1600 as u8)));
+    assert_eq!(plan.last(), Some(&SdoWrite::u8(0x1C13, 0, 2)));
+    // 0x1A00 is fixed: assigned, not mapped.
+    assert!(!addrs.iter().any(|a| a.0 == 0x1A00));
+    assert!(plan.contains(&SdoWrite::u16(0x1C13, 1, 0x1A00)));
+    assert!(plan.contains(&SdoWrite::u16(0x1C13, 2, 0x1A01)));
+    // SM2: clear, assign, count; SM3: clear, two assigns, count.
+    assert_eq!(plan.len(), 3 + (2 + maps_1600) + 4 + (2 + maps_1a01));
+    for w in plan.iter().filter(|w| matches!(w.index, 0x1600 | 0x1A01) && w.sub > 0) {
+        let (bytes, n) = w.to_le_bytes();
+        let d = startup::PLAN.downloads.iter().find(|d| (d.index, d.sub) == (w.index, w.sub));
+        assert_eq!(d.map(|d| d.data), Some(&bytes[..n]), "{w:?}");
+    }
 }
