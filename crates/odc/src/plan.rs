@@ -1,8 +1,8 @@
 //! Configuration plans: SDO writes as plain data, for any SDO client to execute in order.
 //!
 //! Generated `master` modules build them (the CiA 301 PDO mapping procedure, [`PdoConfig`],
-//! the one implementation of it; the EtherCAT 0x1C12/0x1C13 assignment, [`PlanBuilder`]); [`sdo::Client::execute`](crate::sdo::Client::execute) runs one
-//! over a bus. A plan is data, so any client can run it, or a test can apply it to a dictionary:
+//! the one implementation of it; the EtherCAT 0x1C12/0x1C13 assignment, [`PlanBuilder`]);
+//! [`sdo::Client::execute`](crate::sdo::Client::execute) runs one over a bus. A plan is data, so any client can run it, or a test can apply it to a dictionary:
 //!
 //! ```
 //! use odc::plan::SdoWrite;
