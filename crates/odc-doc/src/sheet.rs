@@ -289,7 +289,8 @@ fn capabilities(dev: &Device) -> Vec<(String, String)> {
     rows
 }
 
-fn value_text(v: Option<&odc_model::Spanned<Value>>) -> String {
+/// A value of the table (empty when absent), in the one spelling (`odc_analysis::value_text`).
+fn cell(v: Option<&odc_model::Spanned<Value>>) -> String {
     v.map_or(String::new(), |v| odc_analysis::value_text(&v.value))
 }
 
@@ -335,10 +336,10 @@ fn sub_row(object: &Object, sub: &SubObject, kind: String) -> ObjectRow {
         data_type: sub.data_type.name().into_owned(),
         access: sub.access.as_str().to_owned(),
         pdo: sub.pdo_mapping.directions(sub.access).to_owned(),
-        default: value_text(sub.default.as_ref()),
-        value: value_text(sub.parameter_value.as_ref()),
-        low: value_text(sub.low_limit.as_deref()),
-        high: value_text(sub.high_limit.as_deref()),
+        default: cell(sub.default.as_ref()),
+        value: cell(sub.parameter_value.as_ref()),
+        low: cell(sub.low_limit.as_deref()),
+        high: cell(sub.high_limit.as_deref()),
         denotation: sub.rare().denotation.as_ref().map_or(String::new(), |d| d.value.clone()),
     }
 }
