@@ -9,6 +9,8 @@
 //!   byte 0) at the next call and enters pre-operational, and no boot-up comes otherwise;
 //! - heartbeats carry the node's state; guarding answers carry it with a toggle bit that
 //!   starts at 0 after each boot-up and alternates;
+//! - nothing goes out on a restricted CAN-ID (CiA 301: NMT, SDO, error control, LSS
+//!   ranges) but the node's own error control, SDO responses and LSS answers;
 //! - services per state (CiA 301 table 80): in stopped, only NMT error control (0x700 +
 //!   node) and LSS (0x7E4) frames go out and no SDO is answered; PDOs only in operational;
 //! - the SDO server, in pre-operational and operational, follows CiA 301's protocol
@@ -74,6 +76,12 @@ struct Harness {
     sdo: Model,
 }
 
+/// CiA 301's restricted CAN-IDs, which no configurable communication object may use (as
+/// CANopenNode's `CO_IS_RESTRICTED_CAN_ID`).
+fn restricted(id: u32) -> bool {
+    matches!(id, 0x000..=0x07F | 0x101..=0x180 | 0x581..=0x5FF | 0x601..=0x67F | 0x6E0..=0x6FF | 0x701..=0x7FF)
+}
+
 fn check_frame(f: &CanFrame) {
     assert!(!f.remote, "the node sent a remote frame: {f:?}");
     assert!(f.len <= 8, "{f:?}");
@@ -94,6 +102,13 @@ impl Harness {
     ) {
         for f in out {
             check_frame(f);
+            // CiA 301: the restricted CAN-IDs carry only the services they are for;
+            // what this node may send on them is its error control, SDO responses and LSS.
+            let own = [0x700 + u32::from(id), 0x580 + u32::from(id), 0x7E4];
+            assert!(
+                f.extended || !restricted(f.id) || own.contains(&f.id),
+                "{f:02X?} on a restricted CAN-ID"
+            );
         }
         let booted = self.reset_pending;
         let ec = 0x700 + u32::from(id);
