@@ -63,6 +63,12 @@ fn frame(id: u32, b: &[u8]) -> CanFrame {
     CanFrame::from_slice(id, b).expect("at most 8 bytes, by construction")
 }
 
+/// `ODC_FUZZ_TRACE=1 target/.../node INPUT` prints every call, to read a failing input.
+fn trace() -> bool {
+    static ON: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *ON.get_or_init(|| std::env::var_os("ODC_FUZZ_TRACE").is_some())
+}
+
 struct Harness {
     node: TheNode,
     dict: Dict,
@@ -230,6 +236,9 @@ impl Harness {
         let (before, id) = (self.state, node_id(&self.node));
         let mut out = Vec::new();
         let ev = node_handle(&mut self.node, &mut self.dict, f, self.now_us, &mut out);
+        if trace() {
+            eprintln!("{} us: {f:02X?} -> {out:02X?}", self.now_us);
+        }
         // A reset performed in this call may have given the node another node-ID (LSS).
         let id = if self.reset_pending { node_id(&self.node) } else { id };
         self.after(before, id, &ev, &out, Some(f));
@@ -240,6 +249,9 @@ impl Harness {
         let (before, id) = (self.state, node_id(&self.node));
         let mut out = Vec::new();
         let ev = node_poll(&mut self.node, &mut self.dict, self.now_us, &mut out);
+        if trace() {
+            eprintln!("{} us: poll -> {out:02X?}", self.now_us);
+        }
         let id = if self.reset_pending { node_id(&self.node) } else { id };
         self.after(before, id, &ev, &out, None);
         self.app(&ev);

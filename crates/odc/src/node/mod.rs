@@ -218,7 +218,12 @@ impl<D: ObjectDictionary + ?Sized> View<'_, D> {
                     return Err(SdoAbort::InvalidValue);
                 }
             }
-            // SYNC and EMCY on a restricted CAN-ID likewise (EMCY: while it is valid).
+            // SYNC and EMCY on a restricted CAN-ID likewise (EMCY: while it is valid). Both go
+            // out as 11-bit frames, so a 29-bit COB-ID (bit 29) or bits 11-28 set are refused
+            // too, as CANopenNode does: the frame would go out on the low 11 bits.
+            (0x1005 | 0x1014, 0) if new() & 0x3FFF_F800 != 0 => {
+                return Err(SdoAbort::InvalidValue);
+            }
             (0x1005, 0) if restricted_11_bit(new()) => return Err(SdoAbort::InvalidValue),
             (0x1014, 0) if new() & (1 << 31) == 0 && restricted_11_bit(new()) => {
                 return Err(SdoAbort::InvalidValue);

@@ -629,6 +629,26 @@ fn restricted_can_ids_are_refused() {
     assert_eq!(b.sdo_write(0x1014, 0, &0x85u32.to_le_bytes())[0], 0x60);
 }
 
+/// Found by the `node` fuzz target: SYNC COB-ID 0xF6FC0032 (producer, 29-bit flag) was taken,
+/// and the node produced its SYNC as an 11-bit frame on 0x032. SYNC and EMCY are 11-bit here:
+/// a COB-ID with bit 29 or any of bits 11-28 set is refused (0x06090030).
+#[test]
+fn sync_and_emcy_cob_ids_are_11_bit() {
+    let mut b = Bench::new();
+    let invalid_value = [0x30, 0x00, 0x09, 0x06];
+    b.dict.objs.iter_mut().filter(|o| o.index == 0x1014).for_each(|o| o.writable = true);
+    for cob in [0xF6FC_0032u32, 0x6000_0080, 0x2000_0080, 0x0000_0880, 0x1000_0080] {
+        assert_eq!(b.sdo_write(0x1005, 0, &cob.to_le_bytes())[4..], invalid_value, "{cob:#X}");
+        assert_eq!(b.sdo_write(0x1014, 0, &cob.to_le_bytes())[4..], invalid_value, "{cob:#X}");
+    }
+    // A SYNC producer on 0x080 every 10 ms is taken and produces 11-bit frames on 0x080.
+    assert_eq!(b.sdo_write(0x1006, 0, &10_000u32.to_le_bytes())[0], 0x60);
+    assert_eq!(b.sdo_write(0x1005, 0, &0x4000_0080u32.to_le_bytes())[0], 0x60);
+    b.take();
+    b.run_to(25);
+    assert_eq!(ids(&b.take()), [0x080, 0x080]);
+}
+
 /// A read-only COB-ID (a device with fixed identifiers, as the LinMot E1200's EDS says) is
 /// refused as read-only (0x06010002), not as a CAN-ID change of a valid PDO (0x06090030):
 /// the access check comes first, as in a dictionary without a node.
