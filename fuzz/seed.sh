@@ -2,10 +2,15 @@
 # Fills fuzz/corpus/<target>/ with seed inputs: the device files under eds/ and esi/, the
 # front-ends' test fixtures and the malformed suite. With --corpus, also the files of
 # $ODC_CORPUS (default ../shared/corpus) smaller than 64 KiB. The corpora are not committed.
+# The bus targets take real frames: the candump logs of tests/devices/logs (the frames the five
+# device manuals print) seed `candump`, and their payloads become corpus/frames.dict, the
+# libFuzzer dictionary of `node`, `sdo_server` and `lss_slave` (their inputs are structured,
+# so a frame goes in as a dictionary word, not as a file).
 set -euo pipefail
 cd "$(dirname "$0")"
 root=..
-mkdir -p corpus/eds_parse corpus/eds_roundtrip corpus/esi_parse corpus/xdd_parse corpus/pdo_pack
+mkdir -p corpus/eds_parse corpus/eds_roundtrip corpus/esi_parse corpus/xdd_parse corpus/pdo_pack \
+  corpus/node corpus/sdo_server corpus/lss_slave corpus/candump
 eds_seeds=(
   "$root"/eds/*.eds
   "$root"/crates/odc-eds/tests/fixtures/*
@@ -39,4 +44,10 @@ for f in "${xdd_seeds[@]}"; do
 done
 printf '\x00\x00\x00\x00\x00\x00\x00\x00\x00\x00' > corpus/pdo_pack/zeros
 printf '\x01\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff\xff' > corpus/pdo_pack/ones
-for t in corpus/*; do echo "$t: $(ls "$t" | wc -l) files"; done
+logs=("$root"/tests/devices/logs/*.log)
+cp "${logs[@]}" corpus/candump/
+# Every distinct payload of the logs, as libFuzzer dictionary words ("\x43\x00...").
+cat "${logs[@]}" | sed -n 's/^([0-9.]*) [^ ]* [0-9A-Fa-f]*#\([0-9A-Fa-f]\{2,16\}\)$/\1/p' | sort -u |
+  sed 's/\(..\)/\\x\1/g; s/^/"/; s/$/"/' > corpus/frames.dict
+echo "corpus/frames.dict: $(wc -l < corpus/frames.dict) words"
+for t in corpus/*/; do echo "$t: $(ls "$t" | wc -l) files"; done

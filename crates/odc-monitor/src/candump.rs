@@ -37,7 +37,9 @@ pub fn parse_line(line: &str) -> Result<Option<LogFrame>, String> {
     let time = time
         .strip_prefix('(')
         .and_then(|t| t.strip_suffix(')'))
+        .filter(|t| is_decimal(t))
         .and_then(|t| t.parse::<f64>().ok())
+        .filter(|t| t.is_finite())
         .ok_or_else(|| format!("`{time}` is not a timestamp `(SECONDS)`"))?;
     let (id, data) = frame.split_once('#').ok_or_else(|| format!("`{frame}` has no `#`"))?;
     if data.starts_with('#') {
@@ -52,10 +54,12 @@ pub fn parse_line(line: &str) -> Result<Option<LogFrame>, String> {
         return Err(format!("CAN-ID 0x{id:X} is out of range"));
     }
     let frame = if let Some(len) = data.strip_prefix('R').or_else(|| data.strip_prefix('r')) {
-        let len = if len.is_empty() { 0 } else { len.parse::<u8>().map_err(|e| e.to_string())? };
-        if len > 8 {
-            return Err(format!("remote frame of {len} bytes"));
-        }
+        // candump writes the length as one digit, and none for 0.
+        let len = match len.as_bytes() {
+            [] => 0,
+            [d @ b'0'..=b'8'] => d - b'0',
+            _ => return Err(format!("`{frame}`: a remote frame's length is one digit, 0 to 8")),
+        };
         let mut f = CanFrame::remote(id, len);
         f.extended = extended;
         f
@@ -75,6 +79,16 @@ pub fn parse_line(line: &str) -> Result<Option<LogFrame>, String> {
         f.ok_or_else(|| format!("`{frame}` is not a CAN frame"))?
     };
     Ok(Some(LogFrame { time, interface: interface.to_owned(), frame }))
+}
+
+/// Digits, optionally a point and more digits: what candump writes as seconds (`f64`'s
+/// parser alone would take `inf`, `NaN`, `-1` and `1e9` too).
+fn is_decimal(t: &str) -> bool {
+    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+    match t.split_once('.') {
+        Some((int, frac)) => digits(int) && digits(frac),
+        None => digits(t),
+    }
 }
 
 #[cfg(test)]
@@ -102,6 +116,27 @@ mod tests {
             "(1.0) can0 800#",
             "(1.0) can0 185#001122334455667788",
             "185#40",
+        ] {
+            assert!(parse_line(bad).is_err(), "{bad}");
+        }
+    }
+
+    /// Lines the grammar of the `candump` fuzz target refuses and the reader took: `f64`'s
+    /// parser read NaN, the infinities, negative and exponent forms as timestamps, `u8`'s a
+    /// remote length with a sign or a leading zero. None is what candump writes.
+    #[test]
+    fn timestamps_and_remote_lengths_are_candumps() {
+        for bad in [
+            "(inf) can0 185#40",
+            "(NaN) can0 185#40",
+            "(-1.0) can0 185#40",
+            "(1e3) can0 185#40",
+            "(+1.0) can0 185#40",
+            "(.5) can0 185#40",
+            "(5.) can0 185#40",
+            "(1.0) can0 701#R+1",
+            "(1.0) can0 701#R01",
+            "(1.0) can0 701#R9",
         ] {
             assert!(parse_line(bad).is_err(), "{bad}");
         }

@@ -85,6 +85,17 @@ fn get_u8<D: ObjectDictionary + ?Sized>(dict: &D, index: u16, sub: u8) -> Option
     get_u32(dict, index, sub).map(|v| v as u8)
 }
 
+/// Whether a COB-ID names an 11-bit CAN-ID that CiA 301 restricts to NMT, SDO, error control
+/// and LSS (0x000–0x07F, 0x101–0x180, 0x581–0x5FF, 0x601–0x67F, 0x6E0–0x6FF, 0x701–0x7FF): no
+/// PDO, SYNC or EMCY may use one (0x06090030, as CANopenNode answers).
+fn restricted_11_bit(cob_id: u32) -> bool {
+    cob_id & (1 << 29) == 0
+        && matches!(
+            cob_id & 0x7FF,
+            0x000..=0x07F | 0x101..=0x180 | 0x581..=0x5FF | 0x601..=0x67F | 0x6E0..=0x6FF | 0x701..=0x7FF
+        )
+}
+
 /// Which reset the NMT master asked for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -203,6 +214,19 @@ impl<D: ObjectDictionary + ?Sized> View<'_, D> {
                 {
                     return Err(SdoAbort::InvalidValue);
                 }
+                if valid(new()) && restricted_11_bit(new()) {
+                    return Err(SdoAbort::InvalidValue);
+                }
+            }
+            // SYNC and EMCY on a restricted CAN-ID likewise (EMCY: while it is valid). Both go
+            // out as 11-bit frames, so a 29-bit COB-ID (bit 29) or bits 11-28 set are refused
+            // too, as CANopenNode does: the frame would go out on the low 11 bits.
+            (0x1005 | 0x1014, 0) if new() & 0x3FFF_F800 != 0 => {
+                return Err(SdoAbort::InvalidValue);
+            }
+            (0x1005, 0) if restricted_11_bit(new()) => return Err(SdoAbort::InvalidValue),
+            (0x1014, 0) if new() & (1 << 31) == 0 && restricted_11_bit(new()) => {
+                return Err(SdoAbort::InvalidValue);
             }
             // Two heartbeat consumer entries for one node (CiA 301 7.5.2.14: 0x06040043).
             (0x1016, s) if s > 0 => {

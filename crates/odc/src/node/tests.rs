@@ -600,6 +600,55 @@ fn dependent_parameters_are_checked() {
     assert_eq!(b.sdo_write(0x1016, 2, &entry(4, 200))[0], 0x60);
 }
 
+/// Found by the `node` fuzz target (a TPDO sent on 0x7FF): a PDO, SYNC or EMCY COB-ID on one
+/// of CiA 301's restricted CAN-IDs is refused with 0x06090030, so the node never speaks on
+/// the identifiers of NMT, SDO, error control or LSS; an invalid PDO may still hold one, and
+/// the edges of the ranges are allowed.
+#[test]
+fn restricted_can_ids_are_refused() {
+    let mut b = Bench::new();
+    let invalid_value = [0x30, 0x00, 0x09, 0x06];
+    assert_eq!(b.sdo_write(0x1800, 1, &0x8000_07FFu32.to_le_bytes())[0], 0x60);
+    for id in [0x7FFu32, 0x000, 0x07F, 0x101, 0x180, 0x585, 0x605, 0x6E0, 0x705, 0x7E4] {
+        assert_eq!(b.sdo_write(0x1800, 1, &id.to_le_bytes())[4..], invalid_value, "TPDO {id:#X}");
+        assert_eq!(b.sdo_write(0x1400, 1, &id.to_le_bytes())[4..], invalid_value, "RPDO {id:#X}");
+        assert_eq!(b.sdo_write(0x1005, 0, &id.to_le_bytes())[4..], invalid_value, "SYNC {id:#X}");
+    }
+    // 29-bit identifiers are outside the rule; 0x080, 0x100, 0x181, 0x580, 0x680 and 0x6DF
+    // are free.
+    assert_eq!(b.sdo_write(0x1800, 1, &0x2000_0585u32.to_le_bytes())[0], 0x60);
+    for id in [0x100u32, 0x181, 0x580, 0x680, 0x6DF] {
+        assert_eq!(b.sdo_write(0x1800, 1, &(id | 1 << 31).to_le_bytes())[0], 0x60, "{id:#X}");
+        assert_eq!(b.sdo_write(0x1800, 1, &(id & 0x7FF).to_le_bytes())[0], 0x60, "{id:#X}");
+    }
+    assert_eq!(b.sdo_write(0x1005, 0, &0x80u32.to_le_bytes())[0], 0x60);
+    // EMCY (writable here): refused while valid, taken while invalid.
+    b.dict.objs.iter_mut().filter(|o| o.index == 0x1014).for_each(|o| o.writable = true);
+    assert_eq!(b.sdo_write(0x1014, 0, &0x705u32.to_le_bytes())[4..], invalid_value);
+    assert_eq!(b.sdo_write(0x1014, 0, &0x8000_0705u32.to_le_bytes())[0], 0x60);
+    assert_eq!(b.sdo_write(0x1014, 0, &0x85u32.to_le_bytes())[0], 0x60);
+}
+
+/// Found by the `node` fuzz target: SYNC COB-ID 0xF6FC0032 (producer, 29-bit flag) was taken,
+/// and the node produced its SYNC as an 11-bit frame on 0x032. SYNC and EMCY are 11-bit here:
+/// a COB-ID with bit 29 or any of bits 11-28 set is refused (0x06090030).
+#[test]
+fn sync_and_emcy_cob_ids_are_11_bit() {
+    let mut b = Bench::new();
+    let invalid_value = [0x30, 0x00, 0x09, 0x06];
+    b.dict.objs.iter_mut().filter(|o| o.index == 0x1014).for_each(|o| o.writable = true);
+    for cob in [0xF6FC_0032u32, 0x6000_0080, 0x2000_0080, 0x0000_0880, 0x1000_0080] {
+        assert_eq!(b.sdo_write(0x1005, 0, &cob.to_le_bytes())[4..], invalid_value, "{cob:#X}");
+        assert_eq!(b.sdo_write(0x1014, 0, &cob.to_le_bytes())[4..], invalid_value, "{cob:#X}");
+    }
+    // A SYNC producer on 0x080 every 10 ms is taken and produces 11-bit frames on 0x080.
+    assert_eq!(b.sdo_write(0x1006, 0, &10_000u32.to_le_bytes())[0], 0x60);
+    assert_eq!(b.sdo_write(0x1005, 0, &0x4000_0080u32.to_le_bytes())[0], 0x60);
+    b.take();
+    b.run_to(25);
+    assert_eq!(ids(&b.take()), [0x080, 0x080]);
+}
+
 /// A read-only COB-ID (a device with fixed identifiers, as the LinMot E1200's EDS says) is
 /// refused as read-only (0x06010002), not as a CAN-ID change of a valid PDO (0x06090030):
 /// the access check comes first, as in a dictionary without a node.
