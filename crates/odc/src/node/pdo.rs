@@ -457,7 +457,7 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
         let mut data = Data::default();
         let n = usize::from(f.len.min(8));
         if let (Some(d), Some(s)) = (data.bytes.get_mut(..n), f.bytes().get(..n)) {
-            d.copy_from_slice(s);
+            crate::bits::copy_bytes(d, s);
         }
         data.len = f.len.min(8);
         if r.ttype <= 240 {
