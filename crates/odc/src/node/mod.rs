@@ -285,7 +285,6 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         self.emcy.reset(&*dict);
         self.dirty.0 = 0xFF;
         self.reload(&*dict, now);
-        self.pdo.load(&*dict);
         self.state = Some(NmtState::PreOperational);
         out(one_byte(self.error_control_id(), NmtState::BootUp.to_u8()));
         self.error_control.start(now);
@@ -494,9 +493,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         }
         #[cfg(feature = "sync-producer")]
         if let Some(counter) = self.sync.produce(now, out) {
-            let mut sync_ev = Events::default();
-            self.sync_in(dict, counter, now, out, &mut sync_ev);
-            ev.absorb(sync_ev);
+            self.sync_in(dict, counter, now, out, &mut ev);
         }
         self.emcy.poll(now, out);
         if state == NmtState::Operational {

@@ -196,7 +196,8 @@ impl Request {
     ///
     /// # Errors
     ///
-    /// [`SdoAbort::InvalidCommand`] for ccs 7, an unknown block sub-command or an empty frame.
+    /// [`SdoAbort::InvalidCommand`] for ccs 7, an unknown block sub-command (any block
+    /// request without the feature `sdo-block`) or an empty frame.
     pub fn decode(bytes: &[u8]) -> Result<Self, SdoAbort> {
         if bytes.is_empty() {
             return Err(SdoAbort::InvalidCommand);
@@ -208,6 +209,9 @@ impl Request {
             2 => Self::InitiateUpload(mux(&b)),
             3 => Self::UploadSegment(b[0] & 0x10 != 0),
             4 => Self::Abort(mux(&b), SdoAbort::from_u32(u32::from_le_bytes(tail(&b)))),
+            // A build without block transfer (feature `sdo-block`) reads no block request, as
+            // its server serves none: both answer InvalidCommand.
+            #[cfg(feature = "sdo-block")]
             5 | 6 => Self::Block(BlockRequest::decode(&b)?),
             _ => return Err(SdoAbort::InvalidCommand),
         })
