@@ -208,7 +208,7 @@ impl Emcy {
     }
 
     fn transmit(&mut self, payload: [u8; 8], now_us: u64, out: &mut impl FnMut(CanFrame)) {
-        out(CanFrame::new(self.cob_id & 0x7FF, payload));
+        out(CanFrame::standard(crate::can::StdId::masked(self.cob_id), payload));
         self.last_sent_us = Some(now_us);
     }
 

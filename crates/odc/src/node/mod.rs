@@ -16,8 +16,8 @@
 //! use odc::nmt::NmtState;
 //! use odc::node::Node;
 //!
-//! let mut od = lxm23a::slave::Dictionary::new(5);
-//! let mut node: Node<64> = Node::new(5);
+//! let mut od = lxm23a::slave::Dictionary::new(odc::node_id!(5));
+//! let mut node: Node<64> = Node::new(odc::node_id!(5));
 //! let mut sent = Vec::new();
 //! node.start(&mut od, 0, &mut |f| sent.push(f));
 //! assert_eq!(sent, [CanFrame::from_slice(0x705, &[0x00]).unwrap()]); // boot-up
@@ -44,9 +44,10 @@ pub mod pdo;
 mod tests;
 
 use crate::SdoAbort;
-use crate::can::CanFrame;
+use crate::can::{CanFrame, StdId};
+use crate::cob::NodeId;
 use crate::emcy::{EmcyCode, ErrorRegister};
-use crate::lss::{LssEvent, LssSlave, UNCONFIGURED};
+use crate::lss::{LssEvent, LssSlave};
 use crate::nmt::{NmtCommand, NmtState};
 use crate::sdo::Server;
 use crate::slave::ObjectDictionary;
@@ -61,8 +62,8 @@ const HEARTBEAT_ERROR: EmcyCode = EmcyCode(0x8130);
 pub const MAX_HB_CONSUMERS: usize = 8;
 
 /// An 11-bit data frame of one byte (boot-up, heartbeat, guarding answer, SYNC counter).
-const fn one_byte(id: u32, b: u8) -> CanFrame {
-    CanFrame { id, extended: false, remote: false, len: 1, data: [b, 0, 0, 0, 0, 0, 0, 0] }
+const fn one_byte(id: StdId, b: u8) -> CanFrame {
+    CanFrame::standard_len(id, [b, 0, 0, 0, 0, 0, 0, 0], 1)
 }
 
 /// Reads up to 4 bytes of `index:sub` as a little-endian number; `None` when the dictionary
@@ -305,8 +306,9 @@ struct Consumer {
 /// is `N` of them); `Node<32, 4, 4>` is 976 bytes on thumbv7em (`tests/slave-size`).
 #[derive(Clone, Debug)]
 pub struct Node<const N: usize, const R: usize = 8, const T: usize = 8> {
-    node_id: u8,
-    next_node_id: Option<u8>,
+    /// `None`: no node-ID (CiA 305's 0xFF), waiting for LSS.
+    node_id: Option<NodeId>,
+    next_node_id: Option<NodeId>,
     /// `None`: initialising (before `start`, or a reset pending).
     state: Option<NmtState>,
     pending_reset: Option<Reset>,
@@ -337,16 +339,29 @@ pub struct Node<const N: usize, const R: usize = 8, const T: usize = 8> {
 }
 
 impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
-    /// A node with id `node_id` (1–127), initialising until [`Node::start`]. With
-    /// [`lss::UNCONFIGURED`](crate::lss::UNCONFIGURED) (0xFF) it stays initialising, without
-    /// boot-up, until an LSS master gives it a node-ID ([`Node::with_lss`]; CiA 305).
-    pub fn new(node_id: u8) -> Self {
+    /// A node with id `node_id`, initialising until [`Node::start`].
+    pub fn new(node_id: NodeId) -> Self {
+        Self::with_id(Some(node_id))
+    }
+
+    /// A node without node-ID (CiA 305's 0xFF): it stays initialising, without boot-up,
+    /// until an LSS master gives it one ([`Node::with_lss`]).
+    pub fn unconfigured() -> Self {
+        Self::with_id(None)
+    }
+
+    fn with_id(node_id: Option<NodeId>) -> Self {
         Self {
             node_id,
             next_node_id: None,
             state: None,
             pending_reset: None,
-            sdo: Server::new(node_id),
+            // A node without node-ID serves no SDO (it stays initialising): the server's id
+            // is never used then.
+            sdo: Server::new(match node_id {
+                Some(n) => n,
+                None => NodeId::MIN,
+            }),
             dirty: Dirty::default(),
             heartbeat_us: 0,
             next_heartbeat_us: 0,
@@ -368,14 +383,14 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         }
     }
 
-    /// The node id.
-    pub fn node_id(&self) -> u8 {
+    /// The node id; `None` while it has none (LSS, CiA 305).
+    pub fn node_id(&self) -> Option<NodeId> {
         self.node_id
     }
 
     /// A new node id, taken at the next start (reset communication). With LSS, the LSS slave
     /// owns the node-ID from the first start on: this sets the one it starts with.
-    pub fn set_node_id(&mut self, node_id: u8) {
+    pub fn set_node_id(&mut self, node_id: NodeId) {
         self.next_node_id = Some(node_id);
     }
 
@@ -412,7 +427,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         now_us: u64,
         out: &mut impl FnMut(CanFrame),
     ) {
-        let requested = self.next_node_id.take().unwrap_or(self.node_id);
+        let requested = self.next_node_id.take().or(self.node_id);
         let setup = self.lss_setup;
         let mut lss = self.lss.take();
         if lss.is_none()
@@ -421,21 +436,19 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
             lss = Some(s.slave(&*dict, requested));
         }
         let id = match lss.as_mut() {
-            Some(l) => l.reset_communication().unwrap_or(UNCONFIGURED),
+            Some(l) => l.reset_communication(),
             None => requested,
         };
-        *self = Self::new(id);
+        *self = Self::with_id(id);
         self.lss_setup = setup;
         self.lss = lss;
-        if !(1..=127).contains(&id) {
-            return;
-        }
+        let Some(id) = id else { return };
         self.emcy.reset(&*dict);
         self.dirty.0 = 0xFF;
         self.reload(&*dict, now_us);
         self.pdo.load(&*dict);
         self.state = Some(NmtState::PreOperational);
-        out(one_byte(0x700 + u32::from(self.node_id), NmtState::BootUp.to_u8()));
+        out(one_byte(id.error_control(), NmtState::BootUp.to_u8()));
         self.next_heartbeat_us = now_us.saturating_add(self.heartbeat_us);
         self.next_sync_us = now_us.saturating_add(self.sync_period_us);
     }
@@ -491,8 +504,8 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         self.sync_cob_id & (1 << 30) != 0 && self.sync_period_us != 0
     }
 
-    fn sync_id(&self) -> u32 {
-        self.sync_cob_id & 0x7FF
+    fn sync_id(&self) -> StdId {
+        StdId::masked(self.sync_cob_id)
     }
 
     fn set_state(&mut self, s: NmtState, ev: &mut Events) {
@@ -529,18 +542,18 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         out: &mut impl FnMut(CanFrame),
     ) -> Events {
         let mut ev = self.pending(dict, now_us, out);
-        if frame.is_data(crate::lss::REQUEST_ID) {
+        if frame.is_data(crate::lss::REQUEST_ID.raw()) {
             // LSS runs in every NMT state, and while a node without node-ID initialises.
             self.lss_in(frame, out, &mut ev);
             return ev;
         }
-        let Some(state) = self.state else { return ev };
-        let own_ec = 0x700 + u32::from(self.node_id);
+        let (Some(state), Some(id)) = (self.state, self.node_id) else { return ev };
+        let own_ec = id.error_control();
         if frame.is_data(0) {
             self.nmt(frame, &mut ev);
             return ev;
         }
-        if frame.remote && !frame.extended && frame.id == own_ec {
+        if frame.remote && !frame.extended && frame.id == own_ec.raw() {
             // Node guarding: state and toggle bit, in every state (CiA 301 7.2.8.3.1).
             let byte = state.guarding_byte(self.toggle);
             self.toggle = !self.toggle;
@@ -563,12 +576,12 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         if state == NmtState::Stopped {
             return ev;
         }
-        if frame.is_data(self.sync_id()) && self.sync_cob_id & (1 << 29) == 0 {
+        if frame.is_data(self.sync_id().raw()) && self.sync_cob_id & (1 << 29) == 0 {
             let counter = frame.bytes().first().copied().filter(|_| self.sync_overflow > 1);
             self.sync_in(dict, counter, now_us, out, &mut ev);
             return ev;
         }
-        if frame.is_data(self.sdo.request_id()) {
+        if frame.is_data(self.sdo.request_id().raw()) {
             let mut view = Self::view(dict, &mut self.emcy, &mut self.dirty, &self.pdo, self.state);
             // A block upload's whole sub-block goes out at once.
             self.sdo.handle_into(&mut view, frame, now_us / 1000, out);
@@ -592,7 +605,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
 
     fn nmt(&mut self, frame: &CanFrame, ev: &mut Events) {
         let [cs, target, ..] = frame.data;
-        if frame.len < 2 || (target != 0 && target != self.node_id) {
+        if frame.len < 2 || (target != 0 && Some(target) != self.node_id.map(NodeId::get)) {
             return;
         }
         match NmtCommand::from_u8(cs) {
@@ -671,12 +684,12 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         out: &mut impl FnMut(CanFrame),
     ) -> Events {
         let mut ev = self.pending(dict, now_us, out);
-        let Some(state) = self.state else { return ev };
+        let (Some(state), Some(id)) = (self.state, self.node_id) else { return ev };
         if self.dirty.0 != 0 {
             self.reload(&*dict, now_us);
         }
         if self.heartbeat_us != 0 && now_us >= self.next_heartbeat_us {
-            out(one_byte(0x700 + u32::from(self.node_id), state.to_u8()));
+            out(one_byte(id.error_control(), state.to_u8()));
             // Keep the period; after a long gap (a stalled caller), start again from now.
             self.next_heartbeat_us =
                 self.next_heartbeat_us.saturating_add(self.heartbeat_us).max(now_us);
@@ -720,7 +733,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
             });
             out(match counter {
                 Some(c) => one_byte(self.sync_id(), c),
-                None => CanFrame { len: 0, ..one_byte(self.sync_id(), 0) },
+                None => CanFrame::standard_len(self.sync_id(), [0; 8], 0),
             });
             self.next_sync_us = self.next_sync_us.saturating_add(self.sync_period_us).max(now_us);
             let mut sync_ev = Events::default();
