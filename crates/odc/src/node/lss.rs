@@ -83,13 +83,15 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
 
     /// Sends the answer to [`LssEvent::Store`] once the application has stored the
     /// configuration (or failed to). `false` when the node has no LSS slave.
-    pub fn lss_store_response(
+    pub fn lss_store_response<S: super::Sent>(
         &mut self,
         result: StoreResult,
-        out: &mut impl FnMut(CanFrame),
+        out: &mut impl FnMut(CanFrame) -> S,
     ) -> bool {
-        let Some(lss) = &self.lss else { return false };
-        out(lss.store_response(result));
+        let Some(answer) = self.lss.as_ref().map(|l| l.store_response(result)) else {
+            return false;
+        };
+        self.with_tx(out, |_, o| o(answer));
         true
     }
 

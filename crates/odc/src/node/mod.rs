@@ -6,7 +6,9 @@
 //! calls [`Node::poll`] often enough for its timers (heartbeat, event timers, inhibit times,
 //! guarding; every millisecond is plenty, [`Node::next_deadline`] says when it must), and
 //! passes a monotonic time in microseconds; the node's frames go to the `out` closure (a CAN
-//! driver's transmit queue). The node reads its parameters from the dictionary (0x1005,
+//! driver's transmit queue). `out` may refuse a frame by returning `Err` ([`Sent`]): the node
+//! keeps up to [`TX_QUEUE`] refused frames in order and offers them first at its next call,
+//! and counts the ones that did not fit ([`Node::tx_lost`]). The node reads its parameters from the dictionary (0x1005,
 //! 0x1006, 0x100C, 0x100D, 0x1014–0x1017, 0x1019, the PDO objects) and reads them again after
 //! an SDO write to them, so a master configures it as any CANopen device.
 //!
@@ -40,6 +42,8 @@ mod emcy;
 mod lss;
 use lss::LssSetup;
 pub mod pdo;
+mod tx;
+pub use tx::{Sent, TX_QUEUE};
 #[cfg(test)]
 mod tests;
 
@@ -301,9 +305,10 @@ struct Consumer {
 ///
 /// `N`: bytes of the SDO server's buffer (the largest value of a segmented transfer); `R`
 /// and `T`: receive and transmit PDOs served (0x1400/0x1800 onward; 8 each by default, the
-/// devices in `eds/` have 4). Every buffer is inside the node: `Node<64>` is 1376 bytes on
-/// x86_64, `Node<64, 4, 4>` 1024 (measured with `size_of`, LSS slave included; the SDO buffer
-/// is `N` of them); `Node<32, 4, 4>` is 976 bytes on thumbv7em (`tests/slave-size`).
+/// devices in `eds/` have 4). Every buffer is inside the node: `Node<64>` is 1456 bytes on
+/// x86_64, `Node<64, 4, 4>` 1104 (measured with `size_of`, LSS slave and the transmit queue
+/// of [`TX_QUEUE`] frames included; the SDO buffer is `N` of them); `Node<32, 4, 4>` was 976
+/// bytes on thumbv7em (`tests/slave-size`) before the 72-byte transmit queue.
 #[derive(Clone, Debug)]
 pub struct Node<const N: usize, const R: usize = 8, const T: usize = 8> {
     /// `None`: no node-ID (CiA 305's 0xFF), waiting for LSS.
@@ -336,6 +341,8 @@ pub struct Node<const N: usize, const R: usize = 8, const T: usize = 8> {
     // LSS slave: what to build at the first start, then the slave (kept across resets).
     lss_setup: Option<LssSetup>,
     lss: Option<LssSlave>,
+    /// Frames the sender refused, to offer again.
+    tx: tx::TxQueue,
 }
 
 impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
@@ -380,6 +387,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
             pdo: pdo::PdoEngine::new(),
             lss_setup: None,
             lss: None,
+            tx: tx::TxQueue::default(),
         }
     }
 
@@ -416,12 +424,8 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         self.emcy.overflowed()
     }
 
-    /// Initialisation → boot-up frame (0x700 + id, one byte 0) → pre-operational. Also what
-    /// reset node and reset communication do: every parameter is read again from `dict`
-    /// (which the application has set back to its defaults, for [`Node::next_node_id`]), the
-    /// error history is emptied. The node-ID an LSS master configured becomes active here;
-    /// a node without node-ID (0xFF) stays initialising, without boot-up (CiA 305).
-    pub fn start<D: ObjectDictionary + ?Sized>(
+    /// [`Node::start`] once its sender keeps the frames it refuses.
+    fn start_in<D: ObjectDictionary + ?Sized>(
         &mut self,
         dict: &mut D,
         now_us: u64,
@@ -532,9 +536,8 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         View { dict, emcy, dirty, written: false, locked }
     }
 
-    /// One received frame: NMT, node guarding RTR, heartbeats of other nodes, SYNC, SDO
-    /// requests, RPDOs and RTRs of TPDOs. Frames for none of these are ignored.
-    pub fn handle<D: ObjectDictionary + ?Sized>(
+    /// [`Node::handle`] once its sender keeps the frames it refuses.
+    fn handle_in<D: ObjectDictionary + ?Sized>(
         &mut self,
         dict: &mut D,
         frame: &CanFrame,
@@ -625,7 +628,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
     /// Clears EMCY 0x8130 once no watched heartbeat and no life guarding is lost.
     fn clear_heartbeat_error(&mut self, now_us: u64, out: &mut impl FnMut(CanFrame)) {
         if self.lost == 0 && !self.guard_lost {
-            self.clear_emcy(HEARTBEAT_ERROR, now_us, out);
+            self.clear_emcy_in(HEARTBEAT_ERROR, now_us, out);
         }
     }
 
@@ -668,16 +671,14 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
     ) -> Events {
         let mut ev = Events::default();
         if self.pending_reset.take().is_some() {
-            self.start(dict, now_us, out);
+            self.start_in(dict, now_us, out);
             ev.state = self.state;
         }
         ev
     }
 
-    /// Timers: heartbeat, heartbeat consumers, life guarding, the SYNC producer, EMCY inhibit,
-    /// TPDO event timers and inhibit times, change of the mapped data of event-driven TPDOs,
-    /// the SDO timeout. A reset requested by NMT happens here (boot-up).
-    pub fn poll<D: ObjectDictionary + ?Sized>(
+    /// [`Node::poll`] once its sender keeps the frames it refuses.
+    fn poll_in<D: ObjectDictionary + ?Sized>(
         &mut self,
         dict: &mut D,
         now_us: u64,
@@ -717,10 +718,10 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         // number in the first manufacturer byte (0 for life guarding); cleared when every
         // watched heartbeat is back.
         for node in (0..128u8).filter(|&n| ev.heartbeat_lost >> n & 1 == 1) {
-            self.raise_emcy(HEARTBEAT_ERROR, [node, 0, 0, 0, 0], now_us, out);
+            self.raise_emcy_in(HEARTBEAT_ERROR, [node, 0, 0, 0, 0], now_us, out);
         }
         if ev.life_guarding_lost {
-            self.raise_emcy(HEARTBEAT_ERROR, [0; 5], now_us, out);
+            self.raise_emcy_in(HEARTBEAT_ERROR, [0; 5], now_us, out);
         }
         if state == NmtState::Stopped {
             return ev;
@@ -775,10 +776,8 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         [hb, sync, consumers, guard, pdo, self.emcy.next_deadline()].into_iter().flatten().min()
     }
 
-    /// Raises an error: sets its bit in the error register, adds it to the history (0x1003)
-    /// and sends the EMCY (COB-ID 0x1014; after the inhibit time 0x1015; not in stopped,
-    /// where EMCY is not a service).
-    pub fn raise_emcy(
+    /// [`Node::raise_emcy`] once its sender keeps the frames it refuses.
+    fn raise_emcy_in(
         &mut self,
         code: EmcyCode,
         manufacturer: [u8; 5],
@@ -789,9 +788,8 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         self.emcy.raise(code, manufacturer, send, now_us, out);
     }
 
-    /// Clears an error raised before; sends the "error reset" EMCY (code 0x0000) with the
-    /// error register that remains. Returns whether the error was active.
-    pub fn clear_emcy(
+    /// [`Node::clear_emcy`] once its sender keeps the frames it refuses.
+    fn clear_emcy_in(
         &mut self,
         code: EmcyCode,
         now_us: u64,

@@ -9,6 +9,7 @@ use std::{vec, vec::Vec};
 use super::*;
 
 mod lss;
+mod tx;
 
 const ID: u8 = 5;
 const NODE: NodeId = crate::node_id!(ID);
