@@ -44,7 +44,7 @@ use common::{Bench, assert_same, printed};
 use odc::Pdo;
 use odc::can::CanFrame;
 use odc::cia402::{Controlword, ModeOfOperation, Statusword};
-use odc::cob::{Function, NodeId};
+use odc::cob::Function;
 use odc::emcy::{EmcyCode, EmcyFrame, ErrorRegister};
 use odc::nmt::{NmtCommand, NmtState};
 use odc_tests_devices::lexium_mdrive::{od, pdo, slave};

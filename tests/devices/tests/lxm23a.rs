@@ -29,7 +29,7 @@ mod node_bench;
 use common::{Bench, Printed, assert_same, printed, status};
 use odc::can::CanFrame;
 use odc::cia402::{Command, Controlword, State, Statusword};
-use odc::cob::{CobId, Function, NodeId};
+use odc::cob::{CobId, Function};
 use odc::emcy::{EmcyCode, EmcyFrame, ErrorRegister};
 use odc::nmt::NmtCommand;
 use odc::slave::ObjectDictionary;
@@ -452,8 +452,9 @@ fn emcy_message() {
     let sent = wire.frames(0x81);
     assert_eq!(sent.len(), 1);
     let register = ErrorRegister::GENERIC.union(ErrorRegister::CURRENT);
-    let mut expected = frame;
-    expected.data()[2] = register.0;
+    let mut bytes = frame.data();
+    bytes[2] = register.0;
+    let expected = CanFrame::new(frame.id(), bytes).unwrap();
     assert_eq!(sent[0], expected);
 }
 

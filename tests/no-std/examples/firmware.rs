@@ -17,6 +17,7 @@
 // slave: begin
 use odc::can::CanFrame;
 use odc::node::Node;
+use odc::time::Instant;
 use odc::transport::{Bus, embedded_can::NbBus};
 
 mod lxm23a {
@@ -30,16 +31,16 @@ pub fn run<C: embedded_can::nb::Can>(can: C, clock_ms: impl FnMut() -> u64) -> !
     let mut node: Node<64> = Node::new(node_id);
     let mut bus = NbBus::new(can, clock_ms);
     let mut bus_errors = 0u32; // what the driver refused: a firmware reports it (EMCY, LED)
-    let now_us = bus.now_ms() * 1000;
-    node.start(&mut od, now_us, &mut |f| bus_errors += u32::from(bus.send(&f).is_err()));
+    let now = Instant::from_millis(bus.now_ms());
+    node.start(&mut od, now, &mut |f| bus_errors += u32::from(bus.send(&f).is_err()));
     loop {
         let now_ms = bus.now_ms();
         let received = bus.recv(now_ms); // at once: Ok(None) when nothing came
-        let now_us = now_ms * 1000;
+        let now = Instant::from_millis(now_ms);
         let mut out = |f: CanFrame| bus_errors += u32::from(bus.send(&f).is_err());
-        let mut events = node.poll(&mut od, now_us, &mut out);
+        let mut events = node.poll(&mut od, now, &mut out);
         match received {
-            Ok(Some(frame)) => events.absorb(node.handle(&mut od, &frame, now_us, &mut out)),
+            Ok(Some(frame)) => events.absorb(node.handle(&mut od, &frame, now, &mut out)),
             Ok(None) => {}
             Err(_) => bus_errors += 1,
         }

@@ -7,6 +7,7 @@ use super::{Events, Node};
 use crate::can::{CanFrame, StdId};
 use crate::emcy::EmcyCode;
 use crate::slave::ObjectDictionary;
+use crate::time::Instant;
 
 /// Frames the node keeps when its sender refuses them.
 pub const TX_QUEUE: usize = 4;
@@ -122,10 +123,10 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
     pub fn start<D: ObjectDictionary + ?Sized, S: Sent>(
         &mut self,
         dict: &mut D,
-        now_us: u64,
+        now: Instant,
         out: &mut impl FnMut(CanFrame) -> S,
     ) {
-        self.with_tx(out, |n, o| n.start_in(dict, now_us, &mut |f| o(f)));
+        self.with_tx(out, |n, o| n.start_in(dict, now, &mut |f| o(f)));
     }
 
     /// One received frame: NMT, node guarding RTR, heartbeats of other nodes, SYNC, SDO
@@ -134,10 +135,10 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         &mut self,
         dict: &mut D,
         frame: &CanFrame,
-        now_us: u64,
+        now: Instant,
         out: &mut impl FnMut(CanFrame) -> S,
     ) -> Events {
-        self.with_tx(out, |n, o| n.handle_in(dict, frame, now_us, &mut |f| o(f)))
+        self.with_tx(out, |n, o| n.handle_in(dict, frame, now, &mut |f| o(f)))
     }
 
     /// Timers: heartbeat, heartbeat consumers, life guarding, the SYNC producer, EMCY inhibit,
@@ -147,10 +148,10 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
     pub fn poll<D: ObjectDictionary + ?Sized, S: Sent>(
         &mut self,
         dict: &mut D,
-        now_us: u64,
+        now: Instant,
         out: &mut impl FnMut(CanFrame) -> S,
     ) -> Events {
-        self.with_tx(out, |n, o| n.poll_in(dict, now_us, &mut |f| o(f)))
+        self.with_tx(out, |n, o| n.poll_in(dict, now, &mut |f| o(f)))
     }
 
     /// Raises an error: sets its bit in the error register, adds it to the history (0x1003)
@@ -160,10 +161,10 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         &mut self,
         code: EmcyCode,
         manufacturer: [u8; 5],
-        now_us: u64,
+        now: Instant,
         out: &mut impl FnMut(CanFrame) -> S,
     ) {
-        self.with_tx(out, |n, o| n.raise_emcy_in(code, manufacturer, now_us, &mut |f| o(f)));
+        self.with_tx(out, |n, o| n.raise_emcy_in(code, manufacturer, now, &mut |f| o(f)));
     }
 
     /// Clears an error raised before; sends the "error reset" EMCY (code 0x0000) with the
@@ -171,9 +172,9 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
     pub fn clear_emcy<S: Sent>(
         &mut self,
         code: EmcyCode,
-        now_us: u64,
+        now: Instant,
         out: &mut impl FnMut(CanFrame) -> S,
     ) -> bool {
-        self.with_tx(out, |n, o| n.clear_emcy_in(code, now_us, &mut |f| o(f)))
+        self.with_tx(out, |n, o| n.clear_emcy_in(code, now, &mut |f| o(f)))
     }
 }
