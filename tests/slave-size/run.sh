@@ -205,9 +205,8 @@ pub extern "C" fn _start() -> ! {
             t += 1000;
             // SAFETY: reads the mailbox back as a receive FIFO would deliver a frame.
             let [id, lo, hi] = unsafe { core::ptr::read_volatile(&raw const TX_MAILBOX) };
-            let mut data = [0u8; 8];
-            data[..4].copy_from_slice(&lo.to_le_bytes());
-            data[4..].copy_from_slice(&hi.to_le_bytes());
+            let ([a, b, c, d], [e, g, h, i]) = (lo.to_le_bytes(), hi.to_le_bytes());
+            let data = [a, b, c, d, e, g, h, i];
             node_rx(id, 8, data.as_ptr(), t);
             node_poll(t);
         }

@@ -34,7 +34,10 @@ pub(super) struct Emcy {
     /// How many entries the dictionary's 0x1003 has (0: no 0x1003).
     history_cap: usize,
     has_register: bool,
+    /// A ring: `queued` payloads from `head` on (indexes modulo [`QUEUE`], so no bounds
+    /// check and no memmove on the frame path).
     queue: [[u8; 8]; QUEUE],
+    head: usize,
     queued: usize,
     last_sent: Option<Instant>,
     overflowed: bool,
@@ -52,6 +55,7 @@ impl Emcy {
             history_cap: 0,
             has_register: false,
             queue: [[0; 8]; QUEUE],
+            head: 0,
             queued: 0,
             last_sent: None,
             overflowed: false,
@@ -100,7 +104,10 @@ impl Emcy {
             return;
         }
         let cap = self.history_cap.min(MAX_HISTORY);
-        self.history.copy_within(0..cap - 1, 1);
+        // Entries past `cap` are never read: shifting all of them keeps the indexes constant.
+        for i in (1..MAX_HISTORY).rev() {
+            self.history[i] = self.history[i - 1];
+        }
         // 0x1003 entry: error code in bits 0–15, additional information in bits 16–31.
         self.history[0] =
             u32::from(code.0) | u32::from(u16::from_le_bytes([info[0], info[1]])) << 16;
@@ -172,7 +179,7 @@ impl Emcy {
         let put = |buf: &mut [u8], bytes: &[u8]| {
             buf.get_mut(..bytes.len())
                 .map(|d| {
-                    d.copy_from_slice(bytes);
+                    crate::bits::copy_bytes(d, bytes);
                     bytes.len()
                 })
                 .ok_or(SdoAbort::TooShort)
@@ -197,12 +204,13 @@ impl Emcy {
             self.transmit(payload, now, out);
             return;
         }
-        if self.queued == QUEUE {
-            self.queue.copy_within(1.., 0);
-            self.queued -= 1;
+        if self.queued >= QUEUE {
+            // Full: the oldest waiting one gives way.
+            self.head = (self.head + 1) % QUEUE;
+            self.queued = QUEUE - 1;
             self.overflowed = true;
         }
-        self.queue[self.queued] = payload;
+        self.queue[(self.head + self.queued) % QUEUE] = payload;
         self.queued += 1;
     }
 
@@ -218,8 +226,8 @@ impl Emcy {
     /// Sends the next queued EMCY once the inhibit time has passed.
     pub(super) fn poll(&mut self, now: Instant, out: &mut impl FnMut(CanFrame)) {
         if self.queued > 0 && !self.inhibited(now) {
-            let payload = self.queue[0];
-            self.queue.copy_within(1.., 0);
+            let payload = self.queue[self.head % QUEUE];
+            self.head = (self.head + 1) % QUEUE;
             self.queued -= 1;
             self.transmit(payload, now, out);
         }

@@ -297,7 +297,6 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         self.emcy.reset(&*dict);
         self.dirty.0 = 0xFF;
         self.reload(&*dict, now);
-        self.pdo.load(&*dict);
         self.state = Some(NmtState::PreOperational);
         out(one_byte(id.error_control(), NmtState::BootUp.to_u8()));
         self.error_control.start(now);
@@ -496,7 +495,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         // error or heartbeat error"; CANopenNode's CO_EM_HEARTBEAT_CONSUMER), the node's
         // number in the first manufacturer byte (0 for life guarding); cleared when every
         // watched heartbeat is back.
-        for node in (0..128u8).filter(|&n| ev.heartbeat_lost >> n & 1 == 1) {
+        for node in (0..128u8).filter(|&n| error_control::has_node(ev.heartbeat_lost, n)) {
             self.raise_emcy_in(HEARTBEAT_ERROR, [node, 0, 0, 0, 0], now, out);
         }
         if ev.life_guarding_lost {
@@ -507,9 +506,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         }
         #[cfg(feature = "sync-producer")]
         if let Some(counter) = self.sync.produce(now, out) {
-            let mut sync_ev = Events::default();
-            self.sync_in(dict, counter, now, out, &mut sync_ev);
-            ev.absorb(sync_ev);
+            self.sync_in(dict, counter, now, out, &mut ev);
         }
         self.emcy.poll(now, out);
         if state == NmtState::Operational {

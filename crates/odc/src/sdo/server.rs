@@ -333,7 +333,7 @@ impl<const N: usize> Server<N> {
         let bytes = seg.bytes();
         let end = len + bytes.len();
         match self.buf.get_mut(len..end) {
-            Some(dst) => dst.copy_from_slice(bytes),
+            Some(dst) => crate::bits::copy_bytes(dst, bytes),
             None => return self.abort(addr, SdoAbort::OutOfMemory),
         }
         if !seg.last {
@@ -472,7 +472,7 @@ impl<const N: usize> Server<N> {
             if let (Some(dst), Some(src)) =
                 (self.buf.get_mut(received..received + room), seg.data.get(..room))
             {
-                dst.copy_from_slice(src);
+                crate::bits::copy_bytes(dst, src);
             }
             received += 7;
             ackseq = seg.seqno;
