@@ -71,7 +71,7 @@ fn canopen(ctx: &Ctx<'_>) -> TokenStream {
             pub const #config: #rt::plan::PdoConfig<'static> = #value;
 
             #text
-            pub const fn #f(#param: u8) -> [#rt::plan::SdoWrite; #config.len()] {
+            pub const fn #f(#param: #rt::cob::NodeId) -> [#rt::plan::SdoWrite; #config.len()] {
                 #config.writes(#cob)
             }
         });
@@ -85,7 +85,7 @@ fn canopen(ctx: &Ctx<'_>) -> TokenStream {
     quote! {
         /// The writes that set the default mapping of every PDO that is valid by default, for
         /// node `node_id`, in order (CiA 301 PDO mapping procedure).
-        pub const fn plan(#param: u8) -> [#rt::plan::SdoWrite; #rt::plan::plan_len(&[#(#all),*])] {
+        pub const fn plan(#param: #rt::cob::NodeId) -> [#rt::plan::SdoWrite; #rt::plan::plan_len(&[#(#all),*])] {
             #rt::plan::plan(&[#(#all),*], &[#(#all_cobs),*])
         }
 

@@ -26,7 +26,7 @@ mod lxm23a {
 
 /// Runs the node on `can` (the HAL's CAN peripheral) with a millisecond clock; never returns.
 pub fn run<C: embedded_can::nb::Can>(can: C, clock_ms: impl FnMut() -> u64) -> ! {
-    let node_id = 5;
+    let node_id = odc::node_id!(5);
     let mut od = lxm23a::slave::Dictionary::new(node_id);
     let mut node: Node<64> = Node::new(node_id);
     let mut bus = NbBus::new(can, clock_ms);
