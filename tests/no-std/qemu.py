@@ -76,14 +76,40 @@ STEPS = [
     ("000#0105", [], "NMT start"),
     # 50 ms: heartbeats in state operational (0x05), 20 ms apart (checked below).
     ("wait 50", ["705#05", "705#05"], None),
-    # RPDO1: controlword 0x000F ...
-    ("205#0F00", [], "RPDO1 received (controlword)"),
-    # ... which an upload of 0x6040:00 reads back (0x4B: 2 bytes).
+    # SYNC (0x080, no data) → TPDO1: the statusword, 2 bytes, in CiA 402's "switch on
+    # disabled" (the drive started: transition 1).
+    ("080#", [("185", "switch on disabled")], "SYNC, TPDO1 sent"),
+    # RPDO1: the controlword, 2 bytes. Shutdown (0x0006): transition 2.
+    ("205#0600", [], "RPDO1 received (controlword), the drive's transition taken"),
+    ("080#", [("185", "ready to switch on")], "SYNC, TPDO1 sent"),
+    # Switch on (0x0007): transition 3.
+    ("205#0700", [], "RPDO1 received (controlword), the drive's transition taken"),
+    ("080#", [("185", "switched on")], "SYNC, TPDO1 sent"),
+    # Enable operation (0x000F): transition 4.
+    ("205#0F00", [], "RPDO1 received (controlword), the drive's transition taken"),
+    # An upload of 0x6040:00 reads the controlword back (0x4B: 2 bytes).
     ("605#4040600000000000", ["585#4B4060000F000000"], "SDO upload, expedited (0x6040:00)"),
 ] + [
-    # SYNC (0x080, no data) → TPDO1: the statusword, 2 bytes.
-    ("080#", ["185#0000"], "SYNC, TPDO1 sent")
+    ("080#", [("185", "operation enabled")], "SYNC, TPDO1 sent")
 ] * SYNCS
+
+# CiA 402 (IEC 61800-7-201) statusword: the state is the bits under the mask.
+STATES = {
+    "switch on disabled": (0x4F, 0x40),
+    "ready to switch on": (0x6F, 0x21),
+    "switched on": (0x6F, 0x23),
+    "operation enabled": (0x6F, 0x27),
+}
+
+
+def matches(frame, expected):
+    """An exact frame, or (COB-ID, CiA 402 state) for a 2-byte statusword."""
+    if isinstance(expected, str):
+        return frame == expected
+    cob, state = expected
+    ident, _, data = frame.partition("#")
+    mask, value = STATES[state]
+    return ident == cob and len(data) == 4 and int.from_bytes(bytes.fromhex(data), "little") & mask == value
 
 
 def run(cmd, **kw):
@@ -145,7 +171,7 @@ def check(lines):
             else:
                 cost = int(line.split()[1])
             line = next(it, None)
-        if sent != expected:
+        if len(sent) != len(expected) or not all(map(matches, sent, expected)):
             failures.append(f"{step}: sent {sent}, expected {expected}")
         if step.startswith("wait 50") and [b - a for a, b in zip(times, times[1:])] != [20]:
             failures.append(f"{step}: heartbeats at {times} ms, expected 20 ms apart")
@@ -218,7 +244,7 @@ def main():
     elf = build()
     costs, stack = check(emulate(elf))
     block = figures(elf, costs, stack)
-    print(f"ok: {len(STEPS)} steps of the scripted bus answered as CiA 301 prescribes\n")
+    print(f"ok: {len(STEPS)} steps of the scripted bus answered as CiA 301 and CiA 402 prescribe\n")
     print(block)
     if not (args.check_readme or args.write_readme):
         return

@@ -16,6 +16,7 @@
 
 // slave: begin
 use odc::can::CanFrame;
+use odc::cia402::Drive;
 use odc::node::Node;
 use odc::transport::{Bus, embedded_can::NbBus};
 use static_cell::StaticCell;
@@ -38,10 +39,12 @@ static NODE: StaticCell<Node<64>> = StaticCell::new();
 pub fn run<C: embedded_can::nb::Can>(can: C, clock_ms: impl FnMut() -> u64) -> ! {
     let od = OD.init_with(|| Dictionary::new(NODE_ID));
     let node = NODE.init_with(|| Node::new(NODE_ID));
+    let mut drive = Drive::new(); // CiA 402: the power state machine, a simulated axis
     let mut bus = NbBus::new(can, clock_ms);
     let mut bus_errors = 0u32; // what the driver refused: a firmware reports it (EMCY, LED)
-    let now_us = bus.now_ms() * 1000;
-    node.start(od, now_us, &mut |f| bus_errors += u32::from(bus.send(&f).is_err()));
+    let mut last_ms = bus.now_ms();
+    node.start(od, last_ms * 1000, &mut |f| bus_errors += u32::from(bus.send(&f).is_err()));
+    drive.start(od);
     loop {
         let now_ms = bus.now_ms();
         let received = bus.recv(now_ms); // at once: Ok(None) when nothing came
@@ -49,12 +52,21 @@ pub fn run<C: embedded_can::nb::Can>(can: C, clock_ms: impl FnMut() -> u64) -> !
         let mut out = |f: CanFrame| bus_errors += u32::from(bus.send(&f).is_err());
         let mut events = node.poll(od, now_us, &mut out);
         match received {
-            Ok(Some(frame)) => events.absorb(node.handle(od, &frame, now_us, &mut out)),
+            Ok(Some(frame)) => {
+                events.absorb(node.handle(od, &frame, now_us, &mut out));
+                drive.update(od); // an SDO or RPDO may have written the controlword
+            }
             Ok(None) => {}
             Err(_) => bus_errors += 1,
         }
+        if now_ms != last_ms {
+            drive.step(od, u32::try_from(now_ms - last_ms).unwrap_or(u32::MAX));
+            last_ms = now_ms;
+        }
         if events.reset.is_some() {
             *od = Dictionary::new(node.next_node_id()); // defaults back
+            drive = Drive::new();
+            drive.start(od);
         }
     }
 }
@@ -224,7 +236,7 @@ mod board {
             if file == usize::MAX {
                 fail(b"cannot open bus.txt\n");
             }
-            let script = SCRIPT.init(Script {
+            let script = SCRIPT.try_init(Script {
                 file,
                 out,
                 line: [0; 64],
@@ -236,6 +248,7 @@ mod board {
                 idle_started: None,
                 idle_min: None,
             });
+            let Some(script) = script else { fail(b"the script is open already\n") };
             Self(script)
         }
     }
@@ -271,9 +284,9 @@ mod board {
                 s.wait_until = None;
             }
             let len = s.next_line();
-            let line = &s.line[..len];
+            let line = s.line.get(..len).unwrap_or_default();
             if let Some(ms) = line.strip_prefix(b"wait ") {
-                let Some(ms) = parse_hex_or_dec(ms, 10) else { fail(b"bad wait line\n") };
+                let Some(ms) = parse_number(ms, 10) else { fail(b"bad wait line\n") };
                 s.write(b"wait\n");
                 s.wait_until = Some(MS.load(Ordering::Relaxed).saturating_add(ms));
                 return Err(nb::Error::WouldBlock);
@@ -295,49 +308,47 @@ mod board {
 
         /// `ID#HEX\n`.
         fn write_frame(&mut self, frame: &CanFrame) {
-            let mut buf = [0u8; 32];
-            let mut n = 0;
+            let mut line = Line::new();
             let id = match Frame::id(frame) {
                 Id::Standard(s) => u32::from(s.as_raw()),
                 Id::Extended(e) => e.as_raw(),
             };
-            n += hex(&mut buf[n..], id, 3);
-            buf[n] = b'#';
-            n += 1;
+            line.hex(id, 3);
+            line.push(b'#');
             for &byte in Frame::data(frame) {
-                n += hex(&mut buf[n..], u32::from(byte), 2);
+                line.hex(u32::from(byte), 2);
             }
-            buf[n] = b'\n';
-            self.write(&buf[..=n]);
+            line.push(b'\n');
+            self.write(line.bytes());
         }
 
         /// Writes the frames sent and the cost of the frame received last.
         fn report(&mut self, end: u64) {
-            for i in 0..self.n_sent {
-                let Some((ms, frame)) = self.sent[i].take() else { continue };
-                let mut buf = [0u8; 16];
-                buf[..3].copy_from_slice(b"tx ");
-                let n = 3 + dec(&mut buf[3..], u64::from(ms));
-                buf[n] = b' ';
-                self.write(&buf[..=n]);
-                self.write_frame(&frame);
-            }
+            let sent = core::mem::take(&mut self.sent);
             self.n_sent = 0;
+            for (ms, frame) in sent.iter().flatten() {
+                let mut line = Line::new();
+                line.text(b"tx ");
+                line.dec(u64::from(*ms));
+                line.push(b' ');
+                self.write(line.bytes());
+                self.write_frame(frame);
+            }
             if let Some(start) = self.started.take() {
                 self.write_number(b"cost ", end - start);
             }
         }
 
         fn write_number(&mut self, label: &[u8], value: u64) {
-            let mut buf = [0u8; 24];
-            let n = dec(&mut buf, value);
-            buf[n] = b'\n';
-            self.write(label);
-            self.write(&buf[..=n]);
+            let mut line = Line::new();
+            line.text(label);
+            line.dec(value);
+            line.push(b'\n');
+            self.write(line.bytes());
         }
 
-        /// The next non-empty line of the script, without `\r\n`, into `self.line`; at the end
-        /// of the script, reports and ends QEMU.
+        /// The next line of the script that is neither empty nor a `#` comment, without its
+        /// `\r\n`, into `self.line`; at the end of the script, reports and ends QEMU.
         fn next_line(&mut self) -> usize {
             loop {
                 let mut len = 0;
@@ -361,7 +372,7 @@ mod board {
                         len += 1;
                     }
                 }
-                if len > 0 && self.line[0] != b'#' {
+                if len > 0 && self.line.first() != Some(&b'#') {
                     return len;
                 }
             }
@@ -380,38 +391,57 @@ mod board {
         }
     }
 
-    /// Writes `value` in upper-case hex with at least `digits` digits; returns the length.
-    fn hex(buf: &mut [u8], value: u32, digits: usize) -> usize {
-        let mut n = 8;
-        while n > digits && (value >> ((n - 1) * 4)) == 0 {
-            n -= 1;
-        }
-        for (i, slot) in buf.iter_mut().take(n).enumerate() {
-            let nibble = (value >> ((n - 1 - i) * 4)) & 0xF;
-            *slot = b"0123456789ABCDEF"[nibble as usize];
-        }
-        n
+    /// A line of output being built; what does not fit is cut (no line here comes near).
+    struct Line {
+        buf: [u8; 48],
+        len: usize,
     }
 
-    /// Writes `value` in decimal; returns the length.
-    fn dec(buf: &mut [u8], mut value: u64) -> usize {
-        let mut digits = [0u8; 20];
-        let mut n = 0;
-        loop {
-            digits[n] = b'0' + (value % 10) as u8;
-            n += 1;
-            value /= 10;
-            if value == 0 {
-                break;
+    impl Line {
+        fn new() -> Self {
+            Self { buf: [0; 48], len: 0 }
+        }
+
+        fn push(&mut self, byte: u8) {
+            if let Some(slot) = self.buf.get_mut(self.len) {
+                *slot = byte;
+                self.len += 1;
             }
         }
-        for (slot, d) in buf.iter_mut().zip(digits[..n].iter().rev()) {
-            *slot = *d;
+
+        fn text(&mut self, text: &[u8]) {
+            text.iter().for_each(|&b| self.push(b));
         }
-        n
+
+        fn bytes(&self) -> &[u8] {
+            self.buf.get(..self.len).unwrap_or_default()
+        }
+
+        /// `value` in upper-case hex, at least `digits` digits.
+        fn hex(&mut self, value: u32, digits: u32) {
+            let needed = (32 - value.leading_zeros()).div_ceil(4).max(digits).min(8);
+            for i in (0..needed).rev() {
+                self.push(b"0123456789ABCDEF"[((value >> (i * 4)) & 0xF) as usize]);
+            }
+        }
+
+        /// `value` in decimal.
+        fn dec(&mut self, mut value: u64) {
+            let mut digits = [0u8; 20]; // u64::MAX has 20
+            let mut n = 0;
+            for slot in &mut digits {
+                *slot = b'0' + (value % 10) as u8;
+                value /= 10;
+                n += 1;
+                if value == 0 {
+                    break;
+                }
+            }
+            digits.iter().take(n).rev().for_each(|&d| self.push(d));
+        }
     }
 
-    fn parse_hex_or_dec(text: &[u8], radix: u32) -> Option<u32> {
+    fn parse_number(text: &[u8], radix: u32) -> Option<u32> {
         if text.is_empty() || text.len() > 8 {
             return None;
         }
@@ -420,17 +450,17 @@ mod board {
 
     /// `ID#HEX` with an 11-bit ID and 0–8 data bytes.
     fn parse_frame(line: &[u8]) -> Option<CanFrame> {
-        let at = line.iter().position(|&c| c == b'#')?;
-        let id = StandardId::new(u16::try_from(parse_hex_or_dec(&line[..at], 16)?).ok()?)?;
-        let hex = &line[at + 1..];
+        let mut parts = line.splitn(2, |&c| c == b'#');
+        let id = StandardId::new(u16::try_from(parse_number(parts.next()?, 16)?).ok()?)?;
+        let hex = parts.next()?;
         if hex.len() % 2 != 0 || hex.len() > 16 {
             return None;
         }
         let mut data = [0u8; 8];
         for (slot, pair) in data.iter_mut().zip(hex.chunks(2)) {
-            *slot = u8::try_from(parse_hex_or_dec(pair, 16)?).ok()?;
+            *slot = u8::try_from(parse_number(pair, 16)?).ok()?;
         }
-        <CanFrame as Frame>::new(id, &data[..hex.len() / 2])
+        <CanFrame as Frame>::new(id, data.get(..hex.len() / 2)?)
     }
 
     /// Says why on the host's stdout and ends QEMU with a failure.
