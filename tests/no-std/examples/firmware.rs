@@ -93,8 +93,7 @@ fn SysTick() {
 #[panic_handler]
 fn panic(_: &core::panic::PanicInfo) -> ! {
     // Under QEMU, end the run with a failure; on a part, a firmware would reset or halt.
-    cortex_m_semihosting::debug::exit(cortex_m_semihosting::debug::EXIT_FAILURE);
-    loop {}
+    board::exit(cortex_m_semihosting::debug::EXIT_FAILURE)
 }
 
 /// The board under QEMU (mps2-an386): clock, stack measure and the scripted bus. None of it is
@@ -302,7 +301,7 @@ mod board {
     impl Script {
         fn write(&mut self, bytes: &[u8]) {
             if self.out.write_all(bytes).is_err() {
-                debug::exit(debug::EXIT_FAILURE);
+                exit(debug::EXIT_FAILURE);
             }
         }
 
@@ -386,8 +385,7 @@ mod board {
             }
             let dropped = u64::from(self.dropped);
             self.write_number(b"dropped ", dropped);
-            debug::exit(debug::EXIT_SUCCESS);
-            loop {}
+            exit(debug::EXIT_SUCCESS)
         }
     }
 
@@ -468,7 +466,14 @@ mod board {
         if let Ok(mut out) = hio::hstdout() {
             let _ = out.write_all(why);
         }
-        debug::exit(debug::EXIT_FAILURE);
-        loop {}
+        exit(debug::EXIT_FAILURE)
+    }
+
+    /// Ends the QEMU run with `status` (semihosting); should that return, sleeps for good.
+    pub fn exit(status: debug::ExitStatus) -> ! {
+        debug::exit(status);
+        loop {
+            cortex_m::asm::wfi();
+        }
     }
 }
