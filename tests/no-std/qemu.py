@@ -15,7 +15,8 @@ What a "cost" is: with `-icount shift=3` QEMU advances its virtual clock by 2**3
 instruction executed, whatever the instruction; SysTick counts the board's 25 MHz core clock
 (40 ns) in that virtual time, so one SysTick tick is 5 instructions. The firmware reads SysTick
 when it hands a frame to the loop and again when the loop asks for the next one; the script
-turns the difference into instructions. The count is deterministic (the run depends on
+turns the difference into instructions, having checked the conversion on a loop of a known
+number of instructions the firmware times first. The count is deterministic (the run depends on
 nothing but the instructions executed), resolved to 5 instructions; it is not a cycle count:
 a Cortex-M4 takes one cycle or more per instruction, more with flash wait states.
 """
@@ -35,8 +36,14 @@ TARGET = "thumbv7em-none-eabihf"
 ICOUNT_SHIFT = 3
 NS_PER_INSTRUCTION = 2**ICOUNT_SHIFT
 NS_PER_TICK = 40  # SysTick on the 25 MHz core clock of mps2-an386
+CLOCK_READ = 30  # what the two clock reads around a measured stretch may add, in instructions
 BEGIN = "<!-- tests/no-std/qemu.py: begin -->"
 END = "<!-- tests/no-std/qemu.py: end -->"
+
+
+def instructions(ticks):
+    """SysTick ticks (25 MHz: 40 ns) to instructions (2**ICOUNT_SHIFT ns each)."""
+    return ticks * NS_PER_TICK // NS_PER_INSTRUCTION
 
 
 def sdo_abort(index, sub, code):
@@ -149,6 +156,12 @@ def check(lines):
     costs = {}
     it = iter(lines)
     line = next(it, None)
+    # The firmware times a loop of 20,001 instructions first: the conversion of SysTick ticks
+    # into instructions must give that, plus the few instructions of the two clock reads.
+    calibrate = int(line.split()[1]) if line and line.startswith("calibrate ") else None
+    if calibrate is None or not 20_001 <= instructions(calibrate) <= 20_001 + CLOCK_READ:
+        sys.exit(f"FAILED: the calibration loop of 20,001 instructions measured {line!r}")
+    line = next(it, None)
     # Before the first step: the boot-up after power-on (CiA 301 7.2.8.3.1: 0x700 + id, 0).
     sent = []
     while line is not None and line.startswith("tx "):
@@ -228,7 +241,7 @@ def figures(elf, costs, stack):
         "|---|---:|",
     ]
     for name, ticks in costs.items():
-        counts = sorted({t * NS_PER_TICK // NS_PER_INSTRUCTION for t in ticks})
+        counts = sorted({instructions(t) for t in ticks})
         shown = f"{counts[0]:,}" if len(counts) == 1 else f"{counts[0]:,}–{counts[-1]:,}"
         times = f" ({len(ticks)}×)" if len(ticks) > 1 else ""
         rows.append(f"| {name}{times} | {shown} |")

@@ -81,6 +81,7 @@ use cortex_m_rt::{entry, exception};
 fn main() -> ! {
     board::paint_stack();
     board::start_systick();
+    board::calibrate();
     run(ScriptCan::open(), || u64::from(MS.load(Ordering::Relaxed)))
 }
 
@@ -122,6 +123,35 @@ mod board {
         p.SYST.clear_current();
         p.SYST.enable_interrupt();
         p.SYST.enable_counter();
+    }
+
+    /// Times a loop of a known number of instructions (`movw`, then 10,000 × `subs`, `bne`:
+    /// 20,001) and writes `calibrate TICKS`: the script checks its conversion of ticks into
+    /// instructions on it.
+    pub fn calibrate() {
+        let start = now_ticks();
+        #[allow(unsafe_code)]
+        // SAFETY: a register-only loop; r0 is declared clobbered.
+        unsafe {
+            core::arch::asm!(
+                "movw r0, #10000",
+                "2:",
+                "subs r0, #1",
+                "bne 2b",
+                out("r0") _,
+                options(nomem, nostack),
+            );
+        }
+        let ticks = now_ticks() - start;
+        if let Ok(mut out) = hio::hstdout() {
+            let mut line = Line::new();
+            line.text(b"calibrate ");
+            line.dec(ticks);
+            line.push(b'\n');
+            if out.write_all(line.bytes()).is_err() {
+                exit(debug::EXIT_FAILURE);
+            }
+        }
     }
 
     /// Core clock ticks since reset: milliseconds and the SysTick count, read again when a
