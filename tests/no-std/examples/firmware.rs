@@ -1,7 +1,8 @@
 //! A CANopen slave in firmware: the dictionary generated from `eds/lxm23a.eds` (role slave, by
-//! this crate's build script), `odc::node::Node`, a transport over an `embedded_can::nb::Can`
-//! driver, a loop. `#![no_std]`, `#![no_main]`, no heap; built for thumbv7em-none-eabihf and
-//! run in QEMU (board mps2-an386, a Cortex-M4) by `tests/no-std/qemu.py`, which `.ci/run` calls:
+//! this crate's build script), `odc::node::Node`, `odc::cia402::Drive`, a transport over an
+//! `embedded_can::nb::Can` driver, a loop. `#![no_std]`, `#![no_main]`, no heap; built for
+//! thumbv7em-none-eabihf and run in QEMU (board mps2-an386, a Cortex-M4) by
+//! `tests/no-std/qemu.py`, which `.ci/run` calls:
 //!
 //! ```sh
 //! cargo build -p odc-tests-no-std --release --example firmware --features firmware --target thumbv7em-none-eabihf
