@@ -113,7 +113,9 @@ mod board {
     const CORE_HZ: u32 = 25_000_000;
     const TICKS_PER_MS: u32 = CORE_HZ / 1000;
 
-    /// Milliseconds since reset, counted by the SysTick exception.
+    /// Milliseconds since reset, counted by the SysTick exception. It wraps after 49.7 days,
+    /// which a QEMU run never reaches; a product's clock must not (the node's time would go
+    /// back).
     pub static MS: AtomicU32 = AtomicU32::new(0);
 
     /// SysTick from the core clock, an exception every millisecond.
