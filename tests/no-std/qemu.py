@@ -141,12 +141,17 @@ def emulate(elf):
         sys.exit("qemu-system-arm not found (Debian: apt-get install qemu-system-arm)")
     with tempfile.TemporaryDirectory() as tmp:
         (Path(tmp) / "bus.txt").write_text("".join(step + "\n" for step, _, _ in STEPS))
-        out = run(
-            [qemu, "-M", "mps2-an386", "-display", "none", "-monitor", "none", "-serial", "none",
-             "-semihosting-config", "enable=on,target=native", "-icount",
-             f"shift={ICOUNT_SHIFT}", "-kernel", str(elf)],
-            cwd=tmp, stdout=subprocess.PIPE, timeout=120,
-        )
+        cmd = [qemu, "-M", "mps2-an386", "-display", "none", "-monitor", "none", "-serial",
+               "none", "-semihosting-config", "enable=on,target=native", "-icount",
+               f"shift={ICOUNT_SHIFT}", "-kernel", str(elf)]
+        print("+", " ".join(cmd), file=sys.stderr, flush=True)
+        try:
+            out = subprocess.run(cmd, cwd=tmp, stdout=subprocess.PIPE, text=True, timeout=120)
+        except subprocess.TimeoutExpired as e:
+            sys.exit(f"FAILED: QEMU still ran after 120 s; it wrote:\n{e.stdout or ''}")
+    if out.returncode != 0:
+        # The firmware ends QEMU with a failure on a panic or a script it cannot read.
+        sys.exit(f"FAILED: QEMU exited with {out.returncode}; the firmware wrote:\n{out.stdout}")
     return out.stdout.splitlines()
 
 
