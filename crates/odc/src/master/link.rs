@@ -1,0 +1,83 @@
+//! The master's bus: frames not yet handed out are queued, every frame is shown to an
+//! observer, and the SDO client sees only its responses.
+
+use std::boxed::Box;
+use std::collections::VecDeque;
+
+use crate::can::CanFrame;
+use crate::transport::Bus;
+
+/// Which way a frame went, for an observer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dir {
+    /// Sent by the master.
+    Sent,
+    /// Received from the bus.
+    Received,
+}
+
+pub(super) type Observer = Box<dyn FnMut(Dir, &CanFrame) + Send>;
+
+/// The bus with the frames not yet handed out, and an observer of every frame.
+pub(super) struct Link<B> {
+    pub(super) bus: B,
+    pub(super) pending: VecDeque<CanFrame>,
+    pub(super) observer: Option<Observer>,
+    /// The SDO response CAN-ID the current transfer waits for.
+    pub(super) sdo_response: Option<u32>,
+}
+
+impl<B: Bus> Link<B> {
+    pub(super) fn send(&mut self, frame: &CanFrame) -> Result<(), B::Error> {
+        if let Some(o) = &mut self.observer {
+            o(Dir::Sent, frame);
+        }
+        self.bus.send(frame)
+    }
+
+    /// The next frame from the bus (not the queue), waiting until `deadline_ms`.
+    pub(super) fn receive(&mut self, deadline_ms: u64) -> Result<Option<CanFrame>, B::Error> {
+        let frame = self.bus.recv(deadline_ms)?;
+        if let (Some(o), Some(f)) = (&mut self.observer, &frame) {
+            o(Dir::Received, f);
+        }
+        Ok(frame)
+    }
+
+    /// The first frame (queued first) that `want` accepts, waiting until `deadline_ms`; the
+    /// others received meanwhile are queued.
+    pub(super) fn take(
+        &mut self,
+        deadline_ms: u64,
+        want: impl Fn(&CanFrame) -> bool,
+    ) -> Result<Option<CanFrame>, B::Error> {
+        if let Some(pos) = self.pending.iter().position(&want) {
+            return Ok(self.pending.remove(pos));
+        }
+        loop {
+            match self.receive(deadline_ms)? {
+                Some(f) if want(&f) => return Ok(Some(f)),
+                Some(f) => self.pending.push_back(f),
+                None => return Ok(None),
+            }
+        }
+    }
+}
+
+/// The SDO client's view: its responses only; the rest is queued for the master.
+impl<B: Bus> Bus for Link<B> {
+    type Error = B::Error;
+
+    fn send(&mut self, frame: &CanFrame) -> Result<(), B::Error> {
+        Link::send(self, frame)
+    }
+
+    fn recv(&mut self, deadline_ms: u64) -> Result<Option<CanFrame>, B::Error> {
+        let id = self.sdo_response;
+        self.take(deadline_ms, |f| Some(f.id) == id && !f.extended && !f.remote)
+    }
+
+    fn now_ms(&mut self) -> u64 {
+        self.bus.now_ms()
+    }
+}

@@ -1,0 +1,227 @@
+//! NMT master, heartbeat consumer, the events of the bus and the SYNC producer.
+
+use super::{Error, Event, Master, SyncProducer, frame};
+use crate::can::CanFrame;
+use crate::emcy::EmcyFrame;
+use crate::nmt::{NmtCommand, NmtState};
+use crate::transport::Bus;
+
+impl<B: Bus> Master<B> {
+    // ---- NMT -----------------------------------------------------------------------------
+
+    /// An NMT command to `node`, or to every node when `node` is 0.
+    ///
+    /// # Errors
+    ///
+    /// A node-ID above 127, or the bus error.
+    pub fn nmt(&mut self, command: NmtCommand, node: u8) -> Result<(), Error<B::Error>> {
+        if node > 127 {
+            return Err(Error::Invalid("NMT node-ID above 127"));
+        }
+        self.send(&frame(0, &command.frame(node))?)
+    }
+
+    /// The state `node` last reported (boot-up counts as pre-operational); `None` before it
+    /// said anything.
+    pub fn state(&self, node: u8) -> Option<NmtState> {
+        self.nodes.get(&node).and_then(|w| w.state)
+    }
+
+    /// Consumes `node`'s heartbeat: when none comes for `timeout_ms`, [`Master::poll`] gives
+    /// [`Event::HeartbeatLost`] once, until it comes back.
+    pub fn watch_heartbeat(&mut self, node: u8, timeout_ms: u64) {
+        let now = self.now_ms();
+        let w = self.nodes.entry(node).or_default();
+        w.timeout_ms = Some(timeout_ms);
+        w.last_seen_ms = now;
+        w.lost = false;
+    }
+
+    /// Waits for `node`'s boot-up message.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Timeout`] when none comes in time, or the bus error.
+    pub fn wait_boot_up(&mut self, node: u8) -> Result<(), Error<B::Error>> {
+        let id = 0x700 + u32::from(node);
+        let deadline = self.deadline();
+        let boot = |f: &CanFrame| f.is_data(id) && f.bytes() == [0];
+        match self.link.take(deadline, boot).map_err(Error::Bus)? {
+            Some(f) => {
+                self.note(&f);
+                Ok(())
+            }
+            None => Err(Error::Timeout { what: "boot-up message" }),
+        }
+    }
+
+    /// Waits until `node` reports `state` (by heartbeat); the frames in between are kept.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Timeout`], or the bus error.
+    pub fn wait_state(&mut self, node: u8, state: NmtState) -> Result<(), Error<B::Error>> {
+        let id = 0x700 + u32::from(node);
+        let deadline = self.deadline();
+        let want = |f: &CanFrame| {
+            f.is_data(id) && f.bytes().first().and_then(|b| NmtState::from_u8(*b)) == Some(state)
+        };
+        match self.link.take(deadline, want).map_err(Error::Bus)? {
+            Some(f) => {
+                self.note(&f);
+                Ok(())
+            }
+            None => Err(Error::Timeout { what: "heartbeat with the state waited for" }),
+        }
+    }
+
+    /// Records what a frame says about a node; returns the event it makes, or `None` for a
+    /// heartbeat that repeats the node's known state (it only updates the node's watch). A
+    /// heartbeat with a state byte CiA 301 does not define is handed out as [`Event::Other`].
+    fn note(&mut self, f: &CanFrame) -> Option<Event> {
+        let id = f.id;
+        if f.extended || f.remote {
+            return Some(Event::Other(*f));
+        }
+        let now = self.link.bus.now_ms();
+        let event = match id {
+            0x080 => Event::Sync { counter: f.bytes().first().copied() },
+            0x081..=0x0FF => match EmcyFrame::decode(f.bytes()) {
+                Ok(emcy) => Event::Emcy { node: (id - 0x80) as u8, emcy },
+                Err(_) => Event::Other(*f),
+            },
+            0x181..=0x57F => Event::Pdo { cob_id: id, frame: *f },
+            0x701..=0x77F => {
+                let node = (id - 0x700) as u8;
+                let Some(state) = f.bytes().first().and_then(|b| NmtState::from_u8(*b)) else {
+                    return Some(Event::Other(*f));
+                };
+                let w = self.nodes.entry(node).or_default();
+                w.last_seen_ms = now;
+                w.lost = false;
+                if state == NmtState::BootUp {
+                    w.state = Some(NmtState::PreOperational);
+                    return Some(Event::BootUp { node });
+                }
+                if w.state == Some(state) {
+                    return None;
+                }
+                w.state = Some(state);
+                Event::State { node, state }
+            }
+            _ => Event::Other(*f),
+        };
+        Some(event)
+    }
+
+    // ---- Events and SYNC -------------------------------------------------------------------
+
+    /// The next event, waiting until `deadline_ms` at the latest: queued frames first, then
+    /// lost heartbeats, then the bus. Also sends the SYNCs that fall due meanwhile. Repeated
+    /// heartbeats of an unchanged state are not events (they update the node's watch).
+    ///
+    /// # Errors
+    ///
+    /// The bus error.
+    pub fn poll(&mut self, deadline_ms: u64) -> Result<Option<Event>, Error<B::Error>> {
+        loop {
+            if let Some(f) = self.link.pending.pop_front() {
+                match self.note(&f) {
+                    Some(event) => return Ok(Some(event)),
+                    None => continue,
+                }
+            }
+            let now = self.now_ms();
+            if let Some(node) = self.lost_node(now) {
+                return Ok(Some(Event::HeartbeatLost { node }));
+            }
+            self.sync_due(now)?;
+            if now >= deadline_ms {
+                return Ok(None);
+            }
+            // Wake for the next SYNC or heartbeat deadline, whichever is first.
+            let wake = [self.sync.map(|s| s.next_ms), self.next_heartbeat_deadline()]
+                .into_iter()
+                .flatten()
+                .fold(deadline_ms, u64::min);
+            if let Some(f) = self.link.receive(wake.max(now)).map_err(Error::Bus)? {
+                self.link.pending.push_back(f);
+            }
+        }
+    }
+
+    fn lost_node(&mut self, now: u64) -> Option<u8> {
+        for (node, w) in &mut self.nodes {
+            if let Some(t) = w.timeout_ms
+                && !w.lost
+                && now > w.last_seen_ms.saturating_add(t)
+            {
+                w.lost = true;
+                return Some(*node);
+            }
+        }
+        None
+    }
+
+    fn next_heartbeat_deadline(&self) -> Option<u64> {
+        self.nodes
+            .values()
+            .filter(|w| !w.lost)
+            .filter_map(|w| {
+                w.timeout_ms.map(|t| w.last_seen_ms.saturating_add(t).saturating_add(1))
+            })
+            .min()
+    }
+
+    fn sync_due(&mut self, now: u64) -> Result<(), Error<B::Error>> {
+        if let Some(s) = self.sync
+            && now >= s.next_ms
+        {
+            // One SYNC per call, on the period's grid (a late poll does not send a burst).
+            let next = s.next_ms.saturating_add(s.period_ms).max(now.saturating_add(1));
+            self.sync = Some(SyncProducer { period_ms: s.period_ms, next_ms: next });
+            self.sync()?;
+        }
+        Ok(())
+    }
+
+    /// Sends one SYNC now (with the counter when [`Master::set_sync_counter`] set one).
+    ///
+    /// # Errors
+    ///
+    /// The bus error.
+    pub fn sync(&mut self) -> Result<(), Error<B::Error>> {
+        let frame = match self.sync_overflow {
+            Some(overflow) => {
+                let c = self.sync_counter;
+                // CiA 301 7.2.5.2: 1 ..= overflow, then 1 again.
+                self.sync_counter = if c >= overflow { 1 } else { c + 1 };
+                frame(0x080, &[c])?
+            }
+            None => frame(0x080, &[])?,
+        };
+        self.send(&frame)
+    }
+
+    /// Makes [`Master::poll`] send a SYNC every `period_ms` (none with `None`).
+    pub fn set_sync_period(&mut self, period_ms: Option<u64>) {
+        let now = self.now_ms();
+        self.sync = period_ms
+            .filter(|p| *p > 0)
+            .map(|period_ms| SyncProducer { period_ms, next_ms: now.saturating_add(period_ms) });
+    }
+
+    /// SYNCs carry a counter from 1 to `overflow` (0x1019, 2..=240), or none with `None`.
+    ///
+    /// # Errors
+    ///
+    /// An overflow value CiA 301 does not allow.
+    pub fn set_sync_counter(&mut self, overflow: Option<u8>) -> Result<(), Error<B::Error>> {
+        if overflow.is_some_and(|o| !(2..=240).contains(&o)) {
+            return Err(Error::Invalid("SYNC counter overflow must be 2..=240 (CiA 301 0x1019)"));
+        }
+        self.sync_overflow = overflow;
+        self.sync_counter = 1;
+        Ok(())
+    }
+}

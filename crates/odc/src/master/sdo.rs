@@ -1,0 +1,141 @@
+//! SDO transfers of the master: one client per node, typed by generated descriptors, and
+//! the execution of configuration plans.
+
+use std::boxed::Box;
+use std::vec::Vec;
+
+use super::{Error, Master, SDO_BUFFER, link::Link, valid};
+use crate::plan::SdoWrite;
+use crate::sdo::{Client, SdoError};
+use crate::transport::Bus;
+use crate::{Entry, ObjValue};
+
+impl<B: Bus> Master<B> {
+    // ---- SDO -----------------------------------------------------------------------------
+
+    /// Reads a generated descriptor's entry of `node`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Sdo`] with the abort, or the bus error.
+    pub fn read<T: ObjValue>(&mut self, node: u8, entry: &Entry<T>) -> Result<T, Error<B::Error>> {
+        let (index, sub) = (entry.addr.index, entry.addr.sub);
+        self.transfer(node, index, sub, |c, link| c.read(link, entry))
+    }
+
+    /// Writes `value` into a generated descriptor's entry of `node`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Sdo`] with the abort, or the bus error.
+    pub fn write<T: ObjValue>(
+        &mut self,
+        node: u8,
+        entry: &Entry<T>,
+        value: T,
+    ) -> Result<(), Error<B::Error>> {
+        let (index, sub) = (entry.addr.index, entry.addr.sub);
+        self.transfer(node, index, sub, |c, link| c.write(link, entry, value))
+    }
+
+    /// Uploads `index:sub` of `node` (any size up to [`SDO_BUFFER`]).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Sdo`] with the abort, or the bus error.
+    pub fn upload(&mut self, node: u8, index: u16, sub: u8) -> Result<Vec<u8>, Error<B::Error>> {
+        self.transfer(node, index, sub, |c, link| c.upload(link, index, sub).map(<[u8]>::to_vec))
+    }
+
+    /// Downloads `data` into `index:sub` of `node`.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Sdo`] with the abort, or the bus error.
+    pub fn download(
+        &mut self,
+        node: u8,
+        index: u16,
+        sub: u8,
+        data: &[u8],
+    ) -> Result<(), Error<B::Error>> {
+        self.transfer(node, index, sub, |c, link| c.download(link, index, sub, data))
+    }
+
+    /// Block-uploads `index:sub` of `node` (CiA 301 block transfer with CRC: for large
+    /// values, where the server supports it).
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Sdo`] with the abort (a server without block transfer aborts), or the bus
+    /// error.
+    pub fn upload_block(
+        &mut self,
+        node: u8,
+        index: u16,
+        sub: u8,
+    ) -> Result<Vec<u8>, Error<B::Error>> {
+        self.transfer(node, index, sub, |c, link| {
+            c.upload_block(link, index, sub).map(<[u8]>::to_vec)
+        })
+    }
+
+    /// Block-downloads `data` into `index:sub` of `node`.
+    ///
+    /// # Errors
+    ///
+    /// As [`Master::upload_block`].
+    pub fn download_block(
+        &mut self,
+        node: u8,
+        index: u16,
+        sub: u8,
+        data: &[u8],
+    ) -> Result<(), Error<B::Error>> {
+        self.transfer(node, index, sub, |c, link| c.download_block(link, index, sub, data))
+    }
+
+    /// Executes a configuration plan (a generated `master::plan(node)`) on `node`, write by
+    /// write, stopping at the first failure.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Plan`]: which write failed, and why.
+    pub fn execute(&mut self, node: u8, plan: &[SdoWrite]) -> Result<(), Error<B::Error>> {
+        let mut client = self.take_client(node)?;
+        let r = client.execute(&mut self.link, plan);
+        self.clients.insert(node, client);
+        r.map_err(|(step, error)| {
+            let write = plan.get(step).copied().unwrap_or(SdoWrite::u8(0, 0, 0));
+            Error::Plan { node, step, write, error }
+        })
+    }
+
+    /// Runs one transfer with `node`'s client; its error names the node and the object.
+    fn transfer<T>(
+        &mut self,
+        node: u8,
+        index: u16,
+        sub: u8,
+        run: impl FnOnce(&mut Client<SDO_BUFFER>, &mut Link<B>) -> Result<T, SdoError<B::Error>>,
+    ) -> Result<T, Error<B::Error>> {
+        let mut client = self.take_client(node)?;
+        let r = run(&mut client, &mut self.link);
+        self.clients.insert(node, client);
+        r.map_err(|error| Error::Sdo { node, index, sub, error })
+    }
+
+    /// The node's client, out of the map while it runs (it borrows the link mutably); the
+    /// link then lets its responses through.
+    fn take_client(&mut self, node: u8) -> Result<Box<Client<SDO_BUFFER>>, Error<B::Error>> {
+        if !valid(node) {
+            return Err(Error::Invalid("SDO node-ID outside 1..=127"));
+        }
+        self.link.sdo_response = Some(0x580 + u32::from(node));
+        let timeout = self.timeout_ms;
+        Ok(self
+            .clients
+            .remove(&node)
+            .unwrap_or_else(|| Box::new(Client::new(node).with_timeout(timeout))))
+    }
+}
