@@ -120,7 +120,8 @@ impl LinMot {
             }
             0x080 if self.nmt == NmtState::Operational => self.sync(),
             id if id == self.server.request_id() => {
-                let answer = self.server.handle(&mut self.od, frame, 0);
+                let answer =
+                    self.server.handle(&mut self.od, frame, odc::time::Instant::from_millis(0));
                 self.map_upids();
                 answer.into_iter().collect()
             }

@@ -68,7 +68,7 @@ impl<D: ObjectDictionary + DriveObjects> Drive<D> {
         self.drive.start(&mut self.od);
         let mut out = Vec::new();
         let now = self.now_us();
-        self.node.start(&mut self.od, now, &mut |f| out.push(f));
+        self.node.start(&mut self.od, odc::time::Instant::from_micros(now), &mut |f| out.push(f));
         out
     }
 
@@ -81,7 +81,10 @@ impl<D: ObjectDictionary + DriveObjects> Drive<D> {
         }
         let mut out = Vec::new();
         let now = self.now_us();
-        let events = self.node.handle(&mut self.od, frame, now, &mut |f| out.push(f));
+        let events =
+            self.node.handle(&mut self.od, frame, odc::time::Instant::from_micros(now), &mut |f| {
+                out.push(f)
+            });
         if events.reset.is_some() {
             // The values stay as they are (the examples need no restored defaults).
             return self.boot();
@@ -95,7 +98,7 @@ impl<D: ObjectDictionary + DriveObjects> Drive<D> {
     fn poll(&mut self) -> Vec<CanFrame> {
         let mut out = Vec::new();
         let now = self.now_us();
-        self.node.poll(&mut self.od, now, &mut |f| out.push(f));
+        self.node.poll(&mut self.od, odc::time::Instant::from_micros(now), &mut |f| out.push(f));
         out
     }
 

@@ -3,33 +3,43 @@
 # builds a `#![no_std]` program for a 32-bit bare-metal target that holds the dictionary in a
 # static and answers SDO reads and writes, links it (rust-lld, --gc-sections), and prints
 # .text/.rodata/.data/.bss against the same program without a dictionary. See README.md.
-# With --node, three lines per file: the dictionary alone, the dictionary in an odc::node::Node
-# (NMT, heartbeat, guarding, SYNC, 4+4 PDOs, EMCY, SDO server with a 32-byte buffer), and the
-# same node with its LSS slave.
+# With --node, four lines per file: the dictionary alone, and the dictionary in an
+# odc::node::Node (NMT, heartbeat producer and consumer, SYNC consumer, 4+4 PDOs, EMCY, SDO
+# server with a 32-byte buffer) built with three sets of odc's features:
+#   node         none of the optional services;
+#   canopennode  the services of CANopenNode's measured build (canopen-tools.md §5): LSS
+#                slave and SYNC producer (odc features lss-slave, sync-producer);
+#   all          every service: also SDO block transfer and node guarding (sdo-block,
+#                guarding).
+# Each image is kept as target/slave-size/images/FILE.MODE.elf (for no-fmt.sh).
 #
-#   tests/slave-size/run.sh [--target TRIPLE] [--node] FILE...
+#   tests/slave-size/run.sh [--target TRIPLE] [--odc PATH] [--node] FILE...
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 TARGET=thumbv7em-none-eabihf
 FILES=()
 NODE=0
+ODC=
 while [ $# -gt 0 ]; do
     case $1 in
         --target) TARGET=$2; shift 2 ;;
         --node) NODE=1; shift ;;
-        -h|--help) sed -n 2,10p "$0"; exit 0 ;;
+        --odc) ODC=$2; shift 2 ;;
+        -h|--help) sed -n 2,17p "$0"; exit 0 ;;
         *) FILES+=("$1"); shift ;;
     esac
 done
-[ ${#FILES[@]} -gt 0 ] || { echo "usage: $0 [--target TRIPLE] [--node] FILE..." >&2; exit 2; }
+[ ${#FILES[@]} -gt 0 ] || { echo "usage: $0 [--target TRIPLE] [--odc PATH] [--node] FILE..." >&2; exit 2; }
 rustup target list --installed 2>/dev/null | grep -qx "$TARGET" ||
     { echo "target $TARGET is not installed (rustup target add $TARGET)" >&2; exit 2; }
 
 WORK=$ROOT/target/slave-size
-ODC=${CARGO_TARGET_DIR:-$ROOT/target}/release/odc
-(cd "$ROOT" && cargo build -q --release -p odc-cli) || { echo "cannot build odc-cli" >&2; exit 2; }
-mkdir -p "$WORK/src"
+if [ -z "$ODC" ]; then
+    ODC=${CARGO_TARGET_DIR:-$ROOT/target}/release/odc
+    (cd "$ROOT" && cargo build -q --release -p odc-cli) || { echo "cannot build odc-cli" >&2; exit 2; }
+fi
+mkdir -p "$WORK/src" "$WORK/images"
 cat >"$WORK/Cargo.toml" <<TOML
 [package]
 name = "slave-size"
@@ -43,10 +53,14 @@ odc = { path = "$ROOT/crates/odc", default-features = false, features = ["derive
 [features]
 ## Without it the program is the baseline: the same SDO entry points, no dictionary.
 device = []
-## The dictionary in a node (NMT, heartbeat, guarding, SYNC, PDOs, EMCY, SDO server).
+## The dictionary in a node (NMT, heartbeat, SYNC consumer, PDOs, EMCY, SDO server).
 node = ["device"]
 ## The node with its LSS slave.
-lss = ["node"]
+lss = ["node", "odc/lss-slave"]
+## The services of CANopenNode's measured build: LSS slave, SYNC producer.
+canopennode = ["lss", "odc/sync-producer"]
+## Every service odc has: also SDO block transfer and node guarding.
+all = ["canopennode", "odc/sdo-block", "odc/guarding"]
 
 [profile.release]
 opt-level = "s"
@@ -154,17 +168,18 @@ pub extern "C" fn node_init(node_id: u8) {
     let node = node.with_lss(None, 0).with_lss_storage();
     // SAFETY: as for od_read; od_init ran.
     let (n, d) = unsafe { ((*(&raw mut NODE_STORAGE)).write(node), (*(&raw mut OD_STORAGE)).assume_init_mut()) };
-    n.start(d, 0, &mut tx);
+    n.start(d, odc::time::Instant::ZERO, &mut tx);
 }
 
 /// One received frame; returns whether the node reported anything.
 #[cfg(feature = "node")]
 #[unsafe(no_mangle)]
 pub extern "C" fn node_rx(id: u32, len: u8, data: *const u8, now_us: u64) -> bool {
+    let now = odc::time::Instant::from_micros(now_us);
     // SAFETY: as for od_read; node_init ran.
     let (n, d, b) = unsafe { ((*(&raw mut NODE_STORAGE)).assume_init_mut(), (*(&raw mut OD_STORAGE)).assume_init_mut(), core::slice::from_raw_parts(data, usize::from(len.min(8)))) };
     let Some(f) = odc::can::CanFrame::from_slice(id & 0x7FF, b) else { return false };
-    n.handle(d, &f, now_us, &mut tx) != odc::node::Events::default()
+    n.handle(d, &f, now, &mut tx) != odc::node::Events::default()
 }
 
 /// The node's timers.
@@ -173,7 +188,7 @@ pub extern "C" fn node_rx(id: u32, len: u8, data: *const u8, now_us: u64) -> boo
 pub extern "C" fn node_poll(now_us: u64) -> bool {
     // SAFETY: as for node_rx.
     let (n, d) = unsafe { ((*(&raw mut NODE_STORAGE)).assume_init_mut(), (*(&raw mut OD_STORAGE)).assume_init_mut()) };
-    n.poll(d, now_us, &mut tx) != odc::node::Events::default()
+    n.poll(d, odc::time::Instant::from_micros(now_us), &mut tx) != odc::node::Events::default()
 }
 
 #[unsafe(no_mangle)]
@@ -190,9 +205,8 @@ pub extern "C" fn _start() -> ! {
             t += 1000;
             // SAFETY: reads the mailbox back as a receive FIFO would deliver a frame.
             let [id, lo, hi] = unsafe { core::ptr::read_volatile(&raw const TX_MAILBOX) };
-            let mut data = [0u8; 8];
-            data[..4].copy_from_slice(&lo.to_le_bytes());
-            data[4..].copy_from_slice(&hi.to_le_bytes());
+            let ([a, b, c, d], [e, g, h, i]) = (lo.to_le_bytes(), hi.to_le_bytes());
+            let data = [a, b, c, d, e, g, h, i];
             node_rx(id, 8, data.as_ptr(), t);
             node_poll(t);
         }
@@ -223,15 +237,17 @@ printf '%s' "" >"$WORK/src/dev.rs"
 read -r bt br bd bb < <(sections "$(build "")")
 echo "target $TARGET, opt-level s. Baseline image without dictionary: text $bt, rodata $br, data $bd, bss $bb bytes."
 echo "Sections: bytes beyond the baseline. Symbols: the table of rows and the storage."
-printf '%-36s %7s | %7s %7s %7s %7s | %7s %7s' device entries text rodata data bss TABLE storage
+echo "flash = text + rodata + data, RAM = data + bss."
+printf '%-44s %7s | %7s %7s %7s %7s | %7s %7s | %7s %7s' device entries text rodata data bss flash RAM TABLE storage
 [ "$NODE" = 1 ] && printf ' %7s' node
 printf '\n'
 MODES=(device)
-[ "$NODE" = 1 ] && MODES=(device node lss)
+[ "$NODE" = 1 ] && MODES=(device node canopennode all)
 for file in "${FILES[@]}"; do
     "$ODC" generate "$file" --role slave -o "$WORK/src/dev.rs"
     for mode in "${MODES[@]}"; do
         img=$(build "$mode")
+        cp "$img" "$WORK/images/$(basename "$file").$mode.elf"
         read -r t r d b < <(sections "$img")
         sym() {  # the size of the first symbol matching $1, in decimal
             local hex
@@ -241,8 +257,9 @@ for file in "${FILES[@]}"; do
         n=$(grep -m1 -oE 'pub static TABLE: [:a-z_]*Table<[0-9]+>' "$WORK/src/dev.rs" | grep -oE '[0-9]+>' | tr -d '>')
         name=$(basename "$file")
         [ "$NODE" = 1 ] && name="$name ($mode)"
-        printf '%-36s %7s | %7d %7d %7d %7d | %7d %7d' "$name" "${n:-0}" \
+        printf '%-44s %7s | %7d %7d %7d %7d | %7d %7d | %7d %7d' "$name" "${n:-0}" \
             $((t - bt)) $((r - br)) $((d - bd)) $((b - bb)) \
+            $((t - bt + r - br + d - bd)) $((d - bd + b - bb)) \
             "$(sym 'slave5TABLE')" "$(sym '^OD_STORAGE$')"
         [ "$NODE" = 1 ] && printf ' %7d' "$(sym '^NODE_STORAGE$')"
         printf '\n'

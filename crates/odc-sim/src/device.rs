@@ -37,11 +37,6 @@ pub struct SimDevice {
     last_tick_ms: u64,
 }
 
-/// The node's clock is in microseconds, the simulation's in milliseconds.
-const fn us(ms: u64) -> u64 {
-    ms.saturating_mul(1000)
-}
-
 impl SimDevice {
     /// The device of `device` on node `node_id` (1–127), in initialisation: call
     /// [`SimDevice::start`] for its boot-up.
@@ -78,7 +73,7 @@ impl SimDevice {
     pub fn start(&mut self, now_ms: u64, out: &mut impl FnMut(CanFrame)) {
         self.last_tick_ms = now_ms;
         self.restart_drive();
-        self.node.start(&mut self.od, us(now_ms), out);
+        self.node.start(&mut self.od, odc::time::Instant::from_millis(now_ms), out);
     }
 
     /// A drive as after power-on, with the quick stop option code (0x605A, INTEGER16) the
@@ -94,14 +89,15 @@ impl SimDevice {
 
     /// Frame in, frames out.
     pub fn handle(&mut self, frame: &CanFrame, now_ms: u64, out: &mut impl FnMut(CanFrame)) {
-        let events = self.node.handle(&mut self.od, frame, us(now_ms), out);
+        let events =
+            self.node.handle(&mut self.od, frame, odc::time::Instant::from_millis(now_ms), out);
         self.after(&events, now_ms, out);
     }
 
     /// The timer tick: the node's timers (heartbeat, event timers, guarding, SDO timeouts)
     /// and the drive's motion.
     pub fn poll(&mut self, now_ms: u64, out: &mut impl FnMut(CanFrame)) {
-        let events = self.node.poll(&mut self.od, us(now_ms), out);
+        let events = self.node.poll(&mut self.od, odc::time::Instant::from_millis(now_ms), out);
         self.after(&events, now_ms, out);
         let dt = now_ms.saturating_sub(self.last_tick_ms);
         self.last_tick_ms = now_ms;
@@ -125,7 +121,7 @@ impl SimDevice {
                 // The drive's state is the application's, not communication's: it stays.
                 Reset::Communication => self.od.reset_communication(self.node.next_node_id()),
             }
-            self.node.start(&mut self.od, us(now_ms), out);
+            self.node.start(&mut self.od, odc::time::Instant::from_millis(now_ms), out);
         }
         if let Some(drive) = &mut self.drive {
             drive.update(&mut self.od);

@@ -62,7 +62,7 @@ fn controlword_frames_walk_the_state_machine() {
     let mut exchange = |frame: CanFrame| {
         out.clear();
         sim.handle(&frame, 0, &mut |f| out.push(f));
-        let theirs = server.handle(&mut generated, &frame, 0);
+        let theirs = server.handle(&mut generated, &frame, odc::time::Instant::from_millis(0));
         drive.update(&mut generated);
         assert_eq!(out.first().copied(), theirs, "model and generated answer {frame:02X?}");
         theirs.unwrap()

@@ -18,24 +18,43 @@ macro_rules! aborts {
             Other(u32),
         }
 
+        /// The variants' positions in the table: a match from a variant to its position is
+        /// the identity on the discriminant, so `to_u32` is one load from [`CODES`], not a
+        /// jump table with an arm per code (a firmware image pays for each arm).
+        #[derive(Clone, Copy)]
+        #[repr(u8)]
+        enum Position {
+            $($v,)*
+        }
+
+        /// The wire codes, in the order of the variants.
+        const CODES: &[u32] = &[$($code),*];
+
         impl SdoAbort {
             /// Every code of the table (without `Other`).
             pub const ALL: &'static [SdoAbort] = &[$(Self::$v),*];
 
-            /// The abort for a wire code; never fails, unknown codes become `Other`.
+            /// The abort for a wire code; never fails, unknown codes become `Other`. A linear
+            /// search: aborts are rare, and it keeps no second table.
             pub const fn from_u32(code: u32) -> Self {
-                match code {
-                    $($code => Self::$v,)*
-                    other => Self::Other(other),
+                let mut i = 0;
+                while i < CODES.len() && i < Self::ALL.len() {
+                    if CODES[i] == code {
+                        return Self::ALL[i];
+                    }
+                    i += 1;
                 }
+                Self::Other(code)
             }
 
             /// The wire code.
             pub const fn to_u32(self) -> u32 {
-                match self {
-                    $(Self::$v => $code,)*
-                    Self::Other(c) => c,
-                }
+                let i = match self {
+                    $(Self::$v => Position::$v as usize,)*
+                    Self::Other(c) => return c,
+                };
+                // One code per variant: `i` is in range; 0 cannot happen.
+                if i < CODES.len() { CODES[i] } else { 0 }
             }
 
             /// The description from CiA 301, or `None` for `Other`.

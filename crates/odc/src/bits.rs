@@ -31,6 +31,18 @@ pub const fn fits(raw: u64, bits: u32, signed: bool) -> bool {
     if signed { sign_extend(raw & mask(bits), bits) as u64 == raw } else { raw >> bits == 0 }
 }
 
+/// Copies the first `min(dst.len(), src.len())` bytes of `src` into `dst`.
+///
+/// What `copy_from_slice` does for slices of one length, without its length check: that
+/// check's panic path is not inlined at `opt-level = "s"` and links `core::fmt` into a
+/// firmware image (3 KB) even where the lengths are equal by construction.
+#[inline(always)]
+pub(crate) fn copy_bytes(dst: &mut [u8], src: &[u8]) {
+    for (d, s) in dst.iter_mut().zip(src) {
+        *d = *s;
+    }
+}
+
 /// The first up-to-8 bytes of `buf` as a little-endian word, zero-extended.
 ///
 /// For images of at most 8 bytes this is the fast path: one load, then constant shifts.
@@ -39,7 +51,7 @@ pub fn load_le_u64(buf: &[u8]) -> u64 {
     let mut b = [0u8; 8];
     let n = buf.len().min(8);
     if let (Some(dst), Some(src)) = (b.get_mut(..n), buf.get(..n)) {
-        dst.copy_from_slice(src);
+        copy_bytes(dst, src);
     }
     u64::from_le_bytes(b)
 }
@@ -50,7 +62,7 @@ pub fn store_le_u64(buf: &mut [u8], word: u64) {
     let b = word.to_le_bytes();
     let n = buf.len().min(8);
     if let (Some(dst), Some(src)) = (buf.get_mut(..n), b.get(..n)) {
-        dst.copy_from_slice(src);
+        copy_bytes(dst, src);
     }
 }
 
@@ -63,7 +75,7 @@ pub fn store_le_u64(buf: &mut [u8], word: u64) {
 pub fn get_le(buf: &[u8], at: usize, n: usize) -> u64 {
     let mut b = [0u8; 8];
     if let (Some(dst), Some(src)) = (b.get_mut(..n), buf.get(at..at.saturating_add(n))) {
-        dst.copy_from_slice(src);
+        copy_bytes(dst, src);
     }
     u64::from_le_bytes(b)
 }
@@ -74,7 +86,7 @@ pub fn get_le(buf: &[u8], at: usize, n: usize) -> u64 {
 pub fn put_le(buf: &mut [u8], at: usize, n: usize, value: u64) {
     let b = value.to_le_bytes();
     if let (Some(dst), Some(src)) = (buf.get_mut(at..at.saturating_add(n)), b.get(..n)) {
-        dst.copy_from_slice(src);
+        copy_bytes(dst, src);
     }
 }
 
@@ -116,9 +128,9 @@ pub fn write_bits(buf: &mut [u8], offset: usize, len: u32, value: u64) {
         && let Some(chunk) = buf.get_mut(first..first.saturating_add(8))
     {
         let mut word = [0u8; 8];
-        word.copy_from_slice(chunk);
+        copy_bytes(&mut word, chunk);
         let w = (u64::from_le_bytes(word) & !(m << shift)) | (v << shift);
-        chunk.copy_from_slice(&w.to_le_bytes());
+        copy_bytes(chunk, &w.to_le_bytes());
         return;
     }
     let m = u128::from(m) << shift;

@@ -59,7 +59,7 @@
 //! # }
 //! # impl Bus for InMemoryBus {
 //! #     type Error = core::convert::Infallible;
-//! #     fn send(&mut self, f: &CanFrame) -> Result<(), Self::Error> { self.reply = self.server.handle(&mut self.drive, f, self.now); Ok(()) }
+//! #     fn send(&mut self, f: &CanFrame) -> Result<(), Self::Error> { self.reply = self.server.handle(&mut self.drive, f, odc::time::Instant::from_millis(self.now)); Ok(()) }
 //! #     fn recv(&mut self, _deadline: u64) -> Result<Option<CanFrame>, Self::Error> { self.now += 1; Ok(self.reply.take()) }
 //! #     fn now_ms(&mut self) -> u64 { self.now }
 //! # }
@@ -75,9 +75,20 @@
 //! # Ok::<(), odc::sdo::SdoError<core::convert::Infallible>>(())
 //! ```
 //!
-//! Features: `derive` (default) re-exports `#[derive(Pdo)]` and `#[derive(PdoValue)]`; `std`
-//! links std (and the in-memory bus, `transport::mem`); `embedded-can` and `socketcan` add
-//! those transports; `serde` and `defmt` add derives on the plain data types.
+//! Features. On by default, each something a firmware may leave out (`default-features =
+//! false` and pick; `tests/slave-size/README.md` measures what they cost):
+//! - `derive` re-exports `#[derive(Pdo)]` and `#[derive(PdoValue)]`;
+//! - node services: `lss-slave` (the LSS slave, [`node::Node::with_lss`]), `sdo-block` (block
+//!   transfer in the SDO server), `guarding` (node and life guarding), `sync-producer`;
+//! - `cia402`: the drive state machines ([`cia402`]'s `Driver`, `Drive`, `Axis`; the words and
+//!   the traits generated code implements are always there);
+//! - with `std`: `master` (`odc::master`), `transport-mem` and `transport-tcp`.
+//!
+//! Off by default: `std` links std; `embedded-can` and `socketcan` add those transports;
+//! `serde` and `defmt` add derives on the plain data types; `ethercrab`, above.
+//!
+//! Time is the caller's: every call that needs it takes a [`time::Instant`] of a monotonic
+//! clock, in microseconds.
 #![no_std]
 // Bad input is a diagnostic, never a panic: no unwrap, expect or panic outside tests. A
 // proven invariant may opt out with an `#[allow]` and a comment saying why.
@@ -96,7 +107,7 @@ mod entry;
 pub mod ethercat;
 mod include;
 pub mod lss;
-#[cfg(feature = "std")]
+#[cfg(all(feature = "std", feature = "master"))]
 pub mod master;
 pub mod nmt;
 pub mod node;
@@ -104,6 +115,7 @@ mod pdo;
 pub mod plan;
 pub mod sdo;
 pub mod slave;
+pub mod time;
 pub mod transport;
 mod types;
 mod value;

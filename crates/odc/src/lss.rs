@@ -11,7 +11,9 @@ pub mod frame;
 mod slave;
 
 pub use frame::{Request, Response};
-pub use slave::{Identity, LssEvent, LssSlave, LssState, StoreResult};
+#[cfg(feature = "lss-slave")]
+pub use slave::LssSlave;
+pub use slave::{Identity, LssEvent, LssState, StoreResult};
 
 /// CAN-ID of LSS requests, master → slave.
 pub const REQUEST_ID: u32 = 0x7E5;

@@ -17,6 +17,6 @@ mod server;
 
 pub use crate::transport::Bus;
 pub use client::{Client, SdoError, Step};
-pub use server::{DEFAULT_TIMEOUT_MS, Server};
+pub use server::{DEFAULT_TIMEOUT, Server};
 
 pub use crate::SdoAbort;

@@ -40,7 +40,7 @@
 //! let mut server = Server::<64>::new(5);
 //! // A master uploads 0x1000 (device type): request on 0x605, answer on 0x585.
 //! let request = CanFrame::new(0x605, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]);
-//! let answer = server.handle(&mut od, &request, 0).ok_or("no answer")?;
+//! let answer = server.handle(&mut od, &request, odc::time::Instant::ZERO).ok_or("no answer")?;
 //! assert_eq!(answer, CanFrame::new(0x585, [0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x04]));
 //! // The same dictionary, from the application: typed values, and the checked SDO paths.
 //! assert_eq!(od.get(lxm23a::od::DEVICE_TYPE)?, 0x0402_0192);

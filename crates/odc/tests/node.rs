@@ -30,13 +30,15 @@ fn data(id: u32, b: &[u8]) -> CanFrame {
 impl Drive {
     fn boot() -> Self {
         let mut d = Drive { node: Node::new(5), od: Dictionary::new(5), sent: Vec::new(), now: 0 };
-        d.node.start(&mut d.od, 0, &mut |f| d.sent.push(f));
+        d.node.start(&mut d.od, odc::time::Instant::ZERO, &mut |f| d.sent.push(f));
         d
     }
 
     fn rx(&mut self, f: CanFrame) -> Events {
         let sent = &mut self.sent;
-        self.node.handle(&mut self.od, &f, self.now, &mut |f| sent.push(f))
+        self.node.handle(&mut self.od, &f, odc::time::Instant::from_micros(self.now), &mut |f| {
+            sent.push(f)
+        })
     }
 
     fn run_to(&mut self, ms: u64) -> Events {
@@ -44,7 +46,10 @@ impl Drive {
         while self.now < ms * MS {
             self.now += MS;
             let sent = &mut self.sent;
-            let e = self.node.poll(&mut self.od, self.now, &mut |f| sent.push(f));
+            let e =
+                self.node.poll(&mut self.od, odc::time::Instant::from_micros(self.now), &mut |f| {
+                    sent.push(f)
+                });
             ev.state = e.state.or(ev.state);
             ev.tpdo |= e.tpdo;
         }
@@ -151,12 +156,20 @@ fn heartbeat_nmt_and_emcy() {
     // In stopped no SDO answer and no EMCY, but the error is recorded.
     d.rx(CanFrame::new(0x605, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]));
     let mut sent = Vec::new();
-    d.node.raise_emcy(EmcyCode::DC_LINK_OVER_VOLTAGE, [0; 5], d.now, &mut |f| sent.push(f));
+    d.node.raise_emcy(
+        EmcyCode::DC_LINK_OVER_VOLTAGE,
+        [0; 5],
+        odc::time::Instant::from_micros(d.now),
+        &mut |f| sent.push(f),
+    );
     assert_eq!((d.take(), sent.len()), (vec![], 0));
     d.rx(data(0, &[0x80, 5]));
-    d.node.raise_emcy(EmcyCode::EXCESS_TEMPERATURE_DEVICE, [0xAB, 0, 0, 0, 0], d.now, &mut |f| {
-        sent.push(f)
-    });
+    d.node.raise_emcy(
+        EmcyCode::EXCESS_TEMPERATURE_DEVICE,
+        [0xAB, 0, 0, 0, 0],
+        odc::time::Instant::from_micros(d.now),
+        &mut |f| sent.push(f),
+    );
     // Voltage (bit 2) and temperature (bit 3) with the generic bit.
     assert_eq!(sent, [CanFrame::new(0x85, [0x10, 0x42, 0x0D, 0xAB, 0, 0, 0, 0])]);
     assert_eq!(d.read(0x1003, 0)[4], 2);
@@ -181,7 +194,7 @@ fn lss_address_from_the_eds_and_a_new_node_id() {
         sent: Vec::new(),
         now: 0,
     };
-    d.node.start(&mut d.od, 0, &mut |f| d.sent.push(f));
+    d.node.start(&mut d.od, odc::time::Instant::ZERO, &mut |f| d.sent.push(f));
     assert_eq!(d.take(), [data(0x705, &[0])]);
     d.rx(data(0, &[0x02, 5]));
     let lss = |b: &[u8]| {

@@ -248,15 +248,15 @@ fn node_guarding() {
     od.set(od::LIFE_TIME_FACTOR, 5).expect("0x100D");
     let mut node: Node<64> = Node::new(2);
     let mut wire = Vec::new();
-    node.start(&mut od, 0, &mut |f| wire.push(f));
+    node.start(&mut od, odc::time::Instant::ZERO, &mut |f| wire.push(f));
     let start = CanFrame::from_slice(0x000, &[NmtCommand::Start as u8, 2]).expect("NMT");
-    node.handle(&mut od, &start, 1_000, &mut |f| wire.push(f));
+    node.handle(&mut od, &start, odc::time::Instant::from_micros(1_000), &mut |f| wire.push(f));
     wire.clear();
     let id = Function::Heartbeat.can_id(NodeId::new(2).expect("node 2")).expect("per node");
     let rtr = CanFrame::remote(u32::from(id), 1);
     for at_ms in [1_000, 2_000] {
         wire.push(rtr);
-        node.handle(&mut od, &rtr, at_ms * 1_000, &mut |f| wire.push(f));
+        node.handle(&mut od, &rtr, odc::time::Instant::from_millis(at_ms), &mut |f| wire.push(f));
     }
     assert_same(
         &wire,
@@ -271,23 +271,33 @@ fn node_guarding_states() {
     let mut od = slave::Dictionary::new(2);
     let mut node: Node<64> = Node::new(2);
     let mut wire = Vec::new();
-    node.start(&mut od, 0, &mut |f| wire.push(f));
+    node.start(&mut od, odc::time::Instant::ZERO, &mut |f| wire.push(f));
     wire.clear();
     let rtr = CanFrame::remote(0x702, 1);
     let nmt = |cmd: NmtCommand| CanFrame::from_slice(0, &cmd.frame(2)).expect("NMT");
     let mut at = 0;
     let mut guard = |node: &mut Node<64>, od: &mut slave::Dictionary, wire: &mut Vec<CanFrame>| {
         at += 1_000;
-        node.handle(od, &rtr, at, &mut |f| wire.push(f));
+        node.handle(od, &rtr, odc::time::Instant::from_micros(at), &mut |f| wire.push(f));
     };
     for _ in 0..2 {
         guard(&mut node, &mut od, &mut wire);
     }
-    node.handle(&mut od, &nmt(NmtCommand::Start), 10_000, &mut |f| wire.push(f));
+    node.handle(
+        &mut od,
+        &nmt(NmtCommand::Start),
+        odc::time::Instant::from_micros(10_000),
+        &mut |f| wire.push(f),
+    );
     for _ in 0..2 {
         guard(&mut node, &mut od, &mut wire);
     }
-    node.handle(&mut od, &nmt(NmtCommand::Stop), 20_000, &mut |f| wire.push(f));
+    node.handle(
+        &mut od,
+        &nmt(NmtCommand::Stop),
+        odc::time::Instant::from_micros(20_000),
+        &mut |f| wire.push(f),
+    );
     for _ in 0..2 {
         guard(&mut node, &mut od, &mut wire);
     }
@@ -312,13 +322,23 @@ fn heartbeat_states() {
     od.set(od::PRODUCER_HEARTBEAT_TIME, 10).expect("0x1017");
     let mut node: Node<64> = Node::new(1);
     let mut wire = Vec::new();
-    node.start(&mut od, 0, &mut |f| wire.push(f));
+    node.start(&mut od, odc::time::Instant::ZERO, &mut |f| wire.push(f));
     let nmt = |cmd: NmtCommand| CanFrame::from_slice(0, &cmd.frame(1)).expect("NMT");
-    node.poll(&mut od, 10_000, &mut |f| wire.push(f));
-    node.handle(&mut od, &nmt(NmtCommand::Start), 15_000, &mut |f| wire.push(f));
-    node.poll(&mut od, 20_000, &mut |f| wire.push(f));
-    node.handle(&mut od, &nmt(NmtCommand::Stop), 25_000, &mut |f| wire.push(f));
-    node.poll(&mut od, 30_000, &mut |f| wire.push(f));
+    node.poll(&mut od, odc::time::Instant::from_micros(10_000), &mut |f| wire.push(f));
+    node.handle(
+        &mut od,
+        &nmt(NmtCommand::Start),
+        odc::time::Instant::from_micros(15_000),
+        &mut |f| wire.push(f),
+    );
+    node.poll(&mut od, odc::time::Instant::from_micros(20_000), &mut |f| wire.push(f));
+    node.handle(
+        &mut od,
+        &nmt(NmtCommand::Stop),
+        odc::time::Instant::from_micros(25_000),
+        &mut |f| wire.push(f),
+    );
+    node.poll(&mut od, odc::time::Instant::from_micros(30_000), &mut |f| wire.push(f));
     assert_same(
         &wire,
         &[printed("701 / 00"), printed("701 / 7F"), printed("701 / 05"), printed("701 / 04")],
@@ -337,12 +357,12 @@ fn heartbeat() {
     od.set(od::PRODUCER_HEARTBEAT_TIME, 10).expect("0x1017");
     let mut node: Node<64> = Node::new(1);
     let mut wire = Vec::new();
-    node.start(&mut od, 0, &mut |f| wire.push(f));
+    node.start(&mut od, odc::time::Instant::ZERO, &mut |f| wire.push(f));
     let start = CanFrame::from_slice(0x000, &[NmtCommand::Start as u8, 0]).expect("NMT");
-    node.handle(&mut od, &start, 0, &mut |f| wire.push(f));
+    node.handle(&mut od, &start, odc::time::Instant::ZERO, &mut |f| wire.push(f));
     wire.clear();
     for ms in 1..=20 {
-        node.poll(&mut od, ms * 1_000, &mut |f| wire.push(f));
+        node.poll(&mut od, odc::time::Instant::from_millis(ms), &mut |f| wire.push(f));
     }
     assert_same(&wire, &[printed("701 / 05"), printed("701 / 05")]);
 }
@@ -358,19 +378,29 @@ fn emcy_codes() {
     let mut od = slave::Dictionary::new(1);
     let mut node: Node<64> = Node::new(1);
     let mut wire = Vec::new();
-    node.start(&mut od, 0, &mut |f| wire.push(f));
+    node.start(&mut od, odc::time::Instant::ZERO, &mut |f| wire.push(f));
     let mut at = 0;
     for code in [0x1000, 0x8100, 0x8130, 0x8150, 0x8210, 0x8220] {
         at += 1_000;
-        node.raise_emcy(EmcyCode(code), [0; 5], at, &mut |f| wire.push(f));
+        node.raise_emcy(EmcyCode(code), [0; 5], odc::time::Instant::from_micros(at), &mut |f| {
+            wire.push(f)
+        });
         at += 1_000;
-        node.clear_emcy(EmcyCode(code), at, &mut |f| wire.push(f));
+        node.clear_emcy(EmcyCode(code), odc::time::Instant::from_micros(at), &mut |f| wire.push(f));
     }
     // Two errors, one eliminated: code 0 with the other's register; then none.
-    node.raise_emcy(EmcyCode(0x1000), [0; 5], 20_000, &mut |f| wire.push(f));
-    node.raise_emcy(EmcyCode(0x8100), [0; 5], 21_000, &mut |f| wire.push(f));
-    node.clear_emcy(EmcyCode(0x8100), 22_000, &mut |f| wire.push(f));
-    node.clear_emcy(EmcyCode(0x1000), 23_000, &mut |f| wire.push(f));
+    node.raise_emcy(EmcyCode(0x1000), [0; 5], odc::time::Instant::from_micros(20_000), &mut |f| {
+        wire.push(f)
+    });
+    node.raise_emcy(EmcyCode(0x8100), [0; 5], odc::time::Instant::from_micros(21_000), &mut |f| {
+        wire.push(f)
+    });
+    node.clear_emcy(EmcyCode(0x8100), odc::time::Instant::from_micros(22_000), &mut |f| {
+        wire.push(f)
+    });
+    node.clear_emcy(EmcyCode(0x1000), odc::time::Instant::from_micros(23_000), &mut |f| {
+        wire.push(f)
+    });
     let rows: Vec<(u16, u8)> =
         wire[1..].iter().map(|f| (u16::from_le_bytes([f.data[0], f.data[1]]), f.data[2])).collect();
     assert_eq!(
@@ -404,18 +434,22 @@ fn emcy() {
     od.set(lenze::C00168, 0x007B_001B).expect("C00168");
     let mut node: Node<64> = Node::new(1);
     let mut wire = Vec::new();
-    node.start(&mut od, 0, &mut |f| wire.push(f));
+    node.start(&mut od, odc::time::Instant::ZERO, &mut |f| wire.push(f));
     let start = CanFrame::from_slice(0x000, &NmtCommand::Start.frame(0)).expect("NMT");
-    node.handle(&mut od, &start, 0, &mut |f| wire.push(f));
+    node.handle(&mut od, &start, odc::time::Instant::ZERO, &mut |f| wire.push(f));
     wire.clear();
     // Bytes 4–8: "(reserved)", then the Lenze error number (C00168), as the code's type
     // encodes it; the error register (0x01) is the node's, from the code's class.
     let mut info = [0u8; 5];
     let number = od.get(lenze::C00168).expect("C00168");
     number.encode(&mut info[1..]).expect("4 bytes");
-    node.raise_emcy(EmcyCode(0x1000), info, 1_000, &mut |f| wire.push(f));
+    node.raise_emcy(EmcyCode(0x1000), info, odc::time::Instant::from_micros(1_000), &mut |f| {
+        wire.push(f)
+    });
     // The matching "error-free" message: code 0, register 0, error number 0.
-    node.clear_emcy(EmcyCode(0x1000), 2_000, &mut |f| wire.push(f));
+    node.clear_emcy(EmcyCode(0x1000), odc::time::Instant::from_micros(2_000), &mut |f| {
+        wire.push(f)
+    });
     assert_same(
         &wire,
         &[printed("81 / 00 10 01 00 1B 00 7B 00"), printed("81 / 00 00 00 00 00 00 00 00")],

@@ -133,13 +133,23 @@ fn heartbeat_frames() {
     servo.od.set(od::PRODUCER_HEARTBEAT_TIME, 100).expect("0x1017");
     let mut node: Node<64> = Node::new(NODE);
     let mut wire = Vec::new();
-    node.start(&mut servo, 0, &mut |f| wire.push(f));
-    node.poll(&mut servo, 100_000, &mut |f| wire.push(f));
+    node.start(&mut servo, odc::time::Instant::ZERO, &mut |f| wire.push(f));
+    node.poll(&mut servo, odc::time::Instant::from_micros(100_000), &mut |f| wire.push(f));
     let nmt = |cmd: NmtCommand| CanFrame::from_slice(0, &cmd.frame(NODE)).expect("2 bytes");
-    node.handle(&mut servo, &nmt(NmtCommand::Start), 150_000, &mut |f| wire.push(f));
-    node.poll(&mut servo, 200_000, &mut |f| wire.push(f));
-    node.handle(&mut servo, &nmt(NmtCommand::Stop), 250_000, &mut |f| wire.push(f));
-    node.poll(&mut servo, 300_000, &mut |f| wire.push(f));
+    node.handle(
+        &mut servo,
+        &nmt(NmtCommand::Start),
+        odc::time::Instant::from_micros(150_000),
+        &mut |f| wire.push(f),
+    );
+    node.poll(&mut servo, odc::time::Instant::from_micros(200_000), &mut |f| wire.push(f));
+    node.handle(
+        &mut servo,
+        &nmt(NmtCommand::Stop),
+        odc::time::Instant::from_micros(250_000),
+        &mut |f| wire.push(f),
+    );
+    node.poll(&mut servo, odc::time::Instant::from_micros(300_000), &mut |f| wire.push(f));
     // Figure 8.1: bit 7 reserved (0), bits 0..6 the state: 0 boot-up, 127 pre-operational,
     // 5 operational, 4 stopped, on 700h + node (values; the frames they make).
     assert_same(
@@ -154,11 +164,15 @@ fn emcy_acknowledgement() {
     let mut servo = Servo::new("");
     let mut node: Node<64> = Node::new(NODE);
     let mut wire = Vec::new();
-    node.start(&mut servo, 0, &mut |f| wire.push(f));
+    node.start(&mut servo, odc::time::Instant::ZERO, &mut |f| wire.push(f));
     // A field bus error (0xFF00, "incorrect configurations, field bus malfunctions or
     // others"), acknowledged once rectified; only the acknowledgement is printed.
-    node.raise_emcy(EmcyCode(0xFF00), [0; 5], 1_000, &mut |f| wire.push(f));
-    assert!(node.clear_emcy(EmcyCode(0xFF00), 2_000, &mut |f| wire.push(f)));
+    node.raise_emcy(EmcyCode(0xFF00), [0; 5], odc::time::Instant::from_micros(1_000), &mut |f| {
+        wire.push(f)
+    });
+    assert!(node.clear_emcy(EmcyCode(0xFF00), odc::time::Instant::from_micros(2_000), &mut |f| {
+        wire.push(f)
+    }));
     assert_eq!(wire.len(), 3, "boot-up, the error, its acknowledgement");
     assert_eq!(wire[1].data[..2], [0x00, 0xFF]);
     assert_same(&wire[2..], &[printed("81 / 00 00 00 00 00 00 00 00")]);

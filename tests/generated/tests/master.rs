@@ -44,7 +44,7 @@ impl Device {
             }
             let mut dict = slave::Dictionary::new(node_id);
             let mut out = Vec::new();
-            node.start(&mut dict, now_us(), &mut |f| out.push(f));
+            node.start(&mut dict, odc::time::Instant::from_micros(now_us()), &mut |f| out.push(f));
             while !flag.load(Ordering::Relaxed) {
                 for f in out.drain(..) {
                     if port.send(&f).is_err() {
@@ -53,13 +53,24 @@ impl Device {
                 }
                 let deadline = port.now_ms() + 1;
                 let events = match port.recv(deadline) {
-                    Ok(Some(f)) => node.handle(&mut dict, &f, now_us(), &mut |f| out.push(f)),
-                    Ok(None) => node.poll(&mut dict, now_us(), &mut |f| out.push(f)),
+                    Ok(Some(f)) => node.handle(
+                        &mut dict,
+                        &f,
+                        odc::time::Instant::from_micros(now_us()),
+                        &mut |f| out.push(f),
+                    ),
+                    Ok(None) => {
+                        node.poll(&mut dict, odc::time::Instant::from_micros(now_us()), &mut |f| {
+                            out.push(f)
+                        })
+                    }
                     Err(_) => return,
                 };
                 if events.reset.is_some() {
                     dict = slave::Dictionary::new(node.next_node_id());
-                    node.start(&mut dict, now_us(), &mut |f| out.push(f));
+                    node.start(&mut dict, odc::time::Instant::from_micros(now_us()), &mut |f| {
+                        out.push(f)
+                    });
                 }
             }
         });

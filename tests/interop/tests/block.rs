@@ -130,7 +130,9 @@ fn serve(py: &std::path::Path, dev: &Device, through_node: bool) -> Served {
     let mut slave = if through_node {
         let mut node = Box::new(Node::<BUF>::new(NODE));
         let mut boot = Vec::new();
-        node.start(od.as_mut(), peer.bus.now_ms() * 1000, &mut |f| boot.push(f));
+        node.start(od.as_mut(), odc::time::Instant::from_millis(peer.bus.now_ms()), &mut |f| {
+            boot.push(f)
+        });
         for f in boot {
             peer.bus.send(&f).unwrap();
         }
@@ -148,17 +150,24 @@ fn serve(py: &std::path::Path, dev: &Device, through_node: bool) -> Served {
         let now = peer.bus.now_ms();
         if let Ok(Some(frame)) = &received {
             match &mut slave {
-                Slave::Server(s) => s.handle_into(od.as_mut(), frame, now, &mut |f| out.push(f)),
+                Slave::Server(s) => s.handle_into(
+                    od.as_mut(),
+                    frame,
+                    odc::time::Instant::from_millis(now),
+                    &mut |f| out.push(f),
+                ),
                 Slave::Node(n) => {
-                    n.handle(od.as_mut(), frame, now * 1000, &mut |f| out.push(f));
+                    n.handle(od.as_mut(), frame, odc::time::Instant::from_millis(now), &mut |f| {
+                        out.push(f)
+                    });
                 }
             }
             burst = burst.max(out.len());
         }
         match &mut slave {
-            Slave::Server(s) => out.extend(s.poll(now)),
+            Slave::Server(s) => out.extend(s.poll(odc::time::Instant::from_millis(now))),
             Slave::Node(n) => {
-                n.poll(od.as_mut(), now * 1000, &mut |f| out.push(f));
+                n.poll(od.as_mut(), odc::time::Instant::from_millis(now), &mut |f| out.push(f));
             }
         }
         for f in out {

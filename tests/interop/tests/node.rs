@@ -39,7 +39,7 @@ fn session(py: &std::path::Path, dev: &Device) -> (Value, Seen) {
     let now_us = || u64::try_from(start.elapsed().as_micros()).unwrap();
     let mut out = Vec::new();
     let mut seen = Seen::default();
-    node.start(od.as_mut(), now_us(), &mut |f| out.push(f));
+    node.start(od.as_mut(), odc::time::Instant::from_micros(now_us()), &mut |f| out.push(f));
     let end = Instant::now() + SESSION;
     'run: loop {
         assert!(Instant::now() < end, "{}: session over {SESSION:?}", dev.name);
@@ -50,7 +50,10 @@ fn session(py: &std::path::Path, dev: &Device) -> (Value, Seen) {
             Err(e) => panic!("{}: {e}", dev.name),
         };
         if let Some(f) = frame {
-            let ev = node.handle(od.as_mut(), &f, now_us(), &mut |f| out.push(f));
+            let ev =
+                node.handle(od.as_mut(), &f, odc::time::Instant::from_micros(now_us()), &mut |f| {
+                    out.push(f)
+                });
             seen.note(&ev);
             // The application's part of a reset: the dictionary back to its defaults (both
             // kinds here: a generated dictionary has no separate communication defaults).
@@ -58,7 +61,8 @@ fn session(py: &std::path::Path, dev: &Device) -> (Value, Seen) {
                 od = (dev.slave)(NODE);
             }
         }
-        let ev = node.poll(od.as_mut(), now_us(), &mut |f| out.push(f));
+        let ev =
+            node.poll(od.as_mut(), odc::time::Instant::from_micros(now_us()), &mut |f| out.push(f));
         seen.note(&ev);
         for f in out.drain(..) {
             if peer.bus.send(&f).is_err() {
@@ -158,13 +162,15 @@ fn socketcan_vcan0() {
         let now_us = || u64::try_from(start.elapsed().as_micros()).unwrap();
         let mut out = Vec::new();
         std::thread::sleep(Duration::from_millis(50));
-        node.start(od.as_mut(), now_us(), &mut |f| out.push(f));
+        node.start(od.as_mut(), odc::time::Instant::from_micros(now_us()), &mut |f| out.push(f));
         while !stop_node.load(std::sync::atomic::Ordering::Relaxed) {
             let ms = wire.now_ms();
             if let Some(f) = wire.recv(ms + 1).unwrap() {
-                node.handle(od.as_mut(), &f, now_us(), &mut |f| out.push(f));
+                node.handle(od.as_mut(), &f, odc::time::Instant::from_micros(now_us()), &mut |f| {
+                    out.push(f)
+                });
             }
-            node.poll(od.as_mut(), now_us(), &mut |f| out.push(f));
+            node.poll(od.as_mut(), odc::time::Instant::from_micros(now_us()), &mut |f| out.push(f));
             for f in out.drain(..) {
                 wire.send(&f).unwrap();
             }
@@ -218,15 +224,17 @@ fn node_and_sdo_client_on_the_in_memory_bus() {
         let mut out = Vec::new();
         let us = |p: &mut odc::transport::mem::MemPort| p.now_ms() * 1000;
         let now = us(&mut wire);
-        node.start(od.as_mut(), now, &mut |f| out.push(f));
+        node.start(od.as_mut(), odc::time::Instant::from_micros(now), &mut |f| out.push(f));
         while !stop_node.load(std::sync::atomic::Ordering::Relaxed) {
             let ms = wire.now_ms();
             if let Some(f) = wire.recv(ms + 1).unwrap() {
                 let now = us(&mut wire);
-                node.handle(od.as_mut(), &f, now, &mut |f| out.push(f));
+                node.handle(od.as_mut(), &f, odc::time::Instant::from_micros(now), &mut |f| {
+                    out.push(f)
+                });
             }
             let now = us(&mut wire);
-            node.poll(od.as_mut(), now, &mut |f| out.push(f));
+            node.poll(od.as_mut(), odc::time::Instant::from_micros(now), &mut |f| out.push(f));
             for f in out.drain(..) {
                 wire.send(&f).unwrap();
             }

@@ -40,12 +40,17 @@ fn serve(py: &std::path::Path, dev: &Device) -> (Box<dyn ObjectDictionary + Send
         let now = peer.bus.now_ms();
         match peer.bus.recv(now + 20) {
             Ok(Some(frame)) => {
-                if let Some(r) = server.handle(od.as_mut(), &frame, peer.bus.now_ms()) {
+                if let Some(r) = server.handle(
+                    od.as_mut(),
+                    &frame,
+                    odc::time::Instant::from_millis(peer.bus.now_ms()),
+                ) {
                     peer.bus.send(&r).unwrap();
                 }
             }
             Ok(None) => {
-                if let Some(abort) = server.poll(peer.bus.now_ms()) {
+                if let Some(abort) = server.poll(odc::time::Instant::from_millis(peer.bus.now_ms()))
+                {
                     peer.bus.send(&abort).unwrap();
                 }
                 if peer.exited() {

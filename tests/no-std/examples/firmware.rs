@@ -19,6 +19,7 @@
 use odc::can::CanFrame;
 use odc::cia402::Drive;
 use odc::node::Node;
+use odc::time::Instant;
 use odc::transport::{Bus, embedded_can::NbBus};
 use static_cell::StaticCell;
 
@@ -44,17 +45,18 @@ pub fn run<C: embedded_can::nb::Can>(can: C, clock_ms: impl FnMut() -> u64) -> !
     let mut bus = NbBus::new(can, clock_ms);
     let mut bus_errors = 0u32; // what the driver refused: a firmware reports it (EMCY, LED)
     let mut last_ms = bus.now_ms();
-    node.start(od, last_ms * 1000, &mut |f| bus_errors += u32::from(bus.send(&f).is_err()));
+    let now = Instant::from_millis(last_ms);
+    node.start(od, now, &mut |f| bus_errors += u32::from(bus.send(&f).is_err()));
     drive.start(od);
     loop {
         let now_ms = bus.now_ms();
         let received = bus.recv(now_ms); // at once: Ok(None) when nothing came
-        let now_us = now_ms * 1000;
+        let now = Instant::from_millis(now_ms);
         let mut out = |f: CanFrame| bus_errors += u32::from(bus.send(&f).is_err());
-        let mut events = node.poll(od, now_us, &mut out);
+        let mut events = node.poll(od, now, &mut out);
         match received {
             Ok(Some(frame)) => {
-                events.absorb(node.handle(od, &frame, now_us, &mut out));
+                events.absorb(node.handle(od, &frame, now, &mut out));
                 drive.update(od); // an SDO or RPDO may have written the controlword
             }
             Ok(None) => {}

@@ -43,6 +43,7 @@
 //! assert!(od.sw.target_reached());
 //! ```
 
+#[cfg_attr(not(feature = "cia402"), allow(unused_imports))]
 use super::{Controlword, ModeOfOperation, State, Statusword};
 
 /// The CiA 402 objects a drive's firmware reads (what the master commands) and sets (what
@@ -90,18 +91,21 @@ pub trait DriveObjects {
 /// figure "state machine"): transitions 2–12, 15 and 16 from the controlword, 0/1 at start,
 /// 13 on a fault, 14 and 12 when the drive has stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg(feature = "cia402")]
 pub struct DeviceControl {
     state: State,
     last: Controlword,
     quick_stop_option: i16,
 }
 
+#[cfg(feature = "cia402")]
 impl Default for DeviceControl {
     fn default() -> Self {
         Self::new()
     }
 }
 
+#[cfg(feature = "cia402")]
 impl DeviceControl {
     /// A drive in "not ready to switch on" (transition 0 done), quick stop option code 2
     /// (the default of 0x605A: slow down on the quick stop ramp, then "switch on disabled").
@@ -203,6 +207,7 @@ impl DeviceControl {
 /// The number of the CiA 402 transition from `from` to `to`, `None` for a pair the state
 /// machine has no transition for. "Ready to switch on" to "operation enabled" is transitions
 /// 3 and 4 in one step (the profile lets enable operation do both); it is reported as 4.
+#[cfg(feature = "cia402")]
 pub const fn transition(from: State, to: State) -> Option<u8> {
     use State::*;
     Some(match (from, to) {
@@ -232,6 +237,7 @@ pub const fn transition(from: State, to: State) -> Option<u8> {
 /// velocity is the target velocity at once); halt (bit 8) stops it. Positions in position
 /// units, velocities in position units per second.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg(feature = "cia402")]
 pub struct Axis {
     position: i64,
     velocity: i64,
@@ -243,6 +249,7 @@ pub struct Axis {
     carry: i64,
 }
 
+#[cfg(feature = "cia402")]
 impl Axis {
     /// An axis at position 0, standing.
     pub const fn new() -> Self {
@@ -368,11 +375,13 @@ impl Axis {
 /// A simulated CiA 402 drive: the state machine and the axis over a dictionary's
 /// [`DriveObjects`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg(feature = "cia402")]
 pub struct Drive {
     control: DeviceControl,
     axis: Axis,
 }
 
+#[cfg(feature = "cia402")]
 impl Drive {
     /// A drive in "not ready to switch on", the axis at 0.
     pub const fn new() -> Self {
@@ -447,4 +456,5 @@ impl Drive {
 
 #[cfg(test)]
 #[path = "device_tests.rs"]
+#[cfg(feature = "cia402")]
 mod tests;

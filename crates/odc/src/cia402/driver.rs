@@ -49,6 +49,7 @@
 //! # Ok::<(), odc::cia402::DriverError>(())
 //! ```
 
+#[cfg_attr(not(feature = "cia402"), allow(unused_imports))]
 use super::{Controlword, ModeOfOperation, State, Statusword, SupportedModes};
 
 /// What the driver reads from the drive each cycle (its TPDOs or input process data).
@@ -127,6 +128,7 @@ pub trait DrivePdos {
 
 /// Why a job failed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg(feature = "cia402")]
 pub enum DriverError {
     /// The drive is in `Fault` (or went there during the job); ask for a fault reset.
     Fault,
@@ -150,6 +152,7 @@ pub enum DriverError {
     FollowingError,
 }
 
+#[cfg(feature = "cia402")]
 impl core::fmt::Display for DriverError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         match self {
@@ -164,10 +167,12 @@ impl core::fmt::Display for DriverError {
     }
 }
 
+#[cfg(feature = "cia402")]
 impl core::error::Error for DriverError {}
 
 /// Where the current job is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg(feature = "cia402")]
 pub enum DriverStatus {
     /// No job asked for yet.
     Idle,
@@ -181,6 +186,7 @@ pub enum DriverStatus {
 
 /// The current job.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg(feature = "cia402")]
 enum Job {
     None,
     Enable,
@@ -207,10 +213,12 @@ enum Job {
 }
 
 /// Default time a job may take.
+#[cfg(feature = "cia402")]
 pub const DEFAULT_TIMEOUT_MS: u64 = 5_000;
 
 /// A CiA 402 drive's controller.
 #[derive(Clone, Debug)]
+#[cfg(feature = "cia402")]
 pub struct Driver {
     supported: SupportedModes,
     job: Job,
@@ -221,6 +229,7 @@ pub struct Driver {
     started_us: Option<u64>,
 }
 
+#[cfg(feature = "cia402")]
 impl Driver {
     /// A driver for a drive supporting `supported` (0x6502), job timeout
     /// [`DEFAULT_TIMEOUT_MS`].
@@ -550,4 +559,5 @@ impl Driver {
 
 #[cfg(test)]
 #[path = "driver_tests.rs"]
+#[cfg(feature = "cia402")]
 mod tests;

@@ -45,11 +45,15 @@ mod state;
 mod values;
 mod words;
 
-pub use device::{Axis, DeviceControl, Drive, DriveObjects, transition};
-pub use driver::{DrivePdos, Driver, DriverError, DriverStatus, Inputs, Outputs};
+pub use device::DriveObjects;
+#[cfg(feature = "cia402")]
+pub use device::{Axis, DeviceControl, Drive, transition};
+pub use driver::{DrivePdos, Inputs, Outputs};
+#[cfg(feature = "cia402")]
+pub use driver::{Driver, DriverError, DriverStatus};
 pub use modes::{ModeOfOperation, SupportedModes};
 pub use state::State;
 pub use words::{Command, Controlword, Statusword};
 
-#[cfg(test)]
+#[cfg(all(test, feature = "cia402"))]
 mod tests;

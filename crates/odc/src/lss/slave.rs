@@ -7,8 +7,11 @@
 //! [`LssEvent`]. Storing is answered by the application ([`LssSlave::store_response`]), as
 //! CANopenNode's store callback returns its result.
 
+#[cfg_attr(not(feature = "lss-slave"), allow(unused_imports))]
 use super::frame::{Bound, Part, Request, Response};
+#[cfg_attr(not(feature = "lss-slave"), allow(unused_imports))]
 use super::{REQUEST_ID, RESPONSE_ID, UNCONFIGURED};
+#[cfg_attr(not(feature = "lss-slave"), allow(unused_imports))]
 use crate::can::CanFrame;
 
 /// The LSS address: 0x1018 sub 1–4.
@@ -98,6 +101,7 @@ pub enum StoreResult {
 }
 
 impl StoreResult {
+    #[cfg(feature = "lss-slave")]
     const fn codes(self) -> (u8, u8) {
         match self {
             Self::Stored => (0, 0),
@@ -112,6 +116,7 @@ impl StoreResult {
 /// kbit/s) and 6–8 (50, 20, 10 kbit/s). Index 5 (100 kbit/s in some older tables, such as the
 /// Lexium MDrive manual's; reserved in CANopenNode's) and 9 (automatic detection) only when
 /// the device says so ([`LssSlave::with_bit_timings`]).
+#[cfg(feature = "lss-slave")]
 pub const DEFAULT_BIT_TIMINGS: u16 = 0b1_1101_1111;
 
 /// An LSS slave: one per node, fed the frames of CAN-ID 0x7E5.
@@ -131,6 +136,7 @@ pub const DEFAULT_BIT_TIMINGS: u16 = 0b1_1101_1111;
 /// assert_eq!((lss.node_id(), lss.pending_node_id()), (None, Some(0x42)));
 /// assert_eq!(lss.reset_communication(), Some(0x42));
 /// ```
+#[cfg(feature = "lss-slave")]
 #[derive(Clone, Debug)]
 pub struct LssSlave {
     identity: Identity,
@@ -149,6 +155,7 @@ pub struct LssSlave {
     fastscan: u8,
 }
 
+#[cfg(feature = "lss-slave")]
 impl LssSlave {
     /// A slave with LSS address `identity`, node-ID `node_id` (`None`: unconfigured, 0xFF)
     /// and the bit timing of table index `bit_timing`, in waiting state. It answers "store
@@ -397,7 +404,7 @@ impl LssSlave {
     }
 }
 
-#[cfg(test)]
+#[cfg(all(test, feature = "lss-slave"))]
 mod tests {
     use super::*;
 

@@ -10,6 +10,7 @@ use crate::SdoAbort;
 use crate::can::CanFrame;
 use crate::emcy::{EmcyCode, EmcyFrame, ErrorRegister};
 use crate::slave::ObjectDictionary;
+use crate::time::{Duration, Instant};
 
 /// Errors that can be active at once; a further one is still sent and recorded, and sets its
 /// register bit, but clearing it cannot be told from the others.
@@ -24,7 +25,7 @@ pub const QUEUE: usize = 4;
 #[derive(Clone, Debug)]
 pub(super) struct Emcy {
     cob_id: u32,
-    inhibit_us: u64,
+    inhibit: Duration,
     active: [Option<EmcyCode>; MAX_ACTIVE],
     /// Register bits of errors that did not fit `active`.
     sticky: ErrorRegister,
@@ -33,9 +34,12 @@ pub(super) struct Emcy {
     /// How many entries the dictionary's 0x1003 has (0: no 0x1003).
     history_cap: usize,
     has_register: bool,
+    /// A ring: `queued` payloads from `head` on (indexes modulo [`QUEUE`], so no bounds
+    /// check and no memmove on the frame path).
     queue: [[u8; 8]; QUEUE],
+    head: usize,
     queued: usize,
-    last_sent_us: Option<u64>,
+    last_sent: Option<Instant>,
     overflowed: bool,
 }
 
@@ -43,7 +47,7 @@ impl Emcy {
     pub(super) fn new() -> Self {
         Self {
             cob_id: 1 << 31,
-            inhibit_us: 0,
+            inhibit: Duration::ZERO,
             active: [None; MAX_ACTIVE],
             sticky: ErrorRegister::NONE,
             history: [0; MAX_HISTORY],
@@ -51,8 +55,9 @@ impl Emcy {
             history_cap: 0,
             has_register: false,
             queue: [[0; 8]; QUEUE],
+            head: 0,
             queued: 0,
-            last_sent_us: None,
+            last_sent: None,
             overflowed: false,
         }
     }
@@ -74,8 +79,10 @@ impl Emcy {
 
     /// Reads 0x1014 and 0x1015 again.
     pub(super) fn load<D: ObjectDictionary + ?Sized>(&mut self, dict: &D) {
-        self.cob_id = super::get_u32(dict, 0x1014, 0).unwrap_or(1 << 31);
-        self.inhibit_us = u64::from(super::get_u16(dict, 0x1015, 0).unwrap_or(0)) * 100;
+        self.cob_id = super::params::get_u32(dict, 0x1014, 0).unwrap_or(1 << 31);
+        self.inhibit = Duration::from_micros(
+            u64::from(super::params::get_u16(dict, 0x1015, 0).unwrap_or(0)) * 100,
+        );
     }
 
     /// The error register: the bits of the active errors, with the generic bit.
@@ -97,7 +104,10 @@ impl Emcy {
             return;
         }
         let cap = self.history_cap.min(MAX_HISTORY);
-        self.history.copy_within(0..cap - 1, 1);
+        // Entries past `cap` are never read: shifting all of them keeps the indexes constant.
+        for i in (1..MAX_HISTORY).rev() {
+            self.history[i] = self.history[i - 1];
+        }
         // 0x1003 entry: error code in bits 0–15, additional information in bits 16–31.
         self.history[0] =
             u32::from(code.0) | u32::from(u16::from_le_bytes([info[0], info[1]])) << 16;
@@ -110,7 +120,7 @@ impl Emcy {
         code: EmcyCode,
         info: [u8; 5],
         send: bool,
-        now_us: u64,
+        now: Instant,
         out: &mut impl FnMut(CanFrame),
     ) {
         if !self.active.contains(&Some(code)) {
@@ -122,7 +132,7 @@ impl Emcy {
         self.push(code, info);
         if send {
             let f = EmcyFrame { code, register: self.register(), manufacturer: info };
-            self.enqueue(f.encode(), now_us, out);
+            self.enqueue(f.encode(), now, out);
         }
     }
 
@@ -132,7 +142,7 @@ impl Emcy {
         &mut self,
         code: EmcyCode,
         send: bool,
-        now_us: u64,
+        now: Instant,
         out: &mut impl FnMut(CanFrame),
     ) -> bool {
         let Some(slot) = self.active.iter_mut().find(|a| **a == Some(code)) else { return false };
@@ -142,7 +152,7 @@ impl Emcy {
         }
         if send {
             let f = EmcyFrame::new(EmcyCode::NO_ERROR, self.register());
-            self.enqueue(f.encode(), now_us, out);
+            self.enqueue(f.encode(), now, out);
         }
         true
     }
@@ -169,7 +179,7 @@ impl Emcy {
         let put = |buf: &mut [u8], bytes: &[u8]| {
             buf.get_mut(..bytes.len())
                 .map(|d| {
-                    d.copy_from_slice(bytes);
+                    crate::bits::copy_bytes(d, bytes);
                     bytes.len()
                 })
                 .ok_or(SdoAbort::TooShort)
@@ -186,45 +196,46 @@ impl Emcy {
         }
     }
 
-    fn enqueue(&mut self, payload: [u8; 8], now_us: u64, out: &mut impl FnMut(CanFrame)) {
+    fn enqueue(&mut self, payload: [u8; 8], now: Instant, out: &mut impl FnMut(CanFrame)) {
         if self.cob_id & (1 << 31) != 0 {
             return;
         }
-        if self.queued == 0 && !self.inhibited(now_us) {
-            self.transmit(payload, now_us, out);
+        if self.queued == 0 && !self.inhibited(now) {
+            self.transmit(payload, now, out);
             return;
         }
-        if self.queued == QUEUE {
-            self.queue.copy_within(1.., 0);
-            self.queued -= 1;
+        if self.queued >= QUEUE {
+            // Full: the oldest waiting one gives way.
+            self.head = (self.head + 1) % QUEUE;
+            self.queued = QUEUE - 1;
             self.overflowed = true;
         }
-        self.queue[self.queued] = payload;
+        self.queue[(self.head + self.queued) % QUEUE] = payload;
         self.queued += 1;
     }
 
-    fn inhibited(&self, now_us: u64) -> bool {
-        self.last_sent_us.is_some_and(|t| now_us < t.saturating_add(self.inhibit_us))
+    fn inhibited(&self, now: Instant) -> bool {
+        self.last_sent.is_some_and(|t| now < t.saturating_add(self.inhibit))
     }
 
-    fn transmit(&mut self, payload: [u8; 8], now_us: u64, out: &mut impl FnMut(CanFrame)) {
+    fn transmit(&mut self, payload: [u8; 8], now: Instant, out: &mut impl FnMut(CanFrame)) {
         out(CanFrame::new(self.cob_id & 0x7FF, payload));
-        self.last_sent_us = Some(now_us);
+        self.last_sent = Some(now);
     }
 
     /// Sends the next queued EMCY once the inhibit time has passed.
-    pub(super) fn poll(&mut self, now_us: u64, out: &mut impl FnMut(CanFrame)) {
-        if self.queued > 0 && !self.inhibited(now_us) {
-            let payload = self.queue[0];
-            self.queue.copy_within(1.., 0);
+    pub(super) fn poll(&mut self, now: Instant, out: &mut impl FnMut(CanFrame)) {
+        if self.queued > 0 && !self.inhibited(now) {
+            let payload = self.queue[self.head % QUEUE];
+            self.head = (self.head + 1) % QUEUE;
             self.queued -= 1;
-            self.transmit(payload, now_us, out);
+            self.transmit(payload, now, out);
         }
     }
 
     /// When the next queued EMCY may go.
-    pub(super) fn next_deadline(&self) -> Option<u64> {
+    pub(super) fn next_deadline(&self) -> Option<Instant> {
         (self.queued > 0)
-            .then(|| self.last_sent_us.map_or(0, |t| t.saturating_add(self.inhibit_us)))
+            .then(|| self.last_sent.map_or(Instant::ZERO, |t| t.saturating_add(self.inhibit)))
     }
 }

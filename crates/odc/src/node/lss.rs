@@ -2,7 +2,8 @@
 //! fed the frames of 0x7E5 in every NMT state and while a node without node-ID initialises;
 //! the node-ID it configures becomes the node's at the next reset.
 
-use super::{Events, Node, Reset, get_u32};
+use super::params::get_u32;
+use super::{Events, Node, Reset};
 use crate::can::CanFrame;
 use crate::lss::{Identity, LssEvent, LssSlave, StoreResult, UNCONFIGURED};
 use crate::slave::ObjectDictionary;

@@ -1,29 +1,33 @@
 //! A CANopen node (CiA 301 slave) over any [`ObjectDictionary`]: NMT, boot-up, heartbeat
 //! producer and consumer, node guarding, SYNC, the PDO engine, EMCY, the SDO server (with
-//! block transfer) and, with [`Node::with_lss`], the LSS slave (CiA 305).
+//! block transfer) and, with [`Node::with_lss`], the LSS slave (CiA 305). Node guarding, the
+//! SYNC producer, block transfer and the LSS slave are odc's features `guarding`,
+//! `sync-producer`, `sdo-block` and `lss-slave` (all default), for a firmware to leave out.
 //!
 //! `no_std`, no heap, no threads: the caller feeds every received frame to [`Node::handle`],
 //! calls [`Node::poll`] often enough for its timers (heartbeat, event timers, inhibit times,
 //! guarding; every millisecond is plenty, [`Node::next_deadline`] says when it must), and
-//! passes a monotonic time in microseconds; the node's frames go to the `out` closure (a CAN
-//! driver's transmit queue). The node reads its parameters from the dictionary (0x1005,
-//! 0x1006, 0x100C, 0x100D, 0x1014–0x1017, 0x1019, the PDO objects) and reads them again after
-//! an SDO write to them, so a master configures it as any CANopen device.
+//! passes the time of a monotonic clock ([`Instant`](crate::time::Instant)); the node's frames
+//! go to the `out` closure (a CAN driver's transmit queue). The node reads its parameters from
+//! the dictionary (0x1005, 0x1006, 0x100C, 0x100D, 0x1014–0x1017, 0x1019, the PDO objects) and
+//! reads them again after an SDO write to them, so a master configures it as any CANopen
+//! device.
 //!
 //! ```
 //! # mod lxm23a { odc_macros::include_device!("../../eds/lxm23a.eds", role = "slave"); }
 //! use odc::can::CanFrame;
 //! use odc::nmt::NmtState;
 //! use odc::node::Node;
+//! use odc::time::Instant;
 //!
 //! let mut od = lxm23a::slave::Dictionary::new(5);
 //! let mut node: Node<64> = Node::new(5);
 //! let mut sent = Vec::new();
-//! node.start(&mut od, 0, &mut |f| sent.push(f));
+//! node.start(&mut od, Instant::ZERO, &mut |f| sent.push(f));
 //! assert_eq!(sent, [CanFrame::from_slice(0x705, &[0x00]).unwrap()]); // boot-up
 //! // NMT "start remote node" for every node: operational.
 //! let start = CanFrame::from_slice(0x000, &[0x01, 0]).unwrap();
-//! let events = node.handle(&mut od, &start, 1_000, &mut |f| sent.push(f));
+//! let events = node.handle(&mut od, &start, Instant::from_millis(1), &mut |f| sent.push(f));
 //! assert_eq!((events.state, node.state()), (Some(NmtState::Operational), NmtState::Operational));
 //! ```
 //!
@@ -37,19 +41,28 @@
 //! initialisation, without boot-up, until LSS gives it one (CiA 305).
 
 mod emcy;
+mod error_control;
+#[cfg(feature = "lss-slave")]
 mod lss;
+#[cfg(feature = "lss-slave")]
 use lss::LssSetup;
+mod params;
 pub mod pdo;
+mod sync;
 #[cfg(test)]
 mod tests;
 
-use crate::SdoAbort;
 use crate::can::CanFrame;
 use crate::emcy::{EmcyCode, ErrorRegister};
-use crate::lss::{LssEvent, LssSlave, UNCONFIGURED};
+use crate::lss::LssEvent;
+#[cfg(feature = "lss-slave")]
+use crate::lss::{LssSlave, UNCONFIGURED};
 use crate::nmt::{NmtCommand, NmtState};
 use crate::sdo::Server;
 use crate::slave::ObjectDictionary;
+use crate::time::Instant;
+use error_control::ErrorControl;
+use params::{Dirty, View};
 
 pub use emcy::{MAX_ACTIVE as MAX_ACTIVE_ERRORS, MAX_HISTORY, QUEUE as EMCY_QUEUE};
 pub use pdo::{MAX_MAPPED, PdoError, PdoId};
@@ -63,26 +76,6 @@ pub const MAX_HB_CONSUMERS: usize = 8;
 /// An 11-bit data frame of one byte (boot-up, heartbeat, guarding answer, SYNC counter).
 const fn one_byte(id: u32, b: u8) -> CanFrame {
     CanFrame { id, extended: false, remote: false, len: 1, data: [b, 0, 0, 0, 0, 0, 0, 0] }
-}
-
-/// Reads up to 4 bytes of `index:sub` as a little-endian number; `None` when the dictionary
-/// has no such entry or cannot read it.
-fn get_u32<D: ObjectDictionary + ?Sized>(dict: &D, index: u16, sub: u8) -> Option<u32> {
-    let mut buf = [0u8; 8];
-    let n = dict.read(index, sub, &mut buf).ok()?;
-    let mut le = [0u8; 4];
-    for (d, s) in le.iter_mut().zip(buf.iter().take(n)) {
-        *d = *s;
-    }
-    Some(u32::from_le_bytes(le))
-}
-
-fn get_u16<D: ObjectDictionary + ?Sized>(dict: &D, index: u16, sub: u8) -> Option<u16> {
-    get_u32(dict, index, sub).map(|v| v as u16)
-}
-
-fn get_u8<D: ObjectDictionary + ?Sized>(dict: &D, index: u16, sub: u8) -> Option<u8> {
-    get_u32(dict, index, sub).map(|v| v as u8)
 }
 
 /// Which reset the NMT master asked for.
@@ -155,146 +148,6 @@ impl Events {
     }
 }
 
-/// Communication objects written since the node last read them.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-struct Dirty(u8);
-
-impl Dirty {
-    const HEARTBEAT: u8 = 1;
-    const CONSUMERS: u8 = 2;
-    const GUARDING: u8 = 4;
-    const SYNC: u8 = 8;
-    const EMCY: u8 = 16;
-    const PDO: u8 = 32;
-
-    fn of(index: u16) -> u8 {
-        match index {
-            0x1017 => Self::HEARTBEAT,
-            0x1016 => Self::CONSUMERS,
-            0x100C | 0x100D => Self::GUARDING,
-            0x1005 | 0x1006 | 0x1019 => Self::SYNC,
-            0x1014 | 0x1015 => Self::EMCY,
-            0x1400..=0x1BFF => Self::PDO,
-            _ => 0,
-        }
-    }
-}
-
-impl<D: ObjectDictionary + ?Sized> View<'_, D> {
-    /// CiA 301's rules for values of communication objects that depend on other values.
-    fn check_parameter(&self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
-        let new = || {
-            let mut le = [0u8; 4];
-            for (d, s) in le.iter_mut().zip(data) {
-                *d = *s;
-            }
-            u32::from_le_bytes(le)
-        };
-        match (index, sub) {
-            // A PDO's CAN-ID may change only while it is invalid (CiA 301 7.5.2.35/37:
-            // 0x06090030 otherwise).
-            (0x1400..=0x15FF | 0x1800..=0x19FF, 1) => {
-                let old = get_u32(&*self.dict, index, 1);
-                let valid = |c: u32| c & (1 << 31) == 0;
-                if let Some(old) = old
-                    && valid(old)
-                    && valid(new())
-                    && old & 0x3FFF_FFFF != new() & 0x3FFF_FFFF
-                {
-                    return Err(SdoAbort::InvalidValue);
-                }
-            }
-            // Two heartbeat consumer entries for one node (CiA 301 7.5.2.14: 0x06040043).
-            (0x1016, s) if s > 0 => {
-                let node = new() >> 16 & 0xFF;
-                let time = new() & 0xFFFF;
-                let count = get_u8(&*self.dict, 0x1016, 0).unwrap_or(0);
-                let clash = (1..=count).filter(|&o| o != s).any(|o| {
-                    get_u32(&*self.dict, 0x1016, o)
-                        .is_some_and(|v| v >> 16 & 0xFF == node && v & 0xFFFF != 0)
-                });
-                if time != 0 && node != 0 && clash {
-                    return Err(SdoAbort::ParameterIncompatible);
-                }
-            }
-            _ => {}
-        }
-        Ok(())
-    }
-}
-
-/// The dictionary as the SDO server and the PDO engine see it: the node answers 0x1001 and
-/// 0x1003 itself, and notes writes to the communication objects.
-struct View<'a, D: ?Sized> {
-    dict: &'a mut D,
-    emcy: &'a mut emcy::Emcy,
-    dirty: &'a mut Dirty,
-    written: bool,
-    /// The mappings of these PDOs may not change (CiA 301 7.5.2.36: only while the PDO is
-    /// invalid): bit n of word 0 for TPDO n+1, of word 1 for RPDO n+1.
-    locked: [u64; 2],
-}
-
-impl<D: ObjectDictionary + ?Sized> ObjectDictionary for View<'_, D> {
-    fn read(&self, index: u16, sub: u8, buf: &mut [u8]) -> Result<usize, SdoAbort> {
-        match self.emcy.read(index, sub, buf) {
-            Some(r) => r,
-            None => self.dict.read(index, sub, buf),
-        }
-    }
-
-    fn access(&self, index: u16, sub: u8) -> Option<crate::Access> {
-        self.dict.access(index, sub)
-    }
-
-    fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
-        if (index, sub) == (0x1003, 0) && self.emcy.read(0x1003, 0, &mut [0]).is_some() {
-            return self.emcy.write_history_count(data);
-        }
-        // Access first, as the dictionary would refuse it (a read-only COB-ID: 0x06010002).
-        if self.dict.access(index, sub).is_some_and(|a| !a.writable()) {
-            return Err(SdoAbort::WriteOfReadOnly);
-        }
-        self.check_parameter(index, sub, data)?;
-        if let Some((word, n)) = match index {
-            0x1600..=0x17FF => Some((1, index - 0x1600)),
-            0x1A00..=0x1BFF => Some((0, index - 0x1A00)),
-            _ => None,
-        } && n < 64
-            && self.locked[word] >> n & 1 == 1
-        {
-            // CiA 301: a mapping may only change while its PDO is invalid (COB-ID bit 31).
-            return Err(SdoAbort::UnsupportedAccess);
-        }
-        if matches!(index, 0x1600..=0x17FF | 0x1A00..=0x1BFF)
-            && sub == 0
-            && data.first().is_some_and(|&c| c > 0)
-        {
-            // The mapping enabled: at most 64 bits (CiA 301 abort 0x06040042).
-            let count = data.first().copied().unwrap_or(0);
-            let mut bits = 0u32;
-            for s in 1..=count.min(pdo::MAX_MAPPED) {
-                bits += get_u32(&*self.dict, index, s).map_or(0, |e| e & 0xFF);
-            }
-            if bits > 64 || count > pdo::MAX_MAPPED {
-                return Err(SdoAbort::PdoLengthExceeded);
-            }
-        }
-        self.dict.write(index, sub, data)?;
-        self.dirty.0 |= Dirty::of(index);
-        self.written = true;
-        Ok(())
-    }
-}
-
-#[derive(Clone, Copy, Debug, Default)]
-struct Consumer {
-    node: u8,
-    time_us: u64,
-    /// When its last heartbeat came; `None` until the first (watching starts then).
-    last_us: Option<u64>,
-}
-
 /// A CANopen node: NMT slave, heartbeat, node guarding, SYNC, PDOs, EMCY and the SDO server,
 /// over a dictionary the caller passes to each call.
 ///
@@ -312,27 +165,14 @@ pub struct Node<const N: usize, const R: usize = 8, const T: usize = 8> {
     pending_reset: Option<Reset>,
     sdo: Server<N>,
     dirty: Dirty,
-    // Heartbeat producer.
-    heartbeat_us: u64,
-    next_heartbeat_us: u64,
-    // Heartbeat consumers.
-    consumers: [Consumer; MAX_HB_CONSUMERS],
-    lost: u128,
-    // Node guarding.
-    toggle: bool,
-    life_time_us: u64,
-    last_guard_us: Option<u64>,
-    guard_lost: bool,
-    // SYNC.
-    sync_cob_id: u32,
-    sync_period_us: u64,
-    sync_overflow: u8,
-    sync_counter: u8,
-    next_sync_us: u64,
+    error_control: ErrorControl,
+    sync: sync::Sync,
     emcy: emcy::Emcy,
     pdo: pdo::PdoEngine<R, T>,
     // LSS slave: what to build at the first start, then the slave (kept across resets).
+    #[cfg(feature = "lss-slave")]
     lss_setup: Option<LssSetup>,
+    #[cfg(feature = "lss-slave")]
     lss: Option<LssSlave>,
 }
 
@@ -348,22 +188,13 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
             pending_reset: None,
             sdo: Server::new(node_id),
             dirty: Dirty::default(),
-            heartbeat_us: 0,
-            next_heartbeat_us: 0,
-            consumers: [Consumer::default(); MAX_HB_CONSUMERS],
-            lost: 0,
-            toggle: false,
-            life_time_us: 0,
-            last_guard_us: None,
-            guard_lost: false,
-            sync_cob_id: 0x80,
-            sync_period_us: 0,
-            sync_overflow: 0,
-            sync_counter: 0,
-            next_sync_us: 0,
+            error_control: ErrorControl::new(),
+            sync: sync::Sync::new(),
             emcy: emcy::Emcy::new(),
             pdo: pdo::PdoEngine::new(),
+            #[cfg(feature = "lss-slave")]
             lss_setup: None,
+            #[cfg(feature = "lss-slave")]
             lss: None,
         }
     }
@@ -371,6 +202,18 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
     /// The node id.
     pub fn node_id(&self) -> u8 {
         self.node_id
+    }
+
+    /// The node-ID the next start (reset node or communication) takes: the one
+    /// [`Node::set_node_id`] set, or the current one.
+    #[cfg(not(feature = "lss-slave"))]
+    pub fn next_node_id(&self) -> u8 {
+        self.next_node_id.unwrap_or(self.node_id)
+    }
+
+    /// CAN-ID of the node's error control (boot-up, heartbeat, guarding): 0x700 + node-ID.
+    fn error_control_id(&self) -> u32 {
+        0x700 + u32::from(self.node_id)
     }
 
     /// A new node id, taken at the next start (reset communication). With LSS, the LSS slave
@@ -409,75 +252,60 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
     pub fn start<D: ObjectDictionary + ?Sized>(
         &mut self,
         dict: &mut D,
-        now_us: u64,
+        now: Instant,
         out: &mut impl FnMut(CanFrame),
     ) {
         let requested = self.next_node_id.take().unwrap_or(self.node_id);
-        let setup = self.lss_setup;
-        let mut lss = self.lss.take();
-        if lss.is_none()
-            && let Some(s) = setup
-        {
-            lss = Some(s.slave(&*dict, requested));
-        }
-        let id = match lss.as_mut() {
-            Some(l) => l.reset_communication().unwrap_or(UNCONFIGURED),
-            None => requested,
+        #[cfg(feature = "lss-slave")]
+        let (id, setup, lss) = {
+            let setup = self.lss_setup;
+            let mut lss = self.lss.take();
+            if lss.is_none()
+                && let Some(s) = setup
+            {
+                lss = Some(s.slave(&*dict, requested));
+            }
+            let id = match lss.as_mut() {
+                Some(l) => l.reset_communication().unwrap_or(UNCONFIGURED),
+                None => requested,
+            };
+            (id, setup, lss)
         };
+        #[cfg(not(feature = "lss-slave"))]
+        let id = requested;
         *self = Self::new(id);
-        self.lss_setup = setup;
-        self.lss = lss;
+        #[cfg(feature = "lss-slave")]
+        {
+            self.lss_setup = setup;
+            self.lss = lss;
+        }
         if !(1..=127).contains(&id) {
             return;
         }
         self.emcy.reset(&*dict);
         self.dirty.0 = 0xFF;
-        self.reload(&*dict, now_us);
-        self.pdo.load(&*dict);
+        self.reload(&*dict, now);
         self.state = Some(NmtState::PreOperational);
-        out(one_byte(0x700 + u32::from(self.node_id), NmtState::BootUp.to_u8()));
-        self.next_heartbeat_us = now_us.saturating_add(self.heartbeat_us);
-        self.next_sync_us = now_us.saturating_add(self.sync_period_us);
+        out(one_byte(self.error_control_id(), NmtState::BootUp.to_u8()));
+        self.error_control.start(now);
+        self.sync.start(now);
     }
 
     /// Reads the parameters marked dirty again.
-    fn reload<D: ObjectDictionary + ?Sized>(&mut self, dict: &D, now_us: u64) {
+    fn reload<D: ObjectDictionary + ?Sized>(&mut self, dict: &D, now: Instant) {
         let d = self.dirty.0;
         self.dirty.0 = 0;
         if d & Dirty::HEARTBEAT != 0 {
-            self.heartbeat_us = u64::from(get_u16(dict, 0x1017, 0).unwrap_or(0)) * 1000;
-            self.next_heartbeat_us = now_us.saturating_add(self.heartbeat_us);
+            self.error_control.load_heartbeat(dict, now);
         }
         if d & Dirty::CONSUMERS != 0 {
-            let count = get_u8(dict, 0x1016, 0).unwrap_or(0);
-            let mut fresh = [Consumer::default(); MAX_HB_CONSUMERS];
-            for (c, sub) in fresh.iter_mut().zip(1..=count) {
-                let v = get_u32(dict, 0x1016, sub).unwrap_or(0);
-                let node = (v >> 16) as u8;
-                // Node 0 or over 127, or time 0: the entry is not used (CiA 301 7.5.2.14).
-                let used = (1..=127).contains(&node);
-                let time_us = if used { u64::from(v & 0xFFFF) * 1000 } else { 0 };
-                // An entry that did not change keeps watching.
-                let old = self.consumers.iter().find(|o| o.node == node && o.time_us == time_us);
-                *c = Consumer { node, time_us, last_us: old.and_then(|o| o.last_us) };
-            }
-            self.consumers = fresh;
+            self.error_control.load_consumers(dict);
         }
         if d & Dirty::GUARDING != 0 {
-            let guard_ms = u64::from(get_u16(dict, 0x100C, 0).unwrap_or(0));
-            let factor = u64::from(get_u8(dict, 0x100D, 0).unwrap_or(0));
-            self.life_time_us = guard_ms * factor * 1000;
+            self.error_control.load_guarding(dict);
         }
         if d & Dirty::SYNC != 0 {
-            let cob = get_u32(dict, 0x1005, 0).unwrap_or(0x80);
-            let was_producer = self.sync_producer();
-            self.sync_cob_id = cob;
-            self.sync_period_us = u64::from(get_u32(dict, 0x1006, 0).unwrap_or(0));
-            self.sync_overflow = get_u8(dict, 0x1019, 0).unwrap_or(0);
-            if !was_producer && self.sync_producer() {
-                self.sync_counter = 0;
-                self.next_sync_us = now_us.saturating_add(self.sync_period_us);
-            }
+            self.sync.load(dict, now);
         }
         if d & Dirty::EMCY != 0 {
             self.emcy.load(dict);
@@ -485,14 +313,6 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         if d & Dirty::PDO != 0 {
             self.pdo.load(dict);
         }
-    }
-
-    fn sync_producer(&self) -> bool {
-        self.sync_cob_id & (1 << 30) != 0 && self.sync_period_us != 0
-    }
-
-    fn sync_id(&self) -> u32 {
-        self.sync_cob_id & 0x7FF
     }
 
     fn set_state(&mut self, s: NmtState, ev: &mut Events) {
@@ -525,65 +345,61 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         &mut self,
         dict: &mut D,
         frame: &CanFrame,
-        now_us: u64,
+        now: Instant,
         out: &mut impl FnMut(CanFrame),
     ) -> Events {
-        let mut ev = self.pending(dict, now_us, out);
+        let mut ev = self.pending(dict, now, out);
+        #[cfg(feature = "lss-slave")]
         if frame.is_data(crate::lss::REQUEST_ID) {
             // LSS runs in every NMT state, and while a node without node-ID initialises.
             self.lss_in(frame, out, &mut ev);
             return ev;
         }
         let Some(state) = self.state else { return ev };
-        let own_ec = 0x700 + u32::from(self.node_id);
         if frame.is_data(0) {
             self.nmt(frame, &mut ev);
             return ev;
         }
-        if frame.remote && !frame.extended && frame.id == own_ec {
-            // Node guarding: state and toggle bit, in every state (CiA 301 7.2.8.3.1).
-            let byte = state.guarding_byte(self.toggle);
-            self.toggle = !self.toggle;
-            self.last_guard_us = Some(now_us);
-            let was_lost = core::mem::replace(&mut self.guard_lost, false);
-            out(one_byte(own_ec, byte));
+        #[cfg(feature = "guarding")]
+        if frame.remote && !frame.extended && frame.id == self.error_control_id() {
+            let (byte, was_lost) = self.error_control.guard_request(state, now);
+            out(one_byte(self.error_control_id(), byte));
             if was_lost {
-                self.clear_heartbeat_error(now_us, out);
+                self.clear_heartbeat_error(now, out);
             }
             return ev;
         }
         if !frame.remote && !frame.extended && (0x701..=0x77F).contains(&frame.id) {
-            let was_lost = self.lost != 0;
-            self.heartbeat_in(frame, now_us, &mut ev);
+            let was_lost = self.error_control.any_lost();
+            self.error_control.heartbeat_in(frame, now, &mut ev);
             if was_lost {
-                self.clear_heartbeat_error(now_us, out);
+                self.clear_heartbeat_error(now, out);
             }
             return ev;
         }
         if state == NmtState::Stopped {
             return ev;
         }
-        if frame.is_data(self.sync_id()) && self.sync_cob_id & (1 << 29) == 0 {
-            let counter = frame.bytes().first().copied().filter(|_| self.sync_overflow > 1);
-            self.sync_in(dict, counter, now_us, out, &mut ev);
+        if let Some(counter) = self.sync.received(frame) {
+            self.sync_in(dict, counter, now, out, &mut ev);
             return ev;
         }
         if frame.is_data(self.sdo.request_id()) {
             let mut view = Self::view(dict, &mut self.emcy, &mut self.dirty, &self.pdo, self.state);
             // A block upload's whole sub-block goes out at once.
-            self.sdo.handle_into(&mut view, frame, now_us / 1000, out);
+            self.sdo.handle_into(&mut view, frame, now, out);
             ev.sdo_written = view.written;
             if self.dirty.0 != 0 {
-                self.reload(&*dict, now_us);
+                self.reload(&*dict, now);
             }
             return ev;
         }
         if state == NmtState::Operational {
             let mut view = Self::view(dict, &mut self.emcy, &mut self.dirty, &self.pdo, self.state);
-            if let Some(o) = self.pdo.receive(&mut view, frame, now_us, out) {
+            if let Some(o) = self.pdo.receive(&mut view, frame, now, out) {
                 ev.merge(o);
                 if let Some(code) = o.length_emcy {
-                    self.emcy.raise(EmcyCode(code), [0; 5], true, now_us, out);
+                    self.emcy.raise(EmcyCode(code), [0; 5], true, now, out);
                 }
             }
         }
@@ -610,23 +426,9 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
     }
 
     /// Clears EMCY 0x8130 once no watched heartbeat and no life guarding is lost.
-    fn clear_heartbeat_error(&mut self, now_us: u64, out: &mut impl FnMut(CanFrame)) {
-        if self.lost == 0 && !self.guard_lost {
-            self.clear_emcy(HEARTBEAT_ERROR, now_us, out);
-        }
-    }
-
-    fn heartbeat_in(&mut self, frame: &CanFrame, now_us: u64, ev: &mut Events) {
-        let node = (frame.id - 0x700) as u8;
-        if frame.len != 1 {
-            return;
-        }
-        for c in self.consumers.iter_mut().filter(|c| c.node == node && c.time_us != 0) {
-            if c.last_us.is_none() || self.lost >> node & 1 == 1 {
-                ev.heartbeat_started |= 1 << node;
-            }
-            c.last_us = Some(now_us);
-            self.lost &= !(1u128 << node);
+    fn clear_heartbeat_error(&mut self, now: Instant, out: &mut impl FnMut(CanFrame)) {
+        if !self.error_control.any_lost() {
+            self.clear_emcy(HEARTBEAT_ERROR, now, out);
         }
     }
 
@@ -634,14 +436,14 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         &mut self,
         dict: &mut D,
         counter: Option<u8>,
-        now_us: u64,
+        now: Instant,
         out: &mut impl FnMut(CanFrame),
         ev: &mut Events,
     ) {
         ev.sync = Some(counter);
         if self.state == Some(NmtState::Operational) {
             let mut view = Self::view(dict, &mut self.emcy, &mut self.dirty, &self.pdo, self.state);
-            let o = self.pdo.sync(&mut view, counter, now_us, out);
+            let o = self.pdo.sync(&mut view, counter, now, out);
             ev.merge(o);
         }
     }
@@ -650,12 +452,12 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
     fn pending<D: ObjectDictionary + ?Sized>(
         &mut self,
         dict: &mut D,
-        now_us: u64,
+        now: Instant,
         out: &mut impl FnMut(CanFrame),
     ) -> Events {
         let mut ev = Events::default();
         if self.pending_reset.take().is_some() {
-            self.start(dict, now_us, out);
+            self.start(dict, now, out);
             ev.state = self.state;
         }
         ev
@@ -667,75 +469,41 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
     pub fn poll<D: ObjectDictionary + ?Sized>(
         &mut self,
         dict: &mut D,
-        now_us: u64,
+        now: Instant,
         out: &mut impl FnMut(CanFrame),
     ) -> Events {
-        let mut ev = self.pending(dict, now_us, out);
+        let mut ev = self.pending(dict, now, out);
         let Some(state) = self.state else { return ev };
         if self.dirty.0 != 0 {
-            self.reload(&*dict, now_us);
+            self.reload(&*dict, now);
         }
-        if self.heartbeat_us != 0 && now_us >= self.next_heartbeat_us {
-            out(one_byte(0x700 + u32::from(self.node_id), state.to_u8()));
-            // Keep the period; after a long gap (a stalled caller), start again from now.
-            self.next_heartbeat_us =
-                self.next_heartbeat_us.saturating_add(self.heartbeat_us).max(now_us);
-        }
-        for c in &self.consumers {
-            if let Some(last) = c.last_us
-                && c.time_us != 0
-                && now_us > last.saturating_add(c.time_us)
-                && self.lost >> c.node & 1 == 0
-            {
-                self.lost |= 1 << c.node;
-                ev.heartbeat_lost |= 1 << c.node;
-            }
-        }
-        if let Some(last) = self.last_guard_us
-            && self.life_time_us != 0
-            && !self.guard_lost
-            && now_us > last.saturating_add(self.life_time_us)
-        {
-            self.guard_lost = true;
-            ev.life_guarding_lost = true;
-        }
+        self.error_control.poll(self.error_control_id(), state, now, out, &mut ev);
         // A lost heartbeat or life guarding is EMCY 0x8130 (CiA 301 table 21, "life guard
         // error or heartbeat error"; CANopenNode's CO_EM_HEARTBEAT_CONSUMER), the node's
         // number in the first manufacturer byte (0 for life guarding); cleared when every
         // watched heartbeat is back.
         for node in (0..128u8).filter(|&n| ev.heartbeat_lost >> n & 1 == 1) {
-            self.raise_emcy(HEARTBEAT_ERROR, [node, 0, 0, 0, 0], now_us, out);
+            self.raise_emcy(HEARTBEAT_ERROR, [node, 0, 0, 0, 0], now, out);
         }
         if ev.life_guarding_lost {
-            self.raise_emcy(HEARTBEAT_ERROR, [0; 5], now_us, out);
+            self.raise_emcy(HEARTBEAT_ERROR, [0; 5], now, out);
         }
         if state == NmtState::Stopped {
             return ev;
         }
-        if self.sync_producer() && now_us >= self.next_sync_us {
-            let counter = (self.sync_overflow > 1).then(|| {
-                self.sync_counter =
-                    if self.sync_counter >= self.sync_overflow { 1 } else { self.sync_counter + 1 };
-                self.sync_counter
-            });
-            out(match counter {
-                Some(c) => one_byte(self.sync_id(), c),
-                None => CanFrame { len: 0, ..one_byte(self.sync_id(), 0) },
-            });
-            self.next_sync_us = self.next_sync_us.saturating_add(self.sync_period_us).max(now_us);
-            let mut sync_ev = Events::default();
-            self.sync_in(dict, counter, now_us, out, &mut sync_ev);
-            ev.absorb(sync_ev);
+        #[cfg(feature = "sync-producer")]
+        if let Some(counter) = self.sync.produce(now, out) {
+            self.sync_in(dict, counter, now, out, &mut ev);
         }
-        self.emcy.poll(now_us, out);
+        self.emcy.poll(now, out);
         if state == NmtState::Operational {
             let view = Self::view(dict, &mut self.emcy, &mut self.dirty, &self.pdo, self.state);
-            let o = self.pdo.poll(&view, now_us, out);
+            let o = self.pdo.poll(&view, now, out);
             ev.merge(o);
         }
         // Segments still due of a block upload's sub-block, or the abort of a transfer that
         // timed out (the abort ends the transfer, so this stops).
-        while let Some(f) = self.sdo.poll(now_us / 1000) {
+        while let Some(f) = self.sdo.poll(now) {
             out(f);
         }
         ev
@@ -744,22 +512,18 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
     /// The latest time the next [`Node::poll`] is due (µs), for a caller that sleeps: the
     /// heartbeat, the SYNC producer, a queued EMCY, TPDO timers, a consumer's or the life
     /// guarding's timeout. `None` when no timer runs.
-    pub fn next_deadline(&self) -> Option<u64> {
-        let hb = (self.heartbeat_us != 0).then_some(self.next_heartbeat_us);
-        let sync = self.sync_producer().then_some(self.next_sync_us);
-        let consumers = self
-            .consumers
-            .iter()
-            .filter(|c| c.time_us != 0 && self.lost >> c.node & 1 == 0)
-            .filter_map(|c| Some(c.last_us?.saturating_add(c.time_us) + 1))
-            .min();
-        let guard = self
-            .last_guard_us
-            .filter(|_| self.life_time_us != 0 && !self.guard_lost)
-            .map(|l| l.saturating_add(self.life_time_us) + 1);
+    pub fn next_deadline(&self) -> Option<Instant> {
         let pdo =
             (self.state == Some(NmtState::Operational)).then(|| self.pdo.next_deadline()).flatten();
-        [hb, sync, consumers, guard, pdo, self.emcy.next_deadline()].into_iter().flatten().min()
+        [
+            self.error_control.next_deadline(),
+            self.sync.next_deadline(),
+            pdo,
+            self.emcy.next_deadline(),
+        ]
+        .into_iter()
+        .flatten()
+        .min()
     }
 
     /// Raises an error: sets its bit in the error register, adds it to the history (0x1003)
@@ -769,11 +533,11 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         &mut self,
         code: EmcyCode,
         manufacturer: [u8; 5],
-        now_us: u64,
+        now: Instant,
         out: &mut impl FnMut(CanFrame),
     ) {
         let send = matches!(self.state, Some(NmtState::Operational | NmtState::PreOperational));
-        self.emcy.raise(code, manufacturer, send, now_us, out);
+        self.emcy.raise(code, manufacturer, send, now, out);
     }
 
     /// Clears an error raised before; sends the "error reset" EMCY (code 0x0000) with the
@@ -781,11 +545,11 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
     pub fn clear_emcy(
         &mut self,
         code: EmcyCode,
-        now_us: u64,
+        now: Instant,
         out: &mut impl FnMut(CanFrame),
     ) -> bool {
         let send = matches!(self.state, Some(NmtState::Operational | NmtState::PreOperational));
-        self.emcy.clear(code, send, now_us, out)
+        self.emcy.clear(code, send, now, out)
     }
 
     /// Asks for TPDO `n` (1-based) to be sent: at once (after its inhibit time) for an
@@ -796,8 +560,8 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
     }
 
     /// The parameters were changed by the application, not over SDO: read them all again.
-    pub fn reload_parameters<D: ObjectDictionary + ?Sized>(&mut self, dict: &D, now_us: u64) {
+    pub fn reload_parameters<D: ObjectDictionary + ?Sized>(&mut self, dict: &D, now: Instant) {
         self.dirty.0 = 0xFF;
-        self.reload(dict, now_us);
+        self.reload(dict, now);
     }
 }

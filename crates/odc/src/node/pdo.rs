@@ -15,9 +15,10 @@
 use crate::bits::{load_le_u64, mask, read_bits, write_bits};
 use crate::can::CanFrame;
 use crate::slave::ObjectDictionary;
+use crate::time::{Duration, Instant};
 use crate::{MappingEntry, SdoAbort};
 
-use super::{get_u8, get_u16, get_u32};
+use super::params::{get_u8, get_u16, get_u32};
 
 /// Mapping entries a PDO may have (CiA 301: sub 0 of a mapping object is 0–64).
 pub const MAX_MAPPED: u8 = 64;
@@ -99,9 +100,9 @@ struct Tpdo {
     cob_id: u32,
     ttype: u8,
     /// Inhibit time in µs (sub 3 is in 100 µs).
-    inhibit_us: u64,
+    inhibit: Duration,
     /// Event timer in µs (sub 5 is in ms); 0 = off.
-    event_us: u64,
+    event: Duration,
     /// SYNC start value (sub 6); 0 = none.
     sync_start: u8,
     /// SYNCs since the last synchronous transmission.
@@ -111,10 +112,10 @@ struct Tpdo {
     /// The application asked for a transmission (or the data changed).
     triggered: bool,
     /// When the last PDO went out.
-    last_sent_us: Option<u64>,
+    last_sent: Option<Instant>,
     /// When the event timer last started: the time it was due when it caused the PDO (so
     /// a late poll does not stretch the period), else the time the PDO went out.
-    timer_from_us: u64,
+    timer_from: Instant,
     /// What it carried, to detect a change of the mapped data.
     last: Option<Data>,
     /// Data sampled at the last SYNC (type 252).
@@ -126,8 +127,8 @@ impl Tpdo {
         self.ttype >= 254
     }
 
-    fn inhibited(&self, now_us: u64) -> bool {
-        self.last_sent_us.is_some_and(|t| now_us < t.saturating_add(self.inhibit_us))
+    fn inhibited(&self, now: Instant) -> bool {
+        self.last_sent.is_some_and(|t| now < t.saturating_add(self.inhibit))
     }
 }
 
@@ -257,19 +258,21 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
                 valid: exists(cob_id, 0x1A00 + i as u16),
                 cob_id,
                 ttype: get_u8(dict, index, 2).unwrap_or(255),
-                inhibit_us: u64::from(get_u16(dict, index, 3).unwrap_or(0)) * 100,
-                event_us: u64::from(get_u16(dict, index, 5).unwrap_or(0)) * 1000,
+                inhibit: Duration::from_micros(
+                    u64::from(get_u16(dict, index, 3).unwrap_or(0)) * 100,
+                ),
+                event: Duration::from_millis(u64::from(get_u16(dict, index, 5).unwrap_or(0))),
                 sync_start,
                 waiting_start: sync_start != 0,
                 ..Tpdo::default()
             };
-            let same = (t.valid, t.cob_id, t.ttype, t.inhibit_us, t.event_us, t.sync_start)
+            let same = (t.valid, t.cob_id, t.ttype, t.inhibit, t.event, t.sync_start)
                 == (
                     fresh.valid,
                     fresh.cob_id,
                     fresh.ttype,
-                    fresh.inhibit_us,
-                    fresh.event_us,
+                    fresh.inhibit,
+                    fresh.event,
                     fresh.sync_start,
                 );
             if !same {
@@ -294,7 +297,7 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
             t.waiting_start = t.sync_start != 0;
             t.last = None;
             t.sampled = None;
-            t.last_sent_us = None;
+            t.last_sent = None;
             t.triggered = false;
         }
         for r in &mut self.rx {
@@ -318,7 +321,7 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
         t: &mut Tpdo,
         i: usize,
         data: Data,
-        now_us: u64,
+        now: Instant,
         out: &mut impl FnMut(CanFrame),
         o: &mut Outcome,
     ) {
@@ -327,8 +330,8 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
             o.tpdo |= Outcome::bit(i);
         }
         t.last = Some(data);
-        t.last_sent_us = Some(now_us);
-        t.timer_from_us = now_us;
+        t.last_sent = Some(now);
+        t.timer_from = now;
         t.triggered = false;
     }
 
@@ -338,7 +341,7 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
         &mut self,
         dict: &mut D,
         counter: Option<u8>,
-        now_us: u64,
+        now: Instant,
         out: &mut impl FnMut(CanFrame),
     ) -> Outcome {
         let mut o = Outcome::default();
@@ -394,7 +397,7 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
                 }
             };
             match due {
-                Some(Ok(d)) => Self::send(t, i, d, now_us, out, &mut o),
+                Some(Ok(d)) => Self::send(t, i, d, now, out, &mut o),
                 Some(Err(abort)) => {
                     o.error = Some(PdoError { pdo: PdoId::Tx(i as u16 + 1), abort })
                 }
@@ -410,7 +413,7 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
         &mut self,
         dict: &mut D,
         f: &CanFrame,
-        now_us: u64,
+        now: Instant,
         out: &mut impl FnMut(CanFrame),
     ) -> Option<Outcome> {
         let mut o = Outcome::default();
@@ -427,7 +430,7 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
                 _ => pack(dict, 0x1A00 + i as u16),
             };
             match data {
-                Ok(d) => Self::send(t, i, d, now_us, out, &mut o),
+                Ok(d) => Self::send(t, i, d, now, out, &mut o),
                 Err(abort) => o.error = Some(PdoError { pdo: PdoId::Tx(i as u16 + 1), abort }),
             }
             return Some(o);
@@ -454,7 +457,7 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
         let mut data = Data::default();
         let n = usize::from(f.len.min(8));
         if let (Some(d), Some(s)) = (data.bytes.get_mut(..n), f.bytes().get(..n)) {
-            d.copy_from_slice(s);
+            crate::bits::copy_bytes(d, s);
         }
         data.len = f.len.min(8);
         if r.ttype <= 240 {
@@ -473,22 +476,22 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
     pub(super) fn poll<D: ObjectDictionary + ?Sized>(
         &mut self,
         dict: &D,
-        now_us: u64,
+        now: Instant,
         out: &mut impl FnMut(CanFrame),
     ) -> Outcome {
         let mut o = Outcome::default();
         for (i, t) in self.tx.iter_mut().enumerate() {
-            if !t.valid || !t.is_event() || t.inhibited(now_us) {
+            if !t.valid || !t.is_event() || t.inhibited(now) {
                 continue;
             }
-            let due = t.timer_from_us.saturating_add(t.event_us);
-            let timer = t.event_us != 0 && t.last_sent_us.is_some() && now_us >= due;
+            let due = t.timer_from.saturating_add(t.event);
+            let timer = !t.event.is_zero() && t.last_sent.is_some() && now >= due;
             match pack(dict, 0x1A00 + i as u16) {
                 Ok(d) if t.triggered || timer || t.last != Some(d) => {
                     let by_timer = timer && !t.triggered && t.last == Some(d);
-                    Self::send(t, i, d, now_us, out, &mut o);
-                    if by_timer && now_us < due.saturating_add(t.event_us) {
-                        t.timer_from_us = due;
+                    Self::send(t, i, d, now, out, &mut o);
+                    if by_timer && now < due.saturating_add(t.event) {
+                        t.timer_from = due;
                     }
                 }
                 Ok(_) => {}
@@ -504,14 +507,14 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
 
     /// The earliest time a TPDO timer (event timer, inhibit time) runs out, for a caller
     /// that sleeps between polls.
-    pub(super) fn next_deadline(&self) -> Option<u64> {
+    pub(super) fn next_deadline(&self) -> Option<Instant> {
         self.tx
             .iter()
             .filter(|t| t.valid && t.is_event())
             .filter_map(|t| {
-                let sent = t.last_sent_us?;
-                let inhibit = sent.saturating_add(t.inhibit_us);
-                let event = (t.event_us != 0).then(|| t.timer_from_us.saturating_add(t.event_us));
+                let sent = t.last_sent?;
+                let inhibit = sent.saturating_add(t.inhibit);
+                let event = (!t.event.is_zero()).then(|| t.timer_from.saturating_add(t.event));
                 Some(if t.triggered { inhibit } else { event?.max(inhibit) })
             })
             .min()

@@ -7,7 +7,9 @@ extern crate std;
 use std::{vec, vec::Vec};
 
 use super::*;
+use crate::SdoAbort;
 
+#[cfg(feature = "lss-slave")]
 mod lss;
 
 const ID: u8 = 5;
@@ -148,13 +150,18 @@ impl Bench {
 
     fn with(dict: Dict) -> Self {
         let mut b = Bench { node: Node::new(ID), dict, sent: Vec::new(), now: 0 };
-        b.node.start(&mut b.dict, 0, &mut |f| b.sent.push(f));
+        b.node.start(&mut b.dict, crate::time::Instant::ZERO, &mut |f| b.sent.push(f));
         b
     }
 
     fn rx(&mut self, f: CanFrame) -> Events {
         let sent = &mut self.sent;
-        self.node.handle(&mut self.dict, &f, self.now, &mut |f| sent.push(f))
+        self.node.handle(
+            &mut self.dict,
+            &f,
+            crate::time::Instant::from_micros(self.now),
+            &mut |f| sent.push(f),
+        )
     }
 
     fn nmt(&mut self, cs: u8) -> Events {
@@ -167,7 +174,11 @@ impl Bench {
         while self.now < until_ms * MS {
             self.now += MS;
             let sent = &mut self.sent;
-            ev.absorb(self.node.poll(&mut self.dict, self.now, &mut |f| sent.push(f)));
+            ev.absorb(self.node.poll(
+                &mut self.dict,
+                crate::time::Instant::from_micros(self.now),
+                &mut |f| sent.push(f),
+            ));
         }
         ev
     }
@@ -322,7 +333,7 @@ fn synchronous_tpdos_every_nth_sync_and_acyclic_on_change() {
     let mut b = Bench::new();
     b.dict.set(0x1800, 2, &[1]); // TPDO 1: every SYNC
     b.dict.set(0x1801, 2, &[5]); // TPDO 2: every 5th
-    b.node.reload_parameters(&b.dict, 0);
+    b.node.reload_parameters(&b.dict, crate::time::Instant::ZERO);
     b.nmt(0x01);
     b.dict.set(0x2000, 0, &[0x34, 0x12]);
     b.take();
@@ -336,7 +347,7 @@ fn synchronous_tpdos_every_nth_sync_and_acyclic_on_change() {
     assert_eq!(ids(&f[..6]), [0x185, 0x185, 0x185, 0x185, 0x185, 0x285], "the 5th SYNC");
     // Type 0: at the SYNC after a change (the first SYNC counts as one).
     b.dict.set(0x1800, 2, &[0]);
-    b.node.reload_parameters(&b.dict, 0);
+    b.node.reload_parameters(&b.dict, crate::time::Instant::ZERO);
     b.nmt(0x80);
     b.nmt(0x01);
     b.rx(data(0x80, &[]));
@@ -355,7 +366,7 @@ fn sync_start_value_with_a_sync_counter() {
     b.dict.set(0x1019, 0, &[10]);
     b.dict.set(0x1800, 2, &[2]);
     b.dict.set(0x1800, 6, &[3]);
-    b.node.reload_parameters(&b.dict, 0);
+    b.node.reload_parameters(&b.dict, crate::time::Instant::ZERO);
     b.nmt(0x01);
     b.take();
     let mut at = Vec::new();
@@ -373,7 +384,7 @@ fn event_driven_tpdo_timer_inhibit_and_change() {
     let mut b = Bench::new();
     b.dict.set(0x1800, 5, &50u16.to_le_bytes()); // event timer 50 ms
     b.dict.set(0x1801, 1, &(0x8000_0285u32).to_le_bytes()); // TPDO 2 off
-    b.node.reload_parameters(&b.dict, 0);
+    b.node.reload_parameters(&b.dict, crate::time::Instant::ZERO);
     b.nmt(0x01);
     b.take();
     b.run_to(1000);
@@ -383,7 +394,7 @@ fn event_driven_tpdo_timer_inhibit_and_change() {
     // Inhibit time 10 ms (100 × 100 µs): a change 1 ms after a PDO waits 9 ms more.
     b.dict.set(0x1800, 3, &100u16.to_le_bytes());
     b.dict.set(0x1800, 5, &0u16.to_le_bytes());
-    b.node.reload_parameters(&b.dict, b.now);
+    b.node.reload_parameters(&b.dict, crate::time::Instant::from_micros(b.now));
     b.nmt(0x80);
     b.nmt(0x01);
     b.run_to(1001);
@@ -407,7 +418,7 @@ fn rtr_tpdos_252_samples_at_sync_253_on_request() {
     let mut b = Bench::new();
     b.dict.set(0x1800, 2, &[252]);
     b.dict.set(0x1801, 2, &[253]);
-    b.node.reload_parameters(&b.dict, 0);
+    b.node.reload_parameters(&b.dict, crate::time::Instant::ZERO);
     b.nmt(0x01);
     b.dict.set(0x2000, 0, &[1, 0]);
     b.rx(data(0x80, &[]));
@@ -420,7 +431,7 @@ fn rtr_tpdos_252_samples_at_sync_253_on_request() {
     assert_eq!(b.take(), [data(0x185, &[1, 0]), data(0x285, &[1, 2, 3, 4, 0])]);
     // COB-ID bit 30: no RTR.
     b.dict.set(0x1801, 1, &(0x4000_0285u32).to_le_bytes());
-    b.node.reload_parameters(&b.dict, 0);
+    b.node.reload_parameters(&b.dict, crate::time::Instant::ZERO);
     b.rx(CanFrame::remote(0x285, 5));
     assert_eq!(b.take(), []);
 }
@@ -446,7 +457,7 @@ fn rpdo_length_errors_raise_emcy_and_dummy_entries_are_skipped() {
 fn synchronous_rpdo_applies_at_the_next_sync() {
     let mut b = Bench::new();
     b.dict.set(0x1400, 2, &[1]);
-    b.node.reload_parameters(&b.dict, 0);
+    b.node.reload_parameters(&b.dict, crate::time::Instant::ZERO);
     b.nmt(0x01);
     assert_eq!(b.rx(data(0x205, &[1, 2, 0, 3])).rpdo, 0);
     assert_eq!(b.dict.get(0x2000, 0), [0, 0]);
@@ -459,7 +470,12 @@ fn emcy_register_history_and_inhibit() {
     let mut b = Bench::new();
     b.take();
     let mut sent = Vec::new();
-    b.node.raise_emcy(crate::emcy::EmcyCode(0x2310), [1, 2, 3, 4, 5], 0, &mut |f| sent.push(f));
+    b.node.raise_emcy(
+        crate::emcy::EmcyCode(0x2310),
+        [1, 2, 3, 4, 5],
+        crate::time::Instant::ZERO,
+        &mut |f| sent.push(f),
+    );
     assert_eq!(sent, [CanFrame::new(0x85, [0x10, 0x23, 0x03, 1, 2, 3, 4, 5])]);
     assert_eq!(b.sdo_read(0x1001, 0)[4], 0x03);
     assert_eq!(b.sdo_read(0x1003, 0)[4], 1);
@@ -467,10 +483,19 @@ fn emcy_register_history_and_inhibit() {
     // Inhibit 10 ms: the next EMCY waits.
     b.sdo_write(0x1015, 0, &100u16.to_le_bytes());
     sent.clear();
-    b.node.raise_emcy(crate::emcy::EmcyCode(0x3210), [0; 5], 20 * MS, &mut |f| sent.push(f));
+    b.node.raise_emcy(
+        crate::emcy::EmcyCode(0x3210),
+        [0; 5],
+        crate::time::Instant::from_micros(20 * MS),
+        &mut |f| sent.push(f),
+    );
     assert_eq!(sent.len(), 1, "20 ms after the last one");
     sent.clear();
-    b.node.clear_emcy(crate::emcy::EmcyCode(0x2310), 21 * MS, &mut |f| sent.push(f));
+    b.node.clear_emcy(
+        crate::emcy::EmcyCode(0x2310),
+        crate::time::Instant::from_micros(21 * MS),
+        &mut |f| sent.push(f),
+    );
     assert_eq!(sent, [], "inhibited until 30 ms");
     b.take();
     b.now = 21 * MS;
@@ -520,7 +545,7 @@ fn sync_producer_with_counter() {
     b.dict.set(0x1800, 2, &[1]);
     b.dict.set(0x1019, 0, &[3]);
     b.dict.set(0x1006, 0, &10_000u32.to_le_bytes()); // 10 ms
-    b.node.reload_parameters(&b.dict, 0);
+    b.node.reload_parameters(&b.dict, crate::time::Instant::ZERO);
     b.take();
     // Bit 30 of 0x1005 makes the node the SYNC producer.
     b.sdo_write(0x1005, 0, &0x4000_0080u32.to_le_bytes());
@@ -551,7 +576,7 @@ fn event_timer_keeps_its_period_when_polls_are_late() {
     let mut b = Bench::new();
     b.dict.set(0x1800, 5, &50u16.to_le_bytes());
     b.dict.set(0x1801, 1, &(0x8000_0285u32).to_le_bytes());
-    b.node.reload_parameters(&b.dict, 0);
+    b.node.reload_parameters(&b.dict, crate::time::Instant::ZERO);
     b.nmt(0x01);
     b.take();
     // A caller that polls every 7 ms: the PDOs still come every 50 ms on average.
@@ -559,7 +584,7 @@ fn event_timer_keeps_its_period_when_polls_are_late() {
     while b.now < 1001 * MS {
         b.now += 7 * MS;
         let sent = &mut b.sent;
-        b.node.poll(&mut b.dict, b.now, &mut |f| sent.push(f));
+        b.node.poll(&mut b.dict, crate::time::Instant::from_micros(b.now), &mut |f| sent.push(f));
         if !b.take().is_empty() {
             times.push(b.now / MS);
         }

@@ -250,7 +250,7 @@ impl BlockSegment {
         let mut data = [0u8; 7];
         let n = bytes.len().min(7);
         if let (Some(dst), Some(src)) = (data.get_mut(..n), bytes.get(..n)) {
-            dst.copy_from_slice(src);
+            crate::bits::copy_bytes(dst, src);
         }
         Self { seqno, last, data }
     }
@@ -268,8 +268,7 @@ impl BlockSegment {
         if seqno == 0 {
             return None;
         }
-        let mut data = [0u8; 7];
-        data.copy_from_slice(&b[1..]);
+        let [_, data @ ..] = *b;
         Some(Self { seqno, last: b[0] & 0x80 != 0, data })
     }
 }

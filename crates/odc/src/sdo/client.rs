@@ -4,7 +4,7 @@
 mod block;
 
 use super::frame::{Init, Request, Response, Segment};
-use super::server::DEFAULT_TIMEOUT_MS;
+use super::server::DEFAULT_TIMEOUT;
 use crate::can::CanFrame;
 use crate::plan::SdoWrite;
 use crate::transport::Bus;
@@ -183,7 +183,7 @@ enum State {
 /// impl Bus for InMemoryBus {
 ///     type Error = core::convert::Infallible;
 ///     fn send(&mut self, frame: &CanFrame) -> Result<(), Self::Error> {
-///         self.reply = self.server.handle(&mut self.device, frame, self.now);
+///         self.reply = self.server.handle(&mut self.device, frame, odc::time::Instant::from_millis(self.now));
 ///         Ok(())
 ///     }
 ///     fn recv(&mut self, _deadline_ms: u64) -> Result<Option<CanFrame>, Self::Error> {
@@ -217,11 +217,11 @@ pub struct Client<const N: usize> {
 }
 
 impl<const N: usize> Client<N> {
-    /// The client of node `node_id`'s default SDO server, with [`DEFAULT_TIMEOUT_MS`].
+    /// The client of node `node_id`'s default SDO server, with [`DEFAULT_TIMEOUT`].
     pub const fn new(node_id: u8) -> Self {
         Self {
             node_id,
-            timeout_ms: DEFAULT_TIMEOUT_MS,
+            timeout_ms: DEFAULT_TIMEOUT.as_millis(),
             state: State::Idle,
             buf: [0; N],
             len: 0,

@@ -44,7 +44,7 @@ impl Init {
             return None;
         }
         let mut data = [0u8; 4];
-        data.get_mut(..bytes.len())?.copy_from_slice(bytes);
+        crate::bits::copy_bytes(data.get_mut(..bytes.len())?, bytes);
         Some(Self::Expedited { data, len: bytes.len() as u8, sized: true })
     }
 
@@ -92,7 +92,7 @@ impl Segment {
         let mut data = [0u8; 7];
         let n = bytes.len().min(7);
         if let (Some(dst), Some(src)) = (data.get_mut(..n), bytes.get(..n)) {
-            dst.copy_from_slice(src);
+            crate::bits::copy_bytes(dst, src);
         }
         Self { toggle, data, len: n as u8, last }
     }
@@ -110,8 +110,7 @@ impl Segment {
     }
 
     fn decode(b: &[u8; 8]) -> Self {
-        let mut data = [0u8; 7];
-        data.copy_from_slice(&b[1..]);
+        let [_, data @ ..] = *b;
         Self { toggle: b[0] & 0x10 != 0, data, len: 7 - ((b[0] >> 1) & 0b111), last: b[0] & 1 != 0 }
     }
 }
@@ -172,7 +171,7 @@ pub(crate) fn pad(bytes: &[u8]) -> [u8; 8] {
     let mut b = [0u8; 8];
     let n = bytes.len().min(8);
     if let (Some(dst), Some(src)) = (b.get_mut(..n), bytes.get(..n)) {
-        dst.copy_from_slice(src);
+        crate::bits::copy_bytes(dst, src);
     }
     b
 }
@@ -197,7 +196,8 @@ impl Request {
     ///
     /// # Errors
     ///
-    /// [`SdoAbort::InvalidCommand`] for ccs 7, an unknown block sub-command or an empty frame.
+    /// [`SdoAbort::InvalidCommand`] for ccs 7, an unknown block sub-command (any block
+    /// request without the feature `sdo-block`) or an empty frame.
     pub fn decode(bytes: &[u8]) -> Result<Self, SdoAbort> {
         if bytes.is_empty() {
             return Err(SdoAbort::InvalidCommand);
@@ -209,6 +209,9 @@ impl Request {
             2 => Self::InitiateUpload(mux(&b)),
             3 => Self::UploadSegment(b[0] & 0x10 != 0),
             4 => Self::Abort(mux(&b), SdoAbort::from_u32(u32::from_le_bytes(tail(&b)))),
+            // A build without block transfer (feature `sdo-block`) reads no block request, as
+            // its server serves none: both answer InvalidCommand.
+            #[cfg(feature = "sdo-block")]
             5 | 6 => Self::Block(BlockRequest::decode(&b)?),
             _ => return Err(SdoAbort::InvalidCommand),
         })

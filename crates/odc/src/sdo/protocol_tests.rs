@@ -106,28 +106,51 @@ fn server_expedited() {
     let mut od = Od::default();
     // Upload of a 4-byte value: scs=2, n=0, e=1, s=1.
     assert_eq!(
-        s.handle(&mut od, &req([0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]), 0),
+        s.handle(
+            &mut od,
+            &req([0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]),
+            crate::time::Instant::from_millis(0)
+        ),
         resp([0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00])
     );
     // Download of one byte: ccs=1, n=3, e=1, s=1 -> 0x2F; answer scs=3.
     assert_eq!(
-        s.handle(&mut od, &req([0x2F, 0x00, 0x20, 0x00, 42, 0, 0, 0]), 0),
+        s.handle(
+            &mut od,
+            &req([0x2F, 0x00, 0x20, 0x00, 42, 0, 0, 0]),
+            crate::time::Instant::from_millis(0)
+        ),
         resp([0x60, 0x00, 0x20, 0x00, 0, 0, 0, 0])
     );
     assert_eq!(od.u8v, 42);
     // Upload of one byte: n=3 -> 0x4F.
     assert_eq!(
-        s.handle(&mut od, &req([0x40, 0x00, 0x20, 0x00, 0, 0, 0, 0]), 0),
+        s.handle(
+            &mut od,
+            &req([0x40, 0x00, 0x20, 0x00, 0, 0, 0, 0]),
+            crate::time::Instant::from_millis(0)
+        ),
         resp([0x4F, 0x00, 0x20, 0x00, 42, 0, 0, 0])
     );
     // e=1, s=0: size unspecified, the server takes the object's size (1 byte).
     assert_eq!(
-        s.handle(&mut od, &req([0x22, 0x00, 0x20, 0x00, 7, 0xAA, 0xBB, 0xCC]), 0),
+        s.handle(
+            &mut od,
+            &req([0x22, 0x00, 0x20, 0x00, 7, 0xAA, 0xBB, 0xCC]),
+            crate::time::Instant::from_millis(0)
+        ),
         resp([0x60, 0x00, 0x20, 0x00, 0, 0, 0, 0])
     );
     assert_eq!(od.u8v, 7);
     // Frames of other nodes are not ours.
-    assert_eq!(s.handle(&mut od, &CanFrame::new(0x606, [0x40, 0, 0x10, 0, 0, 0, 0, 0]), 0), None);
+    assert_eq!(
+        s.handle(
+            &mut od,
+            &CanFrame::new(0x606, [0x40, 0, 0x10, 0, 0, 0, 0, 0]),
+            crate::time::Instant::from_millis(0)
+        ),
+        None
+    );
     assert!(!s.is_busy());
 }
 
@@ -135,7 +158,7 @@ fn server_expedited() {
 fn server_aborts() {
     let mut s = Server::<64>::new(NODE);
     let mut od = Od::default();
-    let mut ask = |b| abort_code(s.handle(&mut od, &req(b), 0));
+    let mut ask = |b| abort_code(s.handle(&mut od, &req(b), crate::time::Instant::from_millis(0)));
     assert_eq!(ask([0x23, 0x00, 0x10, 0x00, 0, 0, 0, 0]), Some(0x0601_0002));
     assert_eq!(ask([0x40, 0x00, 0x30, 0x00, 0, 0, 0, 0]), Some(0x0602_0000));
     assert_eq!(ask([0x40, 0x00, 0x10, 0x07, 0, 0, 0, 0]), Some(0x0609_0011));
@@ -143,11 +166,15 @@ fn server_aborts() {
     assert_eq!(ask([0x2F, 0x00, 0x20, 0x00, 101, 0, 0, 0]), Some(0x0609_0031));
     assert_eq!(ask([0x2B, 0x00, 0x20, 0x00, 1, 0, 0, 0]), Some(0x0607_0012));
     // The abort frame echoes the multiplexer.
-    let f = s.handle(&mut od, &req([0x23, 0x00, 0x10, 0x00, 0, 0, 0, 0]), 0);
+    let f = s.handle(
+        &mut od,
+        &req([0x23, 0x00, 0x10, 0x00, 0, 0, 0, 0]),
+        crate::time::Instant::from_millis(0),
+    );
     assert_eq!(f, resp([0x80, 0x00, 0x10, 0x00, 0x02, 0x00, 0x01, 0x06]));
     // Block download to a missing object, block upload with blksize 0 (block transfer is in
     // protocol_tests/block.rs); ccs 7 is no command at all.
-    let mut ask = |b| abort_code(s.handle(&mut od, &req(b), 0));
+    let mut ask = |b| abort_code(s.handle(&mut od, &req(b), crate::time::Instant::from_millis(0)));
     assert_eq!(ask([0xC6, 0x00, 0x30, 0x00, 1, 0, 0, 0]), Some(0x0602_0000));
     assert_eq!(ask([0xA0, 0x00, 0x20, 0x00, 0, 0, 0, 0]), Some(0x0504_0002));
     assert_eq!(ask([0xE0, 0x00, 0x20, 0x00, 0, 0, 0, 0]), Some(0x0504_0001));
@@ -166,64 +193,128 @@ fn server_segmented_download_and_upload() {
     let mut od = Od::default();
     // "hello, world!" (13 bytes): initiate with size, then 7 + 6 bytes.
     assert_eq!(
-        s.handle(&mut od, &req([0x21, 0x01, 0x20, 0x00, 13, 0, 0, 0]), 0),
+        s.handle(
+            &mut od,
+            &req([0x21, 0x01, 0x20, 0x00, 13, 0, 0, 0]),
+            crate::time::Instant::from_millis(0)
+        ),
         resp([0x60, 0x01, 0x20, 0x00, 0, 0, 0, 0])
     );
     assert!(s.is_busy());
-    assert_eq!(s.handle(&mut od, &req(*b"\x00hello, "), 1), resp([0x20, 0, 0, 0, 0, 0, 0, 0]));
+    assert_eq!(
+        s.handle(&mut od, &req(*b"\x00hello, "), crate::time::Instant::from_millis(1)),
+        resp([0x20, 0, 0, 0, 0, 0, 0, 0])
+    );
     // Toggle 1, n = 1 (6 bytes), last: 0x10 | 1 << 1 | 1 = 0x13.
-    assert_eq!(s.handle(&mut od, &req(*b"\x13world!\0"), 2), resp([0x30, 0, 0, 0, 0, 0, 0, 0]));
+    assert_eq!(
+        s.handle(&mut od, &req(*b"\x13world!\0"), crate::time::Instant::from_millis(2)),
+        resp([0x30, 0, 0, 0, 0, 0, 0, 0])
+    );
     assert_eq!(&od.text[..od.text_len], b"hello, world!");
     assert!(!s.is_busy());
     // Upload: scs=2, s=1, size 13.
     assert_eq!(
-        s.handle(&mut od, &req([0x40, 0x01, 0x20, 0x00, 0, 0, 0, 0]), 3),
+        s.handle(
+            &mut od,
+            &req([0x40, 0x01, 0x20, 0x00, 0, 0, 0, 0]),
+            crate::time::Instant::from_millis(3)
+        ),
         resp([0x41, 0x01, 0x20, 0x00, 13, 0, 0, 0])
     );
-    assert_eq!(s.handle(&mut od, &req([0x60, 0, 0, 0, 0, 0, 0, 0]), 4), resp(*b"\x00hello, "));
-    assert_eq!(s.handle(&mut od, &req([0x70, 0, 0, 0, 0, 0, 0, 0]), 5), resp(*b"\x13world!\0"));
+    assert_eq!(
+        s.handle(&mut od, &req([0x60, 0, 0, 0, 0, 0, 0, 0]), crate::time::Instant::from_millis(4)),
+        resp(*b"\x00hello, ")
+    );
+    assert_eq!(
+        s.handle(&mut od, &req([0x70, 0, 0, 0, 0, 0, 0, 0]), crate::time::Instant::from_millis(5)),
+        resp(*b"\x13world!\0")
+    );
     assert!(!s.is_busy());
     // An empty value: segmented with size 0, one empty last segment (n = 7).
     od.text_len = 0;
     assert_eq!(
-        s.handle(&mut od, &req([0x40, 0x01, 0x20, 0x00, 0, 0, 0, 0]), 3),
+        s.handle(
+            &mut od,
+            &req([0x40, 0x01, 0x20, 0x00, 0, 0, 0, 0]),
+            crate::time::Instant::from_millis(3)
+        ),
         resp([0x41, 0x01, 0x20, 0x00, 0, 0, 0, 0])
     );
     assert_eq!(
-        s.handle(&mut od, &req([0x60, 0, 0, 0, 0, 0, 0, 0]), 4),
+        s.handle(&mut od, &req([0x60, 0, 0, 0, 0, 0, 0, 0]), crate::time::Instant::from_millis(4)),
         resp([0x0F, 0, 0, 0, 0, 0, 0, 0])
     );
 }
 
 #[test]
 fn server_toggle_size_and_timeout() {
-    let mut s = Server::<64>::new(NODE).with_timeout(100);
+    let mut s = Server::<64>::new(NODE).with_timeout(crate::time::Duration::from_millis(100));
     let mut od = Od::default();
-    s.handle(&mut od, &req([0x21, 0x01, 0x20, 0x00, 10, 0, 0, 0]), 0);
+    s.handle(
+        &mut od,
+        &req([0x21, 0x01, 0x20, 0x00, 10, 0, 0, 0]),
+        crate::time::Instant::from_millis(0),
+    );
     // First segment with toggle 1: abort 0x05030000, transfer over.
-    assert_eq!(abort_code(s.handle(&mut od, &req(*b"\x10abcdefg"), 1)), Some(0x0503_0000));
+    assert_eq!(
+        abort_code(s.handle(&mut od, &req(*b"\x10abcdefg"), crate::time::Instant::from_millis(1))),
+        Some(0x0503_0000)
+    );
     assert!(!s.is_busy());
     // A size indication the segments do not match: 0x06070010.
-    s.handle(&mut od, &req([0x21, 0x01, 0x20, 0x00, 10, 0, 0, 0]), 0);
-    assert_eq!(abort_code(s.handle(&mut od, &req(*b"\x01abcdefg"), 1)), Some(0x0607_0010));
+    s.handle(
+        &mut od,
+        &req([0x21, 0x01, 0x20, 0x00, 10, 0, 0, 0]),
+        crate::time::Instant::from_millis(0),
+    );
+    assert_eq!(
+        abort_code(s.handle(&mut od, &req(*b"\x01abcdefg"), crate::time::Instant::from_millis(1))),
+        Some(0x0607_0010)
+    );
     assert_eq!(od.text_len, 0);
     // Upload segment with the wrong toggle.
     od.text_len = 20;
-    s.handle(&mut od, &req([0x40, 0x01, 0x20, 0x00, 0, 0, 0, 0]), 0);
+    s.handle(
+        &mut od,
+        &req([0x40, 0x01, 0x20, 0x00, 0, 0, 0, 0]),
+        crate::time::Instant::from_millis(0),
+    );
     assert_eq!(
-        abort_code(s.handle(&mut od, &req([0x70, 0, 0, 0, 0, 0, 0, 0]), 1)),
+        abort_code(s.handle(
+            &mut od,
+            &req([0x70, 0, 0, 0, 0, 0, 0, 0]),
+            crate::time::Instant::from_millis(1)
+        )),
         Some(0x0503_0000)
     );
     // Timeout: nothing before the deadline, the abort after it.
-    s.handle(&mut od, &req([0x40, 0x01, 0x20, 0x00, 0, 0, 0, 0]), 1000);
-    assert_eq!(s.poll(1100), None);
-    assert_eq!(s.poll(1101), resp([0x80, 0x01, 0x20, 0x00, 0x00, 0x00, 0x04, 0x05]));
+    s.handle(
+        &mut od,
+        &req([0x40, 0x01, 0x20, 0x00, 0, 0, 0, 0]),
+        crate::time::Instant::from_millis(1000),
+    );
+    assert_eq!(s.poll(crate::time::Instant::from_millis(1100)), None);
+    assert_eq!(
+        s.poll(crate::time::Instant::from_millis(1101)),
+        resp([0x80, 0x01, 0x20, 0x00, 0x00, 0x00, 0x04, 0x05])
+    );
     assert!(!s.is_busy());
     // A client abort ends the transfer without answer.
-    s.handle(&mut od, &req([0x40, 0x01, 0x20, 0x00, 0, 0, 0, 0]), 0);
-    assert_eq!(s.handle(&mut od, &req([0x80, 0x01, 0x20, 0x00, 0, 0, 0x04, 0x05]), 1), None);
+    s.handle(
+        &mut od,
+        &req([0x40, 0x01, 0x20, 0x00, 0, 0, 0, 0]),
+        crate::time::Instant::from_millis(0),
+    );
+    assert_eq!(
+        s.handle(
+            &mut od,
+            &req([0x80, 0x01, 0x20, 0x00, 0, 0, 0x04, 0x05]),
+            crate::time::Instant::from_millis(1)
+        ),
+        None
+    );
     assert!(!s.is_busy());
-    assert_eq!(s.poll(10_000), None);
+    assert_eq!(s.poll(crate::time::Instant::from_millis(10_000)), None);
 }
 
 /// A bus on which an in-process server answers at once.
@@ -260,7 +351,8 @@ impl Bus for Loop {
     fn send(&mut self, frame: &CanFrame) -> Result<(), ()> {
         self.sent += 1;
         self.last_sent = Some(*frame);
-        let mut r = self.server.handle(&mut self.od, frame, self.now);
+        let mut r =
+            self.server.handle(&mut self.od, frame, crate::time::Instant::from_millis(self.now));
         if let Some(f) = r.as_mut().filter(|f| self.flip_toggle && f.data[0] >> 5 <= 1) {
             f.data[0] ^= 0x10;
         }
@@ -408,12 +500,15 @@ fn remote_and_extended_frames_are_not_sdo() {
     let mut s = Server::<64>::new(NODE);
     let mut od = Od::default();
     let extended = CanFrame::extended(0x605, &upload).unwrap();
-    assert_eq!(s.handle(&mut od, &extended, 0), None);
-    assert_eq!(s.handle(&mut od, &CanFrame::remote(0x605, 8), 0), None);
+    assert_eq!(s.handle(&mut od, &extended, crate::time::Instant::from_millis(0)), None);
+    assert_eq!(
+        s.handle(&mut od, &CanFrame::remote(0x605, 8), crate::time::Instant::from_millis(0)),
+        None
+    );
     assert!(!s.is_busy());
     // The data frame is still served.
     assert_eq!(
-        s.handle(&mut od, &req(upload), 0),
+        s.handle(&mut od, &req(upload), crate::time::Instant::from_millis(0)),
         resp([0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00])
     );
 

@@ -1,13 +1,18 @@
 //! The SDO server: answers a client's requests from an [`ObjectDictionary`].
 
-use super::block::{self, BlockRequest, BlockResponse, BlockSegment, MAX_BLKSIZE};
-use super::frame::{Init, Request, Response, Segment, pad};
+use super::block::MAX_BLKSIZE;
+#[cfg(feature = "sdo-block")]
+use super::block::{self, BlockRequest, BlockResponse, BlockSegment};
+#[cfg(feature = "sdo-block")]
+use super::frame::pad;
+use super::frame::{Init, Request, Response, Segment};
 use crate::can::CanFrame;
 use crate::slave::ObjectDictionary;
+use crate::time::{Duration, Instant};
 use crate::{ObjectAddr, SdoAbort};
 
 /// CiA 301 leaves the SDO timeout to the application; 1 s is what most stacks use.
-pub const DEFAULT_TIMEOUT_MS: u64 = 1000;
+pub const DEFAULT_TIMEOUT: Duration = Duration::from_millis(1000);
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum State {
@@ -18,7 +23,7 @@ enum State {
         size: Option<u32>,
         len: usize,
         toggle: bool,
-        deadline: u64,
+        deadline: Instant,
     },
     /// A segmented upload: the value's `len` bytes are in the buffer, `sent` of them are gone.
     Upload {
@@ -26,8 +31,9 @@ enum State {
         len: usize,
         sent: usize,
         toggle: bool,
-        deadline: u64,
+        deadline: Instant,
     },
+    #[cfg(feature = "sdo-block")]
     /// A block download: `received` bytes of segments are in the buffer (all 7 bytes of each,
     /// the last one's padding included), `ackseq` segments of the current sub-block of
     /// `blksize`; `last` once the final segment came in sequence (then the end frame is due).
@@ -39,8 +45,9 @@ enum State {
         ackseq: u8,
         blksize: u8,
         last: bool,
-        deadline: u64,
+        deadline: Instant,
     },
+    #[cfg(feature = "sdo-block")]
     /// A block upload of the buffer's `len` bytes: `acked` segments acknowledged, `sent` of the
     /// current sub-block of `blksize` sent.
     BlockUpload {
@@ -51,11 +58,12 @@ enum State {
         acked: usize,
         sent: u8,
         phase: Phase,
-        deadline: u64,
+        deadline: Instant,
     },
 }
 
 /// Where a block upload is.
+#[cfg(feature = "sdo-block")]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Phase {
     /// Initiate answered; the client's start is due.
@@ -72,8 +80,8 @@ enum Phase {
 /// of `N` bytes: the largest value it can move in a segmented or block transfer.
 ///
 /// Driven by the caller: [`Server::handle_into`] (or [`Server::handle`]) for each received
-/// frame, [`Server::poll`] now and then for timeouts. `now_ms` is any monotonic millisecond
-/// clock. Expedited, segmented and block transfers (CiA 301 §7.2.4.3), block transfers with
+/// frame, [`Server::poll`] now and then for timeouts, with the time of the caller's
+/// monotonic clock. Expedited, segmented and block transfers (CiA 301 §7.2.4.3), block transfers with
 /// the CRC when the client asks for it.
 ///
 /// A block upload answers one request with a sub-block of up to 127 frames: `handle_into`
@@ -100,25 +108,25 @@ enum Phase {
 /// let mut server = Server::<64>::new(5);
 /// let mut od = One(0x0002_0192);
 /// let req = CanFrame::new(0x605, [0x40, 0x00, 0x10, 0, 0, 0, 0, 0]);
-/// let resp = server.handle(&mut od, &req, 0).unwrap();
+/// let resp = server.handle(&mut od, &req, odc::time::Instant::ZERO).unwrap();
 /// assert_eq!(resp, CanFrame::new(0x585, [0x43, 0x00, 0x10, 0, 0x92, 0x01, 0x02, 0x00]));
 /// ```
 #[derive(Clone, Debug)]
 pub struct Server<const N: usize> {
     node_id: u8,
-    timeout_ms: u64,
+    timeout: Duration,
     blksize: u8,
     state: State,
     buf: [u8; N],
 }
 
 impl<const N: usize> Server<N> {
-    /// The server of node `node_id`, idle, with [`DEFAULT_TIMEOUT_MS`] and sub-blocks of 127
+    /// The server of node `node_id`, idle, with [`DEFAULT_TIMEOUT`] and sub-blocks of 127
     /// segments.
     pub const fn new(node_id: u8) -> Self {
         Self {
             node_id,
-            timeout_ms: DEFAULT_TIMEOUT_MS,
+            timeout: DEFAULT_TIMEOUT,
             blksize: MAX_BLKSIZE,
             state: State::Idle,
             buf: [0; N],
@@ -127,8 +135,8 @@ impl<const N: usize> Server<N> {
 
     /// The same server with another timeout between the frames of a segmented or block
     /// transfer.
-    pub const fn with_timeout(mut self, ms: u64) -> Self {
-        self.timeout_ms = ms;
+    pub const fn with_timeout(mut self, timeout: Duration) -> Self {
+        self.timeout = timeout;
         self
     }
 
@@ -178,10 +186,10 @@ impl<const N: usize> Server<N> {
         &mut self,
         od: &mut D,
         frame: &CanFrame,
-        now_ms: u64,
+        now: Instant,
         out: &mut impl FnMut(CanFrame),
     ) {
-        if let Some(f) = self.handle(od, frame, now_ms) {
+        if let Some(f) = self.handle(od, frame, now) {
             out(f);
         }
         while let Some(f) = self.next_segment() {
@@ -198,17 +206,18 @@ impl<const N: usize> Server<N> {
         &mut self,
         od: &mut D,
         frame: &CanFrame,
-        now_ms: u64,
+        now: Instant,
     ) -> Option<CanFrame> {
         // Remote and extended frames on the CAN-ID are no SDO requests (CiA 301: SDOs are
         // 11-bit data frames).
         if !frame.is_data(self.request_id()) {
             return None;
         }
-        let deadline = now_ms.saturating_add(self.timeout_ms);
+        let deadline = now.saturating_add(self.timeout);
         let current = self.current();
         // Sub-block segments have no command specifier: while they are due, every frame but
         // an abort (byte 0 = 0x80, which is no segment: sequence numbers start at 1) is one.
+        #[cfg(feature = "sdo-block")]
         if let State::BlockDownload { last: false, .. } = self.state
             && frame.bytes().first() != Some(&0x80)
         {
@@ -230,37 +239,43 @@ impl<const N: usize> Server<N> {
             Request::InitiateUpload(addr) => self.initiate_upload(od, addr, deadline),
             Request::DownloadSegment(seg) => self.download_segment(od, seg, deadline),
             Request::UploadSegment(toggle) => self.upload_segment(toggle, deadline),
+            #[cfg(feature = "sdo-block")]
             Request::Block(BlockRequest::InitiateDownload { addr, crc, size }) => {
                 self.initiate_block_download(od, addr, crc, size, deadline)
             }
+            #[cfg(feature = "sdo-block")]
             Request::Block(BlockRequest::InitiateUpload { addr, crc, blksize, pst }) => {
                 self.initiate_block_upload(od, addr, crc, blksize, pst, deadline)
             }
+            #[cfg(feature = "sdo-block")]
             Request::Block(BlockRequest::EndDownload { unused, crc }) => {
                 self.end_block_download(od, unused, crc)
             }
+            #[cfg(feature = "sdo-block")]
             Request::Block(r) => self.block_upload_step(r, deadline),
+            // Block transfer left out of this build: the client falls back to segmented.
+            #[cfg(not(feature = "sdo-block"))]
+            Request::Block(_) => self.abort(current, SdoAbort::InvalidCommand),
         }
     }
 
     /// Checks the timeout of a segmented or block transfer: returns the abort frame to send
     /// when it expired (CiA 301 abort 0x05040000). During a block upload sub-block, returns
     /// its next segment instead, one a call.
-    pub fn poll(&mut self, now_ms: u64) -> Option<CanFrame> {
+    pub fn poll(&mut self, now: Instant) -> Option<CanFrame> {
         if let Some(f) = self.next_segment() {
             return Some(f);
         }
-        match self.state {
-            State::Download { addr, deadline, .. }
-            | State::Upload { addr, deadline, .. }
-            | State::BlockDownload { addr, deadline, .. }
-            | State::BlockUpload { addr, deadline, .. }
-                if now_ms > deadline =>
-            {
-                self.abort(addr, SdoAbort::Timeout)
+        let (addr, deadline) = match self.state {
+            State::Idle => return None,
+            State::Download { addr, deadline, .. } | State::Upload { addr, deadline, .. } => {
+                (addr, deadline)
             }
-            _ => None,
-        }
+            #[cfg(feature = "sdo-block")]
+            State::BlockDownload { addr, deadline, .. }
+            | State::BlockUpload { addr, deadline, .. } => (addr, deadline),
+        };
+        if now > deadline { self.abort(addr, SdoAbort::Timeout) } else { None }
     }
 
     fn initiate_download<D: ObjectDictionary + ?Sized>(
@@ -268,7 +283,7 @@ impl<const N: usize> Server<N> {
         od: &mut D,
         addr: ObjectAddr,
         init: Init,
-        deadline: u64,
+        deadline: Instant,
     ) -> Option<CanFrame> {
         self.state = State::Idle;
         match init {
@@ -306,7 +321,7 @@ impl<const N: usize> Server<N> {
         &mut self,
         od: &mut D,
         seg: Segment,
-        deadline: u64,
+        deadline: Instant,
     ) -> Option<CanFrame> {
         let State::Download { addr, size, len, toggle, .. } = self.state else {
             return self.abort(ObjectAddr::new(0, 0), SdoAbort::InvalidCommand);
@@ -317,7 +332,7 @@ impl<const N: usize> Server<N> {
         let bytes = seg.bytes();
         let end = len + bytes.len();
         match self.buf.get_mut(len..end) {
-            Some(dst) => dst.copy_from_slice(bytes),
+            Some(dst) => crate::bits::copy_bytes(dst, bytes),
             None => return self.abort(addr, SdoAbort::OutOfMemory),
         }
         if !seg.last {
@@ -339,7 +354,7 @@ impl<const N: usize> Server<N> {
         &mut self,
         od: &mut D,
         addr: ObjectAddr,
-        deadline: u64,
+        deadline: Instant,
     ) -> Option<CanFrame> {
         self.state = State::Idle;
         let len = match self.read_value(od, addr) {
@@ -366,7 +381,12 @@ impl<const N: usize> Server<N> {
 
     /// The initiate upload response for the buffer's `len` bytes: expedited, or the start of
     /// a segmented upload.
-    fn upload_response(&mut self, addr: ObjectAddr, len: usize, deadline: u64) -> Option<CanFrame> {
+    fn upload_response(
+        &mut self,
+        addr: ObjectAddr,
+        len: usize,
+        deadline: Instant,
+    ) -> Option<CanFrame> {
         let value = self.buf.get(..len).unwrap_or(&[]);
         if let Some(init) = Init::expedited(value) {
             return self.reply(Response::InitiateUpload(addr, init));
@@ -377,7 +397,7 @@ impl<const N: usize> Server<N> {
         self.reply(Response::InitiateUpload(addr, Init::Segmented(Some(size))))
     }
 
-    fn upload_segment(&mut self, toggle_in: bool, deadline: u64) -> Option<CanFrame> {
+    fn upload_segment(&mut self, toggle_in: bool, deadline: Instant) -> Option<CanFrame> {
         let State::Upload { addr, len, sent, toggle, .. } = self.state else {
             return self.abort(ObjectAddr::new(0, 0), SdoAbort::InvalidCommand);
         };
@@ -395,13 +415,14 @@ impl<const N: usize> Server<N> {
         self.reply(Response::UploadSegment(seg))
     }
 
+    #[cfg(feature = "sdo-block")]
     fn initiate_block_download<D: ObjectDictionary + ?Sized>(
         &mut self,
         od: &D,
         addr: ObjectAddr,
         crc: bool,
         size: Option<u32>,
-        deadline: u64,
+        deadline: Instant,
     ) -> Option<CanFrame> {
         self.state = State::Idle;
         if size.is_some_and(|s| usize::try_from(s).map_or(true, |s| s > N)) {
@@ -426,10 +447,11 @@ impl<const N: usize> Server<N> {
         self.reply(Response::Block(BlockResponse::InitiateDownload { addr, crc: true, blksize }))
     }
 
+    #[cfg(feature = "sdo-block")]
     /// One frame while sub-block segments are due. A segment out of sequence is ignored (CiA
     /// 301: the server acknowledges the last one in sequence and the client repeats the rest);
     /// the end of the sub-block, in sequence or not, is acknowledged.
-    fn block_segment(&mut self, frame: &CanFrame, deadline: u64) -> Option<CanFrame> {
+    fn block_segment(&mut self, frame: &CanFrame, deadline: Instant) -> Option<CanFrame> {
         let State::BlockDownload { addr, size, crc, mut received, mut ackseq, blksize, .. } =
             self.state
         else {
@@ -449,7 +471,7 @@ impl<const N: usize> Server<N> {
             if let (Some(dst), Some(src)) =
                 (self.buf.get_mut(received..received + room), seg.data.get(..room))
             {
-                dst.copy_from_slice(src);
+                crate::bits::copy_bytes(dst, src);
             }
             received += 7;
             ackseq = seg.seqno;
@@ -472,6 +494,7 @@ impl<const N: usize> Server<N> {
         self.reply(Response::Block(BlockResponse::Ack { ackseq, blksize }))
     }
 
+    #[cfg(feature = "sdo-block")]
     fn end_block_download<D: ObjectDictionary + ?Sized>(
         &mut self,
         od: &mut D,
@@ -503,16 +526,23 @@ impl<const N: usize> Server<N> {
     }
 
     /// The object of the transfer under way (0000:00 when idle).
+    /// Without block transfer there is no sub-block to send.
+    #[cfg(not(feature = "sdo-block"))]
+    #[allow(clippy::unused_self)]
+    fn next_segment(&mut self) -> Option<CanFrame> {
+        None
+    }
+
     fn current(&self) -> ObjectAddr {
         match self.state {
             State::Idle => ObjectAddr::new(0, 0),
-            State::Download { addr, .. }
-            | State::Upload { addr, .. }
-            | State::BlockDownload { addr, .. }
-            | State::BlockUpload { addr, .. } => addr,
+            State::Download { addr, .. } | State::Upload { addr, .. } => addr,
+            #[cfg(feature = "sdo-block")]
+            State::BlockDownload { addr, .. } | State::BlockUpload { addr, .. } => addr,
         }
     }
 
+    #[cfg(feature = "sdo-block")]
     fn initiate_block_upload<D: ObjectDictionary + ?Sized>(
         &mut self,
         od: &D,
@@ -520,7 +550,7 @@ impl<const N: usize> Server<N> {
         crc: bool,
         blksize: u8,
         pst: u8,
-        deadline: u64,
+        deadline: Instant,
     ) -> Option<CanFrame> {
         self.state = State::Idle;
         if blksize == 0 || blksize > MAX_BLKSIZE {
@@ -550,8 +580,9 @@ impl<const N: usize> Server<N> {
         self.reply(Response::Block(BlockResponse::InitiateUpload { addr, crc: true, size }))
     }
 
+    #[cfg(feature = "sdo-block")]
     /// The client's start, acknowledgements and end response during a block upload.
-    fn block_upload_step(&mut self, req: BlockRequest, deadline: u64) -> Option<CanFrame> {
+    fn block_upload_step(&mut self, req: BlockRequest, deadline: Instant) -> Option<CanFrame> {
         let State::BlockUpload { addr, len, crc, blksize, acked, sent, phase, .. } = self.state
         else {
             let current = self.current();
@@ -599,6 +630,7 @@ impl<const N: usize> Server<N> {
         }
     }
 
+    #[cfg(feature = "sdo-block")]
     /// The next segment of a block upload's sub-block, if one is due.
     fn next_segment(&mut self) -> Option<CanFrame> {
         let State::BlockUpload {

@@ -11,11 +11,11 @@ use crate::can::CanFrame;
 
 #[cfg(feature = "embedded-can")]
 pub mod embedded_can;
-#[cfg(feature = "std")]
+#[cfg(all(feature = "std", feature = "transport-mem"))]
 pub mod mem;
 #[cfg(all(feature = "socketcan", target_os = "linux"))]
 pub mod socketcan;
-#[cfg(feature = "std")]
+#[cfg(all(feature = "std", feature = "transport-tcp"))]
 pub mod tcp;
 
 /// What the blocking SDO client (and a node's loop) need from a CAN interface and a clock.

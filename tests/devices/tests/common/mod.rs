@@ -104,7 +104,9 @@ impl<D: ObjectDictionary> Bus for Wire<D> {
 
     fn send(&mut self, frame: &CanFrame) -> Result<(), Self::Error> {
         self.log.push(*frame);
-        if let Some(response) = self.server.handle(&mut self.od, frame, self.now) {
+        if let Some(response) =
+            self.server.handle(&mut self.od, frame, odc::time::Instant::from_millis(self.now))
+        {
             self.log.push(response);
             self.inbox.push_back(response);
         }

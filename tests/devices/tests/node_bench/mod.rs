@@ -41,7 +41,7 @@ impl<D: ObjectDictionary> NodeWire<D> {
             now_us: 0,
         };
         let (node, od, log, inbox) = (&mut wire.node, &mut wire.od, &mut wire.log, &mut wire.inbox);
-        node.start(od, 0, &mut |f| {
+        node.start(od, odc::time::Instant::ZERO, &mut |f| {
             log.push(f);
             inbox.push_back(f);
         });
@@ -58,7 +58,7 @@ impl<D: ObjectDictionary> NodeWire<D> {
     fn tick(&mut self) {
         self.now_us += 1_000;
         let (node, od, log, inbox) = (&mut self.node, &mut self.od, &mut self.log, &mut self.inbox);
-        node.poll(od, self.now_us, &mut |f| {
+        node.poll(od, odc::time::Instant::from_micros(self.now_us), &mut |f| {
             log.push(f);
             inbox.push_back(f);
         });
@@ -72,10 +72,15 @@ impl<D: ObjectDictionary> NodeWire<D> {
     /// The device raises an error (`Node::raise_emcy`): its EMCY goes on the wire.
     pub fn raise_emcy(&mut self, code: odc::emcy::EmcyCode, manufacturer: [u8; 5]) {
         let (node, log, inbox) = (&mut self.node, &mut self.log, &mut self.inbox);
-        node.raise_emcy(code, manufacturer, self.now_us, &mut |f| {
-            log.push(f);
-            inbox.push_back(f);
-        });
+        node.raise_emcy(
+            code,
+            manufacturer,
+            odc::time::Instant::from_micros(self.now_us),
+            &mut |f| {
+                log.push(f);
+                inbox.push_back(f);
+            },
+        );
     }
 
     /// The logged frames with CAN-ID `id` (data and remote).
@@ -95,7 +100,7 @@ impl<D: ObjectDictionary> Bus for NodeWire<D> {
     fn send(&mut self, frame: &CanFrame) -> Result<(), Self::Error> {
         self.log.push(*frame);
         let (node, od, log, inbox) = (&mut self.node, &mut self.od, &mut self.log, &mut self.inbox);
-        node.handle(od, frame, self.now_us, &mut |f| {
+        node.handle(od, frame, odc::time::Instant::from_micros(self.now_us), &mut |f| {
             log.push(f);
             inbox.push_back(f);
         });

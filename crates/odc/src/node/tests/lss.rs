@@ -34,7 +34,7 @@ fn dict_with_identity() -> Dict {
 
 fn bench(node: Node<32, 4, 4>, dict: Dict) -> Bench {
     let mut b = Bench { node, dict, sent: Vec::new(), now: 0 };
-    b.node.start(&mut b.dict, 0, &mut |f| b.sent.push(f));
+    b.node.start(&mut b.dict, crate::time::Instant::ZERO, &mut |f| b.sent.push(f));
     b
 }
 

@@ -18,7 +18,7 @@ const TEXT_CRC: u16 = 0xCBC7;
 
 fn all(s: &mut Server<64>, od: &mut Od, f: [u8; 8], now: u64) -> Vec<CanFrame> {
     let mut out = Vec::new();
-    s.handle_into(od, &req(f), now, &mut |f| out.push(f));
+    s.handle_into(od, &req(f), crate::time::Instant::from_millis(now), &mut |f| out.push(f));
     out
 }
 
@@ -35,19 +35,39 @@ fn server_block_download_worked() {
     // Initiate: ccs=6, cc=1, s=1 -> 0xC6, 0x2001:00, size 22. Answer: scs=5, sc=1 -> 0xA4,
     // blksize 127.
     assert_eq!(
-        s.handle(&mut od, &req([0xC6, 0x01, 0x20, 0x00, 22, 0, 0, 0]), 0),
+        s.handle(
+            &mut od,
+            &req([0xC6, 0x01, 0x20, 0x00, 22, 0, 0, 0]),
+            crate::time::Instant::from_millis(0)
+        ),
         resp([0xA4, 0x01, 0x20, 0x00, 127, 0, 0, 0])
     );
     // Segments 1-3 need no answer; segment 4 has c=1 (0x84) and ends the sub-block: ack
     // scs=5 ss=2 (0xA2), ackseq 4, blksize 127.
-    assert_eq!(s.handle(&mut od, &req(seg(1, b"Hello, ")), 1), None);
-    assert_eq!(s.handle(&mut od, &req(seg(2, b"block t")), 2), None);
-    assert_eq!(s.handle(&mut od, &req(seg(3, b"ransfer")), 3), None);
-    assert_eq!(s.handle(&mut od, &req(seg(0x84, b"!")), 4), resp([0xA2, 4, 127, 0, 0, 0, 0, 0]));
+    assert_eq!(
+        s.handle(&mut od, &req(seg(1, b"Hello, ")), crate::time::Instant::from_millis(1)),
+        None
+    );
+    assert_eq!(
+        s.handle(&mut od, &req(seg(2, b"block t")), crate::time::Instant::from_millis(2)),
+        None
+    );
+    assert_eq!(
+        s.handle(&mut od, &req(seg(3, b"ransfer")), crate::time::Instant::from_millis(3)),
+        None
+    );
+    assert_eq!(
+        s.handle(&mut od, &req(seg(0x84, b"!")), crate::time::Instant::from_millis(4)),
+        resp([0xA2, 4, 127, 0, 0, 0, 0, 0])
+    );
     // End: ccs=6, n=6, cs=1 -> 0xC0 | 6 << 2 | 1 = 0xD9, CRC LE. Answer: 0xA1.
     let [lo, hi] = TEXT_CRC.to_le_bytes();
     assert_eq!(
-        s.handle(&mut od, &req([0xD9, lo, hi, 0, 0, 0, 0, 0]), 5),
+        s.handle(
+            &mut od,
+            &req([0xD9, lo, hi, 0, 0, 0, 0, 0]),
+            crate::time::Instant::from_millis(5)
+        ),
         resp([0xA1, 0, 0, 0, 0, 0, 0, 0])
     );
     assert_eq!(&od.text[..od.text_len], TEXT);
@@ -60,51 +80,95 @@ fn server_block_download_errors() {
     let start = [0xC6, 0x01, 0x20, 0x00, 22, 0, 0, 0];
     // A wrong CRC: 0x05040004, and nothing written.
     let mut s = Server::<64>::new(NODE);
-    s.handle(&mut od, &req(start), 0);
+    s.handle(&mut od, &req(start), crate::time::Instant::from_millis(0));
     for (i, chunk) in TEXT.chunks(7).enumerate() {
         let n = i as u8 + 1;
-        s.handle(&mut od, &req(seg(if chunk.len() < 7 { 0x80 | n } else { n }, chunk)), 0);
+        s.handle(
+            &mut od,
+            &req(seg(if chunk.len() < 7 { 0x80 | n } else { n }, chunk)),
+            crate::time::Instant::from_millis(0),
+        );
     }
     let [lo, hi] = (TEXT_CRC ^ 1).to_le_bytes();
     assert_eq!(
-        abort_code(s.handle(&mut od, &req([0xD9, lo, hi, 0, 0, 0, 0, 0]), 0)),
+        abort_code(s.handle(
+            &mut od,
+            &req([0xD9, lo, hi, 0, 0, 0, 0, 0]),
+            crate::time::Instant::from_millis(0)
+        )),
         Some(0x0504_0004)
     );
     assert_eq!(od.text_len, 0);
     // A lost segment: sub-blocks of 2; segment 1 then 3 of the first... the second segment
     // of a sub-block is its last, so the server acks 1 and the client repeats from there.
     let mut s = Server::<64>::new(NODE).with_blksize(2);
-    assert_eq!(s.handle(&mut od, &req(start), 0), resp([0xA4, 0x01, 0x20, 0x00, 2, 0, 0, 0]));
-    assert_eq!(s.handle(&mut od, &req(seg(1, b"Hello, ")), 0), None);
+    assert_eq!(
+        s.handle(&mut od, &req(start), crate::time::Instant::from_millis(0)),
+        resp([0xA4, 0x01, 0x20, 0x00, 2, 0, 0, 0])
+    );
+    assert_eq!(
+        s.handle(&mut od, &req(seg(1, b"Hello, ")), crate::time::Instant::from_millis(0)),
+        None
+    );
     // Segment 2 lost; a segment numbered 3 is out of sequence and ignored; the client's
     // sub-block ends at 2, which does not come: the server acks at the sub-block's last
     // number it sees. Here the client resends "2" late as seqno 2 after a 3: in sequence again.
-    assert_eq!(s.handle(&mut od, &req(seg(3, b"XXXXXXX")), 0), resp([0xA2, 1, 2, 0, 0, 0, 0, 0]));
+    assert_eq!(
+        s.handle(&mut od, &req(seg(3, b"XXXXXXX")), crate::time::Instant::from_millis(0)),
+        resp([0xA2, 1, 2, 0, 0, 0, 0, 0])
+    );
     // Repeated from segment 2 ("block t"), renumbered from 1.
-    assert_eq!(s.handle(&mut od, &req(seg(1, b"block t")), 0), None);
-    assert_eq!(s.handle(&mut od, &req(seg(2, b"ransfer")), 0), resp([0xA2, 2, 2, 0, 0, 0, 0, 0]));
-    assert_eq!(s.handle(&mut od, &req(seg(0x81, b"!")), 0), resp([0xA2, 1, 2, 0, 0, 0, 0, 0]));
+    assert_eq!(
+        s.handle(&mut od, &req(seg(1, b"block t")), crate::time::Instant::from_millis(0)),
+        None
+    );
+    assert_eq!(
+        s.handle(&mut od, &req(seg(2, b"ransfer")), crate::time::Instant::from_millis(0)),
+        resp([0xA2, 2, 2, 0, 0, 0, 0, 0])
+    );
+    assert_eq!(
+        s.handle(&mut od, &req(seg(0x81, b"!")), crate::time::Instant::from_millis(0)),
+        resp([0xA2, 1, 2, 0, 0, 0, 0, 0])
+    );
     let [lo, hi] = TEXT_CRC.to_le_bytes();
     assert_eq!(
-        s.handle(&mut od, &req([0xD9, lo, hi, 0, 0, 0, 0, 0]), 0),
+        s.handle(
+            &mut od,
+            &req([0xD9, lo, hi, 0, 0, 0, 0, 0]),
+            crate::time::Instant::from_millis(0)
+        ),
         resp([0xA1, 0, 0, 0, 0, 0, 0, 0])
     );
     assert_eq!(&od.text[..od.text_len], TEXT);
     // Sequence number 0 (byte 0 = 0x00) is no segment: 0x05040003.
     let mut s = Server::<64>::new(NODE);
-    s.handle(&mut od, &req(start), 0);
-    assert_eq!(abort_code(s.handle(&mut od, &req(seg(0, b"x")), 0)), Some(0x0504_0003));
+    s.handle(&mut od, &req(start), crate::time::Instant::from_millis(0));
+    assert_eq!(
+        abort_code(s.handle(&mut od, &req(seg(0, b"x")), crate::time::Instant::from_millis(0))),
+        Some(0x0504_0003)
+    );
     // A size over the buffer: 0x05040005; the timeout between segments: 0x05040000.
     assert_eq!(
-        abort_code(s.handle(&mut od, &req([0xC6, 0x01, 0x20, 0x00, 65, 0, 0, 0]), 0)),
+        abort_code(s.handle(
+            &mut od,
+            &req([0xC6, 0x01, 0x20, 0x00, 65, 0, 0, 0]),
+            crate::time::Instant::from_millis(0)
+        )),
         Some(0x0504_0005)
     );
-    s.handle(&mut od, &req(start), 0);
-    assert_eq!(s.poll(1000), None);
-    assert_eq!(abort_code(s.poll(1001)), Some(0x0504_0000));
+    s.handle(&mut od, &req(start), crate::time::Instant::from_millis(0));
+    assert_eq!(s.poll(crate::time::Instant::from_millis(1000)), None);
+    assert_eq!(abort_code(s.poll(crate::time::Instant::from_millis(1001))), Some(0x0504_0000));
     // The client's abort (0x80 with the multiplexer) ends the transfer without answer.
-    s.handle(&mut od, &req(start), 0);
-    assert_eq!(s.handle(&mut od, &req([0x80, 0x01, 0x20, 0, 0, 0, 0x04, 0x05]), 0), None);
+    s.handle(&mut od, &req(start), crate::time::Instant::from_millis(0));
+    assert_eq!(
+        s.handle(
+            &mut od,
+            &req([0x80, 0x01, 0x20, 0, 0, 0, 0x04, 0x05]),
+            crate::time::Instant::from_millis(0)
+        ),
+        None
+    );
     assert!(!s.is_busy());
 }
 
@@ -139,11 +203,11 @@ fn server_block_upload_worked() {
     // `handle` alone gives one frame, `poll` the rest.
     all(&mut s, &mut od, [0xA4, 0x01, 0x20, 0x00, 2, 0, 0, 0], 0);
     assert_eq!(
-        s.handle(&mut od, &req([0xA3, 0, 0, 0, 0, 0, 0, 0]), 0),
+        s.handle(&mut od, &req([0xA3, 0, 0, 0, 0, 0, 0, 0]), crate::time::Instant::from_millis(0)),
         Some(r(seg(1, b"Hello, ")))
     );
-    assert_eq!(s.poll(0), Some(r(seg(2, b"block t"))));
-    assert_eq!(s.poll(0), None);
+    assert_eq!(s.poll(crate::time::Instant::from_millis(0)), Some(r(seg(2, b"block t"))));
+    assert_eq!(s.poll(crate::time::Instant::from_millis(0)), None);
     assert_eq!(
         all(&mut s, &mut od, [0xA2, 1, 3, 0, 0, 0, 0, 0], 0),
         [r(seg(1, b"block t")), r(seg(2, b"ransfer")), r(seg(0x83, b"!"))]
@@ -181,7 +245,7 @@ fn server_block_upload_errors_and_switch() {
     // No ack in time: 0x05040000.
     all(&mut s, &mut od, [0xA4, 0x01, 0x20, 0x00, 127, 0, 0, 0], 0);
     all(&mut s, &mut od, [0xA3, 0, 0, 0, 0, 0, 0, 0], 0);
-    assert_eq!(abort_code(s.poll(1001)), Some(0x0504_0000));
+    assert_eq!(abort_code(s.poll(crate::time::Instant::from_millis(1001))), Some(0x0504_0000));
 }
 
 /// A bus with an in-process server that can lose or damage chosen frames.
@@ -224,7 +288,12 @@ impl Bus for Lossy {
             return Ok(());
         }
         let mut out = Vec::new();
-        self.server.handle_into(&mut self.od, frame, self.now, &mut |f| out.push(f));
+        self.server.handle_into(
+            &mut self.od,
+            frame,
+            crate::time::Instant::from_millis(self.now),
+            &mut |f| out.push(f),
+        );
         for mut f in out {
             self.responses += 1;
             if self.lose_response.contains(&self.responses) {
@@ -243,7 +312,7 @@ impl Bus for Lossy {
         if f.is_none() {
             self.now = deadline;
             // Time passes on the server too.
-            if let Some(f) = self.server.poll(self.now + 1) {
+            if let Some(f) = self.server.poll(crate::time::Instant::from_millis(self.now + 1)) {
                 self.queue.push_back(f);
             }
         }

@@ -1,0 +1,159 @@
+//! The node's parameters: how it reads the communication objects of the dictionary, the
+//! objects written since it last read them, and the view of the dictionary the SDO server and
+//! the PDO engine get (0x1001 and 0x1003 answered by the node, CiA 301's rules between values).
+
+use super::{emcy, pdo};
+use crate::SdoAbort;
+use crate::slave::ObjectDictionary;
+
+/// Reads up to 4 bytes of `index:sub` as a little-endian number; `None` when the dictionary
+/// has no such entry or cannot read it.
+pub(super) fn get_u32<D: ObjectDictionary + ?Sized>(dict: &D, index: u16, sub: u8) -> Option<u32> {
+    let mut buf = [0u8; 8];
+    let n = dict.read(index, sub, &mut buf).ok()?;
+    let mut le = [0u8; 4];
+    for (d, s) in le.iter_mut().zip(buf.iter().take(n)) {
+        *d = *s;
+    }
+    Some(u32::from_le_bytes(le))
+}
+
+pub(super) fn get_u16<D: ObjectDictionary + ?Sized>(dict: &D, index: u16, sub: u8) -> Option<u16> {
+    get_u32(dict, index, sub).map(|v| v as u16)
+}
+
+pub(super) fn get_u8<D: ObjectDictionary + ?Sized>(dict: &D, index: u16, sub: u8) -> Option<u8> {
+    get_u32(dict, index, sub).map(|v| v as u8)
+}
+
+/// Communication objects written since the node last read them.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(super) struct Dirty(pub(super) u8);
+
+impl Dirty {
+    pub(super) const HEARTBEAT: u8 = 1;
+    pub(super) const CONSUMERS: u8 = 2;
+    pub(super) const GUARDING: u8 = 4;
+    pub(super) const SYNC: u8 = 8;
+    pub(super) const EMCY: u8 = 16;
+    pub(super) const PDO: u8 = 32;
+
+    fn of(index: u16) -> u8 {
+        match index {
+            0x1017 => Self::HEARTBEAT,
+            0x1016 => Self::CONSUMERS,
+            0x100C | 0x100D => Self::GUARDING,
+            0x1005 | 0x1006 | 0x1019 => Self::SYNC,
+            0x1014 | 0x1015 => Self::EMCY,
+            0x1400..=0x1BFF => Self::PDO,
+            _ => 0,
+        }
+    }
+}
+
+impl<D: ObjectDictionary + ?Sized> View<'_, D> {
+    /// CiA 301's rules for values of communication objects that depend on other values.
+    fn check_parameter(&self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
+        let new = || {
+            let mut le = [0u8; 4];
+            for (d, s) in le.iter_mut().zip(data) {
+                *d = *s;
+            }
+            u32::from_le_bytes(le)
+        };
+        match (index, sub) {
+            // A PDO's CAN-ID may change only while it is invalid (CiA 301 7.5.2.35/37:
+            // 0x06090030 otherwise).
+            (0x1400..=0x15FF | 0x1800..=0x19FF, 1) => {
+                let old = get_u32(&*self.dict, index, 1);
+                let valid = |c: u32| c & (1 << 31) == 0;
+                if let Some(old) = old
+                    && valid(old)
+                    && valid(new())
+                    && old & 0x3FFF_FFFF != new() & 0x3FFF_FFFF
+                {
+                    return Err(SdoAbort::InvalidValue);
+                }
+            }
+            // Two heartbeat consumer entries for one node (CiA 301 7.5.2.14: 0x06040043).
+            (0x1016, s) if s > 0 => {
+                let node = new() >> 16 & 0xFF;
+                let time = new() & 0xFFFF;
+                let count = get_u8(&*self.dict, 0x1016, 0).unwrap_or(0);
+                let clash = (1..=count).filter(|&o| o != s).any(|o| {
+                    get_u32(&*self.dict, 0x1016, o)
+                        .is_some_and(|v| v >> 16 & 0xFF == node && v & 0xFFFF != 0)
+                });
+                if time != 0 && node != 0 && clash {
+                    return Err(SdoAbort::ParameterIncompatible);
+                }
+            }
+            _ => {}
+        }
+        Ok(())
+    }
+}
+
+/// The dictionary as the SDO server and the PDO engine see it: the node answers 0x1001 and
+/// 0x1003 itself, and notes writes to the communication objects.
+pub(super) struct View<'a, D: ?Sized> {
+    pub(super) dict: &'a mut D,
+    pub(super) emcy: &'a mut emcy::Emcy,
+    pub(super) dirty: &'a mut Dirty,
+    pub(super) written: bool,
+    /// The mappings of these PDOs may not change (CiA 301 7.5.2.36: only while the PDO is
+    /// invalid): bit n of word 0 for TPDO n+1, of word 1 for RPDO n+1.
+    pub(super) locked: [u64; 2],
+}
+
+impl<D: ObjectDictionary + ?Sized> ObjectDictionary for View<'_, D> {
+    fn read(&self, index: u16, sub: u8, buf: &mut [u8]) -> Result<usize, SdoAbort> {
+        match self.emcy.read(index, sub, buf) {
+            Some(r) => r,
+            None => self.dict.read(index, sub, buf),
+        }
+    }
+
+    fn access(&self, index: u16, sub: u8) -> Option<crate::Access> {
+        self.dict.access(index, sub)
+    }
+
+    fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
+        if (index, sub) == (0x1003, 0) && self.emcy.read(0x1003, 0, &mut [0]).is_some() {
+            return self.emcy.write_history_count(data);
+        }
+        // Access first, as the dictionary would refuse it (a read-only COB-ID: 0x06010002).
+        if self.dict.access(index, sub).is_some_and(|a| !a.writable()) {
+            return Err(SdoAbort::WriteOfReadOnly);
+        }
+        self.check_parameter(index, sub, data)?;
+        if let Some((word, n)) = match index {
+            0x1600..=0x17FF => Some((1, index - 0x1600)),
+            0x1A00..=0x1BFF => Some((0, index - 0x1A00)),
+            _ => None,
+        } && n < 64
+            && self.locked[word] >> n & 1 == 1
+        {
+            // CiA 301: a mapping may only change while its PDO is invalid (COB-ID bit 31).
+            return Err(SdoAbort::UnsupportedAccess);
+        }
+        if matches!(index, 0x1600..=0x17FF | 0x1A00..=0x1BFF)
+            && sub == 0
+            && data.first().is_some_and(|&c| c > 0)
+        {
+            // The mapping enabled: at most 64 bits (CiA 301 abort 0x06040042).
+            let count = data.first().copied().unwrap_or(0);
+            let mut bits = 0u32;
+            for s in 1..=count.min(pdo::MAX_MAPPED) {
+                bits += get_u32(&*self.dict, index, s).map_or(0, |e| e & 0xFF);
+            }
+            if bits > 64 || count > pdo::MAX_MAPPED {
+                return Err(SdoAbort::PdoLengthExceeded);
+            }
+        }
+        self.dict.write(index, sub, data)?;
+        self.dirty.0 |= Dirty::of(index);
+        self.written = true;
+        Ok(())
+    }
+}
