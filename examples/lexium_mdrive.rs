@@ -22,7 +22,7 @@ mod lexium_mdrive {
 use lexium_mdrive::{od, slave};
 
 /// The MDrive's factory node id (manual 5.2).
-const NODE: u8 = 0x41;
+const NODE: odc::cob::NodeId = odc::node_id!(0x41);
 
 /// The program: the drive in a thread, the master in this one.
 pub fn main() -> Result<(), Error> {

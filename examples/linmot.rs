@@ -40,7 +40,7 @@ use linmot_e1200::process::{RxPdo1, RxPdo2, TxPdo1};
 use linmot_e1200::{od, slave, upid};
 
 /// The node id parameter's default (manual 4.3: 63).
-const NODE: u8 = 63;
+const NODE: odc::cob::NodeId = odc::node_id!(63);
 
 /// The motion command "VAI 16Bit Go To Pos" (090xh; x is the count nibble).
 const VAI_GO_TO_POS: u16 = 0x0900;
@@ -93,7 +93,7 @@ impl LinMot {
     }
 
     fn run(mut self, port: &Port) -> Result<(), Closed> {
-        port.send(CanFrame::from_slice(0x700 + u32::from(NODE), &[0]).ok_or(Closed)?)?;
+        port.send(CanFrame::from_slice(NODE.error_control().raw(), &[0]).ok_or(Closed)?)?;
         loop {
             match port.recv_timeout(Duration::from_secs(1)) {
                 Ok(Some(frame)) => {
@@ -108,10 +108,10 @@ impl LinMot {
     }
 
     fn handle(&mut self, frame: &CanFrame) -> Vec<CanFrame> {
-        match frame.id {
+        match frame.id() {
             0x000 => {
                 if let [cs, n] = *frame.bytes()
-                    && (n == 0 || n == NODE)
+                    && (n == 0 || n == NODE.get())
                     && cs == NmtCommand::Start as u8
                 {
                     self.nmt = NmtState::Operational;
@@ -119,7 +119,7 @@ impl LinMot {
                 Vec::new()
             }
             0x080 if self.nmt == NmtState::Operational => self.sync(),
-            id if id == self.server.request_id() => {
+            id if id == self.server.request_id().raw() => {
                 let answer =
                     self.server.handle(&mut self.od, frame, odc::time::Instant::from_millis(0));
                 self.map_upids();
@@ -232,7 +232,7 @@ pub fn main() -> Result<(), Error> {
     let (master_port, drive_port) = bus::pair();
     let drive = thread::spawn(move || LinMot::new().run(&drive_port));
     let mut m = odc_examples::master(master_port);
-    let node = u32::from(NODE);
+    let node = u32::from(NODE.get());
 
     step("boot-up");
     m.wait_boot_up(NODE)?;

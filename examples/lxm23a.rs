@@ -20,7 +20,7 @@ mod lxm23a {
 }
 use lxm23a::{od, slave};
 
-const NODE: u8 = 1;
+const NODE: odc::cob::NodeId = odc::node_id!(1);
 
 /// The program: the drive in a thread, the master in this one.
 pub fn main() -> Result<(), Error> {

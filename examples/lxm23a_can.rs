@@ -11,7 +11,7 @@ mod lxm23a {
 use lxm23a::od;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    const NODE: u8 = 1;
+    const NODE: odc::cob::NodeId = odc::node_id!(1);
     let mut m = Master::new(SocketCan::open("can0")?);
     m.nmt(NmtCommand::ResetNode, NODE)?;
     m.wait_boot_up(NODE)?;

@@ -24,7 +24,7 @@ mod servoone {
 }
 use servoone::{od, pdo, slave};
 
-const NODE: u8 = 1;
+const NODE: odc::cob::NodeId = odc::node_id!(1);
 
 /// R_PDO1 as this application maps it.
 #[derive(Clone, Copy, Debug, PartialEq, odc::Pdo)]

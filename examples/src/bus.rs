@@ -93,7 +93,7 @@ impl odc::transport::Bus for Port {
 /// predefined connection set (`601  23 01 14 01 01 03 00 04  SDO request`).
 pub fn describe(frame: &CanFrame) -> String {
     let bytes: Vec<String> = frame.bytes().iter().map(|b| format!("{b:02X}")).collect();
-    let role = u16::try_from(frame.id).ok().and_then(cob::classify).map(|(f, _)| match f {
+    let role = u16::try_from(frame.id()).ok().and_then(cob::classify).map(|(f, _)| match f {
         Function::Nmt => "NMT".to_string(),
         Function::Sync => "SYNC".to_string(),
         Function::Emcy => "EMCY".to_string(),
@@ -104,7 +104,7 @@ pub fn describe(frame: &CanFrame) -> String {
         Function::SdoRx => "SDO request".to_string(),
         Function::Heartbeat => "NMT error control".to_string(),
     });
-    format!("{:03X}  {:<23}  {}", frame.id, bytes.join(" "), role.unwrap_or_default())
+    format!("{:03X}  {:<23}  {}", frame.id(), bytes.join(" "), role.unwrap_or_default())
 }
 
 #[cfg(test)]
@@ -114,7 +114,7 @@ mod tests {
     #[test]
     fn frames_cross_and_print() {
         let (a, b) = pair();
-        let f = CanFrame::new(0x601, [0x23, 0x01, 0x14, 0x01, 0x01, 0x03, 0x00, 0x04]);
+        let f = CanFrame::new(0x601, [0x23, 0x01, 0x14, 0x01, 0x01, 0x03, 0x00, 0x04]).unwrap();
         assert_eq!(a.send(f), Ok(()));
         assert_eq!(b.recv_timeout(Duration::from_millis(10)), Ok(Some(f)));
         assert_eq!(b.try_recv(), Ok(None));

@@ -28,7 +28,7 @@ pub struct Drive<D> {
 impl<D: ObjectDictionary + DriveObjects> Drive<D> {
     /// A drive with node id `node` around `od`, moving by `cycle_ms` of profile velocity per
     /// SYNC.
-    pub fn new(od: D, node: u8, cycle_ms: u32) -> Self {
+    pub fn new(od: D, node: odc::cob::NodeId, cycle_ms: u32) -> Self {
         let (node, drive) = (Node::new(node), cia402::Drive::new());
         Drive { od, node, drive, cycle_ms, start: Instant::now() }
     }

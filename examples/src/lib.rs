@@ -50,7 +50,7 @@ pub fn step(text: &str) {
 /// The SDO error.
 pub fn supported_modes(
     m: &mut Master<bus::Port>,
-    node: u8,
+    node: odc::cob::NodeId,
 ) -> Result<odc::cia402::SupportedModes, Error> {
     let v = m.upload(node, 0x6502, 0)?;
     let bytes: [u8; 4] = v.as_slice().try_into().map_err(|_| "0x6502 is not 4 bytes")?;

@@ -85,7 +85,7 @@ fn odc_sdo_reads_and_writes_python_canopen_by_name() {
         let deadline = watch.now_ms() + 30_000;
         loop {
             match watch.recv(deadline).unwrap() {
-                Some(f) if f.id == 0x705 && f.bytes() == [0] => break,
+                Some(f) if f.id() == 0x705 && f.bytes() == [0] => break,
                 Some(_) => {}
                 None => panic!("{name}: no boot-up from LocalNode"),
             }

@@ -283,11 +283,11 @@ fn drive_pdos(ctx: &Ctx<'_>) -> TokenStream {
             type Command = super::pdo::#r;
             type Status = super::pdo::#t;
 
-            fn command_cob_id(node_id: u8) -> u32 {
+            fn command_cob_id(node_id: #rt::cob::NodeId) -> u32 {
                 super::pdo::#r::cob_id(node_id)
             }
 
-            fn status_cob_id(node_id: u8) -> u32 {
+            fn status_cob_id(node_id: #rt::cob::NodeId) -> u32 {
                 super::pdo::#t::cob_id(node_id)
             }
 

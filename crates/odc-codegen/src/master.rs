@@ -75,7 +75,7 @@ fn canopen(ctx: &Ctx<'_>) -> TokenStream {
         let d = doc(&text);
         items.push(quote! {
             #d
-            pub const fn #f(#param: u8) -> [#rt::plan::SdoWrite; #n] {
+            pub const fn #f(#param: #rt::cob::NodeId) -> [#rt::plan::SdoWrite; #n] {
                 [#(#writes),*]
             }
         });
@@ -93,7 +93,7 @@ fn canopen(ctx: &Ctx<'_>) -> TokenStream {
     quote! {
         /// The writes that set the default mapping of every PDO that is valid by default, for
         /// node `node_id`, in order (CiA 301 PDO mapping procedure).
-        pub const fn plan(#param: u8) -> [#rt::plan::SdoWrite; #n] {
+        pub const fn plan(#param: #rt::cob::NodeId) -> [#rt::plan::SdoWrite; #n] {
             [#(#all),*]
         }
 

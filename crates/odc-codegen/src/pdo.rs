@@ -172,15 +172,15 @@ pub(crate) fn field_name(ctx: &Ctx<'_>, entry: &PdoEntry) -> FieldName {
 }
 
 /// `cob_id(node_id)` for a CANopen PDO, with the text of its rule.
-fn cob_id_fn(cob: &Value) -> Option<(TokenStream, String)> {
+fn cob_id_fn(cob: &Value, rt: &TokenStream) -> Option<(TokenStream, String)> {
     Some(match cob {
         Value::NodeIdPlus(off) => {
             let off = u32::try_from(*off).ok()?;
             let lit = int_literal(u64::from(off));
             (
                 quote! {
-                    pub const fn cob_id(node_id: u8) -> u32 {
-                        #lit + node_id as u32
+                    pub const fn cob_id(node_id: #rt::cob::NodeId) -> u32 {
+                        #lit + node_id.get() as u32
                     }
                 },
                 value_text(cob),
@@ -191,7 +191,7 @@ fn cob_id_fn(cob: &Value) -> Option<(TokenStream, String)> {
             let lit = int_literal(u64::from(v));
             (
                 quote! {
-                    pub const fn cob_id(_node_id: u8) -> u32 {
+                    pub const fn cob_id(_node_id: #rt::cob::NodeId) -> u32 {
                         #lit
                     }
                 },
@@ -336,7 +336,7 @@ pub fn generate(ctx: &Ctx<'_>, errors: &mut Vec<Diagnostic>) -> TokenStream {
                 pub const EVENT_TIMER: u16 = #lit;
             });
         }
-        if let Some((f, rule)) = pdo.cob_id.as_ref().and_then(cob_id_fn) {
+        if let Some((f, rule)) = pdo.cob_id.as_ref().and_then(|c| cob_id_fn(c, rt)) {
             let enabled = enabled_by_default(pdo);
             let d = doc(&format!(
                 "The COB-ID (communication sub-index 1) for node `node_id`: `{rule}`{}.",

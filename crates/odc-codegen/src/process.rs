@@ -135,8 +135,8 @@ fn layout(ctx: &Ctx<'_>, p: &ProcessData) -> Result<TokenStream, String> {
             /// Bytes on the wire.
             pub const LEN: usize = #len;
             /// The CAN-ID for node `node_id`.
-            pub const fn cob_id(node_id: u8) -> u32 {
-                #cob + node_id as u32
+            pub const fn cob_id(node_id: #rt::cob::NodeId) -> u32 {
+                #cob + node_id.get() as u32
             }
             /// The bytes on the wire.
             pub fn pack(&self) -> [u8; #len] {

@@ -146,10 +146,11 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
             impl Dictionary {
                 /// The dictionary of node `node_id`, every entry at its default (`$NODEID`
                 /// applied); entries without default start at zero, or at the limit nearest
-                /// to it.
-                pub fn new(node_id: u8) -> Self {
+                /// to it. `None`: a node without node-ID (LSS), whose `$NODEID` defaults are
+                /// taken as absent.
+                pub fn new(node_id: impl Into<Option<#rt::cob::NodeId>>) -> Self {
                     let mut values = [0; LAYOUT.size()];
-                    TABLE.init(&mut values, node_id);
+                    TABLE.init(&mut values, node_id.into());
                     Dictionary { values }
                 }
 

@@ -56,9 +56,9 @@ pub fn parse_line(line: &str) -> Result<Option<LogFrame>, String> {
         if len > 8 {
             return Err(format!("remote frame of {len} bytes"));
         }
-        let mut f = CanFrame::remote(id, len);
-        f.extended = extended;
-        f
+        let f =
+            if extended { CanFrame::remote_extended(id, len) } else { CanFrame::remote(id, len) };
+        f.ok_or_else(|| format!("remote frame 0x{id:X} of {len} bytes"))?
     } else {
         if data.len() % 2 != 0 || data.len() > 16 || !data.chars().all(|c| c.is_ascii_hexdigit()) {
             return Err(format!("`{data}` is not 0 to 8 bytes in hex"));
@@ -85,13 +85,13 @@ mod tests {
     fn lines_of_candump() {
         let f = parse_line("(1700000000.000000) can0 185#4006").unwrap().unwrap();
         assert_eq!(
-            (f.time, f.interface.as_str(), f.frame.id, f.frame.bytes()),
+            (f.time, f.interface.as_str(), f.frame.id(), f.frame.bytes()),
             (1_700_000_000.0, "can0", 0x185, &[0x40, 0x06][..])
         );
         let r = parse_line("(1.5) vcan0 701#R1").unwrap().unwrap();
-        assert!(r.frame.remote && r.frame.len == 1);
+        assert!(r.frame.is_remote() && r.frame.len() == 1);
         let x = parse_line("(2.0) can0 18FF0001#01").unwrap().unwrap();
-        assert!(x.frame.extended && x.frame.id == 0x18FF_0001);
+        assert!(x.frame.is_extended() && x.frame.id() == 0x18FF_0001);
         assert_eq!(parse_line("  "), Ok(None));
         assert_eq!(parse_line("# the manual's figure 11"), Ok(None));
         for bad in [

@@ -143,11 +143,11 @@ impl Decoder {
         let data: Vec<String> = frame.bytes().iter().map(|b| format!("{b:02X}")).collect();
         let mut r = Record {
             time,
-            id: frame.id,
-            extended: frame.extended,
-            remote: frame.remote,
-            data: if frame.remote {
-                format!("remote, {} bytes", frame.len)
+            id: frame.id(),
+            extended: frame.is_extended(),
+            remote: frame.is_remote(),
+            data: if frame.is_remote() {
+                format!("remote, {} bytes", frame.len())
             } else {
                 data.join(" ")
             },
@@ -156,12 +156,12 @@ impl Decoder {
             text: String::new(),
             fields: Vec::new(),
         };
-        if frame.extended {
+        if frame.is_extended() {
             r.kind = "extended".into();
             return r;
         }
         let b = frame.bytes();
-        let id = frame.id;
+        let id = frame.id();
         let node_of = |base: u32| u8::try_from(id - base).ok();
         match id {
             0x000 => {
@@ -241,10 +241,10 @@ impl Decoder {
                             format!("{st:?}{toggle}")
                         },
                     ),
-                    [] if frame.remote => "guarding request".into(),
+                    [] if frame.is_remote() => "guarding request".into(),
                     _ => "not a heartbeat".into(),
                 };
-                if frame.remote {
+                if frame.is_remote() {
                     r.text = "node guarding request".into();
                 }
             }

@@ -140,8 +140,8 @@ fn the_logs_are_the_tests_frames_and_decode() {
         }
         let nodes: std::collections::BTreeSet<u8> = frames
             .iter()
-            .filter(|f| f.frame.id > 0x80 && f.frame.id < 0x780)
-            .map(|f| (f.frame.id & 0x7F) as u8)
+            .filter(|f| f.frame.id() > 0x80 && f.frame.id() < 0x780)
+            .map(|f| (f.frame.id() & 0x7F) as u8)
             .filter(|n| *n > 0)
             .collect();
         let layouts: Vec<odc_monitor::ProcessLayout> = loaded

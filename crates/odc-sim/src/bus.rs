@@ -100,7 +100,7 @@ impl VirtualBus {
         // No client is on the bus yet: like a device that boots alone on its bus, the boot-up
         // reaches nobody. A master that wants to see one resets the node (NMT 0x81).
         for f in &out {
-            log(&format!("sent 0x{:03X} {:02X?} before any client connected", f.id, f.bytes()));
+            log(&format!("sent 0x{:03X} {:02X?} before any client connected", f.id(), f.bytes()));
         }
         out.clear();
         let mut next_tick = Instant::now() + TICK;

@@ -10,6 +10,7 @@
 
 use odc::can::CanFrame;
 use odc::cia402::{DeviceControl, Drive};
+use odc::cob::NodeId;
 use odc::nmt::NmtState;
 use odc::node::{Events, Node, Reset};
 use odc_model::Device;
@@ -40,7 +41,7 @@ pub struct SimDevice {
 impl SimDevice {
     /// The device of `device` on node `node_id` (1–127), in initialisation: call
     /// [`SimDevice::start`] for its boot-up.
-    pub fn new(device: &Device, node_id: u8) -> Self {
+    pub fn new(device: &Device, node_id: NodeId) -> Self {
         let od = ModelDictionary::new(device, node_id);
         let drive = od.is_drive().then(Drive::new);
         // LSS with the identity of 0x1018 (read at start), bit timing 0 (1 Mbit/s; CiA 305).
@@ -49,7 +50,7 @@ impl SimDevice {
     }
 
     /// The node-ID (LSS may have changed it).
-    pub fn node_id(&self) -> u8 {
+    pub fn node_id(&self) -> Option<NodeId> {
         self.node.node_id()
     }
 

@@ -2,6 +2,7 @@
 //! model, with the semantics of the `slave::Dictionary` odc generates for the same file.
 
 use core::fmt;
+use odc::cob::NodeId;
 
 use odc::cia402::{Controlword, DriveObjects, ModeOfOperation, Statusword};
 use odc::slave::ObjectDictionary;
@@ -47,7 +48,7 @@ impl Row {
 /// object.subs.insert(0, sub);
 /// device.objects.insert(0x1017, object);
 ///
-/// let mut od = odc_sim::ModelDictionary::new(&device, 5);
+/// let mut od = odc_sim::ModelDictionary::new(&device, odc::node_id!(5));
 /// let mut buf = [0u8; 2];
 /// assert_eq!(od.read(0x1017, 0, &mut buf), Ok(2));
 /// assert_eq!(u16::from_le_bytes(buf), 1000);
@@ -63,7 +64,8 @@ pub struct ModelDictionary {
 
 impl ModelDictionary {
     /// The dictionary of `device` on node `node_id`, every entry at its initial value.
-    pub fn new(device: &Device, node_id: u8) -> Self {
+    pub fn new(device: &Device, node_id: impl Into<Option<NodeId>>) -> Self {
+        let node_id = node_id.into();
         let mut rows = Vec::new();
         let mut at = 0;
         let mut drive = (false, false);
@@ -85,17 +87,17 @@ impl ModelDictionary {
     }
 
     /// Every entry back to its initial value on node `node_id` (NMT reset node).
-    pub fn reset(&mut self, node_id: u8) {
+    pub fn reset(&mut self, node_id: Option<NodeId>) {
         self.reset_where(node_id, |_| true);
     }
 
     /// The communication profile area 0x1000–0x1FFF back to its initial values (NMT reset
     /// communication, CiA 301 §7.3.2.2.1); the application's values stay.
-    pub fn reset_communication(&mut self, node_id: u8) {
+    pub fn reset_communication(&mut self, node_id: Option<NodeId>) {
         self.reset_where(node_id, |index| (0x1000..=0x1FFF).contains(&index));
     }
 
-    fn reset_where(&mut self, node_id: u8, which: impl Fn(u16) -> bool) {
+    fn reset_where(&mut self, node_id: Option<NodeId>, which: impl Fn(u16) -> bool) {
         for row in self.rows.iter().filter(|r| which(r.addr.index)) {
             if let Some(stored) = self.values.get_mut(row.at..row.at + row.slot.len()) {
                 stored.fill(0);

@@ -3,6 +3,7 @@
 //! [`RustTy`]. Model values become values of the entry's type by the rules the generator uses
 //! for its `const` expressions: a limit or default that is no value of the type is not used.
 
+use odc::cob::NodeId;
 use odc::{DataType, DefaultValue, Entry, ObjValue, SdoAbort, ValueError};
 use odc::{I24, I40, I48, I56, TimeDifference, TimeOfDay, U24, U40, U48, U56};
 use odc_codegen::RustTy;
@@ -13,7 +14,7 @@ pub trait Slot: Send + Sync {
     /// Decodes `data` as a value of the type and checks it against the limits.
     fn check(&self, data: &[u8]) -> Result<(), SdoAbort>;
     /// The initial value on node `node_id`, encoded into `stored` (zeroed, [`Slot::len`]).
-    fn init(&self, stored: &mut [u8], node_id: u8);
+    fn init(&self, stored: &mut [u8], node_id: Option<NodeId>);
     /// The bytes the value takes in the storage.
     fn len(&self) -> usize;
     /// The CiA 301 data type.
@@ -153,7 +154,7 @@ where
         self.0.decode_download(data).map(|_| ())
     }
 
-    fn init(&self, stored: &mut [u8], node_id: u8) {
+    fn init(&self, stored: &mut [u8], node_id: Option<NodeId>) {
         if let Ok(zero) = T::decode(stored) {
             let _ = odc::slave::initial(&self.0, node_id, zero).encode(stored);
         }
@@ -216,7 +217,7 @@ impl Slot for Text {
         odc::check_range(&padded, self.low.as_ref(), self.high.as_ref())
     }
 
-    fn init(&self, stored: &mut [u8], _: u8) {
+    fn init(&self, stored: &mut [u8], _: Option<NodeId>) {
         if let Some(d) = &self.default {
             for (s, d) in stored.iter_mut().zip(d.iter()) {
                 *s = *d;
@@ -250,7 +251,7 @@ impl Slot for Octets {
         }
     }
 
-    fn init(&self, stored: &mut [u8], _: u8) {
+    fn init(&self, stored: &mut [u8], _: Option<NodeId>) {
         if let Some(d) = &self.default {
             for (s, d) in stored.iter_mut().zip(d.iter()) {
                 *s = *d;

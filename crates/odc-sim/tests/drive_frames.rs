@@ -17,16 +17,16 @@ mod lxm23a {
     odc_macros::include_device!("../../eds/lxm23a.eds", role = "slave");
 }
 
-const NODE: u8 = 5;
+const NODE: odc::cob::NodeId = odc::node_id!(5);
 
 fn download_cw(cw: u16) -> CanFrame {
     let [lo, hi] = cw.to_le_bytes();
     // Expedited download of 2 bytes (0x2B) to 0x6040:00.
-    CanFrame::new(0x605, [0x2B, 0x40, 0x60, 0x00, lo, hi, 0, 0])
+    CanFrame::new(0x605, [0x2B, 0x40, 0x60, 0x00, lo, hi, 0, 0]).unwrap()
 }
 
 fn upload_sw() -> CanFrame {
-    CanFrame::new(0x605, [0x40, 0x41, 0x60, 0x00, 0, 0, 0, 0])
+    CanFrame::new(0x605, [0x40, 0x41, 0x60, 0x00, 0, 0, 0, 0]).unwrap()
 }
 
 /// (controlword, statusword state coding under mask 0x6F) per CiA 402-2.
@@ -40,8 +40,8 @@ const SEQUENCE: [(u16, u16); 6] = [
 ];
 
 fn statusword(answer: &CanFrame) -> u16 {
-    assert_eq!(answer.data[..4], [0x4B, 0x41, 0x60, 0x00], "{answer:02X?}");
-    u16::from_le_bytes([answer.data[4], answer.data[5]])
+    assert_eq!(answer.data()[..4], [0x4B, 0x41, 0x60, 0x00], "{answer:02X?}");
+    u16::from_le_bytes([answer.data()[4], answer.data()[5]])
 }
 
 #[test]
@@ -71,7 +71,7 @@ fn controlword_frames_walk_the_state_machine() {
     assert_eq!(first & 0x6F, 0x40, "switch on disabled after boot-up: {first:#06x}");
     for (cw, coding) in SEQUENCE {
         let ack = exchange(download_cw(cw));
-        assert_eq!(ack.data[..4], [0x60, 0x40, 0x60, 0x00], "download acknowledged");
+        assert_eq!(ack.data()[..4], [0x60, 0x40, 0x60, 0x00], "download acknowledged");
         let sw = statusword(&exchange(upload_sw()));
         assert_eq!(sw & 0x6F, coding, "after controlword {cw:#06x}: statusword {sw:#06x}");
         assert!(sw & 0x0200 != 0, "remote (bit 9)");

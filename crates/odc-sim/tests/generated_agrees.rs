@@ -25,7 +25,7 @@ mod linmot {
     odc_macros::include_device!("../../eds/linmot-e1200.eds", role = "slave");
 }
 
-type Make = fn(u8) -> Box<dyn ObjectDictionary>;
+type Make = fn(odc::cob::NodeId) -> Box<dyn ObjectDictionary>;
 
 fn load(file: &str) -> Device {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../eds").join(file);
@@ -47,7 +47,7 @@ fn int_bytes(v: &Value, delta: i128, len: usize) -> Option<Vec<u8>> {
 fn compare(file: &str, rows: &[Row], generated: Make) -> (usize, usize, usize) {
     let device = load(file);
     let (mut reads, mut writes) = (0, 0);
-    for node in [5u8, 0x41] {
+    for node in [odc::node_id!(5), odc::node_id!(0x41)] {
         let model = ModelDictionary::new(&device, node);
         let ours: Vec<_> = model.entries().collect();
         let theirs: Vec<_> = rows.iter().map(|r| (r.addr(), r.access(), r.data_type())).collect();

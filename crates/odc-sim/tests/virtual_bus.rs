@@ -26,7 +26,7 @@ fn quiet(bus: &mut TcpCan) -> bool {
 fn clients_see_each_other_and_the_device() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../eds/lxm23a.eds");
     let loaded = odc_pipeline::load(&path, &odc_pipeline::Options::new()).unwrap();
-    let mut device = SimDevice::new(loaded.device().unwrap(), 5);
+    let mut device = SimDevice::new(loaded.device().unwrap(), odc::node_id!(5));
     assert!(device.is_drive());
     let bus = VirtualBus::bind("127.0.0.1:0").unwrap();
     let addr = bus.local_addr();
@@ -52,9 +52,9 @@ fn clients_see_each_other_and_the_device() {
     while !quiet(&mut b) {}
 
     // A uploads 0x1000 (device type) from node 5: A gets the answer, B the request and answer.
-    let request = CanFrame::new(0x605, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]);
+    let request = CanFrame::new(0x605, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]).unwrap();
     // 0x1000 of eds/lxm23a.eds: 0x04020192 (the manual's object 1000h).
-    let answer = CanFrame::new(0x585, [0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x04]);
+    let answer = CanFrame::new(0x585, [0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x04]).unwrap();
     a.send(&request).unwrap();
     assert_eq!(next(&mut a), Some(answer));
     assert_eq!(next(&mut b), Some(request));
@@ -76,14 +76,14 @@ fn clients_see_each_other_and_the_device() {
     assert_eq!(next(&mut b), Some(boot_up));
 
     // The drive answers its statusword over SDO: "switch on disabled" after the boot-up.
-    a.send(&CanFrame::new(0x605, [0x40, 0x41, 0x60, 0x00, 0, 0, 0, 0])).unwrap();
+    a.send(&CanFrame::new(0x605, [0x40, 0x41, 0x60, 0x00, 0, 0, 0, 0]).unwrap()).unwrap();
     let sw = next(&mut a).unwrap();
-    assert_eq!(sw.data[..4], [0x4B, 0x41, 0x60, 0x00]);
-    assert_eq!(u16::from_le_bytes([sw.data[4], sw.data[5]]) & 0x6F, 0x40);
+    assert_eq!(sw.data()[..4], [0x4B, 0x41, 0x60, 0x00]);
+    assert_eq!(u16::from_le_bytes([sw.data()[4], sw.data()[5]]) & 0x6F, 0x40);
 
     stop.stop();
     let device = runner.join().unwrap();
-    assert_eq!(device.node_id(), 5);
+    assert_eq!(device.node_id(), Some(odc::node_id!(5)));
 }
 
 /// The same device loop on a plain [`Bus`] (what `--can` runs on SocketCAN): here one end of
@@ -95,7 +95,7 @@ fn device_loop_on_any_bus() {
 
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../eds/lenze-e94aycca.eds");
     let loaded = odc_pipeline::load(&path, &odc_pipeline::Options::new()).unwrap();
-    let mut device = SimDevice::new(loaded.device().unwrap(), 9);
+    let mut device = SimDevice::new(loaded.device().unwrap(), odc::node_id!(9));
     let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
     let mut master = TcpCan::connect(listener.local_addr().unwrap()).unwrap();
     let mut link = TcpCan::new(listener.accept().unwrap().0).unwrap();
@@ -105,9 +105,9 @@ fn device_loop_on_any_bus() {
         odc_sim::run_on_bus(&mut link, &mut device, 10, || stopped.load(Ordering::Relaxed))
     });
     assert_eq!(next(&mut master), Some(CanFrame::from_slice(0x709, &[0]).unwrap()), "boot-up");
-    master.send(&CanFrame::new(0x609, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0])).unwrap();
+    master.send(&CanFrame::new(0x609, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]).unwrap()).unwrap();
     let answer = next(&mut master).unwrap();
-    assert_eq!((answer.id, answer.data[0]), (0x589, 0x43), "{answer:02X?}");
+    assert_eq!((answer.id(), answer.data()[0]), (0x589, 0x43), "{answer:02X?}");
     stop.store(true, Ordering::Relaxed);
     runner.join().unwrap().unwrap();
 }
@@ -119,7 +119,7 @@ fn resets_restore_their_areas() {
     use odc::slave::ObjectDictionary;
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../eds/lxm23a.eds");
     let loaded = odc_pipeline::load(&path, &odc_pipeline::Options::new()).unwrap();
-    let mut device = SimDevice::new(loaded.device().unwrap(), 5);
+    let mut device = SimDevice::new(loaded.device().unwrap(), odc::node_id!(5));
     let mut out = Vec::new();
     device.start(0, &mut |f| out.push(f));
     // Expedited SDO download of `data` (1–4 bytes) to `index`:00.
@@ -128,8 +128,8 @@ fn resets_restore_their_areas() {
         let [lo, hi] = index.to_le_bytes();
         let mut frame = [0x23 | ((4 - data.len() as u8) << 2), lo, hi, 0, 0, 0, 0, 0];
         frame[4..4 + data.len()].copy_from_slice(data);
-        d.handle(&CanFrame::new(0x605, frame), 0, &mut |f| out.push(f));
-        assert_eq!(out[0].data[0], 0x60, "{index:04X}: {:02X?}", out[0]);
+        d.handle(&CanFrame::new(0x605, frame).unwrap(), 0, &mut |f| out.push(f));
+        assert_eq!(out[0].data()[0], 0x60, "{index:04X}: {:02X?}", out[0]);
     };
     let read = |d: &SimDevice, index: u16| {
         let mut b = [0u8; 4];

@@ -1,14 +1,31 @@
 //! COB-IDs: the CiA 301 predefined connection set and the COB-ID entry format.
 
+//!
+//! Every CAN-ID the runtime derives from a node-ID is computed here ([`NodeId`]'s methods and
+//! [`Function::can_id`]), so the node, the SDO client and server and the master agree.
+
 use core::fmt;
 
-/// A CANopen node id, 1–127.
+use crate::can::StdId;
+
+/// A CANopen node-ID, 1–127 (CiA 301 §7.3.2). A node without one (CiA 305's unconfigured
+/// 0xFF, while an LSS master has not given it one) is `Option<NodeId>::None` where LSS needs
+/// it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(try_from = "u8", into = "u8"))]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct NodeId(u8);
 
+/// The node-ID byte of a node that has none (CiA 305: "invalid node-ID", 0xFF).
+pub const UNCONFIGURED: u8 = 0xFF;
+
 impl NodeId {
+    /// The lowest node-ID.
+    pub const MIN: Self = Self(1);
+    /// The highest node-ID.
+    pub const MAX: Self = Self(127);
+
     /// The node id, or `None` outside 1–127.
     pub const fn new(id: u8) -> Option<Self> {
         if id >= 1 && id <= 127 { Some(Self(id)) } else { None }
@@ -18,6 +35,114 @@ impl NodeId {
     pub const fn get(self) -> u8 {
         self.0
     }
+
+    /// A node-ID as LSS (CiA 305) carries it: `Some(None)` for the unconfigured 0xFF,
+    /// `Some(Some(id))` for 1–127, `None` for any other byte.
+    pub const fn from_lss(byte: u8) -> Option<Option<Self>> {
+        match Self::new(byte) {
+            Some(id) => Some(Some(id)),
+            None if byte == UNCONFIGURED => Some(None),
+            None => None,
+        }
+    }
+
+    /// The byte LSS carries for `id`: its value, or 0xFF for none.
+    pub const fn to_lss(id: Option<Self>) -> u8 {
+        match id {
+            Some(n) => n.0,
+            None => UNCONFIGURED,
+        }
+    }
+
+    const fn plus(self, base: u16) -> StdId {
+        // base ≤ 0x700 and the id ≤ 127: at most 0x77F, always an 11-bit identifier.
+        StdId::masked(base as u32 + self.0 as u32)
+    }
+
+    /// EMCY CAN-ID (0x080 + id).
+    pub const fn emcy(self) -> StdId {
+        self.plus(0x080)
+    }
+
+    /// SDO server → client CAN-ID (0x580 + id).
+    pub const fn sdo_response(self) -> StdId {
+        self.plus(0x580)
+    }
+
+    /// SDO client → server CAN-ID (0x600 + id).
+    pub const fn sdo_request(self) -> StdId {
+        self.plus(0x600)
+    }
+
+    /// NMT error control CAN-ID: boot-up, heartbeat, guarding (0x700 + id).
+    pub const fn error_control(self) -> StdId {
+        self.plus(0x700)
+    }
+
+    /// The node whose error-control frame (boot-up, heartbeat) has CAN-ID `id`.
+    pub const fn of_error_control(id: u32) -> Option<Self> {
+        if id >= 0x701 && id <= 0x77F { Self::new((id - 0x700) as u8) } else { None }
+    }
+
+    /// The node whose EMCY has CAN-ID `id` (0x081–0x0FF).
+    pub const fn of_emcy(id: u32) -> Option<Self> {
+        if id >= 0x081 && id <= 0x0FF { Self::new((id - 0x080) as u8) } else { None }
+    }
+}
+
+impl TryFrom<u8> for NodeId {
+    type Error = InvalidNodeId;
+
+    fn try_from(id: u8) -> Result<Self, InvalidNodeId> {
+        Self::new(id).ok_or(InvalidNodeId(id))
+    }
+}
+
+impl From<NodeId> for u8 {
+    fn from(id: NodeId) -> u8 {
+        id.0
+    }
+}
+
+impl fmt::Display for NodeId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Display::fmt(&self.0, f)
+    }
+}
+
+/// A byte that is no node-ID (0 or above 127).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct InvalidNodeId(pub u8);
+
+impl fmt::Display for InvalidNodeId {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "node-ID {} outside 1..=127", self.0)
+    }
+}
+
+impl core::error::Error for InvalidNodeId {}
+
+/// A [`NodeId`] from a constant, checked at compile time: `odc::node_id!(5)`.
+///
+/// ```
+/// const NODE: odc::cob::NodeId = odc::node_id!(5);
+/// assert_eq!(NODE.get(), 5);
+/// ```
+///
+/// ```compile_fail
+/// let _ = odc::node_id!(0);
+/// ```
+#[macro_export]
+macro_rules! node_id {
+    ($id:expr) => {
+        const {
+            match $crate::cob::NodeId::new($id) {
+                Some(n) => n,
+                None => panic!("a node-ID is 1..=127"),
+            }
+        }
+    };
 }
 
 /// Function of a frame in the predefined connection set.
@@ -76,7 +201,7 @@ impl Function {
     /// The predefined CAN-ID of this function for `node`.
     pub const fn can_id(self, node: NodeId) -> Option<u16> {
         match self.base() {
-            Some(b) if self.per_node() => Some(b + node.0 as u16),
+            Some(b) if self.per_node() => Some(node.plus(b).get()),
             Some(b) => Some(b),
             None => None,
         }
@@ -200,6 +325,28 @@ mod tests {
         assert_eq!(Function::Nmt.can_id(n), Some(0));
         assert_eq!(Function::Tpdo(5).can_id(n), None);
         assert!(NodeId::new(0).is_none() && NodeId::new(128).is_none());
+        assert_eq!(n.emcy().get(), 0x85);
+        assert_eq!(n.sdo_response().get(), 0x585);
+        assert_eq!(n.sdo_request().get(), 0x605);
+        assert_eq!(n.error_control().get(), 0x705);
+        assert_eq!(NodeId::MAX.error_control().get(), 0x77F);
+        assert_eq!(NodeId::of_error_control(0x705), Some(n));
+        assert_eq!(NodeId::of_error_control(0x700), None);
+        assert_eq!(NodeId::of_error_control(0x780), None);
+        assert_eq!(NodeId::of_emcy(0x85), Some(n));
+        assert_eq!(NodeId::of_emcy(0x80), None);
+        assert_eq!(NodeId::try_from(128), Err(InvalidNodeId(128)));
+        assert_eq!(crate::node_id!(5), n);
+    }
+
+    #[test]
+    fn lss_node_ids() {
+        assert_eq!(NodeId::from_lss(0xFF), Some(None));
+        assert_eq!(NodeId::from_lss(0), None);
+        assert_eq!(NodeId::from_lss(128), None);
+        assert_eq!(NodeId::from_lss(127), Some(NodeId::new(127)));
+        assert_eq!(NodeId::to_lss(None), 0xFF);
+        assert_eq!(NodeId::to_lss(NodeId::new(9)), 9);
     }
 
     #[test]

@@ -1,5 +1,6 @@
 //! Typed `const` descriptors of object-dictionary entries.
 
+use crate::cob::NodeId;
 use crate::{Access, DataType, ObjValue, ObjectAddr, SdoAbort};
 use core::marker::PhantomData;
 
@@ -17,10 +18,10 @@ pub enum DefaultValue<T> {
 
 impl<T: ObjValue> DefaultValue<T> {
     /// The concrete value for `node_id`; `None` if the sum does not fit the type.
-    pub fn resolve(&self, node_id: u8) -> Option<T> {
+    pub fn resolve(&self, node_id: NodeId) -> Option<T> {
         match *self {
             Self::Value(v) => Some(v),
-            Self::NodeIdPlus(off) => T::from_u64(u64::from(off) + u64::from(node_id)),
+            Self::NodeIdPlus(off) => T::from_u64(u64::from(off) + u64::from(node_id.get())),
         }
     }
 }
@@ -42,7 +43,7 @@ impl<T: ObjValue> DefaultValue<T> {
 ///
 /// assert_eq!(PROFILE_VELOCITY.addr, ObjectAddr::new(0x6081, 0));
 /// assert_eq!(PROFILE_VELOCITY.data_type(), DataType::Unsigned32);
-/// assert_eq!(PROFILE_VELOCITY.default.and_then(|d| d.resolve(5)), Some(100));
+/// assert_eq!(PROFILE_VELOCITY.default.and_then(|d| d.resolve(odc::node_id!(5))), Some(100));
 /// // What a server does with a download: access, length and limits, with CiA 301 aborts.
 /// assert_eq!(PROFILE_VELOCITY.decode_download(&500u32.to_le_bytes()), Ok(500));
 /// let too_fast = 5000u32.to_le_bytes();
@@ -52,7 +53,7 @@ impl<T: ObjValue> DefaultValue<T> {
 /// // A COB-ID default relative to the node id (`$NODEID+0x180`) resolves per node.
 /// const TPDO1_COB_ID: Entry<u32> = Entry::new(0x1800, 1, "COB-ID", Access::Rw, false)
 ///     .with_default(DefaultValue::NodeIdPlus(0x180));
-/// assert_eq!(TPDO1_COB_ID.default.and_then(|d| d.resolve(5)), Some(0x185));
+/// assert_eq!(TPDO1_COB_ID.default.and_then(|d| d.resolve(odc::node_id!(5))), Some(0x185));
 /// ```
 ///
 /// The type is checked where the entry is used: `Client::write(&mut bus, &PROFILE_VELOCITY,
@@ -284,10 +285,10 @@ mod tests {
 
     #[test]
     fn node_id_default() {
-        assert_eq!(COB_ID_EMCY.default.unwrap().resolve(5), Some(0x85));
+        assert_eq!(COB_ID_EMCY.default.unwrap().resolve(crate::node_id!(5)), Some(0x85));
         let d: DefaultValue<u8> = DefaultValue::NodeIdPlus(0xF0);
-        assert_eq!(d.resolve(0x20), None);
-        assert_eq!(DefaultValue::Value(3u8).resolve(9), Some(3));
+        assert_eq!(d.resolve(crate::node_id!(0x20)), None);
+        assert_eq!(DefaultValue::Value(3u8).resolve(crate::node_id!(9)), Some(3));
     }
 
     #[test]

@@ -55,7 +55,7 @@
 //! # /// The bus: the drive's SDO server answers each request as it is sent.
 //! # struct InMemoryBus { drive: lxm23a::slave::Dictionary, server: Server<64>, reply: Option<CanFrame>, now: u64 }
 //! # impl InMemoryBus {
-//! #     fn with(drive: lxm23a::slave::Dictionary) -> Self { Self { drive, server: Server::new(5), reply: None, now: 0 } }
+//! #     fn with(drive: lxm23a::slave::Dictionary) -> Self { Self { drive, server: Server::new(odc::node_id!(5)), reply: None, now: 0 } }
 //! # }
 //! # impl Bus for InMemoryBus {
 //! #     type Error = core::convert::Infallible;
@@ -67,11 +67,11 @@
 //! // src/lib.rs: mod lxm23a { odc::include_od!("lxm23a"); }  (or odc_macros::include_device!)
 //! use odc::sdo::Client;
 //!
-//! let mut bus = InMemoryBus::with(lxm23a::slave::Dictionary::new(5)); // any odc::sdo::Bus
-//! let mut sdo = Client::<64>::new(5); // node 5
+//! let mut bus = InMemoryBus::with(lxm23a::slave::Dictionary::new(odc::node_id!(5))); // any odc::sdo::Bus
+//! let mut sdo = Client::<64>::new(odc::node_id!(5)); // node 5
 //! let device_type: u32 = sdo.read(&mut bus, &lxm23a::od::DEVICE_TYPE)?; // od: typed entries
 //! assert_eq!(device_type, 0x0402_0192); // the manual's default (object 1000h)
-//! sdo.execute(&mut bus, &lxm23a::master::plan(5)).map_err(|(_, e)| e)?; // the PDO mapping
+//! sdo.execute(&mut bus, &lxm23a::master::plan(odc::node_id!(5))).map_err(|(_, e)| e)?; // the PDO mapping
 //! # Ok::<(), odc::sdo::SdoError<core::convert::Infallible>>(())
 //! ```
 //!

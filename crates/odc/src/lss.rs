@@ -15,9 +15,11 @@ pub use frame::{Request, Response};
 pub use slave::LssSlave;
 pub use slave::{Identity, LssEvent, LssState, StoreResult};
 
+use crate::can::StdId;
+
 /// CAN-ID of LSS requests, master → slave.
-pub const REQUEST_ID: u32 = 0x7E5;
+pub const REQUEST_ID: StdId = StdId::masked(0x7E5);
 /// CAN-ID of LSS responses, slave → master.
-pub const RESPONSE_ID: u32 = 0x7E4;
+pub const RESPONSE_ID: StdId = StdId::masked(0x7E4);
 /// The node-ID of a slave that has none ("unconfigured", CiA 305).
-pub const UNCONFIGURED: u8 = 0xFF;
+pub use crate::cob::UNCONFIGURED;

@@ -1,5 +1,7 @@
 //! NMT module control commands and the states reported by heartbeat.
 
+use crate::cob::NodeId;
+
 /// NMT command specifier (first byte of the NMT frame).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -31,9 +33,14 @@ impl NmtCommand {
         }
     }
 
-    /// The 2-byte NMT frame payload; node 0 addresses every node.
-    pub const fn frame(self, node: u8) -> [u8; 2] {
-        [self as u8, node]
+    /// The 2-byte NMT frame payload for `node`, or for every node with `None` (node-ID
+    /// byte 0).
+    pub const fn frame(self, node: Option<NodeId>) -> [u8; 2] {
+        let target = match node {
+            Some(n) => n.get(),
+            None => 0,
+        };
+        [self as u8, target]
     }
 }
 
@@ -89,8 +96,8 @@ impl NmtState {
 
 /// An entry of the consumer heartbeat time array 0x1016 (CiA 301 §7.5.2.14): the producer's
 /// node id in bits 16–23, its heartbeat time in ms in bits 0–15.
-pub const fn heartbeat_consumer_entry(node: u8, time_ms: u16) -> u32 {
-    (node as u32) << 16 | time_ms as u32
+pub const fn heartbeat_consumer_entry(node: NodeId, time_ms: u16) -> u32 {
+    (node.get() as u32) << 16 | time_ms as u32
 }
 
 #[cfg(test)]
@@ -108,7 +115,8 @@ mod tests {
         ] {
             assert_eq!(NmtCommand::from_u8(c as u8), Some(c));
         }
-        assert_eq!(NmtCommand::Start.frame(0), [1, 0]);
+        assert_eq!(NmtCommand::Start.frame(None), [1, 0]);
+        assert_eq!(NmtCommand::Stop.frame(Some(crate::node_id!(9))), [2, 9]);
         assert_eq!(NmtCommand::from_u8(3), None);
         assert_eq!(NmtState::from_u8(0x85), Some(NmtState::Operational));
         assert_eq!(NmtState::from_u8(0x7F).map(NmtState::to_u8), Some(0x7F));
@@ -121,6 +129,6 @@ mod tests {
             NmtState::from_u8(NmtState::Stopped.guarding_byte(true)),
             Some(NmtState::Stopped)
         );
-        assert_eq!(heartbeat_consumer_entry(1, 15), 0x0001_000F);
+        assert_eq!(heartbeat_consumer_entry(crate::node_id!(1), 15), 0x0001_000F);
     }
 }

@@ -36,12 +36,12 @@
 //! use odc::SdoAbort;
 //!
 //! // `lxm23a` generated from eds/lxm23a.eds (odc-build or include_device!), role "slave".
-//! let mut od = lxm23a::slave::Dictionary::new(5); // node 5: $NODEID defaults resolved
-//! let mut server = Server::<64>::new(5);
+//! let mut od = lxm23a::slave::Dictionary::new(odc::node_id!(5)); // node 5: $NODEID defaults resolved
+//! let mut server = Server::<64>::new(odc::node_id!(5));
 //! // A master uploads 0x1000 (device type): request on 0x605, answer on 0x585.
-//! let request = CanFrame::new(0x605, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]);
+//! let request = CanFrame::new(0x605, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]).unwrap();
 //! let answer = server.handle(&mut od, &request, odc::time::Instant::ZERO).ok_or("no answer")?;
-//! assert_eq!(answer, CanFrame::new(0x585, [0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x04]));
+//! assert_eq!(answer, CanFrame::new(0x585, [0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x04]).unwrap());
 //! // The same dictionary, from the application: typed values, and the checked SDO paths.
 //! assert_eq!(od.get(lxm23a::od::DEVICE_TYPE)?, 0x0402_0192);
 //! let mut buf = [0u8; 4];
@@ -67,6 +67,7 @@ mod table;
 
 pub use table::{Row, Spec, Table};
 
+use crate::cob::NodeId;
 use crate::{Access, DefaultValue, Entry, ObjValue, ObjectAddr, SdoAbort};
 
 /// What an SDO server needs from an object dictionary. Generated `Dictionary` types implement
@@ -151,12 +152,17 @@ fn search<T>(
     }
 }
 
-/// The value an entry starts with on node `node_id`: its default with `$NODEID` applied, else
+/// The value an entry starts with on node `node_id` (`None`: a node without one, whose
+/// `$NODEID` defaults are taken as absent): its default with `$NODEID` applied, else
 /// `fallback` (also when a node-relative default does not fit the type) moved into the entry's
 /// limits, so that a dictionary never starts with a value it would refuse by SDO (an entry
 /// with `LowLimit=1` and no default starts at 1, not 0: a master that reads it and writes it
 /// back must not get 0x06090032).
-pub fn initial<T: ObjValue + PartialOrd>(entry: &Entry<T>, node_id: u8, fallback: T) -> T {
+pub fn initial<T: ObjValue + PartialOrd>(
+    entry: &Entry<T>,
+    node_id: Option<NodeId>,
+    fallback: T,
+) -> T {
     initial_value(entry.default, entry.low, entry.high, node_id, fallback)
 }
 
@@ -165,10 +171,13 @@ fn initial_value<T: ObjValue + PartialOrd>(
     default: Option<DefaultValue<T>>,
     low: Option<T>,
     high: Option<T>,
-    node_id: u8,
+    node_id: Option<NodeId>,
     fallback: T,
 ) -> T {
-    if let Some(v) = default.and_then(|d| d.resolve(node_id)) {
+    if let Some(v) = default.and_then(|d| match d {
+        DefaultValue::Value(v) => Some(v),
+        DefaultValue::NodeIdPlus(_) => d.resolve(node_id?),
+    }) {
         return v;
     }
     match (low, high) {

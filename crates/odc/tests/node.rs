@@ -29,7 +29,12 @@ fn data(id: u32, b: &[u8]) -> CanFrame {
 
 impl Drive {
     fn boot() -> Self {
-        let mut d = Drive { node: Node::new(5), od: Dictionary::new(5), sent: Vec::new(), now: 0 };
+        let mut d = Drive {
+            node: Node::new(odc::node_id!(5)),
+            od: Dictionary::new(odc::node_id!(5)),
+            sent: Vec::new(),
+            now: 0,
+        };
         d.node.start(&mut d.od, odc::time::Instant::ZERO, &mut |f| d.sent.push(f));
         d
     }
@@ -65,16 +70,16 @@ impl Drive {
         let [lo, hi] = index.to_le_bytes();
         let mut req = [0x23 | (4 - v.len() as u8) << 2, lo, hi, sub, 0, 0, 0, 0];
         req[4..4 + v.len()].copy_from_slice(v);
-        self.rx(CanFrame::new(0x605, req));
+        self.rx(CanFrame::new(0x605, req).unwrap());
         let r = self.sent.pop().unwrap();
-        assert_eq!(r.id, 0x585);
-        r.data
+        assert_eq!(r.id(), 0x585);
+        r.data()
     }
 
     fn read(&mut self, index: u16, sub: u8) -> [u8; 8] {
         let [lo, hi] = index.to_le_bytes();
-        self.rx(CanFrame::new(0x605, [0x40, lo, hi, sub, 0, 0, 0, 0]));
-        self.sent.pop().unwrap().data
+        self.rx(CanFrame::new(0x605, [0x40, lo, hi, sub, 0, 0, 0, 0]).unwrap());
+        self.sent.pop().unwrap().data()
     }
 }
 
@@ -105,7 +110,7 @@ fn default_pdos_of_the_eds() {
     assert_eq!(u16::from(d.od.get(lxm23a::od::CONTROLWORD).unwrap()), 0x000F);
     // One byte is shorter than the mapping: EMCY 0x8210, error register bit 4 (communication).
     d.rx(data(0x205, &[0x06]));
-    assert_eq!(d.take(), [CanFrame::new(0x85, [0x10, 0x82, 0x11, 0, 0, 0, 0, 0])]);
+    assert_eq!(d.take(), [CanFrame::new(0x85, [0x10, 0x82, 0x11, 0, 0, 0, 0, 0]).unwrap()]);
     assert_eq!(u16::from(d.od.get(lxm23a::od::CONTROLWORD).unwrap()), 0x000F);
     assert_eq!(d.read(0x1001, 0)[4], 0x11);
     assert_eq!(d.read(0x1003, 1)[4..8], [0x10, 0x82, 0, 0]);
@@ -128,7 +133,7 @@ fn remap_type_and_event_timer_over_sdo() {
     d.rx(data(0, &[0x01, 0]));
     d.take();
     d.run_to(1000);
-    let tpdo: Vec<_> = d.take().into_iter().filter(|f| f.id == 0x185).collect();
+    let tpdo: Vec<_> = d.take().into_iter().filter(|f| f.id() == 0x185).collect();
     assert!(tpdo.iter().all(|f| f.bytes() == [0x37, 0x02, 0x01]), "{tpdo:?}");
     // Entering operational at 1 ms, then every 50 ms: 1 + 19 in the first second.
     assert_eq!(tpdo.len(), 20);
@@ -139,7 +144,7 @@ fn remap_type_and_event_timer_over_sdo() {
     for _ in 0..20 {
         d.rx(data(0x80, &[]));
     }
-    assert_eq!(d.take().iter().filter(|f| f.id == 0x185).count(), 4);
+    assert_eq!(d.take().iter().filter(|f| f.id() == 0x185).count(), 4);
 }
 
 #[test]
@@ -154,7 +159,7 @@ fn heartbeat_nmt_and_emcy() {
     d.run_to(1200);
     assert_eq!(d.take(), [data(0x705, &[0x04])]);
     // In stopped no SDO answer and no EMCY, but the error is recorded.
-    d.rx(CanFrame::new(0x605, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]));
+    d.rx(CanFrame::new(0x605, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]).unwrap());
     let mut sent = Vec::new();
     d.node.raise_emcy(
         EmcyCode::DC_LINK_OVER_VOLTAGE,
@@ -171,11 +176,11 @@ fn heartbeat_nmt_and_emcy() {
         &mut |f| sent.push(f),
     );
     // Voltage (bit 2) and temperature (bit 3) with the generic bit.
-    assert_eq!(sent, [CanFrame::new(0x85, [0x10, 0x42, 0x0D, 0xAB, 0, 0, 0, 0])]);
+    assert_eq!(sent, [CanFrame::new(0x85, [0x10, 0x42, 0x0D, 0xAB, 0, 0, 0, 0]).unwrap()]);
     assert_eq!(d.read(0x1003, 0)[4], 2);
     // Reset communication: the heartbeat written over SDO goes with the new dictionary.
     assert!(d.rx(data(0, &[0x82, 5])).reset.is_some());
-    d.od = Dictionary::new(5);
+    d.od = Dictionary::new(odc::node_id!(5));
     d.run_to(2000);
     assert_eq!(d.take(), [data(0x705, &[0])]);
     assert_eq!(d.read(0x1003, 0)[4], 0);
@@ -189,8 +194,8 @@ fn heartbeat_nmt_and_emcy() {
 #[test]
 fn lss_address_from_the_eds_and_a_new_node_id() {
     let mut d = Drive {
-        node: Node::new(5).with_lss(None, 0),
-        od: Dictionary::new(5),
+        node: Node::new(odc::node_id!(5)).with_lss(None, 0),
+        od: Dictionary::new(odc::node_id!(5)),
         sent: Vec::new(),
         now: 0,
     };
@@ -200,7 +205,7 @@ fn lss_address_from_the_eds_and_a_new_node_id() {
     let lss = |b: &[u8]| {
         let mut f = [0u8; 8];
         f[..b.len()].copy_from_slice(b);
-        CanFrame::new(0x7E5, f)
+        CanFrame::new(0x7E5, f).unwrap()
     };
     d.rx(lss(&[0x04, 1]));
     for (cs, want) in [(0x5A, 0x0000_01DDu32), (0x5B, 0x0000_6000), (0x5C, 0x0200_0001), (0x5D, 0)]
@@ -208,15 +213,18 @@ fn lss_address_from_the_eds_and_a_new_node_id() {
         d.rx(lss(&[cs]));
         let mut answer = [cs, 0, 0, 0, 0, 0, 0, 0];
         answer[1..5].copy_from_slice(&want.to_le_bytes());
-        assert_eq!(d.take(), [CanFrame::new(0x7E4, answer)]);
+        assert_eq!(d.take(), [CanFrame::new(0x7E4, answer).unwrap()]);
     }
     d.rx(lss(&[0x11, 9]));
-    assert_eq!(d.take(), [CanFrame::new(0x7E4, [0x11, 0, 0, 0, 0, 0, 0, 0])]);
+    assert_eq!(d.take(), [CanFrame::new(0x7E4, [0x11, 0, 0, 0, 0, 0, 0, 0]).unwrap()]);
     d.rx(lss(&[0x04, 0]));
     assert!(d.rx(data(0, &[0x82, 5])).reset.is_some());
     d.od = Dictionary::new(d.node.next_node_id());
     d.run_to(1);
     assert_eq!(d.take(), [data(0x709, &[0])]);
-    d.rx(CanFrame::new(0x609, [0x40, 0x00, 0x18, 0x01, 0, 0, 0, 0]));
-    assert_eq!(d.take(), [CanFrame::new(0x589, [0x43, 0x00, 0x18, 0x01, 0x89, 0x01, 0, 0])]);
+    d.rx(CanFrame::new(0x609, [0x40, 0x00, 0x18, 0x01, 0, 0, 0, 0]).unwrap());
+    assert_eq!(
+        d.take(),
+        [CanFrame::new(0x589, [0x43, 0x00, 0x18, 0x01, 0x89, 0x01, 0, 0]).unwrap()]
+    );
 }

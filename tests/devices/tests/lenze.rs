@@ -40,14 +40,14 @@ use odc::node::Node;
 use odc::sdo::frame::{Request, Response};
 use odc_tests_devices::lenze_e94aycca::{lenze, od, slave};
 
-fn bench(node: u8) -> Bench<slave::Dictionary> {
+fn bench(node: odc::cob::NodeId) -> Bench<slave::Dictionary> {
     Bench::new(node, slave::Dictionary::new(node))
 }
 
 /// 7.2.2: "Identifier: 0x00, User data: 0x0100 (NMT command Start Remote Node to all nodes)".
 #[test]
 fn nmt_start_all() {
-    let mut b = bench(1);
+    let mut b = bench(odc::node_id!(1));
     b.nmt_all(NmtCommand::Start);
     assert_same(&b.wire.log, &[printed("0 / 01 00")]);
 }
@@ -63,7 +63,7 @@ fn nmt_command_specifiers() {
         NmtCommand::ResetNode,
         NmtCommand::ResetCommunication,
     ]
-    .map(|cmd| cmd.frame(0)[0]);
+    .map(|cmd| cmd.frame(None)[0]);
     assert_eq!(frames, [0x01, 0x02, 0x80, 0x81, 0x82]);
 }
 
@@ -90,13 +90,13 @@ fn sdo_command_bytes() {
 /// 2-byte value ("Parameter value (2 bytes) 0x00 0x00"): the unused bytes are zero.
 #[test]
 fn data_byte_layout() {
-    let mut b = bench(1);
+    let mut b = bench(odc::node_id!(1));
     b.write(&lenze::C00011, 0xFF);
     b.client.download(&mut b.wire, 0x5FF4, 0, &[0xFF]).expect_err("C00011 is 4 bytes");
     b.client.download(&mut b.wire, 0x5FF4, 0, &[0xFF, 0xFF]).expect_err("C00011 is 4 bytes");
     let requests = b.requests();
-    assert_eq!((requests[1].data[0], &requests[1].data[5..8]), (0x2F, &[0x00, 0x00, 0x00][..]));
-    assert_eq!((requests[2].data[0], &requests[2].data[6..8]), (0x2B, &[0x00, 0x00][..]));
+    assert_eq!((requests[1].data()[0], &requests[1].data()[5..8]), (0x2F, &[0x00, 0x00, 0x00][..]));
+    assert_eq!((requests[2].data()[0], &requests[2].data()[6..8]), (0x2B, &[0x00, 0x00][..]));
 }
 
 /// 9.2.2: C00011 is index 24575 − 11 = 0x5FF4, subindex 0; the telegram's bytes 2–4 are
@@ -119,12 +119,12 @@ fn code_to_index() {
 fn scaled_value() {
     // "Value to be transmitted = scaling factor x value" (the factor is not in the file).
     let raw = (123.45f64 * 100.0).round() as u32;
-    let mut b = bench(1);
+    let mut b = bench(odc::node_id!(1));
     // C00011 is a U32 code, as the example's: odc's client writes it (4 bytes, 0x23).
     b.write(&lenze::C00011, raw);
     let request = b.requests()[0];
-    assert_eq!(request.data[0], 0x23);
-    assert_eq!(request.data[4..8], [0x39, 0x30, 0x00, 0x00]);
+    assert_eq!(request.data()[0], 0x23);
+    assert_eq!(request.data()[4..8], [0x39, 0x30, 0x00, 0x00]);
     // And back: the integer divided by the factor.
     assert_eq!(f64::from(b.read(&lenze::C00011)) / 100.0, 123.45);
 }
@@ -137,7 +137,7 @@ fn error_response_bytes() {
     assert_eq!(abort[0], 0x80);
     assert_eq!(abort[4..8], [0x41, 0x00, 0x04, 0x06]);
     // And a real one from the server: C00061 is read-only.
-    let mut b = bench(5);
+    let mut b = bench(odc::node_id!(5));
     let e = b.client.write(&mut b.wire, &lenze::C00061, 1).expect_err("read-only");
     assert_eq!(e.abort(), Some(SdoAbort::WriteOfReadOnly));
 }
@@ -188,7 +188,7 @@ fn abort_codes() {
 /// 9.3.1: read the heatsink temperature C00061 (INTEGER32, factor 1) of node 5: 43 °C.
 #[test]
 fn read_parameter() {
-    let mut b = bench(5);
+    let mut b = bench(odc::node_id!(5));
     // The device measures 43 °C.
     b.wire.od.set(lenze::C00061, 43).unwrap();
     assert_eq!(b.read(&lenze::C00061), 43);
@@ -201,7 +201,7 @@ fn read_parameter() {
 /// 9.3.2: write the rated motor current C00088 = 10.2 A (U32, display factor 1/10) to node 2.
 #[test]
 fn write_parameter() {
-    let mut b = bench(2);
+    let mut b = bench(odc::node_id!(2));
     let raw = (10.2f64 * 10.0).round() as u32;
     b.write(&lenze::C00088, raw);
     assert_eq!(b.wire.od.get(lenze::C00088), Ok(102));
@@ -215,7 +215,7 @@ fn write_parameter() {
 /// parameter" (CiA 301 segmented upload).
 #[test]
 fn read_block_parameter() {
-    let mut b = bench(12);
+    let mut b = bench(odc::node_id!(12));
     let version = b.read(&lenze::C00099);
     assert_eq!(version.as_str(), "01.00.00.00");
     assert_same(
@@ -238,22 +238,22 @@ fn read_block_parameter() {
 #[test]
 fn node_guarding() {
     // The entry of C13386/n: life time factor (bits 31..24), node (23..16), guard time (15..0).
-    let entry = 5u32 << 24 | heartbeat_consumer_entry(2, 1000);
+    let entry = 5u32 << 24 | heartbeat_consumer_entry(odc::node_id!(2), 1000);
     assert_eq!(entry, 0x0502_03E8);
-    let mut master = bench(1);
+    let mut master = bench(odc::node_id!(1));
     master.write(&lenze::C13386_1, entry);
     // The slave: guard time and life time factor in 0x100C/0x100D, which its node reads.
-    let mut od = slave::Dictionary::new(2);
+    let mut od = slave::Dictionary::new(odc::node_id!(2));
     od.set(od::GUARD_TIME, 1000).expect("0x100C");
     od.set(od::LIFE_TIME_FACTOR, 5).expect("0x100D");
-    let mut node: Node<64> = Node::new(2);
+    let mut node: Node<64> = Node::new(odc::node_id!(2));
     let mut wire = Vec::new();
     node.start(&mut od, odc::time::Instant::ZERO, &mut |f| wire.push(f));
     let start = CanFrame::from_slice(0x000, &[NmtCommand::Start as u8, 2]).expect("NMT");
     node.handle(&mut od, &start, odc::time::Instant::from_micros(1_000), &mut |f| wire.push(f));
     wire.clear();
     let id = Function::Heartbeat.can_id(NodeId::new(2).expect("node 2")).expect("per node");
-    let rtr = CanFrame::remote(u32::from(id), 1);
+    let rtr = CanFrame::remote(u32::from(id), 1).unwrap();
     for at_ms in [1_000, 2_000] {
         wire.push(rtr);
         node.handle(&mut od, &rtr, odc::time::Instant::from_millis(at_ms), &mut |f| wire.push(f));
@@ -268,13 +268,14 @@ fn node_guarding() {
 /// Pre-operational 127 (0/11111111), the toggle bit 7 changing with each answer.
 #[test]
 fn node_guarding_states() {
-    let mut od = slave::Dictionary::new(2);
-    let mut node: Node<64> = Node::new(2);
+    let mut od = slave::Dictionary::new(odc::node_id!(2));
+    let mut node: Node<64> = Node::new(odc::node_id!(2));
     let mut wire = Vec::new();
     node.start(&mut od, odc::time::Instant::ZERO, &mut |f| wire.push(f));
     wire.clear();
-    let rtr = CanFrame::remote(0x702, 1);
-    let nmt = |cmd: NmtCommand| CanFrame::from_slice(0, &cmd.frame(2)).expect("NMT");
+    let rtr = CanFrame::remote(0x702, 1).unwrap();
+    let nmt =
+        |cmd: NmtCommand| CanFrame::from_slice(0, &cmd.frame(Some(odc::node_id!(2)))).expect("NMT");
     let mut at = 0;
     let mut guard = |node: &mut Node<64>, od: &mut slave::Dictionary, wire: &mut Vec<CanFrame>| {
         at += 1_000;
@@ -318,12 +319,13 @@ fn node_guarding_states() {
 /// Pre-operational 127, sent by odc's node 1 (0x1017 = 10 ms) through its states.
 #[test]
 fn heartbeat_states() {
-    let mut od = slave::Dictionary::new(1);
+    let mut od = slave::Dictionary::new(odc::node_id!(1));
     od.set(od::PRODUCER_HEARTBEAT_TIME, 10).expect("0x1017");
-    let mut node: Node<64> = Node::new(1);
+    let mut node: Node<64> = Node::new(odc::node_id!(1));
     let mut wire = Vec::new();
     node.start(&mut od, odc::time::Instant::ZERO, &mut |f| wire.push(f));
-    let nmt = |cmd: NmtCommand| CanFrame::from_slice(0, &cmd.frame(1)).expect("NMT");
+    let nmt =
+        |cmd: NmtCommand| CanFrame::from_slice(0, &cmd.frame(Some(odc::node_id!(1)))).expect("NMT");
     node.poll(&mut od, odc::time::Instant::from_micros(10_000), &mut |f| wire.push(f));
     node.handle(
         &mut od,
@@ -349,13 +351,13 @@ fn heartbeat_states() {
 /// node 1, operational, with 0x1017 = 10 ms, sends 0x701 with its state (5) every 10 ms.
 #[test]
 fn heartbeat() {
-    let entry = heartbeat_consumer_entry(1, 15);
+    let entry = heartbeat_consumer_entry(odc::node_id!(1), 15);
     assert_eq!(entry, 0x0001_000F);
-    let mut consumer = bench(2);
+    let mut consumer = bench(odc::node_id!(2));
     consumer.write(&lenze::C13385_1, entry);
-    let mut od = slave::Dictionary::new(1);
+    let mut od = slave::Dictionary::new(odc::node_id!(1));
     od.set(od::PRODUCER_HEARTBEAT_TIME, 10).expect("0x1017");
-    let mut node: Node<64> = Node::new(1);
+    let mut node: Node<64> = Node::new(odc::node_id!(1));
     let mut wire = Vec::new();
     node.start(&mut od, odc::time::Instant::ZERO, &mut |f| wire.push(f));
     let start = CanFrame::from_slice(0x000, &[NmtCommand::Start as u8, 0]).expect("NMT");
@@ -375,8 +377,8 @@ fn heartbeat() {
 /// generic bit for 0x87xx, which CiA 301 does not define).
 #[test]
 fn emcy_codes() {
-    let mut od = slave::Dictionary::new(1);
-    let mut node: Node<64> = Node::new(1);
+    let mut od = slave::Dictionary::new(odc::node_id!(1));
+    let mut node: Node<64> = Node::new(odc::node_id!(1));
     let mut wire = Vec::new();
     node.start(&mut od, odc::time::Instant::ZERO, &mut |f| wire.push(f));
     let mut at = 0;
@@ -401,8 +403,10 @@ fn emcy_codes() {
     node.clear_emcy(EmcyCode(0x1000), odc::time::Instant::from_micros(23_000), &mut |f| {
         wire.push(f)
     });
-    let rows: Vec<(u16, u8)> =
-        wire[1..].iter().map(|f| (u16::from_le_bytes([f.data[0], f.data[1]]), f.data[2])).collect();
+    let rows: Vec<(u16, u8)> = wire[1..]
+        .iter()
+        .map(|f| (u16::from_le_bytes([f.data()[0], f.data()[1]]), f.data()[2]))
+        .collect();
     assert_eq!(
         rows,
         [
@@ -430,12 +434,12 @@ fn emcy_codes() {
 #[test]
 fn emcy() {
     // The device's error number (C00168) and odc's node 1, operational.
-    let mut od = slave::Dictionary::new(1);
+    let mut od = slave::Dictionary::new(odc::node_id!(1));
     od.set(lenze::C00168, 0x007B_001B).expect("C00168");
-    let mut node: Node<64> = Node::new(1);
+    let mut node: Node<64> = Node::new(odc::node_id!(1));
     let mut wire = Vec::new();
     node.start(&mut od, odc::time::Instant::ZERO, &mut |f| wire.push(f));
-    let start = CanFrame::from_slice(0x000, &NmtCommand::Start.frame(0)).expect("NMT");
+    let start = CanFrame::from_slice(0x000, &NmtCommand::Start.frame(None)).expect("NMT");
     node.handle(&mut od, &start, odc::time::Instant::ZERO, &mut |f| wire.push(f));
     wire.clear();
     // Bytes 4–8: "(reserved)", then the Lenze error number (C00168), as the code's type

@@ -44,13 +44,13 @@ use common::{Bench, assert_same, printed};
 use odc::Pdo;
 use odc::can::CanFrame;
 use odc::cia402::{Controlword, ModeOfOperation, Statusword};
-use odc::cob::{Function, NodeId};
+use odc::cob::Function;
 use odc::emcy::{EmcyCode, EmcyFrame, ErrorRegister};
 use odc::nmt::{NmtCommand, NmtState};
 use odc_tests_devices::lexium_mdrive::{od, pdo, slave};
 
 /// "Node ID 41h" of every example.
-const NODE: u8 = 0x41;
+const NODE: odc::cob::NodeId = odc::node_id!(0x41);
 
 fn bench() -> Bench<slave::Dictionary> {
     Bench::new(NODE, slave::Dictionary::new(NODE))
@@ -123,7 +123,7 @@ fn profile_position() {
     );
     assert_same(&b.requests(), &manual);
     // Every request was answered with a download confirmation.
-    assert!(b.wire.log.iter().filter(|f| f.id == 0x5C1).all(|f| f.data[0] == 0x60));
+    assert!(b.wire.log.iter().filter(|f| f.id() == 0x5C1).all(|f| f.data()[0] == 0x60));
 }
 
 /// Table 6.20: profile velocity.
@@ -212,7 +212,7 @@ fn profile_torque() {
 /// given the figure's value before it is read.
 #[test]
 fn sdo_message_example() {
-    let mut b = Bench::new(1, slave::Dictionary::new(1));
+    let mut b = Bench::new(odc::node_id!(1), slave::Dictionary::new(odc::node_id!(1)));
     assert_eq!(b.wire.od.get(od::DEVICE_TYPE), Ok(0x0044_0192), "the manual's default");
     b.wire.od.set(od::DEVICE_TYPE, 0x0002_0192).unwrap();
     assert_eq!(b.read(&od::DEVICE_TYPE), 0x0002_0192);
@@ -229,7 +229,7 @@ fn sdo_message_example() {
 #[test]
 fn emcy_layout() {
     let mut b = bench();
-    let cob_id = odc::slave::initial(&od::COB_ID_EMERGENCY_MESSAGE, NODE, 0);
+    let cob_id = odc::slave::initial(&od::COB_ID_EMERGENCY_MESSAGE, Some(NODE), 0);
     let (pdo_number, vendor_code) = (0u8, 0u16);
     let [v0, v1] = vendor_code.to_le_bytes();
     let emcy = EmcyFrame {
@@ -248,7 +248,7 @@ fn emcy_layout() {
 fn nmt_message() {
     let mut m = node_bench::master(NODE, slave::Dictionary::new(NODE));
     let start = m.bus_mut().log.len();
-    m.nmt(NmtCommand::Start, 0).unwrap();
+    m.nmt(NmtCommand::Start, odc::node_id!(0)).unwrap();
     assert_same(&m.bus_mut().log[start..], &[printed("0 / 01 00")]);
     assert_eq!(m.bus_mut().node.state(), NmtState::Operational);
 }
@@ -262,15 +262,15 @@ fn node_guarding() {
     m.write(NODE, &od::GUARD_TIME, 100).unwrap();
     m.write(NODE, &od::LIFE_TIME_FACTOR, 3).unwrap();
     m.nmt(NmtCommand::Start, NODE).unwrap();
-    let id = u32::from(Function::Heartbeat.can_id(NodeId::new(NODE).unwrap()).unwrap());
+    let id = u32::from(Function::Heartbeat.can_id(NODE).unwrap());
     let start = m.bus_mut().log.len();
     for _ in 0..3 {
-        m.send(&CanFrame::remote(id, 1)).unwrap();
+        m.send(&CanFrame::remote(id, 1).unwrap()).unwrap();
         m.bus_mut().advance(100);
     }
     // The node's TPDOs (started, event-driven) share the wire: the figure shows 741h only.
     let guarding: Vec<_> =
-        m.bus_mut().log[start..].iter().filter(|f| f.id == id).copied().collect();
+        m.bus_mut().log[start..].iter().filter(|f| f.id() == id).copied().collect();
     assert_same(
         &guarding,
         &[
@@ -317,8 +317,8 @@ fn pdo_mapping() {
     let dev = &mut m.bus_mut().od;
     dev.set(od::STATUSWORD, Statusword(0x0A10)).unwrap();
     dev.set(od::POSITION_ACTUAL_VALUE, 0x000E_1103).unwrap();
-    let tx = odc::slave::initial(&t3::COB_ID_USED_BY_PDO, NODE, 0);
-    let rx = odc::slave::initial(&r3::COB_ID_USED_BY_PDO, NODE, 0);
+    let tx = odc::slave::initial(&t3::COB_ID_USED_BY_PDO, Some(NODE), 0);
+    let rx = odc::slave::initial(&r3::COB_ID_USED_BY_PDO, Some(NODE), 0);
     let (t3_comm, t3_map) = (t3::COB_ID_USED_BY_PDO.addr.index, 0x1A02);
     let (r3_comm, r3_map) = (r3::COB_ID_USED_BY_PDO.addr.index, 0x1602);
     // In pre-operational (no PDO runs), T_PDO3 gets the statusword alone; the node sends it
@@ -365,13 +365,13 @@ fn mapping_entries() {
 fn preset_pdo_layouts() {
     use pdo::*;
     let layouts = [
-        (Rpdo1::cob_id(0), Rpdo1::LEN, &Rpdo1::MAPPING_VALUES[..]),
-        (Rpdo2::cob_id(0), Rpdo2::LEN, &Rpdo2::MAPPING_VALUES[..]),
-        (Rpdo3::cob_id(0), Rpdo3::LEN, &Rpdo3::MAPPING_VALUES[..]),
-        (Tpdo1::cob_id(0), Tpdo1::LEN, &Tpdo1::MAPPING_VALUES[..]),
-        (Tpdo2::cob_id(0), Tpdo2::LEN, &Tpdo2::MAPPING_VALUES[..]),
-        (Tpdo3::cob_id(0), Tpdo3::LEN, &Tpdo3::MAPPING_VALUES[..]),
-        (Tpdo4::cob_id(0), Tpdo4::LEN, &Tpdo4::MAPPING_VALUES[..]),
+        (Rpdo1::cob_id(odc::node_id!(0)), Rpdo1::LEN, &Rpdo1::MAPPING_VALUES[..]),
+        (Rpdo2::cob_id(odc::node_id!(0)), Rpdo2::LEN, &Rpdo2::MAPPING_VALUES[..]),
+        (Rpdo3::cob_id(odc::node_id!(0)), Rpdo3::LEN, &Rpdo3::MAPPING_VALUES[..]),
+        (Tpdo1::cob_id(odc::node_id!(0)), Tpdo1::LEN, &Tpdo1::MAPPING_VALUES[..]),
+        (Tpdo2::cob_id(odc::node_id!(0)), Tpdo2::LEN, &Tpdo2::MAPPING_VALUES[..]),
+        (Tpdo3::cob_id(odc::node_id!(0)), Tpdo3::LEN, &Tpdo3::MAPPING_VALUES[..]),
+        (Tpdo4::cob_id(odc::node_id!(0)), Tpdo4::LEN, &Tpdo4::MAPPING_VALUES[..]),
     ];
     let figures: [(u32, usize, &[u32]); 7] = [
         (0x200, 2, &[0x6040_0010]),
@@ -386,7 +386,7 @@ fn preset_pdo_layouts() {
         assert_eq!(*ours, theirs);
     }
     assert_eq!(
-        (Rpdo4::cob_id(0), Rpdo4::LEN, Rpdo4::MAPPING_VALUES),
+        (Rpdo4::cob_id(odc::node_id!(0)), Rpdo4::LEN, Rpdo4::MAPPING_VALUES),
         (0x500, 4, [0x6040_0010, 0x6071_0010])
     );
 }
@@ -394,6 +394,6 @@ fn preset_pdo_layouts() {
 /// 3.2.1 (Table 3.2 text): "384+node ID = 384 (180h) + 5 = 389 (185h)", T_PDO1 of node 5.
 #[test]
 fn cob_id_example() {
-    assert_eq!(pdo::Tpdo1::cob_id(5), 0x185);
-    assert_eq!(pdo::Tpdo1::cob_id(5), 389);
+    assert_eq!(pdo::Tpdo1::cob_id(odc::node_id!(5)), 0x185);
+    assert_eq!(pdo::Tpdo1::cob_id(odc::node_id!(5)), 389);
 }

@@ -39,7 +39,7 @@ const SERIAL: u32 = 341_070_398;
 
 /// The device's LSS address: 0x1018 sub 1–3 from the generated dictionary, the label's serial.
 fn identity() -> Identity {
-    let od = slave::Dictionary::new(0x41);
+    let od = slave::Dictionary::new(odc::node_id!(0x41));
     let sub = |s| {
         let mut b = [0u8; 4];
         od.read(0x1018, s, &mut b).unwrap();
@@ -54,7 +54,7 @@ const EDS_BIT_TIMINGS: u16 = 0b1_1101_1111;
 
 /// A master's request through the slave; the log gets both frames.
 fn send(lss: &mut LssSlave, log: &mut Vec<CanFrame>, r: Request) -> Option<LssEvent> {
-    let frame = CanFrame::new(0x7E5, r.encode());
+    let frame = CanFrame::new(0x7E5, r.encode()).unwrap();
     log.push(frame);
     let (answer, event) = lss.handle(&frame);
     log.extend(answer);
@@ -75,7 +75,7 @@ fn switch_mode_global() {
     send(&mut lss, &mut log, Request::ConfigureNodeId(0x42));
     send(&mut lss, &mut log, Request::ConfigureBitTiming { table: 0, index: 6 });
     let stored = send(&mut lss, &mut log, Request::StoreConfiguration);
-    assert_eq!(stored, Some(LssEvent::Store { node_id: Some(0x42), bit_timing: 6 }));
+    assert_eq!(stored, Some(LssEvent::Store { node_id: Some(odc::node_id!(0x42)), bit_timing: 6 }));
     let back = send(&mut lss, &mut log, Request::SwitchStateGlobal { configuration: false });
     assert_same(
         &log,
@@ -94,7 +94,7 @@ fn switch_mode_global() {
     );
     // Step 6: "The new Node ID is now active": the device resets its communication.
     assert_eq!(back, Some(LssEvent::ResetCommunication));
-    assert_eq!(lss.reset_communication(), Some(0x42));
+    assert_eq!(lss.reset_communication(), odc::cob::NodeId::new(0x42));
     // "To make the new bit rate active, cycle power": still the old one until then.
     assert_eq!((lss.bit_timing(), lss.pending_bit_timing()), (0, 6));
 }
@@ -103,19 +103,23 @@ fn switch_mode_global() {
 /// communication; and the table's 05h (100 kbit/s), absent from the EDS, is refused.
 #[test]
 fn configured_device_and_bit_timing_table() {
-    let mut lss = LssSlave::new(identity(), Some(0x41), 0).with_bit_timings(EDS_BIT_TIMINGS);
+    let mut lss =
+        LssSlave::new(identity(), Some(odc::node_id!(0x41)), 0).with_bit_timings(EDS_BIT_TIMINGS);
     let mut log = Vec::new();
     send(&mut lss, &mut log, Request::SwitchStateGlobal { configuration: true });
     send(&mut lss, &mut log, Request::ConfigureNodeId(0x42));
     send(&mut lss, &mut log, Request::SwitchStateGlobal { configuration: false });
-    assert_eq!((lss.node_id(), lss.pending_node_id()), (Some(0x41), Some(0x42)));
-    assert_eq!(lss.reset_communication(), Some(0x42));
+    assert_eq!(
+        (lss.node_id(), lss.pending_node_id()),
+        (odc::cob::NodeId::new(0x41), odc::cob::NodeId::new(0x42))
+    );
+    assert_eq!(lss.reset_communication(), odc::cob::NodeId::new(0x42));
     send(&mut lss, &mut log, Request::SwitchStateGlobal { configuration: true });
     for index in 0..=9u8 {
         log.clear();
         send(&mut lss, &mut log, Request::ConfigureBitTiming { table: 0, index });
         let ok = [0, 1, 2, 3, 4, 6, 7, 8].contains(&index);
-        assert_eq!(log[1].data[1], u8::from(!ok), "index {index}");
+        assert_eq!(log[1].data()[1], u8::from(!ok), "index {index}");
     }
 }
 

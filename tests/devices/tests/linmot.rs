@@ -37,7 +37,7 @@ use odc::slave::ObjectDictionary;
 use odc::{Entry, MappingEntry, ObjValue, ObjectAddr, SdoAbort};
 use odc_tests_devices::linmot_e1200::{self, od, slave, upid};
 
-const NODE: u8 = 1;
+const NODE: odc::cob::NodeId = odc::node_id!(1);
 
 /// The generated dictionary, taking writes as the E1200 does: 4 bytes whatever the object's
 /// width ("size depends on the UPID that will be written"), the value in the low bytes.
@@ -93,7 +93,7 @@ fn answer<T: ObjValue>(b: &Bench<LinMot>, entry: &Entry<T>) -> CanFrame {
     let n = b.wire.od.read(entry.addr.index, entry.addr.sub, &mut buf).expect("readable");
     data[..n].copy_from_slice(&buf[..n]);
     let init = Init::Expedited { data, len: 4, sized: false };
-    CanFrame::new(b.client.response_id(), Response::InitiateUpload(entry.addr, init).encode())
+    CanFrame::standard(b.client.response_id(), Response::InitiateUpload(entry.addr, init).encode())
 }
 
 /// A read as the templates print it: odc's client's request, and the device's 42h answer.
@@ -166,7 +166,7 @@ fn upid_write_16_bit() {
     // A signed UPID (1CA6h, SInt16) is sign-extended; the manual prints no such value, the
     // device takes the low bytes.
     write(&mut b, &upid::U1CA6_RAM, -2);
-    assert_eq!(b.requests()[2].data, [0x23, 0xA6, 0x3C, 0x01, 0xFE, 0xFF, 0xFF, 0xFF]);
+    assert_eq!(b.requests()[2].data(), [0x23, 0xA6, 0x3C, 0x01, 0xFE, 0xFF, 0xFF, 0xFF]);
     assert_eq!(b.wire.od.od.get(upid::U1CA6_RAM), Ok(-2));
     // A value that does not fit the UPID's 16 bits is refused.
     let e = b.client.download(&mut b.wire, 0x3CA4, 0x01, &[0x34, 0x12, 0x01, 0x00]);
@@ -174,7 +174,7 @@ fn upid_write_16_bit() {
     // CiA 301's own form of this write (2Bh, 2 bytes) is what the manual does not print.
     let mut plain = bench();
     plain.write(&upid::U1CA4_RAM, 0x1234);
-    assert_eq!(plain.requests()[0].data[0], 0x2B);
+    assert_eq!(plain.requests()[0].data()[0], 0x2B);
 }
 
 /// The device answers reads with command 42h (expedited, size not indicated, 4 bytes); odc's
@@ -189,7 +189,7 @@ fn answers_without_size() {
         Init::Expedited { data: [0x34, 0x12, 0, 0], len: 4, sized: false },
     );
     assert_eq!(answer.encode()[0], 0x42);
-    let frame = CanFrame::new(0x581, answer.encode());
+    let frame = CanFrame::new(0x581, answer.encode()).unwrap();
     assert_eq!(client.handle(&frame, 1), Some(odc::sdo::Step::Done));
     let value: u16 = odc::ObjValue::decode(&client.data()[..2]).expect("2 bytes");
     assert_eq!(value, 0x1234);

@@ -29,7 +29,7 @@ mod node_bench;
 use common::{Bench, Printed, assert_same, printed, status};
 use odc::can::CanFrame;
 use odc::cia402::{Command, Controlword, State, Statusword};
-use odc::cob::{CobId, Function, NodeId};
+use odc::cob::{CobId, Function};
 use odc::emcy::{EmcyCode, EmcyFrame, ErrorRegister};
 use odc::nmt::NmtCommand;
 use odc::slave::ObjectDictionary;
@@ -48,7 +48,7 @@ const LIMP: u32 = 14;
 const LIMN: u32 = 15;
 
 /// The node of every example ("Example Node address 1").
-const NODE: u8 = 1;
+const NODE: odc::cob::NodeId = odc::node_id!(1);
 
 /// The generated dictionary, with what a drive does besides storing values: it activates the
 /// mode of operation it is given, so 0x6061 follows 0x6060 ("Check operating mode").
@@ -371,8 +371,8 @@ fn profile_torque() {
 /// 3.2.1 (Table 2 text): T_PDO1 of node 5 is 384 + 5 = 389 (0x185).
 #[test]
 fn cob_id_example() {
-    assert_eq!(pdo::Tpdo1::cob_id(5), 0x185);
-    assert_eq!(pdo::Tpdo1::cob_id(5) & 0x7FF, 389);
+    assert_eq!(pdo::Tpdo1::cob_id(odc::node_id!(5)), 0x185);
+    assert_eq!(pdo::Tpdo1::cob_id(odc::node_id!(5)) & 0x7FF, 389);
 }
 
 /// Figure 21: PDO mapping, node 1: T_PDO4 (481h) and R_PDO4 (501h), empty by default, mapped
@@ -396,8 +396,8 @@ fn pdo_mapping() {
     // "By default, R_PDO4 is empty" (and T_PDO4: the file maps nothing in either).
     assert_eq!((pdo::Rpdo4::LEN, pdo::Tpdo4::LEN), (0, 0));
     // The COB-IDs the file gives node 1 (481h and 501h, not valid by default).
-    let tx = odc::slave::initial(&t4::COB_ID_USED_BY_PDO, NODE, 0);
-    let rx = odc::slave::initial(&r4::COB_ID_USED_BY_PDO, NODE, 0);
+    let tx = odc::slave::initial(&t4::COB_ID_USED_BY_PDO, Some(NODE), 0);
+    let rx = odc::slave::initial(&r4::COB_ID_USED_BY_PDO, Some(NODE), 0);
     let (t4_comm, t4_map) = (t4::COB_ID_USED_BY_PDO.addr.index, 0x1A03);
     let (r4_comm, r4_map) = (r4::COB_ID_USED_BY_PDO.addr.index, 0x1603);
     m.nmt(NmtCommand::Start, NODE).unwrap();
@@ -437,14 +437,14 @@ fn pdo_mapping() {
 /// the figure shows 00h.
 #[test]
 fn emcy_message() {
-    let cob_id = odc::slave::initial(&od::COB_ID_EMERGENCY_MESSAGE, NODE, 0);
+    let cob_id = odc::slave::initial(&od::COB_ID_EMERGENCY_MESSAGE, Some(NODE), 0);
     let (pdo_number, vendor_code) = (0u8, 0u16);
     let [v0, v1] = vendor_code.to_le_bytes();
     let emcy = EmcyFrame {
         manufacturer: [0, 0, pdo_number, v0, v1],
         ..EmcyFrame::new(EmcyCode(0x2212), ErrorRegister::NONE)
     };
-    let frame = CanFrame::new(cob_id, emcy.encode());
+    let frame = CanFrame::new(cob_id, emcy.encode()).unwrap();
     assert_same(&[frame], &[printed("81 / 12 22 00 00 00 00 00 00")]);
 
     let mut wire = node_bench::NodeWire::new(NODE, slave::Dictionary::new(NODE));
@@ -452,8 +452,9 @@ fn emcy_message() {
     let sent = wire.frames(0x81);
     assert_eq!(sent.len(), 1);
     let register = ErrorRegister::GENERIC.union(ErrorRegister::CURRENT);
-    let mut expected = frame;
-    expected.data[2] = register.0;
+    let mut bytes = frame.data();
+    bytes[2] = register.0;
+    let expected = CanFrame::new(frame.id(), bytes).unwrap();
     assert_eq!(sent[0], expected);
 }
 
@@ -468,14 +469,17 @@ fn node_guarding() {
     m.write(NODE, &od::GUARD_TIME, 100).unwrap();
     m.write(NODE, &od::LIFE_TIME_FACTOR, 3).unwrap();
     m.nmt(NmtCommand::Start, NODE).unwrap();
-    let id = u32::from(Function::Heartbeat.can_id(NodeId::new(NODE).unwrap()).unwrap());
+    let id = u32::from(Function::Heartbeat.can_id(NODE).unwrap());
     let start = m.bus_mut().log.len();
     for _ in 0..2 {
-        m.send(&CanFrame::remote(id, 1)).unwrap();
+        m.send(&CanFrame::remote(id, 1).unwrap()).unwrap();
         m.bus_mut().advance(100);
     }
-    let answers: Vec<_> =
-        m.bus_mut().log[start..].iter().filter(|f| f.id == id && !f.remote).copied().collect();
+    let answers: Vec<_> = m.bus_mut().log[start..]
+        .iter()
+        .filter(|f| f.id() == id && !f.is_remote())
+        .copied()
+        .collect();
     assert_same(&answers, &[printed("701 / 05"), printed("701 / 85")]);
 }
 
@@ -486,7 +490,7 @@ fn node_guarding() {
 /// (1017h) 100 ms written by odc's master, started, for 250 ms.
 #[test]
 fn heartbeat() {
-    let node = 4;
+    let node = odc::node_id!(4);
     let dictionary = slave::Dictionary::new(node);
     let frames = node_bench::heartbeats(node, dictionary, &od::PRODUCER_HEARTBEAT_TIME, 100, 250);
     assert_same(&frames, &[printed("704 / 00"), printed("704 / 05"), printed("704 / 05")]);
@@ -509,12 +513,12 @@ fn mapping_entries() {
 fn preset_pdo_layouts() {
     use pdo::*;
     let layouts = [
-        (Rpdo1::cob_id(0), Rpdo1::LEN, &Rpdo1::MAPPING_VALUES[..]),
-        (Rpdo2::cob_id(0) & 0x7FF, Rpdo2::LEN, &Rpdo2::MAPPING_VALUES[..]),
-        (Rpdo3::cob_id(0) & 0x7FF, Rpdo3::LEN, &Rpdo3::MAPPING_VALUES[..]),
-        (Tpdo1::cob_id(0), Tpdo1::LEN, &Tpdo1::MAPPING_VALUES[..]),
-        (Tpdo2::cob_id(0) & 0x7FF, Tpdo2::LEN, &Tpdo2::MAPPING_VALUES[..]),
-        (Tpdo3::cob_id(0) & 0x7FF, Tpdo3::LEN, &Tpdo3::MAPPING_VALUES[..]),
+        (Rpdo1::cob_id(odc::node_id!(0)), Rpdo1::LEN, &Rpdo1::MAPPING_VALUES[..]),
+        (Rpdo2::cob_id(odc::node_id!(0)) & 0x7FF, Rpdo2::LEN, &Rpdo2::MAPPING_VALUES[..]),
+        (Rpdo3::cob_id(odc::node_id!(0)) & 0x7FF, Rpdo3::LEN, &Rpdo3::MAPPING_VALUES[..]),
+        (Tpdo1::cob_id(odc::node_id!(0)), Tpdo1::LEN, &Tpdo1::MAPPING_VALUES[..]),
+        (Tpdo2::cob_id(odc::node_id!(0)) & 0x7FF, Tpdo2::LEN, &Tpdo2::MAPPING_VALUES[..]),
+        (Tpdo3::cob_id(odc::node_id!(0)) & 0x7FF, Tpdo3::LEN, &Tpdo3::MAPPING_VALUES[..]),
     ];
     let figures: [(u32, usize, &[u32]); 6] = [
         (0x200, 2, &[0x6040_0010]),

@@ -40,7 +40,7 @@ use odc::slave::ObjectDictionary;
 use odc::{ObjValue, VisibleString};
 use odc_tests_devices::servoone::{od, param, slave};
 
-const NODE: u8 = 1;
+const NODE: odc::cob::NodeId = odc::node_id!(1);
 
 /// The generated dictionary, and P 3 as the device holds it (see the file's documentation).
 struct Servo {
@@ -135,7 +135,7 @@ fn heartbeat_frames() {
     let mut wire = Vec::new();
     node.start(&mut servo, odc::time::Instant::ZERO, &mut |f| wire.push(f));
     node.poll(&mut servo, odc::time::Instant::from_micros(100_000), &mut |f| wire.push(f));
-    let nmt = |cmd: NmtCommand| CanFrame::from_slice(0, &cmd.frame(NODE)).expect("2 bytes");
+    let nmt = |cmd: NmtCommand| CanFrame::from_slice(0, &cmd.frame(Some(NODE))).expect("2 bytes");
     node.handle(
         &mut servo,
         &nmt(NmtCommand::Start),
@@ -174,7 +174,7 @@ fn emcy_acknowledgement() {
         wire.push(f)
     }));
     assert_eq!(wire.len(), 3, "boot-up, the error, its acknowledgement");
-    assert_eq!(wire[1].data[..2], [0x00, 0xFF]);
+    assert_eq!(wire[1].data()[..2], [0x00, 0xFF]);
     assert_same(&wire[2..], &[printed("81 / 00 00 00 00 00 00 00 00")]);
 }
 
@@ -275,7 +275,7 @@ fn event_mask_example() {
     // Elements [0] and [1] of P 2007 are sub-indexes 1 and 2 of 0x27D7.
     assert_eq!(param::p_element(2007, 0), Some(param::P2007_0.addr));
     // The manual prints no frames here; these are the CiA 301 frames its values imply.
-    let writes: Vec<_> = b.requests().into_iter().filter(|f| f.data[0] == 0x23).collect();
+    let writes: Vec<_> = b.requests().into_iter().filter(|f| f.data()[0] == 0x23).collect();
     assert_same(
         &writes,
         &[printed("601 / 23 D7 27 01 FF FF 00 00"), printed("601 / 23 D7 27 02 00 00 00 00")],
@@ -363,5 +363,8 @@ fn esi_sync_manager_parameters() {
         let want = [1, 2, 3, 4, 5, 6, 9, 11, 12, 32].map(|s| addr(index, s));
         assert_eq!(subs, want);
     }
-    assert_eq!(sm_output_parameter::NUMBER_OF_ENTRIES.default.and_then(|d| d.resolve(1)), Some(32));
+    assert_eq!(
+        sm_output_parameter::NUMBER_OF_ENTRIES.default.and_then(|d| d.resolve(odc::node_id!(1))),
+        Some(32)
+    );
 }

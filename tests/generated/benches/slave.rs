@@ -61,7 +61,7 @@ macro_rules! dictionary_benches {
             .enumerate()
             .map(|(n, &(i, _))| if n % 2 == 0 { (i, 0xFE) } else { (0x5F00 + n as u16, 0) })
             .collect();
-        let dict = $m::slave::Dictionary::new(5);
+        let dict = $m::slave::Dictionary::new(odc::node_id!(5));
         // Every address is found.
         let mut buf = [0u8; 256];
         for &(i, s) in &addrs {

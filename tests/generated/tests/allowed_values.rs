@@ -14,7 +14,7 @@ fn the_unfit_limit_and_default_are_left_out_and_the_rest_is_kept() {
     assert!(matches!(od::SPEED_LIMIT.default, Some(DefaultValue::Value(3000))));
     // 0x2002: no default; the dictionary starts it at zero.
     assert!(od::OFFSET.default.is_none());
-    let mut dict = slave::Dictionary::new(3);
+    let mut dict = slave::Dictionary::new(odc::node_id!(3));
     let mut buf = [0u8; 4];
     let read = odc::slave::ObjectDictionary::read(&dict, 0x2002, 0, &mut buf);
     assert_eq!(read, Ok(2));

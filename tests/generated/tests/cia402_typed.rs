@@ -46,7 +46,7 @@ fn descriptors_keep_the_wire_type() {
 
 #[test]
 fn the_slave_stores_typed_words() {
-    let mut d = lxm23a::slave::Dictionary::new(1);
+    let mut d = lxm23a::slave::Dictionary::new(odc::node_id!(1));
     assert_eq!(d.write(0x6040, 0, &[0x0F, 0x00]), Ok(()));
     assert_eq!(d.get(lxm23a::od::CONTROLWORD), Ok(Controlword::ENABLE_OPERATION));
     assert_eq!(d.set(lxm23a::od::STATUSWORD, State::OperationEnabled.statusword()), Ok(()));

@@ -15,7 +15,7 @@ use odc::nmt::NmtCommand;
 use odc::transport::tcp::TcpCan;
 use odc_tests_generated::{lexium_mdrive, lxm23a};
 
-const NODE: u8 = 5;
+const NODE: odc::cob::NodeId = odc::node_id!(5);
 
 fn model(file: &str) -> odc_model::Device {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(file);
@@ -86,7 +86,7 @@ fn session<P: DrivePdos>(file: &str, plans: &[&[odc::plan::SdoWrite]], velocity:
 
 /// Every frame decoded with the device file: none unknown; the kinds counted.
 fn decoded(file: &str, frames: &[CanFrame]) -> (std::collections::BTreeMap<String, usize>, String) {
-    let mut d = odc_monitor::Decoder::new(vec![(NODE, model(file))]);
+    let mut d = odc_monitor::Decoder::new(vec![(NODE.get(), model(file))]);
     let mut kinds = std::collections::BTreeMap::new();
     let mut text = String::new();
     for f in frames {

@@ -22,7 +22,7 @@ use odc::transport::mem::{MemBus, MemPort};
 use odc::{SdoAbort, sdo::SdoError};
 use odc_tests_generated::lxm23a::{self, od, pdo, slave};
 
-const NODE: u8 = 1;
+const NODE: odc::cob::NodeId = odc::node_id!(1);
 
 /// The drive: the generated dictionary served by a node in a thread, until `stop`.
 struct Device {
@@ -31,14 +31,17 @@ struct Device {
 }
 
 impl Device {
-    fn spawn(port: MemPort, node_id: u8, lss: Option<Identity>) -> Device {
+    fn spawn(port: MemPort, node_id: Option<odc::cob::NodeId>, lss: Option<Identity>) -> Device {
         let stop = Arc::new(AtomicBool::new(false));
         let flag = stop.clone();
         let thread = thread::spawn(move || {
             let mut port = port;
             let start = Instant::now();
             let now_us = || u64::try_from(start.elapsed().as_micros()).unwrap();
-            let mut node: Node<64> = Node::new(node_id);
+            let mut node: Node<64> = match node_id {
+                Some(n) => Node::new(n),
+                None => Node::unconfigured(),
+            };
             if let Some(id) = lss {
                 node = node.with_lss(Some(id), 0);
             }
@@ -95,7 +98,7 @@ fn setup() -> (Master<MemPort>, Device, MemPort) {
     let bus = MemBus::new();
     let master = Master::new(bus.port()).with_timeout(500);
     let spy = bus.port();
-    let device = Device::spawn(bus.port(), NODE, None);
+    let device = Device::spawn(bus.port(), Some(NODE), None);
     (master, device, spy)
 }
 
@@ -126,8 +129,8 @@ fn boot_up_sdo_and_aborts() {
         other => panic!("{other:?}"),
     }
     // A node that is not there: the client's own timeout abort, not a hang.
-    match m.upload(9, 0x1000, 0) {
-        Err(Error::Sdo { node: 9, error: SdoError::Local(a), .. }) => {
+    match m.upload(odc::node_id!(9), 0x1000, 0) {
+        Err(Error::Sdo { node, error: SdoError::Local(a), .. }) if node.get() == 9 => {
             assert_eq!(a, SdoAbort::Timeout);
         }
         other => panic!("{other:?}"),
@@ -166,7 +169,7 @@ fn a_plan_pdos_and_node_states() {
         other => panic!("{other:?}"),
     }
     // NMT stop: the heartbeat says stopped.
-    m.nmt(NmtCommand::Stop, 0).unwrap();
+    m.nmt(NmtCommand::Stop, odc::node_id!(0)).unwrap();
     m.wait_state(NODE, NmtState::Stopped).unwrap();
 }
 
@@ -209,7 +212,10 @@ fn a_heartbeat_with_an_undefined_state_is_handed_out() {
     }
     assert_eq!(
         events,
-        [Event::State { node: 4, state: NmtState::PreOperational }, Event::Other(heartbeat(0x55))]
+        [
+            Event::State { node: odc::node_id!(4), state: NmtState::PreOperational },
+            Event::Other(heartbeat(0x55))
+        ]
     );
 }
 
@@ -220,7 +226,7 @@ fn sync_producer_with_counter_and_emcy() {
     let mut device = bus.port();
     let (tx, rx) = mpsc::channel();
     m.observe(move |dir, f| {
-        if dir == Dir::Sent && f.id == 0x080 {
+        if dir == Dir::Sent && f.id() == 0x080 {
             let _ = tx.send(f.bytes().to_vec());
         }
     });
@@ -238,7 +244,7 @@ fn sync_producer_with_counter_and_emcy() {
         }
     }
     let (node, frame) = emcy.expect("the EMCY as an event");
-    assert_eq!((node, frame.code, frame.register.0), (4, EmcyCode::HEARTBEAT, 0x11));
+    assert_eq!((node.get(), frame.code, frame.register.0), (4, EmcyCode::HEARTBEAT, 0x11));
     assert_eq!(frame.code.description(), Some("Life guard error or heartbeat error"));
     let counters: Vec<Vec<u8>> = rx.try_iter().collect();
     // About 12 SYNCs in 60 ms at 5 ms; the counter runs 1, 2, 3, 1, ...
@@ -259,24 +265,20 @@ fn lss_fastscan_then_a_node_id() {
         serial: 0x1234_5678,
     };
     // An unconfigured device (node-ID 255): no boot-up until it has a node-ID.
-    let _device = Device::spawn(bus.port(), odc::lss::UNCONFIGURED, Some(identity));
+    let _device = Device::spawn(bus.port(), None, Some(identity));
     std::thread::sleep(std::time::Duration::from_millis(20));
     let mut lss = m.lss().with_timeout(20);
     assert!(lss.any_unconfigured().unwrap());
     assert_eq!(lss.fastscan().unwrap(), Some(identity));
     // Found, it is in configuration state: it answers inquiries and takes a node-ID.
     assert_eq!(lss.inquire_identity().unwrap(), identity);
-    assert_eq!(lss.inquire_node_id().unwrap(), odc::lss::UNCONFIGURED);
-    match lss.configure_node_id(0) {
-        Err(Error::Invalid(_)) => {}
-        other => panic!("{other:?}"),
-    }
-    lss.configure_node_id(9).unwrap();
+    assert_eq!(lss.inquire_node_id().unwrap(), None);
+    lss.configure_node_id(Some(odc::node_id!(9))).unwrap();
     lss.switch_global(false).unwrap();
     // Reset communication: it boots as node 9.
-    m.nmt(NmtCommand::ResetCommunication, 0).unwrap();
-    m.wait_boot_up(9).unwrap();
-    assert_eq!(m.read(9, &od::DEVICE_TYPE).unwrap(), 0x0402_0192);
+    m.nmt(NmtCommand::ResetCommunication, odc::node_id!(0)).unwrap();
+    m.wait_boot_up(odc::node_id!(9)).unwrap();
+    assert_eq!(m.read(odc::node_id!(9), &od::DEVICE_TYPE).unwrap(), 0x0402_0192);
     // Nobody unconfigured any more; a fastscan finds nothing.
     let mut lss = m.lss().with_timeout(20);
     assert!(!lss.any_unconfigured().unwrap());

@@ -30,7 +30,7 @@ fn rpdo_bytes() {
     assert_eq!(pdo::Rpdo1::unpack(&[0x0F, 0x00, 0xAA, 0xFE, 0xFF, 0xFF, 0xFF]), Ok(rx));
     assert_eq!(<pdo::Rpdo1 as Pdo>::LEN, 7);
     assert_eq!(pdo::Rpdo1::MAPPING_VALUES, [0x6040_0010, 0x0005_0008, 0x607A_0020]);
-    assert_eq!(pdo::Rpdo1::cob_id(5), 0x205);
+    assert_eq!(pdo::Rpdo1::cob_id(odc::node_id!(5)), 0x205);
     assert_eq!(pdo::Rpdo1::TRANSMISSION_TYPE, 255);
 }
 
@@ -47,7 +47,7 @@ fn tpdo_bytes() {
         cia402::Mode::from_i8(tx.modes_of_operation_display),
         Some(cia402::Mode::CyclicSyncPosition)
     );
-    assert_eq!(pdo::Tpdo1::cob_id(0x7F), 0x1FF);
+    assert_eq!(pdo::Tpdo1::cob_id(odc::node_id!(0x7F)), 0x1FF);
 }
 
 #[test]
@@ -60,7 +60,7 @@ fn modes_follow_0x6502() {
 
 #[test]
 fn slave_reads_and_writes() {
-    let mut d = slave::Dictionary::new(5);
+    let mut d = slave::Dictionary::new(odc::node_id!(5));
     assert_eq!(d.get(od::COB_ID_EMCY), Ok(0x85));
     let mut buf = [0u8; 8];
     assert_eq!(d.read(0x1018, 1, &mut buf), Ok(4));
@@ -85,11 +85,11 @@ fn slave_reads_and_writes() {
 
 #[test]
 fn dictionaries_compare_field_by_field() {
-    let mut a = slave::Dictionary::new(5);
-    let b = slave::Dictionary::new(5);
+    let mut a = slave::Dictionary::new(odc::node_id!(5));
+    let b = slave::Dictionary::new(odc::node_id!(5));
     assert_eq!(a, b);
     // $NODEID+0x80 differs between nodes.
-    assert_ne!(a, slave::Dictionary::new(6));
+    assert_ne!(a, slave::Dictionary::new(odc::node_id!(6)));
     assert_eq!(a.write(0x607A, 0, &1000i32.to_le_bytes()), Ok(()));
     assert_ne!(a, b);
     let target = b.get(od::TARGET_POSITION).unwrap();
@@ -108,7 +108,7 @@ fn write_hook_sees_and_vetoes() {
             self.0.push(addr);
         }
     }
-    let mut d = slave::Dictionary::new(1);
+    let mut d = slave::Dictionary::new(odc::node_id!(1));
     let mut hook = Hook(Vec::new());
     assert_eq!(d.write_with(0x6040, 0, &[0x0F, 0], &mut hook), Ok(()));
     assert_eq!(d.write_with(0x6060, 0, &[8], &mut hook), Err(SdoAbort::DeviceState));
@@ -120,7 +120,7 @@ fn write_hook_sees_and_vetoes() {
 
 #[test]
 fn master_plan_follows_cia301() {
-    let w = master::rpdo1(5);
+    let w = master::rpdo1(odc::node_id!(5));
     assert_eq!(
         w,
         [
@@ -134,11 +134,11 @@ fn master_plan_follows_cia301() {
             SdoWrite::u32(0x1400, 1, 0x205),
         ]
     );
-    let t = master::tpdo1(5);
+    let t = master::tpdo1(odc::node_id!(5));
     assert_eq!(t.first(), Some(&SdoWrite::u32(0x1800, 1, 0x8000_0185)));
     assert!(t.contains(&SdoWrite::u16(0x1800, 3, 100)));
     assert_eq!(t.last(), Some(&SdoWrite::u32(0x1800, 1, 0x185)));
-    let plan = master::plan(5);
+    let plan = master::plan(odc::node_id!(5));
     assert_eq!(plan.len(), w.len() + t.len());
     assert_eq!(plan[..w.len()], w);
     assert_eq!(SdoWrite::u16(1, 2, 0x1234).to_le_bytes(), ([0x34, 0x12, 0, 0], 2));

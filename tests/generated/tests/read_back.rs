@@ -36,7 +36,7 @@ fn read_back_all(name: &str, table: &[odc::slave::Row], dict: &mut impl ObjectDi
 
 #[test]
 fn initial_values_are_accepted_back() {
-    for node in [1, 5, 127] {
+    for node in [odc::node_id!(1), odc::node_id!(5), odc::node_id!(127)] {
         read_back_all(
             "mini_drive",
             mini_drive::slave::TABLE.rows(),

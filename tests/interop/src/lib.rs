@@ -150,9 +150,9 @@ pub struct Device {
     /// The rows of the slave's table (`slave::TABLE`).
     pub entries: &'static [odc::slave::Row],
     /// A fresh slave dictionary (`slave::Dictionary::new`) for a node id.
-    pub slave: fn(u8) -> Box<dyn ObjectDictionary + Send>,
+    pub slave: fn(odc::cob::NodeId) -> Box<dyn ObjectDictionary + Send>,
     /// The master's configuration plan (`master::plan`) for a node id.
-    pub plan: fn(u8) -> Vec<SdoWrite>,
+    pub plan: fn(odc::cob::NodeId) -> Vec<SdoWrite>,
     /// The default of `od::DEVICE_TYPE`, read through the typed client call.
     pub device_type: &'static odc::Entry<u32>,
 }

@@ -45,7 +45,7 @@ fn all_devices() -> Vec<Device> {
     v
 }
 
-const NODE: u8 = 5;
+const NODE: odc::cob::NodeId = odc::node_id!(5);
 const BUF: usize = 1024;
 const SESSION: Duration = Duration::from_secs(120);
 
@@ -299,7 +299,7 @@ fn our_block_client_their_server() {
         let boot = bus.now_ms() + 30_000;
         loop {
             match bus.recv(boot).unwrap() {
-                Some(f) if f.id == 0x700 + u32::from(NODE) && f.bytes() == [0] => break,
+                Some(f) if f.id() == NODE.error_control().raw() && f.bytes() == [0] => break,
                 Some(_) => {}
                 None => panic!("{}: no boot-up message from LocalNode", dev.name),
             }

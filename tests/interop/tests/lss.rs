@@ -12,7 +12,7 @@
 //! second node-ID after NMT reset communication; a fastscan finds nobody once the node has one.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
-use odc::lss::{Identity, LssEvent, StoreResult, UNCONFIGURED};
+use odc::lss::{Identity, LssEvent, StoreResult};
 use odc::node::Node;
 use odc::sdo::Bus;
 use odc_tests_interop::{Device, Peer, devices, last_json, python};
@@ -27,7 +27,7 @@ const SESSION: Duration = Duration::from_secs(120);
 const BUF: usize = 1024;
 
 fn identity(dev: &Device) -> Identity {
-    let od = (dev.slave)(1);
+    let od = (dev.slave)(odc::node_id!(1));
     let sub = |s| {
         let mut b = [0u8; 4];
         od.read(0x1018, s, &mut b).map_or(0, |_| u32::from_le_bytes(b))
@@ -49,8 +49,8 @@ struct Seen {
 /// The node, started without node-ID, until the python master is done.
 fn run(py: &std::path::Path, dev: &Device) -> (Seen, Value) {
     // A dictionary for node-ID 1 until the node has one: no frame of it is sent before.
-    let mut od = (dev.slave)(1);
-    let mut node: Node<BUF> = Node::new(UNCONFIGURED).with_lss(None, 0).with_lss_storage();
+    let mut od = (dev.slave)(odc::node_id!(1));
+    let mut node: Node<BUF> = Node::unconfigured().with_lss(None, 0).with_lss_storage();
     let mut seen = Seen::default();
     let new = NEW_NODE.to_string();
     let second = SECOND_NODE.to_string();
@@ -86,18 +86,18 @@ fn run(py: &std::path::Path, dev: &Device) -> (Seen, Value) {
         }
         match events.lss {
             Some(LssEvent::Store { node_id, bit_timing }) => {
-                seen.stores.push((node_id, bit_timing));
+                seen.stores.push((node_id.map(odc::cob::NodeId::get), bit_timing));
                 node.lss_store_response(StoreResult::Stored, &mut |f| out.push(f));
             }
             Some(LssEvent::ActivateBitTiming { delay_ms }) => seen.activations.push(delay_ms),
             _ => {}
         }
         if events.reset.is_some() {
-            od = (dev.slave)(node.next_node_id());
+            od = (dev.slave)(node.next_node_id().unwrap_or(odc::node_id!(1)));
         }
         for f in out.drain(..) {
-            if (0x701..=0x77F).contains(&f.id) && f.bytes() == [0] {
-                seen.bootups.push(f.id - 0x700);
+            if (0x701..=0x77F).contains(&f.id()) && f.bytes() == [0] {
+                seen.bootups.push(f.id() - 0x700);
             }
             if peer.bus.send(&f).is_err() {
                 break 'run;
@@ -107,7 +107,7 @@ fn run(py: &std::path::Path, dev: &Device) -> (Seen, Value) {
             break;
         }
     }
-    seen.node_id = node.node_id();
+    seen.node_id = odc::cob::NodeId::to_lss(node.node_id());
     let (stdout, _err) = peer.finish(Duration::from_secs(30));
     (seen, last_json(&stdout))
 }

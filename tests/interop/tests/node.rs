@@ -22,7 +22,7 @@ use odc_tests_interop::{Device, Peer, devices, last_json, python};
 use serde_json::Value;
 use std::time::{Duration, Instant};
 
-const NODE: u8 = 5;
+const NODE: odc::cob::NodeId = odc::node_id!(5);
 /// SDO buffer: larger than any value of the device files under test.
 const BUF: usize = 1024;
 /// A bound on one device's session (about 8 s of python's steps).
@@ -179,7 +179,7 @@ fn socketcan_vcan0() {
     let deadline = master.now_ms() + 2000;
     let boot = loop {
         match master.recv(deadline).unwrap() {
-            Some(f) if f.id == 0x705 => break Some(f),
+            Some(f) if f.id() == 0x705 => break Some(f),
             Some(_) => {}
             None => break None,
         }
@@ -189,14 +189,14 @@ fn socketcan_vcan0() {
     let device_type: u32 = sdo.read(&mut master, dev.device_type).unwrap();
     assert_eq!(Some(device_type), dev.device_type.default.and_then(|d| d.resolve(NODE)));
     sdo.download(&mut master, 0x1017, 0, &50u16.to_le_bytes()).unwrap();
-    master.send(&odc::can::CanFrame::from_slice(0, &[0x01, NODE]).unwrap()).unwrap();
+    master.send(&odc::can::CanFrame::from_slice(0, &[0x01, NODE.get()]).unwrap()).unwrap();
     let t0 = master.now_ms();
     let mut beats = Vec::new();
     while master.now_ms() < t0 + 520 {
         if let Some(f) = master.recv(t0 + 520).unwrap()
-            && f.id == 0x705
+            && f.id() == 0x705
         {
-            beats.push(f.data[0]);
+            beats.push(f.data()[0]);
         }
     }
     stop.store(true, std::sync::atomic::Ordering::Relaxed);
@@ -244,7 +244,7 @@ fn node_and_sdo_client_on_the_in_memory_bus() {
         let deadline = p.now_ms() + 2000;
         loop {
             match p.recv(deadline).unwrap() {
-                Some(f) if f.id == 0x705 => break Some(f.bytes().to_vec()),
+                Some(f) if f.id() == 0x705 => break Some(f.bytes().to_vec()),
                 Some(_) => {}
                 None => break None,
             }
@@ -256,14 +256,14 @@ fn node_and_sdo_client_on_the_in_memory_bus() {
     let device_type: u32 = sdo.read(&mut master, dev.device_type).unwrap();
     assert_eq!(Some(device_type), dev.device_type.default.and_then(|d| d.resolve(NODE)));
     sdo.download(&mut master, 0x1017, 0, &20u16.to_le_bytes()).unwrap();
-    master.send(&odc::can::CanFrame::from_slice(0, &[0x01, NODE]).unwrap()).unwrap();
+    master.send(&odc::can::CanFrame::from_slice(0, &[0x01, NODE.get()]).unwrap()).unwrap();
     let t0 = sniffer.now_ms();
     let mut beats = Vec::new();
     let mut requests = 0;
     while sniffer.now_ms() < t0 + 210 {
         match sniffer.recv(t0 + 210).unwrap() {
-            Some(f) if f.id == 0x705 => beats.push(f.data[0]),
-            Some(f) if f.id == 0x605 => requests += 1,
+            Some(f) if f.id() == 0x705 => beats.push(f.data()[0]),
+            Some(f) if f.id() == 0x605 => requests += 1,
             _ => {}
         }
     }

@@ -20,7 +20,7 @@ use serde_json::Value;
 use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
 
-const NODE: u8 = 5;
+const NODE: odc::cob::NodeId = odc::node_id!(5);
 /// Transfer buffer of both sides: larger than any value of the device files under test.
 const BUF: usize = 1024;
 /// A bound on one device's session (the slowest takes a few seconds).

@@ -27,7 +27,7 @@ fn descriptors() {
 fn rpdo2_packs_like_odc_build() {
     assert_eq!(pdo::Rpdo2::MAPPING_VALUES, [0x6040_0010, 0x607A_0020]);
     assert_eq!(pdo::Rpdo2::MAPPING_VALUES, built::pdo::Rpdo2::MAPPING_VALUES);
-    assert_eq!(pdo::Rpdo2::cob_id(5), 0x8000_0305);
+    assert_eq!(pdo::Rpdo2::cob_id(odc::node_id!(5)), 0x8000_0305);
     assert_eq!(<pdo::Rpdo2 as Pdo>::LEN, 6);
     let rx = pdo::Rpdo2 { controlword: Controlword::ENABLE_OPERATION, target_position: -2 };
     let bytes = rx.pack().expect("fits");
@@ -40,7 +40,7 @@ fn rpdo2_packs_like_odc_build() {
 
 #[test]
 fn slave_reads_the_device_type() {
-    let d = slave::Dictionary::new(3);
+    let d = slave::Dictionary::new(odc::node_id!(3));
     let mut buf = [0u8; 4];
     assert_eq!(odc::slave::ObjectDictionary::read(&d, 0x1000, 0, &mut buf), Ok(4));
     assert_eq!(u32::from_le_bytes(buf), 0x0402_0192);
@@ -49,5 +49,5 @@ fn slave_reads_the_device_type() {
 #[test]
 fn esi_device_and_role() {
     // role = "slave": a dictionary, and no master plan module (this would not compile).
-    let _ = odc_tests_macros::servoone::slave::Dictionary::new(0);
+    let _ = odc_tests_macros::servoone::slave::Dictionary::new(odc::node_id!(0));
 }

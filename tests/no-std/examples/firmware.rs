@@ -18,6 +18,7 @@
 // slave: begin
 use odc::can::CanFrame;
 use odc::cia402::Drive;
+use odc::cob::NodeId;
 use odc::node::Node;
 use odc::time::Instant;
 use odc::transport::{Bus, embedded_can::NbBus};
@@ -29,7 +30,7 @@ mod lxm23a {
 use lxm23a::slave::Dictionary;
 
 /// The node-ID the device starts with (DIP switches or an LSS master may give another).
-const NODE_ID: u8 = 5;
+const NODE_ID: NodeId = odc::node_id!(5); // checked at compile time: 1..=127
 
 // The dictionary and the node live in statics: the linker places them in .bss, so `size`
 // shows what they cost and a RAM overflow is a link error, not a stack crash at run time.

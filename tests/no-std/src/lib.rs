@@ -14,7 +14,7 @@ pub mod lxm23a {
 /// # Errors
 ///
 /// The SDO abort of the read (e.g. when `buf` is too small).
-pub fn device_type(node_id: u8, buf: &mut [u8]) -> Result<usize, odc::SdoAbort> {
+pub fn device_type(node_id: odc::cob::NodeId, buf: &mut [u8]) -> Result<usize, odc::SdoAbort> {
     let dictionary = lxm23a::slave::Dictionary::new(node_id);
     dictionary.read(0x1000, 0, buf)
 }

@@ -92,7 +92,7 @@ impl Bus for Link {
 #[derive(Clone, Debug)]
 pub struct NodeSpec {
     /// The node-ID.
-    pub id: u8,
+    pub id: odc::cob::NodeId,
     /// The device file.
     pub file: PathBuf,
 }
@@ -103,7 +103,7 @@ impl std::str::FromStr for NodeSpec {
     fn from_str(s: &str) -> Result<Self, String> {
         let (id, file) = s.split_once('=').ok_or("expected ID=FILE, such as 5=eds/lxm23a.eds")?;
         let id =
-            parse_u8(id).filter(|n| (1..=127).contains(n)).ok_or("the node-ID must be 1..=127")?;
+            parse_u8(id).and_then(odc::cob::NodeId::new).ok_or("the node-ID must be 1..=127")?;
         Ok(NodeSpec { id, file: file.into() })
     }
 }

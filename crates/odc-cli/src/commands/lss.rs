@@ -109,9 +109,13 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             let id = value()?;
             let n = parse_u64(&id)
                 .and_then(|n| u8::try_from(n).ok())
+                .and_then(odc::cob::NodeId::from_lss)
                 .ok_or_else(|| anyhow::anyhow!("`{id}`: a node-ID is 1..=127 or 255"))?;
             lss.configure_node_id(n).map_err(e)?;
-            format!("node-ID {n} configured (it applies at the next reset communication)")
+            format!(
+                "node-ID {} configured (it applies at the next reset communication)",
+                odc::cob::NodeId::to_lss(n)
+            )
         }
         Action::SetBitrate => {
             let text = value()?;
@@ -132,7 +136,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         Action::Inquire => {
             let id = lss.inquire_identity().map_err(e)?;
             let node = lss.inquire_node_id().map_err(e)?;
-            format!("{} node-ID {node}", show(&id))
+            format!("{} node-ID {}", show(&id), odc::cob::NodeId::to_lss(node))
         }
     };
     super::out(&format!("{text}\n"))?;

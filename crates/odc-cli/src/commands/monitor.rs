@@ -51,12 +51,12 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mut process = Vec::new();
     for spec in &args.node {
         let (device, layouts) = load_with_process_data(spec)?;
-        devices.push((spec.id, device));
+        devices.push((spec.id.get(), device));
         process.push((spec.id, layouts));
     }
     let mut decoder = Decoder::new(devices);
     for (node, layouts) in process {
-        decoder = decoder.with_process_data(node, layouts);
+        decoder = decoder.with_process_data(node.get(), layouts);
     }
     let print = |r: &Record| -> anyhow::Result<()> {
         let line = match args.format {

@@ -34,13 +34,15 @@ enum Command {
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
+    // `None`: every node.
     let node = if args.node.eq_ignore_ascii_case("all") {
-        0
+        None
     } else {
-        parse_u64(&args.node)
+        let id = parse_u64(&args.node)
             .and_then(|n| u8::try_from(n).ok())
-            .filter(|n| (1..=127).contains(n))
-            .ok_or_else(|| anyhow::anyhow!("`{}`: a node-ID is 1..=127, or `all`", args.node))?
+            .and_then(odc::cob::NodeId::new)
+            .ok_or_else(|| anyhow::anyhow!("`{}`: a node-ID is 1..=127, or `all`", args.node))?;
+        Some(id)
     };
     let command = match args.command {
         Command::Start => NmtCommand::Start,
@@ -50,8 +52,13 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         Command::ResetComm => NmtCommand::ResetCommunication,
     };
     let mut master = Master::new(args.bus.open()?);
-    master.nmt(command, node).map_err(|e| anyhow::anyhow!("{e}"))?;
-    let to = if node == 0 { "all nodes".to_owned() } else { format!("node {node}") };
-    super::out(&format!("000  {:02X} {node:02X}  NMT {command:?} to {to}\n", command as u8))?;
+    match node {
+        Some(n) => master.nmt(command, n),
+        None => master.nmt_all(command),
+    }
+    .map_err(|e| anyhow::anyhow!("{e}"))?;
+    let [cs, target] = command.frame(node);
+    let to = node.map_or_else(|| "all nodes".to_owned(), |n| format!("node {n}"));
+    super::out(&format!("000  {cs:02X} {target:02X}  NMT {command:?} to {to}\n"))?;
     Ok(ExitCode::SUCCESS)
 }

@@ -169,10 +169,10 @@ fn resolve(device: &Device, spec: &str) -> anyhow::Result<Target> {
 }
 
 /// A value given on the command line, as the bytes of `dt`.
-fn parse_value(text: &str, dt: DataType, node: u8) -> anyhow::Result<Vec<u8>> {
+fn parse_value(text: &str, dt: DataType, node: odc::cob::NodeId) -> anyhow::Result<Vec<u8>> {
     let value = odc_eds::read_value(text, dt).map_err(|e| anyhow::anyhow!("{e:?}"))?;
     let value = match value {
-        Value::NodeIdPlus(n) => Value::Signed(n + i64::from(node)),
+        Value::NodeIdPlus(n) => Value::Signed(n + i64::from(node.get())),
         v => v,
     };
     odc_model::wire::encode(&value, dt).context("out of the type's range")

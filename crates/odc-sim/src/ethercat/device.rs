@@ -98,7 +98,7 @@ impl SubDevice {
             })
             .collect();
         let with_types = sm_types(device, &ecat.sync_managers);
-        let od = ModelDictionary::new(with_types.as_ref().unwrap_or(device), 0);
+        let od = ModelDictionary::new(with_types.as_ref().unwrap_or(device), None);
         let fixed = ecat
             .sync_managers
             .iter()

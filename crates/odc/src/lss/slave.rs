@@ -10,9 +10,10 @@
 #[cfg_attr(not(feature = "lss-slave"), allow(unused_imports))]
 use super::frame::{Bound, Part, Request, Response};
 #[cfg_attr(not(feature = "lss-slave"), allow(unused_imports))]
-use super::{REQUEST_ID, RESPONSE_ID, UNCONFIGURED};
+use super::{REQUEST_ID, RESPONSE_ID};
 #[cfg_attr(not(feature = "lss-slave"), allow(unused_imports))]
 use crate::can::CanFrame;
+use crate::cob::NodeId;
 
 /// The LSS address: 0x1018 sub 1–4.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Default)]
@@ -63,7 +64,7 @@ pub enum LssEvent {
     State(LssState),
     /// A new node-ID is pending (`None`: unconfigured); it takes effect at the next NMT reset
     /// communication ([`LssSlave::reset_communication`]).
-    NodeIdConfigured(Option<u8>),
+    NodeIdConfigured(Option<NodeId>),
     /// A new bit timing (index of CiA 301's table) is pending; [`LssEvent::ActivateBitTiming`]
     /// or a power cycle makes it active.
     BitTimingConfigured(u8),
@@ -77,7 +78,7 @@ pub enum LssEvent {
     /// [`LssSlave::store_response`].
     Store {
         /// The node-ID to store (`None`: unconfigured).
-        node_id: Option<u8>,
+        node_id: Option<NodeId>,
         /// The bit timing table index to store.
         bit_timing: u8,
     },
@@ -123,26 +124,27 @@ pub const DEFAULT_BIT_TIMINGS: u16 = 0b1_1101_1111;
 ///
 /// ```
 /// use odc::can::CanFrame;
-/// use odc::lss::{Identity, LssEvent, LssSlave, UNCONFIGURED};
+/// use odc::cob::NodeId;
+/// use odc::lss::{Identity, LssEvent, LssSlave};
 ///
 /// let mut lss = LssSlave::new(Identity::new(0x5A, 1, 2, 3), None, 0);
-/// let req = |b| CanFrame::new(0x7E5, b);
+/// let req = |b| CanFrame::new(0x7E5, b).unwrap();
 /// // Switch state global, configuration; configure node-ID 0x42: answered "success".
 /// assert_eq!(lss.handle(&req([0x04, 1, 0, 0, 0, 0, 0, 0])).0, None);
 /// let (answer, event) = lss.handle(&req([0x11, 0x42, 0, 0, 0, 0, 0, 0]));
-/// assert_eq!(answer, Some(CanFrame::new(0x7E4, [0x11, 0, 0, 0, 0, 0, 0, 0])));
-/// assert_eq!(event, Some(LssEvent::NodeIdConfigured(Some(0x42))));
+/// assert_eq!(answer, Some(CanFrame::new(0x7E4, [0x11, 0, 0, 0, 0, 0, 0, 0]).unwrap()));
+/// assert_eq!(event, Some(LssEvent::NodeIdConfigured(NodeId::new(0x42))));
 /// // Pending until reset communication.
-/// assert_eq!((lss.node_id(), lss.pending_node_id()), (None, Some(0x42)));
-/// assert_eq!(lss.reset_communication(), Some(0x42));
+/// assert_eq!((lss.node_id(), lss.pending_node_id()), (None, NodeId::new(0x42)));
+/// assert_eq!(lss.reset_communication(), NodeId::new(0x42));
 /// ```
 #[cfg(feature = "lss-slave")]
 #[derive(Clone, Debug)]
 pub struct LssSlave {
     identity: Identity,
     state: LssState,
-    active: u8,
-    pending: u8,
+    active: Option<NodeId>,
+    pending: Option<NodeId>,
     bit_timing: u8,
     pending_bit_timing: u8,
     bit_timings: u16,
@@ -160,11 +162,8 @@ impl LssSlave {
     /// A slave with LSS address `identity`, node-ID `node_id` (`None`: unconfigured, 0xFF)
     /// and the bit timing of table index `bit_timing`, in waiting state. It answers "store
     /// not supported" until [`LssSlave::with_storage`].
-    pub const fn new(identity: Identity, node_id: Option<u8>, bit_timing: u8) -> Self {
-        let id = match node_id {
-            Some(n) if n >= 1 && n <= 127 => n,
-            _ => UNCONFIGURED,
-        };
+    pub const fn new(identity: Identity, node_id: Option<NodeId>, bit_timing: u8) -> Self {
+        let id = node_id;
         Self {
             identity,
             state: LssState::Waiting,
@@ -199,13 +198,13 @@ impl LssSlave {
     }
 
     /// The active node-ID; `None` when unconfigured.
-    pub const fn node_id(&self) -> Option<u8> {
-        if self.active == UNCONFIGURED { None } else { Some(self.active) }
+    pub const fn node_id(&self) -> Option<NodeId> {
+        self.active
     }
 
     /// The node-ID that the next reset communication makes active.
-    pub const fn pending_node_id(&self) -> Option<u8> {
-        if self.pending == UNCONFIGURED { None } else { Some(self.pending) }
+    pub const fn pending_node_id(&self) -> Option<NodeId> {
+        self.pending
     }
 
     /// The active bit timing (table index).
@@ -220,7 +219,7 @@ impl LssSlave {
 
     /// NMT reset communication (or reset node): the pending node-ID becomes active; the
     /// node-ID the node now has.
-    pub const fn reset_communication(&mut self) -> Option<u8> {
+    pub const fn reset_communication(&mut self) -> Option<NodeId> {
         self.active = self.pending;
         self.node_id()
     }
@@ -228,11 +227,11 @@ impl LssSlave {
     /// The answer to [`LssEvent::Store`], once the application has stored (or not).
     pub const fn store_response(&self, result: StoreResult) -> CanFrame {
         let (error, specific) = result.codes();
-        CanFrame::new(RESPONSE_ID, Response::StoreConfiguration { error, specific }.encode())
+        CanFrame::standard(RESPONSE_ID, Response::StoreConfiguration { error, specific }.encode())
     }
 
     fn reply(r: Response) -> Option<CanFrame> {
-        Some(CanFrame::new(RESPONSE_ID, r.encode()))
+        Some(CanFrame::standard(RESPONSE_ID, r.encode()))
     }
 
     fn enter(&mut self, state: LssState) -> Option<LssEvent> {
@@ -248,7 +247,7 @@ impl LssSlave {
     /// ignored (CiA 305: a slave does not answer what it does not serve).
     pub fn handle(&mut self, frame: &CanFrame) -> (Option<CanFrame>, Option<LssEvent>) {
         // Remote and extended frames on 0x7E5 are no LSS requests.
-        if !frame.is_data(REQUEST_ID) {
+        if !frame.is_data(REQUEST_ID.raw()) {
             return (None, None);
         }
         let Some(req) = Request::decode(frame.bytes()) else { return (None, None) };
@@ -258,15 +257,14 @@ impl LssSlave {
                 (None, self.enter(LssState::Configuration))
             }
             Request::SwitchStateGlobal { configuration: false } => {
-                let apply =
-                    configuring && self.active == UNCONFIGURED && self.pending != UNCONFIGURED;
+                let apply = configuring && self.active.is_none() && self.pending.is_some();
                 let event = self.enter(LssState::Waiting);
                 (None, if apply { Some(LssEvent::ResetCommunication) } else { event })
             }
             Request::SwitchStateSelective(part, n) => self.selective(part, n),
             Request::IdentifyRemoteSlave(part, bound, n) => (self.identify(part, bound, n), None),
             Request::IdentifyNonConfigured => {
-                let unconfigured = self.active == UNCONFIGURED && self.pending == UNCONFIGURED;
+                let unconfigured = self.active.is_none() && self.pending.is_none();
                 (
                     if unconfigured { Self::reply(Response::IdentifyNonConfigured) } else { None },
                     None,
@@ -278,7 +276,7 @@ impl LssSlave {
             // The rest is served in configuration state only.
             _ if !configuring => (None, None),
             Request::ConfigureNodeId(id) => {
-                if id == UNCONFIGURED || (1..=127).contains(&id) {
+                if let Some(id) = NodeId::from_lss(id) {
                     self.pending = id;
                     let event = LssEvent::NodeIdConfigured(self.pending_node_id());
                     (Self::reply(Response::ConfigureNodeId { error: 0, specific: 0 }), Some(event))
@@ -313,7 +311,9 @@ impl LssSlave {
             Request::Inquire(part) => {
                 (Self::reply(Response::Inquire(part, self.identity.part(part))), None)
             }
-            Request::InquireNodeId => (Self::reply(Response::InquireNodeId(self.active)), None),
+            Request::InquireNodeId => {
+                (Self::reply(Response::InquireNodeId(NodeId::to_lss(self.active))), None)
+            }
         }
     }
 
@@ -371,9 +371,8 @@ impl LssSlave {
         sub: u8,
         next: u8,
     ) -> (Option<CanFrame>, Option<LssEvent>) {
-        let candidate = self.state == LssState::Waiting
-            && self.active == UNCONFIGURED
-            && self.pending == UNCONFIGURED;
+        let candidate =
+            self.state == LssState::Waiting && self.active.is_none() && self.pending.is_none();
         if !candidate {
             return (None, None);
         }
@@ -411,11 +410,11 @@ mod tests {
     const ID: Identity = Identity::new(0x0800_005A, 0x0000_0000, 0x0000_0507, 0x1454_523E);
 
     fn req(b: [u8; 8]) -> CanFrame {
-        CanFrame::new(0x7E5, b)
+        CanFrame::standard(REQUEST_ID, b)
     }
 
     fn ans(b: [u8; 8]) -> Option<CanFrame> {
-        Some(CanFrame::new(0x7E4, b))
+        Some(CanFrame::standard(RESPONSE_ID, b))
     }
 
     fn number(cs: u8, n: u32) -> [u8; 8] {
@@ -427,13 +426,13 @@ mod tests {
     /// another message and gets no answer.
     #[test]
     fn remote_and_extended_frames_are_not_lss() {
-        let mut s = LssSlave::new(ID, Some(5), 0);
+        let mut s = LssSlave::new(ID, NodeId::new(5), 0);
         let inquire_vendor = [0x5A, 0, 0, 0, 0, 0, 0, 0];
         let global = [0x04, 0x01, 0, 0, 0, 0, 0, 0];
         for b in [global, inquire_vendor] {
             assert_eq!(s.handle(&CanFrame::extended(0x7E5, &b).unwrap()), (None, None));
         }
-        assert_eq!(s.handle(&CanFrame::remote(0x7E5, 8)), (None, None));
+        assert_eq!(s.handle(&CanFrame::remote(0x7E5, 8).unwrap()), (None, None));
         assert_eq!(s.state(), LssState::Waiting);
         // The same requests as data frames are served.
         assert_eq!(s.handle(&req(global)), (None, Some(LssEvent::State(LssState::Configuration))));
@@ -442,7 +441,7 @@ mod tests {
 
     #[test]
     fn global_configure_store_inquire() {
-        let mut s = LssSlave::new(ID, Some(5), 0).with_storage();
+        let mut s = LssSlave::new(ID, NodeId::new(5), 0).with_storage();
         // Waiting state: configuration services are ignored.
         assert_eq!(s.handle(&req([0x11, 0x42, 0, 0, 0, 0, 0, 0])), (None, None));
         assert_eq!(s.handle(&req([0x5E, 0, 0, 0, 0, 0, 0, 0])), (None, None));
@@ -459,7 +458,7 @@ mod tests {
         }
         assert_eq!(
             s.handle(&req([0x11, 0x42, 0, 0, 0, 0, 0, 0])),
-            (ans([0x11, 0, 0, 0, 0, 0, 0, 0]), Some(LssEvent::NodeIdConfigured(Some(0x42))))
+            (ans([0x11, 0, 0, 0, 0, 0, 0, 0]), Some(LssEvent::NodeIdConfigured(NodeId::new(0x42))))
         );
         // Inquire node-ID answers the active one, still 5.
         assert_eq!(s.handle(&req([0x5E, 0, 0, 0, 0, 0, 0, 0])).0, ans([0x5E, 5, 0, 0, 0, 0, 0, 0]));
@@ -474,7 +473,7 @@ mod tests {
         // Store: the application's result is the answer.
         assert_eq!(
             s.handle(&req([0x17, 0, 0, 0, 0, 0, 0, 0])),
-            (None, Some(LssEvent::Store { node_id: Some(0x42), bit_timing: 6 }))
+            (None, Some(LssEvent::Store { node_id: NodeId::new(0x42), bit_timing: 6 }))
         );
         assert_eq!(Some(s.store_response(StoreResult::Stored)), ans([0x17, 0, 0, 0, 0, 0, 0, 0]));
         assert_eq!(
@@ -482,7 +481,7 @@ mod tests {
             ans([0x17, 0xFF, 7, 0, 0, 0, 0, 0])
         );
         // Without storage the slave answers "not supported" (1) itself.
-        let mut plain = LssSlave::new(ID, Some(5), 0);
+        let mut plain = LssSlave::new(ID, NodeId::new(5), 0);
         plain.handle(&req([0x04, 0x01, 0, 0, 0, 0, 0, 0]));
         assert_eq!(
             plain.handle(&req([0x17, 0, 0, 0, 0, 0, 0, 0])),
@@ -506,10 +505,13 @@ mod tests {
             s.handle(&req([0x04, 0x00, 0, 0, 0, 0, 0, 0])),
             (None, Some(LssEvent::State(LssState::Waiting)))
         );
-        assert_eq!((s.node_id(), s.pending_node_id()), (Some(5), Some(0x42)));
-        assert_eq!(s.reset_communication(), Some(0x42));
+        assert_eq!((s.node_id(), s.pending_node_id()), (NodeId::new(5), NodeId::new(0x42)));
+        assert_eq!(s.reset_communication(), NodeId::new(0x42));
         // Other CAN-IDs and short frames are not LSS requests.
-        assert_eq!(s.handle(&CanFrame::new(0x7E4, [0x04, 1, 0, 0, 0, 0, 0, 0])), (None, None));
+        assert_eq!(
+            s.handle(&CanFrame::new(0x7E4, [0x04, 1, 0, 0, 0, 0, 0, 0]).unwrap()),
+            (None, None)
+        );
         assert_eq!(s.handle(&CanFrame::from_slice(0x7E5, &[0x04, 1]).unwrap()), (None, None));
     }
 
@@ -523,15 +525,14 @@ mod tests {
             s.handle(&req([0x04, 0x00, 0, 0, 0, 0, 0, 0])),
             (None, Some(LssEvent::ResetCommunication))
         );
-        assert_eq!(s.reset_communication(), Some(0x20));
+        assert_eq!(s.reset_communication(), NodeId::new(0x20));
         // 0xFF given to new() is unconfigured too, as is anything outside 1-127.
-        assert_eq!(LssSlave::new(ID, Some(0xFF), 0).node_id(), None);
-        assert_eq!(LssSlave::new(ID, Some(0), 0).node_id(), None);
+        assert_eq!(LssSlave::new(ID, None, 0).node_id(), None);
     }
 
     #[test]
     fn selective_and_identify() {
-        let mut s = LssSlave::new(ID, Some(5), 0);
+        let mut s = LssSlave::new(ID, NodeId::new(5), 0);
         let sel = |s: &mut LssSlave, serial| {
             let mut last = (None, None);
             for (cs, n) in
@@ -609,7 +610,7 @@ mod tests {
             ans([0x11, 0, 0, 0, 0, 0, 0, 0])
         );
         // A slave with a node-ID stays silent.
-        assert_eq!(fastscan(&mut LssSlave::new(ID, Some(3), 0)), None);
+        assert_eq!(fastscan(&mut LssSlave::new(ID, NodeId::new(3), 0)), None);
         // A request for a part not under test is ignored: BitChecked 0 of the serial first.
         let mut s = LssSlave::new(ID, None, 0);
         let b = ID.serial.to_le_bytes();

@@ -15,7 +15,7 @@
 //!     command: |o: &Outputs| Rpdo2 { controlword: o.controlword.bits(), target_position: o.target_position.unwrap_or(0) },
 //!     status: |t: &Tpdo2| Inputs::new(Statusword(t.statusword)).with_position(t.position),
 //! };
-//! let mut axis = Axis::new(&mut master, 1, Driver::new(SupportedModes(0x1)), pdos)?;
+//! let mut axis = Axis::new(&mut master, odc::node_id!(1), Driver::new(SupportedModes(0x1)), pdos)?;
 //! axis.enable()?;
 //! axis.set_mode(ModeOfOperation::ProfilePosition)?;
 //! axis.move_to(100_000)?;
@@ -25,6 +25,7 @@
 use super::{Error, Master};
 use crate::Pdo;
 use crate::cia402::{Driver, DriverStatus, Inputs, ModeOfOperation, Statusword};
+use crate::cob::NodeId;
 use crate::transport::Bus;
 
 /// The device's process data for its 402 objects: the RPDO that carries the controlword
@@ -48,7 +49,7 @@ pub const CYCLE_WAIT_MS: u64 = 20;
 /// A CiA 402 drive driven over PDOs and SYNC.
 pub struct Axis<'m, B: Bus, R, T> {
     master: &'m mut Master<B>,
-    node: u8,
+    node: NodeId,
     pdos: ProcessData<R, T>,
     /// The driver (its status says how the last job ended).
     pub driver: Driver,
@@ -65,7 +66,7 @@ impl<'m, B: Bus, R: Pdo, T: Pdo> Axis<'m, B, R, T> {
     /// The SDO error reading the statusword.
     pub fn new(
         master: &'m mut Master<B>,
-        node: u8,
+        node: NodeId,
         driver: Driver,
         pdos: ProcessData<R, T>,
     ) -> Result<Self, Error<B::Error>> {
@@ -91,7 +92,7 @@ impl<'m, B: Bus, R: Pdo, T: Pdo> Axis<'m, B, R, T> {
     /// As [`Axis::new`].
     pub fn with_pdos<P: crate::cia402::DrivePdos<Command = R, Status = T>>(
         master: &'m mut Master<B>,
-        node: u8,
+        node: NodeId,
         driver: Driver,
     ) -> Result<Self, Error<B::Error>> {
         let pdos = ProcessData {

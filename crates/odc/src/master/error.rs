@@ -3,6 +3,7 @@
 use std::fmt;
 
 use super::lss;
+use crate::cob::NodeId;
 use crate::plan::SdoWrite;
 use crate::sdo::SdoError;
 
@@ -14,7 +15,7 @@ pub enum Error<E> {
     /// An SDO transfer failed: the server's abort or this client's (timeout, protocol).
     Sdo {
         /// The node.
-        node: u8,
+        node: NodeId,
         /// Object index.
         index: u16,
         /// Sub-index.
@@ -25,7 +26,7 @@ pub enum Error<E> {
     /// A write of a configuration plan failed.
     Plan {
         /// The node.
-        node: u8,
+        node: NodeId,
         /// Position of the write in the plan.
         step: usize,
         /// The write.

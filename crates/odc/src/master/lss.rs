@@ -10,6 +10,7 @@ use core::fmt;
 
 use super::{Error, Master};
 use crate::can::CanFrame;
+use crate::cob::NodeId;
 use crate::lss::frame::Part;
 use crate::lss::{Identity, REQUEST_ID, RESPONSE_ID, Request, Response};
 use crate::transport::Bus;
@@ -92,13 +93,17 @@ impl<'m, B: Bus> LssMaster<'m, B> {
     }
 
     fn send(&mut self, r: Request) -> Result<(), Error<B::Error>> {
-        self.master.send(&CanFrame::new(REQUEST_ID, r.encode()))
+        self.master.send(&CanFrame::standard(REQUEST_ID, r.encode()))
     }
 
     /// The next LSS answer, or `None` after the timeout (other frames are kept).
     fn answer(&mut self) -> Result<Option<Response>, Error<B::Error>> {
         let deadline = self.master.now_ms().saturating_add(self.timeout_ms);
-        let f = self.master.link.take(deadline, |f| f.is_data(RESPONSE_ID)).map_err(Error::Bus)?;
+        let f = self
+            .master
+            .link
+            .take(deadline, |f| f.is_data(RESPONSE_ID.raw()))
+            .map_err(Error::Bus)?;
         Ok(f.and_then(|f| Response::decode(f.bytes())))
     }
 
@@ -136,17 +141,14 @@ impl<'m, B: Bus> LssMaster<'m, B> {
         }
     }
 
-    /// Configure node-ID (1..=127, or 255 for "unconfigured") of the device in configuration
+    /// Configure node-ID (`None`: "unconfigured", 0xFF) of the device in configuration
     /// state; it takes effect at its next reset communication.
     ///
     /// # Errors
     ///
     /// [`LssError::NodeId`] when refused, [`LssError::NoAnswer`], or the bus error.
-    pub fn configure_node_id(&mut self, id: u8) -> Result<(), Error<B::Error>> {
-        if !((1..=127).contains(&id) || id == 255) {
-            return Err(Error::Invalid("LSS node-ID outside 1..=127 and 255"));
-        }
-        match self.ask(Request::ConfigureNodeId(id), "configure node-ID")? {
+    pub fn configure_node_id(&mut self, id: Option<NodeId>) -> Result<(), Error<B::Error>> {
+        match self.ask(Request::ConfigureNodeId(NodeId::to_lss(id)), "configure node-ID")? {
             Response::ConfigureNodeId { error: 0, .. } => Ok(()),
             Response::ConfigureNodeId { error, specific } => {
                 Err(Error::Lss(LssError::NodeId { error, specific }))
@@ -219,14 +221,16 @@ impl<'m, B: Bus> LssMaster<'m, B> {
         Ok(Identity { vendor, product, revision, serial })
     }
 
-    /// Inquire the node-ID of the device in configuration state (255: unconfigured).
+    /// Inquire the node-ID of the device in configuration state (`None`: unconfigured).
     ///
     /// # Errors
     ///
-    /// [`LssError::NoAnswer`], or the bus error.
-    pub fn inquire_node_id(&mut self) -> Result<u8, Error<B::Error>> {
+    /// [`LssError::NoAnswer`], [`Error::Invalid`] for an answer that is no node-ID (0,
+    /// 128–254), or the bus error.
+    pub fn inquire_node_id(&mut self) -> Result<Option<NodeId>, Error<B::Error>> {
         match self.ask(Request::InquireNodeId, "inquire node-ID")? {
-            Response::InquireNodeId(id) => Ok(id),
+            Response::InquireNodeId(id) => NodeId::from_lss(id)
+                .ok_or(Error::Invalid("LSS answered a node-ID outside 1..=127 and 255")),
             _ => Err(Error::Lss(LssError::NoAnswer("inquire node-ID"))),
         }
     }

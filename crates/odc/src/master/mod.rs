@@ -28,12 +28,13 @@
 //! let mut master = Master::new(port).with_timeout(100);
 //! // A device says it booted, and later that it is operational.
 //! device.send(&CanFrame::from_slice(0x705, &[0x00]).unwrap()).unwrap();
-//! master.wait_boot_up(5)?;
-//! assert_eq!(master.state(5), Some(NmtState::PreOperational));
-//! master.nmt(NmtCommand::Start, 5)?;
+//! let node = odc::node_id!(5);
+//! master.wait_boot_up(node)?;
+//! assert_eq!(master.state(node), Some(NmtState::PreOperational));
+//! master.nmt(NmtCommand::Start, node)?;
 //! device.send(&CanFrame::from_slice(0x705, &[0x05]).unwrap()).unwrap();
 //! let deadline = master.now_ms() + 100;
-//! assert_eq!(master.poll(deadline)?, Some(Event::State { node: 5, state: NmtState::Operational }));
+//! assert_eq!(master.poll(deadline)?, Some(Event::State { node, state: NmtState::Operational }));
 //! # Ok::<(), odc::master::Error<odc::transport::mem::Closed>>(())
 //! ```
 
@@ -51,6 +52,7 @@ use std::vec::Vec;
 
 use crate::Pdo;
 use crate::can::CanFrame;
+use crate::cob::NodeId;
 use crate::emcy::EmcyFrame;
 use crate::nmt::NmtState;
 use crate::plan::SdoWrite;
@@ -69,24 +71,24 @@ pub enum Event {
     /// A node sent its boot-up message (it is now pre-operational).
     BootUp {
         /// The node.
-        node: u8,
+        node: NodeId,
     },
     /// A node's heartbeat or guarding answer reported a state other than the last one.
     State {
         /// The node.
-        node: u8,
+        node: NodeId,
         /// Its state.
         state: NmtState,
     },
     /// A node watched with [`Master::watch_heartbeat`] missed its heartbeat time.
     HeartbeatLost {
         /// The node.
-        node: u8,
+        node: NodeId,
     },
     /// An emergency message (`EmcyCode`'s `Display` gives its CiA 301/402 meaning).
     Emcy {
         /// The node.
-        node: u8,
+        node: NodeId,
         /// Code, error register, manufacturer bytes.
         emcy: EmcyFrame,
     },
@@ -131,16 +133,12 @@ struct SyncProducer {
 pub struct Master<B: Bus> {
     link: Link<B>,
     timeout_ms: u64,
-    clients: BTreeMap<u8, Box<Client<SDO_BUFFER>>>,
-    nodes: BTreeMap<u8, Watch>,
+    clients: BTreeMap<NodeId, Box<Client<SDO_BUFFER>>>,
+    nodes: BTreeMap<NodeId, Watch>,
     sync: Option<SyncProducer>,
     /// The SYNC counter's overflow value (0x1019), when SYNCs carry a counter.
     sync_overflow: Option<u8>,
     sync_counter: u8,
-}
-
-fn valid(node: u8) -> bool {
-    (1..=127).contains(&node)
 }
 
 impl<B: Bus> Master<B> {

@@ -2,6 +2,7 @@
 
 use super::{Error, Event, Master, SyncProducer, frame};
 use crate::can::CanFrame;
+use crate::cob::NodeId;
 use crate::emcy::EmcyFrame;
 use crate::nmt::{NmtCommand, NmtState};
 use crate::transport::Bus;
@@ -9,27 +10,33 @@ use crate::transport::Bus;
 impl<B: Bus> Master<B> {
     // ---- NMT -----------------------------------------------------------------------------
 
-    /// An NMT command to `node`, or to every node when `node` is 0.
+    /// An NMT command to `node`.
     ///
     /// # Errors
     ///
-    /// A node-ID above 127, or the bus error.
-    pub fn nmt(&mut self, command: NmtCommand, node: u8) -> Result<(), Error<B::Error>> {
-        if node > 127 {
-            return Err(Error::Invalid("NMT node-ID above 127"));
-        }
-        self.send(&frame(0, &command.frame(node))?)
+    /// The bus error.
+    pub fn nmt(&mut self, command: NmtCommand, node: NodeId) -> Result<(), Error<B::Error>> {
+        self.send(&frame(0, &command.frame(Some(node)))?)
+    }
+
+    /// An NMT command to every node (node-ID byte 0).
+    ///
+    /// # Errors
+    ///
+    /// The bus error.
+    pub fn nmt_all(&mut self, command: NmtCommand) -> Result<(), Error<B::Error>> {
+        self.send(&frame(0, &command.frame(None))?)
     }
 
     /// The state `node` last reported (boot-up counts as pre-operational); `None` before it
     /// said anything.
-    pub fn state(&self, node: u8) -> Option<NmtState> {
+    pub fn state(&self, node: NodeId) -> Option<NmtState> {
         self.nodes.get(&node).and_then(|w| w.state)
     }
 
     /// Consumes `node`'s heartbeat: when none comes for `timeout_ms`, [`Master::poll`] gives
     /// [`Event::HeartbeatLost`] once, until it comes back.
-    pub fn watch_heartbeat(&mut self, node: u8, timeout_ms: u64) {
+    pub fn watch_heartbeat(&mut self, node: NodeId, timeout_ms: u64) {
         let now = self.now_ms();
         let w = self.nodes.entry(node).or_default();
         w.timeout_ms = Some(timeout_ms);
@@ -42,8 +49,8 @@ impl<B: Bus> Master<B> {
     /// # Errors
     ///
     /// [`Error::Timeout`] when none comes in time, or the bus error.
-    pub fn wait_boot_up(&mut self, node: u8) -> Result<(), Error<B::Error>> {
-        let id = 0x700 + u32::from(node);
+    pub fn wait_boot_up(&mut self, node: NodeId) -> Result<(), Error<B::Error>> {
+        let id = node.error_control().raw();
         let deadline = self.deadline();
         let boot = |f: &CanFrame| f.is_data(id) && f.bytes() == [0];
         match self.link.take(deadline, boot).map_err(Error::Bus)? {
@@ -60,8 +67,8 @@ impl<B: Bus> Master<B> {
     /// # Errors
     ///
     /// [`Error::Timeout`], or the bus error.
-    pub fn wait_state(&mut self, node: u8, state: NmtState) -> Result<(), Error<B::Error>> {
-        let id = 0x700 + u32::from(node);
+    pub fn wait_state(&mut self, node: NodeId, state: NmtState) -> Result<(), Error<B::Error>> {
+        let id = node.error_control().raw();
         let deadline = self.deadline();
         let want = |f: &CanFrame| {
             f.is_data(id) && f.bytes().first().and_then(|b| NmtState::from_u8(*b)) == Some(state)
@@ -86,13 +93,15 @@ impl<B: Bus> Master<B> {
         let now = self.link.bus.now_ms();
         let event = match id {
             0x080 => Event::Sync { counter: f.bytes().first().copied() },
-            0x081..=0x0FF => match EmcyFrame::decode(f.bytes()) {
-                Ok(emcy) => Event::Emcy { node: (id - 0x80) as u8, emcy },
-                Err(_) => Event::Other(*f),
+            0x081..=0x0FF => match (NodeId::of_emcy(id), EmcyFrame::decode(f.bytes())) {
+                (Some(node), Ok(emcy)) => Event::Emcy { node, emcy },
+                _ => Event::Other(*f),
             },
             0x181..=0x57F => Event::Pdo { cob_id: id, frame: *f },
             0x701..=0x77F => {
-                let node = (id - 0x700) as u8;
+                let Some(node) = NodeId::of_error_control(id) else {
+                    return Some(Event::Other(*f));
+                };
                 let Some(state) = f.bytes().first().and_then(|b| NmtState::from_u8(*b)) else {
                     return Some(Event::Other(*f));
                 };
@@ -150,7 +159,7 @@ impl<B: Bus> Master<B> {
         }
     }
 
-    fn lost_node(&mut self, now: u64) -> Option<u8> {
+    fn lost_node(&mut self, now: u64) -> Option<NodeId> {
         for (node, w) in &mut self.nodes {
             if let Some(t) = w.timeout_ms
                 && !w.lost

@@ -4,7 +4,8 @@
 use std::boxed::Box;
 use std::vec::Vec;
 
-use super::{Error, Master, SDO_BUFFER, link::Link, valid};
+use super::{Error, Master, SDO_BUFFER, link::Link};
+use crate::cob::NodeId;
 use crate::plan::SdoWrite;
 use crate::sdo::{Client, SdoError};
 use crate::transport::Bus;
@@ -18,7 +19,11 @@ impl<B: Bus> Master<B> {
     /// # Errors
     ///
     /// [`Error::Sdo`] with the abort, or the bus error.
-    pub fn read<T: ObjValue>(&mut self, node: u8, entry: &Entry<T>) -> Result<T, Error<B::Error>> {
+    pub fn read<T: ObjValue>(
+        &mut self,
+        node: NodeId,
+        entry: &Entry<T>,
+    ) -> Result<T, Error<B::Error>> {
         let (index, sub) = (entry.addr.index, entry.addr.sub);
         self.transfer(node, index, sub, |c, link| c.read(link, entry))
     }
@@ -30,7 +35,7 @@ impl<B: Bus> Master<B> {
     /// [`Error::Sdo`] with the abort, or the bus error.
     pub fn write<T: ObjValue>(
         &mut self,
-        node: u8,
+        node: NodeId,
         entry: &Entry<T>,
         value: T,
     ) -> Result<(), Error<B::Error>> {
@@ -43,7 +48,12 @@ impl<B: Bus> Master<B> {
     /// # Errors
     ///
     /// [`Error::Sdo`] with the abort, or the bus error.
-    pub fn upload(&mut self, node: u8, index: u16, sub: u8) -> Result<Vec<u8>, Error<B::Error>> {
+    pub fn upload(
+        &mut self,
+        node: NodeId,
+        index: u16,
+        sub: u8,
+    ) -> Result<Vec<u8>, Error<B::Error>> {
         self.transfer(node, index, sub, |c, link| c.upload(link, index, sub).map(<[u8]>::to_vec))
     }
 
@@ -54,7 +64,7 @@ impl<B: Bus> Master<B> {
     /// [`Error::Sdo`] with the abort, or the bus error.
     pub fn download(
         &mut self,
-        node: u8,
+        node: NodeId,
         index: u16,
         sub: u8,
         data: &[u8],
@@ -71,7 +81,7 @@ impl<B: Bus> Master<B> {
     /// error.
     pub fn upload_block(
         &mut self,
-        node: u8,
+        node: NodeId,
         index: u16,
         sub: u8,
     ) -> Result<Vec<u8>, Error<B::Error>> {
@@ -87,7 +97,7 @@ impl<B: Bus> Master<B> {
     /// As [`Master::upload_block`].
     pub fn download_block(
         &mut self,
-        node: u8,
+        node: NodeId,
         index: u16,
         sub: u8,
         data: &[u8],
@@ -101,7 +111,7 @@ impl<B: Bus> Master<B> {
     /// # Errors
     ///
     /// [`Error::Plan`]: which write failed, and why.
-    pub fn execute(&mut self, node: u8, plan: &[SdoWrite]) -> Result<(), Error<B::Error>> {
+    pub fn execute(&mut self, node: NodeId, plan: &[SdoWrite]) -> Result<(), Error<B::Error>> {
         let mut client = self.take_client(node)?;
         let r = client.execute(&mut self.link, plan);
         self.clients.insert(node, client);
@@ -114,7 +124,7 @@ impl<B: Bus> Master<B> {
     /// Runs one transfer with `node`'s client; its error names the node and the object.
     fn transfer<T>(
         &mut self,
-        node: u8,
+        node: NodeId,
         index: u16,
         sub: u8,
         run: impl FnOnce(&mut Client<SDO_BUFFER>, &mut Link<B>) -> Result<T, SdoError<B::Error>>,
@@ -127,11 +137,8 @@ impl<B: Bus> Master<B> {
 
     /// The node's client, out of the map while it runs (it borrows the link mutably); the
     /// link then lets its responses through.
-    fn take_client(&mut self, node: u8) -> Result<Box<Client<SDO_BUFFER>>, Error<B::Error>> {
-        if !valid(node) {
-            return Err(Error::Invalid("SDO node-ID outside 1..=127"));
-        }
-        self.link.sdo_response = Some(0x580 + u32::from(node));
+    fn take_client(&mut self, node: NodeId) -> Result<Box<Client<SDO_BUFFER>>, Error<B::Error>> {
+        self.link.sdo_response = Some(node.sdo_response().raw());
         let timeout = self.timeout_ms;
         Ok(self
             .clients

@@ -219,7 +219,7 @@ impl Emcy {
     }
 
     fn transmit(&mut self, payload: [u8; 8], now: Instant, out: &mut impl FnMut(CanFrame)) {
-        out(CanFrame::new(self.cob_id & 0x7FF, payload));
+        out(CanFrame::standard(crate::can::StdId::masked(self.cob_id), payload));
         self.last_sent = Some(now);
     }
 

@@ -4,7 +4,7 @@
 
 use super::params::{get_u8, get_u16, get_u32};
 use super::{Events, MAX_HB_CONSUMERS};
-use crate::can::CanFrame;
+use crate::can::{CanFrame, StdId};
 use crate::nmt::NmtState;
 use crate::slave::ObjectDictionary;
 use crate::time::{Duration, Instant};
@@ -135,7 +135,7 @@ impl ErrorControl {
     /// life guarding, reported in `ev`.
     pub(super) fn poll(
         &mut self,
-        own_id: u32,
+        own_id: StdId,
         state: NmtState,
         now: Instant,
         out: &mut impl FnMut(CanFrame),

@@ -5,7 +5,8 @@
 use super::params::get_u32;
 use super::{Events, Node, Reset};
 use crate::can::CanFrame;
-use crate::lss::{Identity, LssEvent, LssSlave, StoreResult, UNCONFIGURED};
+use crate::cob::NodeId;
+use crate::lss::{Identity, LssEvent, LssSlave, StoreResult};
 use crate::slave::ObjectDictionary;
 
 /// How the node builds its LSS slave at the first start.
@@ -20,12 +21,16 @@ pub(super) struct LssSetup {
 }
 
 impl LssSetup {
-    pub(super) fn slave<D: ObjectDictionary + ?Sized>(&self, dict: &D, node_id: u8) -> LssSlave {
+    pub(super) fn slave<D: ObjectDictionary + ?Sized>(
+        &self,
+        dict: &D,
+        node_id: Option<NodeId>,
+    ) -> LssSlave {
         // A part 0x1018 lacks is 0, as CiA 301 has the sub-indexes 2–4 optional.
         let part = |sub| get_u32(dict, 0x1018, sub).unwrap_or(0);
         let identity =
             self.identity.unwrap_or_else(|| Identity::new(part(1), part(2), part(3), part(4)));
-        let mut slave = LssSlave::new(identity, Some(node_id), self.bit_timing);
+        let mut slave = LssSlave::new(identity, node_id, self.bit_timing);
         if let Some(mask) = self.bit_timings {
             slave = slave.with_bit_timings(mask);
         }
@@ -68,24 +73,26 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
     }
 
     /// The node-ID the next start (reset node or communication) takes: the one an LSS master
-    /// configured, or [`Node::set_node_id`]'s; 0xFF when the node will have none. The
+    /// configured, or [`Node::set_node_id`]'s; `None` when the node will have none. The
     /// application restores its dictionary's defaults for this node-ID at [`Events::reset`].
-    pub fn next_node_id(&self) -> u8 {
+    pub fn next_node_id(&self) -> Option<NodeId> {
         match &self.lss {
-            Some(l) => l.pending_node_id().unwrap_or(UNCONFIGURED),
-            None => self.next_node_id.unwrap_or(self.node_id),
+            Some(l) => l.pending_node_id(),
+            None => self.next_node_id.or(self.node_id),
         }
     }
 
     /// Sends the answer to [`LssEvent::Store`] once the application has stored the
     /// configuration (or failed to). `false` when the node has no LSS slave.
-    pub fn lss_store_response(
+    pub fn lss_store_response<S: super::Sent>(
         &mut self,
         result: StoreResult,
-        out: &mut impl FnMut(CanFrame),
+        out: &mut impl FnMut(CanFrame) -> S,
     ) -> bool {
-        let Some(lss) = &self.lss else { return false };
-        out(lss.store_response(result));
+        let Some(answer) = self.lss.as_ref().map(|l| l.store_response(result)) else {
+            return false;
+        };
+        self.with_tx(out, |_, o| o(answer));
         true
     }
 

@@ -8,7 +8,9 @@
 //! calls [`Node::poll`] often enough for its timers (heartbeat, event timers, inhibit times,
 //! guarding; every millisecond is plenty, [`Node::next_deadline`] says when it must), and
 //! passes the time of a monotonic clock ([`Instant`](crate::time::Instant)); the node's frames
-//! go to the `out` closure (a CAN driver's transmit queue). The node reads its parameters from
+//! go to the `out` closure (a CAN driver's transmit queue), which may refuse one by returning
+//! `Err` ([`Sent`]): the node keeps up to [`TX_QUEUE`] refused frames in order, offers them
+//! first at its next call, and counts those that did not fit ([`Node::tx_lost`]). The node reads its parameters from
 //! the dictionary (0x1005, 0x1006, 0x100C, 0x100D, 0x1014–0x1017, 0x1019, the PDO objects) and
 //! reads them again after an SDO write to them, so a master configures it as any CANopen
 //! device.
@@ -20,8 +22,8 @@
 //! use odc::node::Node;
 //! use odc::time::Instant;
 //!
-//! let mut od = lxm23a::slave::Dictionary::new(5);
-//! let mut node: Node<64> = Node::new(5);
+//! let mut od = lxm23a::slave::Dictionary::new(odc::node_id!(5));
+//! let mut node: Node<64> = Node::new(odc::node_id!(5));
 //! let mut sent = Vec::new();
 //! node.start(&mut od, Instant::ZERO, &mut |f| sent.push(f));
 //! assert_eq!(sent, [CanFrame::from_slice(0x705, &[0x00]).unwrap()]); // boot-up
@@ -49,14 +51,17 @@ use lss::LssSetup;
 mod params;
 pub mod pdo;
 mod sync;
+mod tx;
+pub use tx::{Sent, TX_QUEUE};
 #[cfg(test)]
 mod tests;
 
-use crate::can::CanFrame;
+use crate::can::{CanFrame, StdId};
+use crate::cob::NodeId;
 use crate::emcy::{EmcyCode, ErrorRegister};
 use crate::lss::LssEvent;
 #[cfg(feature = "lss-slave")]
-use crate::lss::{LssSlave, UNCONFIGURED};
+use crate::lss::LssSlave;
 use crate::nmt::{NmtCommand, NmtState};
 use crate::sdo::Server;
 use crate::slave::ObjectDictionary;
@@ -74,8 +79,8 @@ const HEARTBEAT_ERROR: EmcyCode = EmcyCode(0x8130);
 pub const MAX_HB_CONSUMERS: usize = 8;
 
 /// An 11-bit data frame of one byte (boot-up, heartbeat, guarding answer, SYNC counter).
-const fn one_byte(id: u32, b: u8) -> CanFrame {
-    CanFrame { id, extended: false, remote: false, len: 1, data: [b, 0, 0, 0, 0, 0, 0, 0] }
+const fn one_byte(id: StdId, b: u8) -> CanFrame {
+    CanFrame::standard_len(id, [b, 0, 0, 0, 0, 0, 0, 0], 1)
 }
 
 /// Which reset the NMT master asked for.
@@ -153,13 +158,15 @@ impl Events {
 ///
 /// `N`: bytes of the SDO server's buffer (the largest value of a segmented transfer); `R`
 /// and `T`: receive and transmit PDOs served (0x1400/0x1800 onward; 8 each by default, the
-/// devices in `eds/` have 4). Every buffer is inside the node: `Node<64>` is 1376 bytes on
-/// x86_64, `Node<64, 4, 4>` 1024 (measured with `size_of`, LSS slave included; the SDO buffer
-/// is `N` of them); `Node<32, 4, 4>` is 976 bytes on thumbv7em (`tests/slave-size`).
+/// devices in `eds/` have 4). Every buffer is inside the node: `Node<64>` was 1376 bytes on
+/// x86_64 and `Node<64, 4, 4>` 1024 before the transmit queue of [`TX_QUEUE`] frames, which
+/// adds 80 (measured with `size_of`, LSS slave included; the SDO buffer is `N` of them);
+/// `Node<32, 4, 4>` was 976 bytes on thumbv7em (`tests/slave-size`) before it.
 #[derive(Clone, Debug)]
 pub struct Node<const N: usize, const R: usize = 8, const T: usize = 8> {
-    node_id: u8,
-    next_node_id: Option<u8>,
+    /// `None`: no node-ID (CiA 305's 0xFF), waiting for LSS.
+    node_id: Option<NodeId>,
+    next_node_id: Option<NodeId>,
     /// `None`: initialising (before `start`, or a reset pending).
     state: Option<NmtState>,
     pending_reset: Option<Reset>,
@@ -174,19 +181,34 @@ pub struct Node<const N: usize, const R: usize = 8, const T: usize = 8> {
     lss_setup: Option<LssSetup>,
     #[cfg(feature = "lss-slave")]
     lss: Option<LssSlave>,
+    /// Frames the sender refused, to offer again.
+    tx: tx::TxQueue,
 }
 
 impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
-    /// A node with id `node_id` (1–127), initialising until [`Node::start`]. With
-    /// [`lss::UNCONFIGURED`](crate::lss::UNCONFIGURED) (0xFF) it stays initialising, without
-    /// boot-up, until an LSS master gives it a node-ID ([`Node::with_lss`]; CiA 305).
-    pub fn new(node_id: u8) -> Self {
+    /// A node with id `node_id`, initialising until [`Node::start`].
+    pub fn new(node_id: NodeId) -> Self {
+        Self::with_id(Some(node_id))
+    }
+
+    /// A node without node-ID (CiA 305's 0xFF): it stays initialising, without boot-up,
+    /// until an LSS master gives it one ([`Node::with_lss`]).
+    pub fn unconfigured() -> Self {
+        Self::with_id(None)
+    }
+
+    fn with_id(node_id: Option<NodeId>) -> Self {
         Self {
             node_id,
             next_node_id: None,
             state: None,
             pending_reset: None,
-            sdo: Server::new(node_id),
+            // A node without node-ID serves no SDO (it stays initialising): the server's id
+            // is never used then.
+            sdo: Server::new(match node_id {
+                Some(n) => n,
+                None => NodeId::MIN,
+            }),
             dirty: Dirty::default(),
             error_control: ErrorControl::new(),
             sync: sync::Sync::new(),
@@ -196,29 +218,25 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
             lss_setup: None,
             #[cfg(feature = "lss-slave")]
             lss: None,
+            tx: tx::TxQueue::default(),
         }
     }
 
-    /// The node id.
-    pub fn node_id(&self) -> u8 {
+    /// The node id; `None` while it has none (LSS, CiA 305).
+    pub fn node_id(&self) -> Option<NodeId> {
         self.node_id
     }
 
     /// The node-ID the next start (reset node or communication) takes: the one
     /// [`Node::set_node_id`] set, or the current one.
     #[cfg(not(feature = "lss-slave"))]
-    pub fn next_node_id(&self) -> u8 {
-        self.next_node_id.unwrap_or(self.node_id)
-    }
-
-    /// CAN-ID of the node's error control (boot-up, heartbeat, guarding): 0x700 + node-ID.
-    fn error_control_id(&self) -> u32 {
-        0x700 + u32::from(self.node_id)
+    pub fn next_node_id(&self) -> Option<NodeId> {
+        self.next_node_id.or(self.node_id)
     }
 
     /// A new node id, taken at the next start (reset communication). With LSS, the LSS slave
     /// owns the node-ID from the first start on: this sets the one it starts with.
-    pub fn set_node_id(&mut self, node_id: u8) {
+    pub fn set_node_id(&mut self, node_id: NodeId) {
         self.next_node_id = Some(node_id);
     }
 
@@ -244,18 +262,14 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         self.emcy.overflowed()
     }
 
-    /// Initialisation → boot-up frame (0x700 + id, one byte 0) → pre-operational. Also what
-    /// reset node and reset communication do: every parameter is read again from `dict`
-    /// (which the application has set back to its defaults, for [`Node::next_node_id`]), the
-    /// error history is emptied. The node-ID an LSS master configured becomes active here;
-    /// a node without node-ID (0xFF) stays initialising, without boot-up (CiA 305).
-    pub fn start<D: ObjectDictionary + ?Sized>(
+    /// [`Node::start`] once its sender keeps the frames it refuses.
+    fn start_in<D: ObjectDictionary + ?Sized>(
         &mut self,
         dict: &mut D,
         now: Instant,
         out: &mut impl FnMut(CanFrame),
     ) {
-        let requested = self.next_node_id.take().unwrap_or(self.node_id);
+        let requested = self.next_node_id.take().or(self.node_id);
         #[cfg(feature = "lss-slave")]
         let (id, setup, lss) = {
             let setup = self.lss_setup;
@@ -266,27 +280,25 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
                 lss = Some(s.slave(&*dict, requested));
             }
             let id = match lss.as_mut() {
-                Some(l) => l.reset_communication().unwrap_or(UNCONFIGURED),
+                Some(l) => l.reset_communication(),
                 None => requested,
             };
             (id, setup, lss)
         };
         #[cfg(not(feature = "lss-slave"))]
         let id = requested;
-        *self = Self::new(id);
+        *self = Self::with_id(id);
         #[cfg(feature = "lss-slave")]
         {
             self.lss_setup = setup;
             self.lss = lss;
         }
-        if !(1..=127).contains(&id) {
-            return;
-        }
+        let Some(id) = id else { return };
         self.emcy.reset(&*dict);
         self.dirty.0 = 0xFF;
         self.reload(&*dict, now);
         self.state = Some(NmtState::PreOperational);
-        out(one_byte(self.error_control_id(), NmtState::BootUp.to_u8()));
+        out(one_byte(id.error_control(), NmtState::BootUp.to_u8()));
         self.error_control.start(now);
         self.sync.start(now);
     }
@@ -339,9 +351,8 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         View { dict, emcy, dirty, written: false, locked }
     }
 
-    /// One received frame: NMT, node guarding RTR, heartbeats of other nodes, SYNC, SDO
-    /// requests, RPDOs and RTRs of TPDOs. Frames for none of these are ignored.
-    pub fn handle<D: ObjectDictionary + ?Sized>(
+    /// [`Node::handle`] once its sender keeps the frames it refuses.
+    fn handle_in<D: ObjectDictionary + ?Sized>(
         &mut self,
         dict: &mut D,
         frame: &CanFrame,
@@ -350,7 +361,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
     ) -> Events {
         let mut ev = self.pending(dict, now, out);
         #[cfg(feature = "lss-slave")]
-        if frame.is_data(crate::lss::REQUEST_ID) {
+        if frame.is_data(crate::lss::REQUEST_ID.raw()) {
             // LSS runs in every NMT state, and while a node without node-ID initialises.
             self.lss_in(frame, out, &mut ev);
             return ev;
@@ -361,9 +372,13 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
             return ev;
         }
         #[cfg(feature = "guarding")]
-        if frame.remote && !frame.extended && frame.id == self.error_control_id() {
+        if let Some(own) = self.node_id.map(NodeId::error_control)
+            && frame.remote
+            && !frame.extended
+            && frame.id == own.raw()
+        {
             let (byte, was_lost) = self.error_control.guard_request(state, now);
-            out(one_byte(self.error_control_id(), byte));
+            out(one_byte(own, byte));
             if was_lost {
                 self.clear_heartbeat_error(now, out);
             }
@@ -384,7 +399,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
             self.sync_in(dict, counter, now, out, &mut ev);
             return ev;
         }
-        if frame.is_data(self.sdo.request_id()) {
+        if frame.is_data(self.sdo.request_id().raw()) {
             let mut view = Self::view(dict, &mut self.emcy, &mut self.dirty, &self.pdo, self.state);
             // A block upload's whole sub-block goes out at once.
             self.sdo.handle_into(&mut view, frame, now, out);
@@ -408,7 +423,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
 
     fn nmt(&mut self, frame: &CanFrame, ev: &mut Events) {
         let [cs, target, ..] = frame.data;
-        if frame.len < 2 || (target != 0 && target != self.node_id) {
+        if frame.len < 2 || (target != 0 && Some(target) != self.node_id.map(NodeId::get)) {
             return;
         }
         match NmtCommand::from_u8(cs) {
@@ -428,7 +443,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
     /// Clears EMCY 0x8130 once no watched heartbeat and no life guarding is lost.
     fn clear_heartbeat_error(&mut self, now: Instant, out: &mut impl FnMut(CanFrame)) {
         if !self.error_control.any_lost() {
-            self.clear_emcy(HEARTBEAT_ERROR, now, out);
+            self.clear_emcy_in(HEARTBEAT_ERROR, now, out);
         }
     }
 
@@ -457,36 +472,34 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
     ) -> Events {
         let mut ev = Events::default();
         if self.pending_reset.take().is_some() {
-            self.start(dict, now, out);
+            self.start_in(dict, now, out);
             ev.state = self.state;
         }
         ev
     }
 
-    /// Timers: heartbeat, heartbeat consumers, life guarding, the SYNC producer, EMCY inhibit,
-    /// TPDO event timers and inhibit times, change of the mapped data of event-driven TPDOs,
-    /// the SDO timeout. A reset requested by NMT happens here (boot-up).
-    pub fn poll<D: ObjectDictionary + ?Sized>(
+    /// [`Node::poll`] once its sender keeps the frames it refuses.
+    fn poll_in<D: ObjectDictionary + ?Sized>(
         &mut self,
         dict: &mut D,
         now: Instant,
         out: &mut impl FnMut(CanFrame),
     ) -> Events {
         let mut ev = self.pending(dict, now, out);
-        let Some(state) = self.state else { return ev };
+        let (Some(state), Some(id)) = (self.state, self.node_id) else { return ev };
         if self.dirty.0 != 0 {
             self.reload(&*dict, now);
         }
-        self.error_control.poll(self.error_control_id(), state, now, out, &mut ev);
+        self.error_control.poll(id.error_control(), state, now, out, &mut ev);
         // A lost heartbeat or life guarding is EMCY 0x8130 (CiA 301 table 21, "life guard
         // error or heartbeat error"; CANopenNode's CO_EM_HEARTBEAT_CONSUMER), the node's
         // number in the first manufacturer byte (0 for life guarding); cleared when every
         // watched heartbeat is back.
         for node in (0..128u8).filter(|&n| ev.heartbeat_lost >> n & 1 == 1) {
-            self.raise_emcy(HEARTBEAT_ERROR, [node, 0, 0, 0, 0], now, out);
+            self.raise_emcy_in(HEARTBEAT_ERROR, [node, 0, 0, 0, 0], now, out);
         }
         if ev.life_guarding_lost {
-            self.raise_emcy(HEARTBEAT_ERROR, [0; 5], now, out);
+            self.raise_emcy_in(HEARTBEAT_ERROR, [0; 5], now, out);
         }
         if state == NmtState::Stopped {
             return ev;
@@ -526,10 +539,8 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         .min()
     }
 
-    /// Raises an error: sets its bit in the error register, adds it to the history (0x1003)
-    /// and sends the EMCY (COB-ID 0x1014; after the inhibit time 0x1015; not in stopped,
-    /// where EMCY is not a service).
-    pub fn raise_emcy(
+    /// [`Node::raise_emcy`] once its sender keeps the frames it refuses.
+    fn raise_emcy_in(
         &mut self,
         code: EmcyCode,
         manufacturer: [u8; 5],
@@ -540,9 +551,8 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         self.emcy.raise(code, manufacturer, send, now, out);
     }
 
-    /// Clears an error raised before; sends the "error reset" EMCY (code 0x0000) with the
-    /// error register that remains. Returns whether the error was active.
-    pub fn clear_emcy(
+    /// [`Node::clear_emcy`] once its sender keeps the frames it refuses.
+    fn clear_emcy_in(
         &mut self,
         code: EmcyCode,
         now: Instant,

@@ -97,8 +97,8 @@ impl Sync {
             p.counter
         });
         out(match counter {
-            Some(c) => super::one_byte(self.cob_id & 0x7FF, c),
-            None => CanFrame { len: 0, ..super::one_byte(self.cob_id & 0x7FF, 0) },
+            Some(c) => super::one_byte(crate::can::StdId::masked(self.cob_id), c),
+            None => CanFrame::standard_len(crate::can::StdId::masked(self.cob_id), [0; 8], 0),
         });
         p.next = p.next.saturating_add(p.period).max(now);
         Some(counter)

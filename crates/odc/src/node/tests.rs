@@ -11,8 +11,10 @@ use crate::SdoAbort;
 
 #[cfg(feature = "lss-slave")]
 mod lss;
+mod tx;
 
 const ID: u8 = 5;
+const NODE: NodeId = crate::node_id!(ID);
 const MS: u64 = 1000;
 
 /// One entry: address, value bytes (their length is the type's), writable.
@@ -149,7 +151,7 @@ impl Bench {
     }
 
     fn with(dict: Dict) -> Self {
-        let mut b = Bench { node: Node::new(ID), dict, sent: Vec::new(), now: 0 };
+        let mut b = Bench { node: Node::new(NODE), dict, sent: Vec::new(), now: 0 };
         b.node.start(&mut b.dict, crate::time::Instant::ZERO, &mut |f| b.sent.push(f));
         b
     }
@@ -192,7 +194,7 @@ impl Bench {
         let [lo, hi] = index.to_le_bytes();
         let mut req = [0x23 | (4 - n) << 2, lo, hi, sub, 0, 0, 0, 0];
         req[4..4 + value.len()].copy_from_slice(value);
-        self.rx(CanFrame::new(0x600 + u32::from(ID), req));
+        self.rx(CanFrame::new(0x600 + u32::from(ID), req).unwrap());
         let reply = self.sent.pop().expect("an SDO answer");
         assert_eq!(reply.id, 0x580 + u32::from(ID));
         reply.data
@@ -200,7 +202,7 @@ impl Bench {
 
     fn sdo_read(&mut self, index: u16, sub: u8) -> [u8; 8] {
         let [lo, hi] = index.to_le_bytes();
-        self.rx(CanFrame::new(0x600 + u32::from(ID), [0x40, lo, hi, sub, 0, 0, 0, 0]));
+        self.rx(CanFrame::new(0x600 + u32::from(ID), [0x40, lo, hi, sub, 0, 0, 0, 0]).unwrap());
         let reply = self.sent.pop().expect("an SDO answer");
         assert_eq!(reply.id, 0x580 + u32::from(ID));
         reply.data
@@ -228,7 +230,7 @@ fn boot_up_then_nmt_states_decide_the_services() {
     assert_eq!((b.dict.get(0x2000, 0), b.dict.get(0x2001, 0)), (vec![1, 2], vec![3]));
     // Stopped: no SDO answer, no PDO; NMT still works.
     assert_eq!(b.nmt(0x02).state, Some(NmtState::Stopped));
-    b.rx(CanFrame::new(0x605, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]));
+    b.rx(CanFrame::new(0x605, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]).unwrap());
     b.rx(data(0x205, &[9, 9, 0, 9]));
     assert_eq!(b.take(), []);
     assert_eq!(b.dict.get(0x2000, 0), [1, 2]);
@@ -251,10 +253,10 @@ fn reset_is_reported_and_the_next_poll_boots_again() {
     assert_eq!(ev.state, Some(NmtState::PreOperational));
     assert_eq!(b.take(), [data(0x705, &[0])]);
     assert_eq!(b.nmt(0x82).reset, Some(Reset::Communication));
-    b.node.set_node_id(9);
+    b.node.set_node_id(crate::node_id!(9));
     b.run_to(2);
     assert_eq!(b.take(), [data(0x709, &[0])]);
-    assert_eq!(b.node.node_id(), 9);
+    assert_eq!(b.node.node_id(), NodeId::new(9));
 }
 
 #[test]
@@ -279,7 +281,11 @@ fn heartbeat_period_from_0x1017_written_over_sdo() {
 #[test]
 fn heartbeat_consumer_reports_a_loss_once() {
     let mut b = Bench::new();
-    b.sdo_write(0x1016, 1, &crate::nmt::heartbeat_consumer_entry(3, 50).to_le_bytes());
+    b.sdo_write(
+        0x1016,
+        1,
+        &crate::nmt::heartbeat_consumer_entry(crate::node_id!(3), 50).to_le_bytes(),
+    );
     assert_eq!(b.run_to(200).heartbeat_lost, 0, "not watched before its first heartbeat");
     let ev = b.rx(data(0x703, &[0x05]));
     assert_eq!(ev.heartbeat_started, 1 << 3);
@@ -297,7 +303,11 @@ fn heartbeat_consumer_reports_a_loss_once() {
 #[test]
 fn heartbeat_loss_raises_emcy_8130_and_its_return_clears_it() {
     let mut b = Bench::new();
-    b.sdo_write(0x1016, 1, &crate::nmt::heartbeat_consumer_entry(3, 50).to_le_bytes());
+    b.sdo_write(
+        0x1016,
+        1,
+        &crate::nmt::heartbeat_consumer_entry(crate::node_id!(3), 50).to_le_bytes(),
+    );
     b.rx(data(0x703, &[0x05]));
     b.take();
     b.run_to(251);
@@ -313,15 +323,15 @@ fn heartbeat_loss_raises_emcy_8130_and_its_return_clears_it() {
 fn node_guarding_answers_with_the_toggle_and_detects_life_loss() {
     let mut b = Bench::new();
     b.take();
-    b.rx(CanFrame::remote(0x705, 1));
-    b.rx(CanFrame::remote(0x705, 1));
+    b.rx(CanFrame::remote(0x705, 1).unwrap());
+    b.rx(CanFrame::remote(0x705, 1).unwrap());
     b.nmt(0x01);
-    b.rx(CanFrame::remote(0x705, 1));
+    b.rx(CanFrame::remote(0x705, 1).unwrap());
     assert_eq!(b.take(), [data(0x705, &[0x7F]), data(0x705, &[0xFF]), data(0x705, &[0x05])]);
     // Guard time 100 ms, life time factor 3: 300 ms without a request is a loss.
     b.sdo_write(0x100C, 0, &100u16.to_le_bytes());
     b.sdo_write(0x100D, 0, &[3]);
-    b.rx(CanFrame::remote(0x705, 1));
+    b.rx(CanFrame::remote(0x705, 1).unwrap());
     assert_eq!(b.take(), [data(0x705, &[0x85])]);
     assert!(!b.run_to(300).life_guarding_lost);
     assert!(b.run_to(301).life_guarding_lost);
@@ -426,13 +436,13 @@ fn rtr_tpdos_252_samples_at_sync_253_on_request() {
     b.dict.set(0x2002, 0, &[1, 2, 3, 4]);
     b.run_to(100);
     b.take();
-    b.rx(CanFrame::remote(0x185, 2));
-    b.rx(CanFrame::remote(0x285, 5));
+    b.rx(CanFrame::remote(0x185, 2).unwrap());
+    b.rx(CanFrame::remote(0x285, 5).unwrap());
     assert_eq!(b.take(), [data(0x185, &[1, 0]), data(0x285, &[1, 2, 3, 4, 0])]);
     // COB-ID bit 30: no RTR.
     b.dict.set(0x1801, 1, &(0x4000_0285u32).to_le_bytes());
     b.node.reload_parameters(&b.dict, crate::time::Instant::ZERO);
-    b.rx(CanFrame::remote(0x285, 5));
+    b.rx(CanFrame::remote(0x285, 5).unwrap());
     assert_eq!(b.take(), []);
 }
 
@@ -443,11 +453,11 @@ fn rpdo_length_errors_raise_emcy_and_dummy_entries_are_skipped() {
     b.take();
     let ev = b.rx(data(0x205, &[1, 2, 3]));
     assert_eq!(ev.rpdo, 0);
-    assert_eq!(b.take(), [CanFrame::new(0x85, [0x10, 0x82, 0x11, 0, 0, 0, 0, 0])]);
+    assert_eq!(b.take(), [CanFrame::new(0x85, [0x10, 0x82, 0x11, 0, 0, 0, 0, 0]).unwrap()]);
     assert_eq!(b.dict.get(0x2000, 0), [0, 0]);
     let ev = b.rx(data(0x205, &[1, 2, 0xEE, 4, 5]));
     assert_eq!(ev.rpdo, 1);
-    assert_eq!(b.take(), [CanFrame::new(0x85, [0x20, 0x82, 0x11, 0, 0, 0, 0, 0])]);
+    assert_eq!(b.take(), [CanFrame::new(0x85, [0x20, 0x82, 0x11, 0, 0, 0, 0, 0]).unwrap()]);
     assert_eq!((b.dict.get(0x2000, 0), b.dict.get(0x2001, 0)), (vec![1, 2], vec![4]));
     assert!(!b.dict.writes.iter().any(|w| w.0 == 0x0005), "no write to the dummy");
     assert_eq!(b.node.error_history(), [0x8220, 0x8210]);
@@ -476,7 +486,7 @@ fn emcy_register_history_and_inhibit() {
         crate::time::Instant::ZERO,
         &mut |f| sent.push(f),
     );
-    assert_eq!(sent, [CanFrame::new(0x85, [0x10, 0x23, 0x03, 1, 2, 3, 4, 5])]);
+    assert_eq!(sent, [CanFrame::new(0x85, [0x10, 0x23, 0x03, 1, 2, 3, 4, 5]).unwrap()]);
     assert_eq!(b.sdo_read(0x1001, 0)[4], 0x03);
     assert_eq!(b.sdo_read(0x1003, 0)[4], 1);
     assert_eq!(b.sdo_read(0x1003, 1)[4..8], [0x10, 0x23, 0x01, 0x02]);
@@ -565,7 +575,7 @@ fn extended_and_remote_frames_are_not_data() {
     // An extended frame with the NMT or RPDO id, an RTR on the SDO id: nothing.
     b.rx(CanFrame::extended(0, &[0x02, ID]).unwrap());
     b.rx(CanFrame::extended(0x205, &[1, 2, 0, 3]).unwrap());
-    b.rx(CanFrame::remote(0x605, 8));
+    b.rx(CanFrame::remote(0x605, 8).unwrap());
     assert_eq!(b.node.state(), NmtState::Operational);
     assert_eq!(b.dict.get(0x2000, 0), [0, 0]);
     assert_eq!(b.take(), []);
@@ -618,7 +628,10 @@ fn dependent_parameters_are_checked() {
     assert_eq!(b.sdo_write(0x1800, 1, &0x8000_0185u32.to_le_bytes())[0], 0x60);
     assert_eq!(b.sdo_write(0x1800, 1, &0x0000_0190u32.to_le_bytes())[0], 0x60);
     // Two consumer entries for node 3 (0x06040043); time 0 makes an entry unused.
-    let entry = |n, t| crate::nmt::heartbeat_consumer_entry(n, t).to_le_bytes();
+    let entry = |n, t| {
+        let n = NodeId::new(n).unwrap();
+        crate::nmt::heartbeat_consumer_entry(n, t).to_le_bytes()
+    };
     assert_eq!(b.sdo_write(0x1016, 1, &entry(3, 100))[0], 0x60);
     assert_eq!(b.sdo_write(0x1016, 2, &entry(3, 200))[4..], [0x43, 0x00, 0x04, 0x06]);
     assert_eq!(b.sdo_write(0x1016, 2, &entry(3, 0))[0], 0x60);
@@ -652,8 +665,8 @@ fn block_upload_sends_whole_sub_blocks() {
     dict.add(0x2003, 0, &text, false);
     let mut b = Bench::with(dict);
     b.take();
-    let sdo = |d: [u8; 8]| CanFrame::new(0x605, d);
-    let answer = |d: [u8; 8]| CanFrame::new(0x585, d);
+    let sdo = |d: [u8; 8]| CanFrame::new(0x605, d).unwrap();
+    let answer = |d: [u8; 8]| CanFrame::new(0x585, d).unwrap();
     // Initiate block upload: ccs 5, CRC supported, blksize 127, pst 0.
     b.rx(sdo([0xA4, 0x03, 0x20, 0x00, 127, 0, 0, 0]));
     assert_eq!(b.take(), [answer([0xC6, 0x03, 0x20, 0x00, 30, 0, 0, 0])]);
@@ -685,12 +698,15 @@ fn poll_aborts_an_sdo_transfer_that_timed_out() {
     dict.add(0x2003, 0, &[b'x'; 20], false);
     let mut b = Bench::with(dict);
     b.take();
-    b.rx(CanFrame::new(0x605, [0x40, 0x03, 0x20, 0x00, 0, 0, 0, 0]));
-    assert_eq!(b.take(), [CanFrame::new(0x585, [0x41, 0x03, 0x20, 0x00, 20, 0, 0, 0])]);
+    b.rx(CanFrame::new(0x605, [0x40, 0x03, 0x20, 0x00, 0, 0, 0, 0]).unwrap());
+    assert_eq!(b.take(), [CanFrame::new(0x585, [0x41, 0x03, 0x20, 0x00, 20, 0, 0, 0]).unwrap()]);
     b.run_to(1000);
     assert_eq!(b.take(), []);
     b.run_to(1002);
-    assert_eq!(b.take(), [CanFrame::new(0x585, [0x80, 0x03, 0x20, 0x00, 0x00, 0x00, 0x04, 0x05])]);
+    assert_eq!(
+        b.take(),
+        [CanFrame::new(0x585, [0x80, 0x03, 0x20, 0x00, 0x00, 0x00, 0x04, 0x05]).unwrap()]
+    );
 }
 
 /// A TPDO whose mapping has no objects (0x1A00:00 = 0, mapping disabled) is not sent, as a

@@ -5,7 +5,8 @@ mod block;
 
 use super::frame::{Init, Request, Response, Segment};
 use super::server::DEFAULT_TIMEOUT;
-use crate::can::CanFrame;
+use crate::can::{CanFrame, StdId};
+use crate::cob::NodeId;
 use crate::plan::SdoWrite;
 use crate::transport::Bus;
 use crate::{Entry, ObjValue, ObjectAddr, SdoAbort};
@@ -194,8 +195,8 @@ enum State {
 /// }
 ///
 /// const COUNTER: Entry<u32> = Entry::new(0x2000, 0, "Counter", Access::Rw, false);
-/// let mut bus = InMemoryBus { device: Device(7), server: Server::new(5), reply: None, now: 0 };
-/// let mut sdo = Client::<64>::new(5);
+/// let mut bus = InMemoryBus { device: Device(7), server: Server::new(odc::node_id!(5)), reply: None, now: 0 };
+/// let mut sdo = Client::<64>::new(odc::node_id!(5));
 /// assert_eq!(sdo.read(&mut bus, &COUNTER)?, 7); // typed: a u32, because COUNTER is Entry<u32>
 /// sdo.write(&mut bus, &COUNTER, 1000)?;
 /// assert_eq!(bus.device.0, 1000);
@@ -206,7 +207,7 @@ enum State {
 /// ```
 #[derive(Clone, Debug)]
 pub struct Client<const N: usize> {
-    node_id: u8,
+    node_id: NodeId,
     timeout_ms: u64,
     state: State,
     buf: [u8; N],
@@ -218,7 +219,7 @@ pub struct Client<const N: usize> {
 
 impl<const N: usize> Client<N> {
     /// The client of node `node_id`'s default SDO server, with [`DEFAULT_TIMEOUT`].
-    pub const fn new(node_id: u8) -> Self {
+    pub const fn new(node_id: NodeId) -> Self {
         Self {
             node_id,
             timeout_ms: DEFAULT_TIMEOUT.as_millis(),
@@ -236,13 +237,13 @@ impl<const N: usize> Client<N> {
     }
 
     /// CAN-ID of its requests (client → server).
-    pub const fn request_id(&self) -> u32 {
-        0x600 + self.node_id as u32
+    pub const fn request_id(&self) -> StdId {
+        self.node_id.sdo_request()
     }
 
     /// CAN-ID of the responses it listens to (server → client).
-    pub const fn response_id(&self) -> u32 {
-        0x580 + self.node_id as u32
+    pub const fn response_id(&self) -> StdId {
+        self.node_id.sdo_response()
     }
 
     /// Whether a transfer is under way.
@@ -256,7 +257,7 @@ impl<const N: usize> Client<N> {
     }
 
     fn frame(&self, r: Request) -> CanFrame {
-        CanFrame::new(self.request_id(), r.encode())
+        CanFrame::standard(self.request_id(), r.encode())
     }
 
     /// Ends the transfer with a local abort.
@@ -357,7 +358,7 @@ impl<const N: usize> Client<N> {
     /// sub-block).
     pub fn handle(&mut self, frame: &CanFrame, now_ms: u64) -> Option<Step> {
         // Remote and extended frames on the CAN-ID are no SDO responses.
-        if !frame.is_data(self.response_id()) {
+        if !frame.is_data(self.response_id().raw()) {
             return None;
         }
         let deadline = now_ms.saturating_add(self.timeout_ms);

@@ -85,14 +85,14 @@ impl ObjectDictionary for Od {
     }
 }
 
-const NODE: u8 = 5;
+const NODE: crate::cob::NodeId = crate::node_id!(5);
 
 fn req(b: [u8; 8]) -> CanFrame {
-    CanFrame::new(0x605, b)
+    CanFrame::new(0x605, b).unwrap()
 }
 
 fn resp(b: [u8; 8]) -> Option<CanFrame> {
-    Some(CanFrame::new(0x585, b))
+    Some(CanFrame::new(0x585, b).unwrap())
 }
 
 fn abort_code(f: Option<CanFrame>) -> Option<u32> {
@@ -146,7 +146,7 @@ fn server_expedited() {
     assert_eq!(
         s.handle(
             &mut od,
-            &CanFrame::new(0x606, [0x40, 0, 0x10, 0, 0, 0, 0, 0]),
+            &CanFrame::new(0x606, [0x40, 0, 0x10, 0, 0, 0, 0, 0]).unwrap(),
             crate::time::Instant::from_millis(0)
         ),
         None
@@ -461,7 +461,7 @@ fn client_timeout_toggle_and_busy() {
     // The client sent the abort frame after the request.
     assert_eq!(bus.sent, 2);
     let f = bus.last_sent.unwrap();
-    assert_eq!(f, CanFrame::new(0x605, [0x80, 0x00, 0x10, 0x00, 0x00, 0x00, 0x04, 0x05]));
+    assert_eq!(f, CanFrame::new(0x605, [0x80, 0x00, 0x10, 0x00, 0x00, 0x00, 0x04, 0x05]).unwrap());
     assert!(!c.is_busy());
     bus.mute = false;
     bus.flip_toggle = true;
@@ -475,16 +475,16 @@ fn client_timeout_toggle_and_busy() {
     );
     // Frame level: one transfer at a time, responses of other nodes ignored.
     let first = c.start_upload(0x1000, 0, 0).unwrap();
-    assert_eq!(first, CanFrame::new(0x605, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]));
+    assert_eq!(first, CanFrame::new(0x605, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]).unwrap());
     assert_eq!(c.start_upload(0x1000, 0, 0), Err(SdoError::Busy));
-    assert_eq!(c.handle(&CanFrame::new(0x586, [0x43, 0, 0x10, 0, 1, 2, 3, 4]), 1), None);
+    assert_eq!(c.handle(&CanFrame::new(0x586, [0x43, 0, 0x10, 0, 1, 2, 3, 4]).unwrap(), 1), None);
     // A response for another object is a protocol error.
-    let step = c.handle(&CanFrame::new(0x585, [0x43, 0, 0x20, 0, 1, 2, 3, 4]), 1);
+    let step = c.handle(&CanFrame::new(0x585, [0x43, 0, 0x20, 0, 1, 2, 3, 4]).unwrap(), 1);
     assert!(matches!(step, Some(Step::Failed(SdoError::Local(SdoAbort::InvalidCommand), Some(_)))));
     // Expedited without size indication: four bytes, the type takes the low ones.
     c.start_upload(0x2000, 0, 0).unwrap();
     assert_eq!(
-        c.handle(&CanFrame::new(0x585, [0x42, 0, 0x20, 0, 9, 0, 0, 0]), 1),
+        c.handle(&CanFrame::new(0x585, [0x42, 0, 0x20, 0, 9, 0, 0, 0]).unwrap(), 1),
         Some(Step::Done)
     );
     assert_eq!(c.data(), &[9, 0, 0, 0]);
@@ -502,7 +502,11 @@ fn remote_and_extended_frames_are_not_sdo() {
     let extended = CanFrame::extended(0x605, &upload).unwrap();
     assert_eq!(s.handle(&mut od, &extended, crate::time::Instant::from_millis(0)), None);
     assert_eq!(
-        s.handle(&mut od, &CanFrame::remote(0x605, 8), crate::time::Instant::from_millis(0)),
+        s.handle(
+            &mut od,
+            &CanFrame::remote(0x605, 8).unwrap(),
+            crate::time::Instant::from_millis(0)
+        ),
         None
     );
     assert!(!s.is_busy());
@@ -516,7 +520,7 @@ fn remote_and_extended_frames_are_not_sdo() {
     c.start_upload(0x1000, 0, 0).unwrap();
     let answer = [0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00];
     assert_eq!(c.handle(&CanFrame::extended(0x585, &answer).unwrap(), 0), None);
-    assert_eq!(c.handle(&CanFrame::remote(0x585, 8), 0), None);
-    assert_eq!(c.handle(&CanFrame::new(0x585, answer), 0), Some(Step::Done));
+    assert_eq!(c.handle(&CanFrame::remote(0x585, 8).unwrap(), 0), None);
+    assert_eq!(c.handle(&CanFrame::new(0x585, answer).unwrap(), 0), Some(Step::Done));
     assert_eq!(c.data(), &0x0002_0192u32.to_le_bytes());
 }

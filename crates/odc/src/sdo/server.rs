@@ -6,7 +6,8 @@ use super::block::{self, BlockRequest, BlockResponse, BlockSegment};
 #[cfg(feature = "sdo-block")]
 use super::frame::pad;
 use super::frame::{Init, Request, Response, Segment};
-use crate::can::CanFrame;
+use crate::can::{CanFrame, StdId};
+use crate::cob::NodeId;
 use crate::slave::ObjectDictionary;
 use crate::time::{Duration, Instant};
 use crate::{ObjectAddr, SdoAbort};
@@ -105,15 +106,15 @@ enum Phase {
 ///         Err(SdoAbort::WriteOfReadOnly)
 ///     }
 /// }
-/// let mut server = Server::<64>::new(5);
+/// let mut server = Server::<64>::new(odc::node_id!(5));
 /// let mut od = One(0x0002_0192);
-/// let req = CanFrame::new(0x605, [0x40, 0x00, 0x10, 0, 0, 0, 0, 0]);
+/// let req = CanFrame::new(0x605, [0x40, 0x00, 0x10, 0, 0, 0, 0, 0]).unwrap();
 /// let resp = server.handle(&mut od, &req, odc::time::Instant::ZERO).unwrap();
-/// assert_eq!(resp, CanFrame::new(0x585, [0x43, 0x00, 0x10, 0, 0x92, 0x01, 0x02, 0x00]));
+/// assert_eq!(resp, CanFrame::new(0x585, [0x43, 0x00, 0x10, 0, 0x92, 0x01, 0x02, 0x00]).unwrap());
 /// ```
 #[derive(Clone, Debug)]
 pub struct Server<const N: usize> {
-    node_id: u8,
+    node_id: NodeId,
     timeout: Duration,
     blksize: u8,
     state: State,
@@ -123,7 +124,7 @@ pub struct Server<const N: usize> {
 impl<const N: usize> Server<N> {
     /// The server of node `node_id`, idle, with [`DEFAULT_TIMEOUT`] and sub-blocks of 127
     /// segments.
-    pub const fn new(node_id: u8) -> Self {
+    pub const fn new(node_id: NodeId) -> Self {
         Self {
             node_id,
             timeout: DEFAULT_TIMEOUT,
@@ -154,13 +155,13 @@ impl<const N: usize> Server<N> {
     }
 
     /// CAN-ID of the requests it serves (client → server).
-    pub const fn request_id(&self) -> u32 {
-        0x600 + self.node_id as u32
+    pub const fn request_id(&self) -> StdId {
+        self.node_id.sdo_request()
     }
 
     /// CAN-ID of its responses (server → client).
-    pub const fn response_id(&self) -> u32 {
-        0x580 + self.node_id as u32
+    pub const fn response_id(&self) -> StdId {
+        self.node_id.sdo_response()
     }
 
     /// Whether a segmented or block transfer is under way.
@@ -169,7 +170,7 @@ impl<const N: usize> Server<N> {
     }
 
     fn reply(&self, r: Response) -> Option<CanFrame> {
-        Some(CanFrame::new(self.response_id(), r.encode()))
+        Some(CanFrame::standard(self.response_id(), r.encode()))
     }
 
     fn abort(&mut self, addr: ObjectAddr, code: SdoAbort) -> Option<CanFrame> {
@@ -210,7 +211,7 @@ impl<const N: usize> Server<N> {
     ) -> Option<CanFrame> {
         // Remote and extended frames on the CAN-ID are no SDO requests (CiA 301: SDOs are
         // 11-bit data frames).
-        if !frame.is_data(self.request_id()) {
+        if !frame.is_data(self.request_id().raw()) {
             return None;
         }
         let deadline = now.saturating_add(self.timeout);
@@ -655,6 +656,6 @@ impl<const N: usize> Server<N> {
         let phase = if last || seqno >= blksize { Phase::AwaitAck } else { Phase::Sending };
         self.state =
             State::BlockUpload { addr, len, crc, blksize, acked, sent: seqno, phase, deadline };
-        Some(CanFrame::new(self.response_id(), seg.encode()))
+        Some(CanFrame::standard(self.response_id(), seg.encode()))
     }
 }

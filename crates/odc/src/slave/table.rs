@@ -4,6 +4,7 @@
 use core::fmt;
 
 use super::{WriteHook, initial_value, key, search};
+use crate::cob::NodeId;
 use crate::{Access, DataType, DefaultValue, Entry, ObjValue, ObjectAddr, SdoAbort};
 
 /// What the dictionary needs of an entry's value beyond its address and access: the limits
@@ -34,7 +35,7 @@ trait Slot: Sync {
     /// Decodes `data` as a value of the type and checks it against the limits.
     fn check(&self, data: &[u8]) -> Result<(), SdoAbort>;
     /// Stores the initial value on node `node_id` into zeroed `stored`.
-    fn init(&self, stored: &mut [u8], node_id: u8);
+    fn init(&self, stored: &mut [u8], node_id: Option<NodeId>);
     /// The encoded size of the type: the bytes the value takes in the storage.
     fn len(&self) -> usize;
     /// The CiA 301 data type.
@@ -49,7 +50,7 @@ where
         crate::check_range(&T::decode(data)?, self.low.as_ref(), self.high.as_ref())
     }
 
-    fn init(&self, stored: &mut [u8], node_id: u8) {
+    fn init(&self, stored: &mut [u8], node_id: Option<NodeId>) {
         // Zeroed storage decodes as the type's zero (0, false, 0.0, the empty string); the
         // storage is the type's encoded size, so the encoding fits.
         if let Ok(zero) = T::decode(stored) {
@@ -207,8 +208,9 @@ impl<const N: usize> Table<N> {
 
     /// Fills `values` (zeroed, [`Table::size`] bytes) with every entry's initial value on
     /// node `node_id`: its default (`$NODEID` applied), else zero moved into its limits (see
-    /// [`initial`](super::initial)).
-    pub fn init(&self, values: &mut [u8], node_id: u8) {
+    /// [`initial`](super::initial)). A node without node-ID (`None`, LSS) takes no `$NODEID`
+    /// default.
+    pub fn init(&self, values: &mut [u8], node_id: Option<NodeId>) {
         for row in &self.rows {
             if let Ok(stored) = row.of_mut(values) {
                 row.spec.init(stored, node_id);

@@ -69,7 +69,7 @@ static TABLE: Table<9> = LAYOUT;
 
 fn dictionary(node_id: u8) -> [u8; LAYOUT.size()] {
     let mut values = [0; LAYOUT.size()];
-    TABLE.init(&mut values, node_id);
+    TABLE.init(&mut values, crate::cob::NodeId::new(node_id));
     values
 }
 
@@ -212,17 +212,17 @@ fn debug_shows_addresses_and_typed_values() {
 fn initial_values() {
     let e: Entry<u32> =
         Entry::new(0x1014, 0, "", Access::Rw, false).with_default(DefaultValue::NodeIdPlus(0x80));
-    assert_eq!(initial(&e, 5, 0), 0x85);
+    assert_eq!(initial(&e, NodeId::new(5), 0), 0x85);
     let e: Entry<u8> =
         Entry::new(1, 0, "", Access::Rw, false).with_default(DefaultValue::NodeIdPlus(0xF0));
-    assert_eq!(initial(&e, 0x20, 7), 7);
+    assert_eq!(initial(&e, NodeId::new(0x20), 7), 7);
     // Without default, zero moves into the limits.
     let e: Entry<u32> = Entry::new(1, 0, "", Access::Rw, false).with_limits(Some(1), Some(3));
-    assert_eq!(initial(&e, 5, 0), 1);
+    assert_eq!(initial(&e, NodeId::new(5), 0), 1);
     let e: Entry<i8> = Entry::new(1, 0, "", Access::Rw, false).with_limits(None, Some(-4));
-    assert_eq!(initial(&e, 5, 0), -4);
+    assert_eq!(initial(&e, NodeId::new(5), 0), -4);
     let e: Entry<u8> = Entry::new(1, 0, "", Access::Rw, false).with_limits(Some(0), Some(9));
-    assert_eq!(initial(&e, 5, 0), 0);
+    assert_eq!(initial(&e, NodeId::new(5), 0), 0);
 }
 
 #[test]

@@ -30,11 +30,10 @@ impl Frame for CanFrame {
 
     fn new_remote(id: impl Into<Id>, dlc: usize) -> Option<Self> {
         let len = u8::try_from(dlc).ok().filter(|&l| l <= 8)?;
-        let (id, extended) = match id.into() {
-            Id::Standard(s) => (u32::from(s.as_raw()), false),
-            Id::Extended(e) => (e.as_raw(), true),
-        };
-        Some(CanFrame { extended, ..CanFrame::remote(id, len) })
+        match id.into() {
+            Id::Standard(s) => CanFrame::remote(u32::from(s.as_raw()), len),
+            Id::Extended(e) => CanFrame::remote_extended(e.as_raw(), len),
+        }
     }
 
     fn is_extended(&self) -> bool {
@@ -46,7 +45,7 @@ impl Frame for CanFrame {
     }
 
     fn id(&self) -> Id {
-        // Ids are masked to their width: a frame built with a wider id by hand still has one.
+        // A frame's id fits its width (the constructors check it); the mask keeps this total.
         let standard = StandardId::new((self.id & 0x7FF) as u16).unwrap_or(StandardId::ZERO);
         if self.extended {
             ExtendedId::new(self.id & 0x1FFF_FFFF).map_or(Id::Standard(standard), Id::Extended)
@@ -83,7 +82,7 @@ impl CanFrame {
     }
 
     /// This frame as another `embedded_can` frame type (a HAL's frame to transmit); `None`
-    /// when its identifier does not fit its width (over 0x7FF for an 11-bit frame).
+    /// when that type refuses it.
     pub fn to_frame<F: Frame>(&self) -> Option<F> {
         let id: Id = if self.extended {
             ExtendedId::new(self.id)?.into()
@@ -103,7 +102,7 @@ impl CanFrame {
 pub enum Error<E> {
     /// The driver failed.
     Driver(E),
-    /// The driver's frame type cannot represent this frame (an 11-bit id over 0x7FF).
+    /// The driver's frame type refused this frame (its `Frame::new` gave `None`).
     Unrepresentable(CanFrame),
 }
 
@@ -272,7 +271,7 @@ mod tests {
             t
         });
         let a = CanFrame::from_slice(0x181, &[1]).unwrap();
-        let b = CanFrame::remote(0x705, 1);
+        let b = CanFrame::remote(0x705, 1).unwrap();
         bus.send(&a).unwrap();
         bus.send(&b).unwrap();
         assert_eq!(bus.recv(10).unwrap(), None);
@@ -283,8 +282,6 @@ mod tests {
         let mut bus = NbBus::new(fake, || 0);
         let got = bus.recv(0).unwrap().unwrap();
         assert!(got.extended && got.id == 0x1234_5678 && got.bytes() == [9]);
-        let wide = CanFrame::from_slice(0x800, &[]).unwrap();
-        assert_eq!(bus.send(&wide), Err(Error::Unrepresentable(wide)));
     }
 
     #[test]
@@ -292,7 +289,7 @@ mod tests {
         let e: CanFrame = Frame::new(ExtendedId::new(0x1ABC_DEF0).unwrap(), &[1, 2]).unwrap();
         assert!(e.extended && Frame::is_extended(&e) && Frame::dlc(&e) == 2);
         let r: CanFrame = Frame::new_remote(StandardId::new(0x705).unwrap(), 1).unwrap();
-        assert_eq!(r, CanFrame::remote(0x705, 1));
+        assert_eq!(r, CanFrame::remote(0x705, 1).unwrap());
         assert!(<CanFrame as Frame>::new_remote(StandardId::ZERO, 9).is_none());
         assert_eq!(r.to_frame::<CanFrame>(), Some(r));
         assert_eq!(CanFrame::from_frame(&e), e);

@@ -10,8 +10,8 @@
 //! let (mut a, mut b, mut c) = (bus.port(), bus.port(), bus.port());
 //! a.send(&CanFrame::from_slice(0x701, &[0]).unwrap())?;
 //! let now = b.now_ms();
-//! assert_eq!(b.recv(now)?.map(|f| f.id), Some(0x701));
-//! assert_eq!(c.try_recv()?.map(|f| f.id), Some(0x701));
+//! assert_eq!(b.recv(now)?.map(|f| f.id()), Some(0x701));
+//! assert_eq!(c.try_recv()?.map(|f| f.id()), Some(0x701));
 //! assert_eq!(a.try_recv()?, None); // not to the sender
 //! # Ok::<(), odc::transport::mem::Closed>(())
 //! ```
@@ -185,11 +185,11 @@ mod tests {
         let mut tx = bus.port();
         let t = std::thread::spawn(move || {
             std::thread::sleep(Duration::from_millis(20));
-            tx.send(&CanFrame::remote(0x705, 1)).unwrap();
+            tx.send(&CanFrame::remote(0x705, 1).unwrap()).unwrap();
         });
         let start = rx.now_ms();
         let got = rx.recv(start + 2000).unwrap();
-        assert_eq!(got, Some(CanFrame::remote(0x705, 1)));
+        assert_eq!(got, Some(CanFrame::remote(0x705, 1).unwrap()));
         t.join().unwrap();
         let before = rx.now_ms();
         assert_eq!(rx.recv(before + 30).unwrap(), None);

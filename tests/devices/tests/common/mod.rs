@@ -34,7 +34,7 @@ pub fn printed(text: &'static str) -> Printed {
     // `"702 RTR"`: a remote frame (node guarding's request), which carries no data.
     if let Some(id) = text.strip_suffix(" RTR") {
         let id = u32::from_str_radix(id.trim(), 16).expect("hex CAN-ID");
-        return Printed { frame: CanFrame::remote(id, 1), defined: 0, text };
+        return Printed { frame: CanFrame::remote(id, 1).unwrap(), defined: 0, text };
     }
     let (id, data) = text.split_once('/').expect("`ID / bytes`");
     let id = u32::from_str_radix(id.trim(), 16).expect("hex CAN-ID");
@@ -55,8 +55,8 @@ impl Printed {
     /// Whether `frame` is this frame in every defined byte (and has the printed CAN-ID).
     pub fn matches(&self, frame: &CanFrame) -> bool {
         let n = self.defined;
-        frame.id == self.frame.id
-            && frame.remote == self.frame.remote
+        frame.id() == self.frame.id()
+            && frame.is_remote() == self.frame.is_remote()
             && frame.bytes().len() >= n
             && frame.bytes().get(..n) == self.frame.bytes().get(..n)
     }
@@ -66,7 +66,7 @@ impl Printed {
 pub fn assert_same(wire: &[CanFrame], manual: &[Printed]) {
     let show = |f: &CanFrame| {
         let bytes: Vec<String> = f.bytes().iter().map(|b| format!("{b:02X}")).collect();
-        format!("{:X} / {}", f.id, bytes.join(" "))
+        format!("{:X} / {}", f.id(), bytes.join(" "))
     };
     for (i, (ours, theirs)) in wire.iter().zip(manual).enumerate() {
         assert!(
@@ -130,12 +130,12 @@ pub struct Bench<D> {
     /// The wire with the device on it.
     pub wire: Wire<D>,
     /// The node id.
-    pub node: u8,
+    pub node: odc::cob::NodeId,
 }
 
 impl<D: ObjectDictionary> Bench<D> {
     /// Node `node` with dictionary `od`.
-    pub fn new(node: u8, od: D) -> Self {
+    pub fn new(node: odc::cob::NodeId, od: D) -> Self {
         Bench {
             client: Client::new(node),
             wire: Wire {
@@ -167,7 +167,9 @@ impl<D: ObjectDictionary> Bench<D> {
         value.encode(&mut data).expect("a value of at most 4 bytes");
         let request =
             Request::InitiateDownload(entry.addr, Init::Expedited { data, len: 4, sized: false });
-        self.wire.send(&CanFrame::new(self.client.request_id(), request.encode())).expect("sent");
+        self.wire
+            .send(&CanFrame::standard(self.client.request_id(), request.encode()))
+            .expect("sent");
         let response = self.wire.inbox.pop_front().expect("the server answers");
         assert_eq!(Response::decode(response.bytes()), Ok(Response::InitiateDownload(entry.addr)));
     }
@@ -176,12 +178,12 @@ impl<D: ObjectDictionary> Bench<D> {
     /// requests only).
     pub fn requests(&self) -> Vec<CanFrame> {
         let id = self.client.request_id();
-        self.wire.log.iter().filter(|f| f.id == id).copied().collect()
+        self.wire.log.iter().filter(|f| f.id() == id.raw()).copied().collect()
     }
 
     /// The NMT command to every node (node 0), as the examples send it.
     pub fn nmt_all(&mut self, cmd: NmtCommand) {
-        self.wire.log.push(CanFrame::from_slice(0, &cmd.frame(0)).expect("2 bytes"));
+        self.wire.log.push(CanFrame::from_slice(0, &cmd.frame(None)).expect("2 bytes"));
     }
 
     /// A PDO on the wire (either direction): its COB-ID for this node and its packed bytes.

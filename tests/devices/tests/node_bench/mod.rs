@@ -32,7 +32,7 @@ pub struct NodeWire<D> {
 impl<D: ObjectDictionary> NodeWire<D> {
     /// Node `node_id` on dictionary `od`, powered on: its boot-up message is the first frame
     /// of the log.
-    pub fn new(node_id: u8, od: D) -> Self {
+    pub fn new(node_id: odc::cob::NodeId, od: D) -> Self {
         let mut wire = NodeWire {
             node: Node::new(node_id),
             od,
@@ -90,7 +90,7 @@ impl<D: ObjectDictionary> NodeWire<D> {
 
     /// The logged frames with any of the CAN-IDs `ids`, in bus order.
     pub fn frames_of(&self, ids: &[u32]) -> Vec<CanFrame> {
-        self.log.iter().filter(|f| ids.contains(&f.id) && !f.extended).copied().collect()
+        self.log.iter().filter(|f| ids.contains(&f.id()) && !f.is_extended()).copied().collect()
     }
 }
 
@@ -118,7 +118,7 @@ impl<D: ObjectDictionary> Bus for NodeWire<D> {
 }
 
 /// odc's master on a wire with node `node_id` (booted) on dictionary `od`.
-pub fn master<D: ObjectDictionary>(node_id: u8, od: D) -> Master<NodeWire<D>> {
+pub fn master<D: ObjectDictionary>(node_id: odc::cob::NodeId, od: D) -> Master<NodeWire<D>> {
     Master::new(NodeWire::new(node_id, od)).with_timeout(50)
 }
 
@@ -126,17 +126,17 @@ pub fn master<D: ObjectDictionary>(node_id: u8, od: D) -> Master<NodeWire<D>> {
 /// (`time`, 1017h) written to `period_ms` by odc's master, the node started, `ms` milliseconds
 /// on.
 pub fn heartbeats<D: ObjectDictionary>(
-    node_id: u8,
+    node_id: odc::cob::NodeId,
     od: D,
     time: &odc::Entry<u16>,
     period_ms: u16,
     ms: u64,
 ) -> Vec<CanFrame> {
-    use odc::cob::{Function, NodeId};
+    use odc::cob::Function;
     let mut m = master(node_id, od);
     m.write(node_id, time, period_ms).unwrap();
     m.nmt(odc::nmt::NmtCommand::Start, node_id).unwrap();
     m.bus_mut().advance(ms);
-    let id = Function::Heartbeat.can_id(NodeId::new(node_id).unwrap()).unwrap();
+    let id = Function::Heartbeat.can_id(node_id).unwrap();
     m.bus_mut().frames(u32::from(id))
 }

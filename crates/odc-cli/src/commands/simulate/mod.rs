@@ -67,6 +67,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             loaded.file_name()
         );
     }
+    let node_id = odc::cob::NodeId::new(node_id).context("--node-id: 1..=127")?;
     let mut device = SimDevice::new(model, node_id);
     let what = if device.is_drive() { ", a CiA 402 drive" } else { "" };
     eprintln!(

@@ -11,13 +11,13 @@ const ADDRESS: Identity = Identity::new(0x0000_0123, 0x0000_0456, 0x0001_0002, 0
 fn req(b: &[u8]) -> CanFrame {
     let mut d = [0u8; 8];
     d[..b.len()].copy_from_slice(b);
-    CanFrame::new(0x7E5, d)
+    CanFrame::new(0x7E5, d).unwrap()
 }
 
 fn ans(b: &[u8]) -> CanFrame {
     let mut d = [0u8; 8];
     d[..b.len()].copy_from_slice(b);
-    CanFrame::new(0x7E4, d)
+    CanFrame::new(0x7E4, d).unwrap()
 }
 
 /// The bench's dictionary with the LSS address in 0x1018.
@@ -40,28 +40,31 @@ fn bench(node: Node<32, 4, 4>, dict: Dict) -> Bench {
 
 #[test]
 fn configured_node_id_boots_at_the_next_reset_communication() {
-    let mut b = bench(Node::new(ID).with_lss(Some(ADDRESS), 0), Dict::new());
+    let mut b = bench(Node::new(NODE).with_lss(Some(ADDRESS), 0), Dict::new());
     assert_eq!(b.take(), [data(0x705, &[0])]);
     // LSS runs in stopped too.
     b.nmt(0x02);
     assert_eq!(b.node.state(), NmtState::Stopped);
     assert_eq!(b.rx(req(&[0x04, 1])).lss, Some(LssEvent::State(LssState::Configuration)));
     let ev = b.rx(req(&[0x11, 0x20]));
-    assert_eq!(ev.lss, Some(LssEvent::NodeIdConfigured(Some(0x20))));
+    assert_eq!(ev.lss, Some(LssEvent::NodeIdConfigured(NodeId::new(0x20))));
     assert_eq!(b.take(), [ans(&[0x11, 0])]);
     // Still node 5 until the reset: inquire node-ID says 5, SDO stays on 0x605.
     b.rx(req(&[0x5E]));
     assert_eq!(b.take(), [ans(&[0x5E, 5])]);
     assert_eq!(b.rx(req(&[0x04, 0])).reset, None);
-    assert_eq!(b.node.next_node_id(), 0x20);
+    assert_eq!(b.node.next_node_id(), NodeId::new(0x20));
     // NMT reset communication: boot-up at the new node-ID, SDO on 0x620/0x5A0.
     assert_eq!(b.nmt(0x82).reset, Some(Reset::Communication));
     assert_eq!(b.take(), []);
     b.run_to(1);
     assert_eq!(b.take(), [data(0x720, &[0])]);
-    assert_eq!((b.node.node_id(), b.node.state()), (0x20, NmtState::PreOperational));
-    b.rx(CanFrame::new(0x620, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]));
-    assert_eq!(b.take(), [CanFrame::new(0x5A0, [0x43, 0x00, 0x10, 0x00, 0x91, 0x01, 0, 0])]);
+    assert_eq!((b.node.node_id(), b.node.state()), (NodeId::new(0x20), NmtState::PreOperational));
+    b.rx(CanFrame::new(0x620, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]).unwrap());
+    assert_eq!(
+        b.take(),
+        [CanFrame::new(0x5A0, [0x43, 0x00, 0x10, 0x00, 0x91, 0x01, 0, 0]).unwrap()]
+    );
     // Inquiries are served in configuration state.
     b.rx(req(&[0x04, 1]));
     b.rx(req(&[0x5E]));
@@ -73,7 +76,7 @@ fn configured_node_id_boots_at_the_next_reset_communication() {
 /// communication and boots at that node-ID. Its address comes from 0x1018.
 #[test]
 fn unconfigured_node_waits_for_lss() {
-    let node = Node::new(UNCONFIGURED).with_lss(None, 0);
+    let node = Node::unconfigured().with_lss(None, 0);
     let mut b = bench(node, dict_with_identity());
     b.rx(data(0, &[0x01, 0]));
     b.run_to(50);
@@ -91,7 +94,7 @@ fn unconfigured_node_waits_for_lss() {
         (ev.lss, ev.reset),
         (Some(LssEvent::ResetCommunication), Some(Reset::Communication))
     );
-    assert_eq!(b.node.next_node_id(), 0x21);
+    assert_eq!(b.node.next_node_id(), NodeId::new(0x21));
     let ev = b.run_to(51);
     assert_eq!(ev.state, Some(NmtState::PreOperational));
     assert_eq!(b.take(), [data(0x721, &[0])]);
@@ -103,21 +106,21 @@ fn unconfigured_node_waits_for_lss() {
 #[test]
 fn store_is_the_applications_and_bit_timing_an_event() {
     // Without storage the slave answers "not supported" (error 1) itself.
-    let mut b = bench(Node::new(ID).with_lss(Some(ADDRESS), 0), Dict::new());
+    let mut b = bench(Node::new(NODE).with_lss(Some(ADDRESS), 0), Dict::new());
     b.take();
     b.rx(req(&[0x04, 1]));
     assert_eq!(b.rx(req(&[0x17])).lss, None);
     assert_eq!(b.take(), [ans(&[0x17, 1])]);
     assert!(b.node.lss_store_response(StoreResult::Stored, &mut |_| {}));
 
-    let mut b = bench(Node::new(ID).with_lss(Some(ADDRESS), 0).with_lss_storage(), Dict::new());
+    let mut b = bench(Node::new(NODE).with_lss(Some(ADDRESS), 0).with_lss_storage(), Dict::new());
     b.take();
     b.rx(req(&[0x04, 1]));
     // Configure bit timing: table 0, index 4 (125 kbit/s).
     assert_eq!(b.rx(req(&[0x13, 0, 4])).lss, Some(LssEvent::BitTimingConfigured(4)));
     assert_eq!(b.take(), [ans(&[0x13, 0])]);
     let ev = b.rx(req(&[0x17]));
-    assert_eq!(ev.lss, Some(LssEvent::Store { node_id: Some(ID), bit_timing: 4 }));
+    assert_eq!(ev.lss, Some(LssEvent::Store { node_id: Some(NODE), bit_timing: 4 }));
     assert_eq!(b.take(), []);
     let sent = &mut b.sent;
     assert!(b.node.lss_store_response(StoreResult::Stored, &mut |f| sent.push(f)));

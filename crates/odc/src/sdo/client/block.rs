@@ -112,7 +112,7 @@ impl<const N: usize> Client<N> {
         let sending = !last && seqno < blksize;
         self.state =
             State::BlockDownload { addr, crc, blksize, acked, sent: seqno, sending, deadline };
-        Some(CanFrame::new(self.request_id(), seg.encode()))
+        Some(CanFrame::standard(self.request_id(), seg.encode()))
     }
 
     /// A block response (not a segment) in any state.

@@ -182,10 +182,10 @@ fn server_block_upload_worked() {
     // size 22.
     assert_eq!(
         all(&mut s, &mut od, [0xA4, 0x01, 0x20, 0x00, 127, 0, 0, 0], 0),
-        [CanFrame::new(0x585, [0xC6, 0x01, 0x20, 0x00, 22, 0, 0, 0])]
+        [CanFrame::new(0x585, [0xC6, 0x01, 0x20, 0x00, 22, 0, 0, 0]).unwrap()]
     );
     // Start (0xA3): the whole sub-block at once.
-    let r = |b| CanFrame::new(0x585, b);
+    let r = |b| CanFrame::new(0x585, b).unwrap();
     assert_eq!(
         all(&mut s, &mut od, [0xA3, 0, 0, 0, 0, 0, 0, 0], 1),
         [r(seg(1, b"Hello, ")), r(seg(2, b"block t")), r(seg(3, b"ransfer")), r(seg(0x84, b"!")),]
@@ -237,7 +237,7 @@ fn server_block_upload_errors_and_switch() {
     // 4 bytes of 0x1000 with pst 4 come expedited (0x43).
     assert_eq!(
         all(&mut s, &mut od, [0xA4, 0x00, 0x10, 0x00, 127, 4, 0, 0], 0),
-        [CanFrame::new(0x585, [0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00])]
+        [CanFrame::new(0x585, [0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]).unwrap()]
     );
     // The dictionary's own aborts come through the block initiate.
     let f = all(&mut s, &mut od, [0xA4, 0x00, 0x30, 0x00, 127, 0, 0, 0], 0);
@@ -381,7 +381,7 @@ fn client_block_falls_back_and_times_out() {
     let mut c = Client::<64>::new(NODE);
     let f = c.start_block_upload(0x1000, 0, 0).unwrap();
     assert_eq!(f.data, [0xA4, 0x00, 0x10, 0x00, 127, 0, 0, 0]);
-    let answer = CanFrame::new(0x585, [0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]);
+    let answer = CanFrame::new(0x585, [0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]).unwrap();
     assert_eq!(c.handle(&answer, 1), Some(Step::Done));
     assert_eq!(c.data(), [0x92, 0x01, 0x02, 0x00]);
     // Block download without an answer: local timeout, abort frame 0x05040000.
@@ -391,7 +391,7 @@ fn client_block_falls_back_and_times_out() {
     assert_eq!(abort.data, [0x80, 0x01, 0x20, 0x00, 0x00, 0x00, 0x04, 0x05]);
     // A server blksize of 0: 0x05040002.
     c.start_block_download(0x2001, 0, b"abc", 0).unwrap();
-    let bad = CanFrame::new(0x585, [0xA4, 0x01, 0x20, 0x00, 0, 0, 0, 0]);
+    let bad = CanFrame::new(0x585, [0xA4, 0x01, 0x20, 0x00, 0, 0, 0, 0]).unwrap();
     let Some(Step::Failed(e, _)) = c.handle(&bad, 1) else { panic!("accepted blksize 0") };
     assert_eq!(e, SdoError::Local(SdoAbort::InvalidBlockSize));
 }
