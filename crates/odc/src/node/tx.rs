@@ -63,8 +63,12 @@ impl TxQueue {
             sent += 1;
         }
         if sent > 0 {
-            self.frames.copy_within(sent..len, 0);
-            self.len -= sent as u8;
+            // Moves the rest to the front without a range index (whose failure path would
+            // link core::fmt into a firmware image): constant bounds, `get` for the source.
+            for i in 0..TX_QUEUE {
+                self.frames[i] = self.frames.get(i + sent).copied().unwrap_or(EMPTY);
+            }
+            self.len = self.len.saturating_sub(u8::try_from(sent).unwrap_or(u8::MAX));
         }
     }
 
