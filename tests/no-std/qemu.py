@@ -84,6 +84,9 @@ STEPS = [
     ("000#0105", [], "NMT start"),
     # 50 ms: heartbeats in state operational (0x05), 20 ms apart (checked below).
     ("wait 50", ["705#05", "705#05"], None),
+    # Heartbeat off again (0), so that no heartbeat falls among the frames below: when one
+    # would depends on how many instructions they take.
+    ("605#2B17100000000000", ["585#6017100000000000"], "SDO download, expedited (0x1017:00)"),
     # SYNC (0x080, no data) → TPDO1: the statusword, 2 bytes, in CiA 402's "switch on
     # disabled" (the drive started: transition 1).
     ("080#", [("185", "switch on disabled")], "SYNC, TPDO1 sent"),

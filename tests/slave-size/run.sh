@@ -92,7 +92,7 @@ type Dict = dev::slave::Dictionary;
 struct Dict;
 #[cfg(not(feature = "device"))]
 impl Dict {
-    fn new(_: u8) -> Self {
+    fn new(_: Option<odc::cob::NodeId>) -> Self {
         Dict
     }
     fn read(&self, _: u16, _: u8, _: &mut [u8]) -> Result<usize, odc::SdoAbort> {
@@ -111,7 +111,7 @@ static mut OD_STORAGE: MaybeUninit<Dict> = MaybeUninit::uninit();
 #[unsafe(no_mangle)]
 pub extern "C" fn od_init(node_id: u8) {
     // SAFETY: single-threaded test image; nothing else holds a reference.
-    unsafe { (*(&raw mut OD_STORAGE)).write(Dict::new(node_id)) };
+    unsafe { (*(&raw mut OD_STORAGE)).write(Dict::new(odc::cob::NodeId::new(node_id))) };
 }
 
 /// SDO upload; returns the length, or the abort code negated.
@@ -152,8 +152,8 @@ static mut TX_MAILBOX: [u32; 3] = [0; 3];
 
 #[cfg(feature = "node")]
 fn tx(f: odc::can::CanFrame) {
-    let [a, b, c, d, e, g, h, i] = f.data;
-    let words = [f.id | u32::from(f.extended) << 31 | u32::from(f.remote) << 30, u32::from_le_bytes([a, b, c, d]), u32::from_le_bytes([e, g, h, i])];
+    let [a, b, c, d, e, g, h, i] = f.data();
+    let words = [f.id() | u32::from(f.is_extended()) << 31 | u32::from(f.is_remote()) << 30, u32::from_le_bytes([a, b, c, d]), u32::from_le_bytes([e, g, h, i])];
     // SAFETY: a static of this single-threaded image; volatile as a peripheral register is.
     unsafe { core::ptr::write_volatile(&raw mut TX_MAILBOX, words) };
 }
@@ -163,7 +163,10 @@ fn tx(f: odc::can::CanFrame) {
 #[unsafe(no_mangle)]
 pub extern "C" fn node_init(node_id: u8) {
     od_init(node_id);
-    let node = TheNode::new(node_id);
+    let node = match odc::cob::NodeId::new(node_id) {
+        Some(id) => TheNode::new(id),
+        None => TheNode::unconfigured(),
+    };
     #[cfg(feature = "lss")]
     let node = node.with_lss(None, 0).with_lss_storage();
     // SAFETY: as for od_read; od_init ran.

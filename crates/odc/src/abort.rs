@@ -29,6 +29,8 @@ macro_rules! aborts {
 
         /// The wire codes, in the order of the variants.
         const CODES: &[u32] = &[$($code),*];
+        /// The positions, one byte each, for `from_u32` (`SdoAbort::ALL` is 8 bytes an entry).
+        const POSITIONS: &[Position] = &[$(Position::$v),*];
 
         impl SdoAbort {
             /// Every code of the table (without `Other`).
@@ -38,9 +40,11 @@ macro_rules! aborts {
             /// search: aborts are rare, and it keeps no second table.
             pub const fn from_u32(code: u32) -> Self {
                 let mut i = 0;
-                while i < CODES.len() && i < Self::ALL.len() {
+                while i < CODES.len() && i < POSITIONS.len() {
                     if CODES[i] == code {
-                        return Self::ALL[i];
+                        return match POSITIONS[i] {
+                            $(Position::$v => Self::$v,)*
+                        };
                     }
                     i += 1;
                 }

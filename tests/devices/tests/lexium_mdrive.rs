@@ -248,7 +248,7 @@ fn emcy_layout() {
 fn nmt_message() {
     let mut m = node_bench::master(NODE, slave::Dictionary::new(NODE));
     let start = m.bus_mut().log.len();
-    m.nmt(NmtCommand::Start, odc::node_id!(0)).unwrap();
+    m.nmt_all(NmtCommand::Start).unwrap();
     assert_same(&m.bus_mut().log[start..], &[printed("0 / 01 00")]);
     assert_eq!(m.bus_mut().node.state(), NmtState::Operational);
 }
@@ -365,13 +365,13 @@ fn mapping_entries() {
 fn preset_pdo_layouts() {
     use pdo::*;
     let layouts = [
-        (Rpdo1::cob_id(odc::node_id!(0)), Rpdo1::LEN, &Rpdo1::MAPPING_VALUES[..]),
-        (Rpdo2::cob_id(odc::node_id!(0)), Rpdo2::LEN, &Rpdo2::MAPPING_VALUES[..]),
-        (Rpdo3::cob_id(odc::node_id!(0)), Rpdo3::LEN, &Rpdo3::MAPPING_VALUES[..]),
-        (Tpdo1::cob_id(odc::node_id!(0)), Tpdo1::LEN, &Tpdo1::MAPPING_VALUES[..]),
-        (Tpdo2::cob_id(odc::node_id!(0)), Tpdo2::LEN, &Tpdo2::MAPPING_VALUES[..]),
-        (Tpdo3::cob_id(odc::node_id!(0)), Tpdo3::LEN, &Tpdo3::MAPPING_VALUES[..]),
-        (Tpdo4::cob_id(odc::node_id!(0)), Tpdo4::LEN, &Tpdo4::MAPPING_VALUES[..]),
+        (Rpdo1::cob_id(odc::node_id!(1)) - 1, Rpdo1::LEN, &Rpdo1::MAPPING_VALUES[..]),
+        (Rpdo2::cob_id(odc::node_id!(1)) - 1, Rpdo2::LEN, &Rpdo2::MAPPING_VALUES[..]),
+        (Rpdo3::cob_id(odc::node_id!(1)) - 1, Rpdo3::LEN, &Rpdo3::MAPPING_VALUES[..]),
+        (Tpdo1::cob_id(odc::node_id!(1)) - 1, Tpdo1::LEN, &Tpdo1::MAPPING_VALUES[..]),
+        (Tpdo2::cob_id(odc::node_id!(1)) - 1, Tpdo2::LEN, &Tpdo2::MAPPING_VALUES[..]),
+        (Tpdo3::cob_id(odc::node_id!(1)) - 1, Tpdo3::LEN, &Tpdo3::MAPPING_VALUES[..]),
+        (Tpdo4::cob_id(odc::node_id!(1)) - 1, Tpdo4::LEN, &Tpdo4::MAPPING_VALUES[..]),
     ];
     let figures: [(u32, usize, &[u32]); 7] = [
         (0x200, 2, &[0x6040_0010]),
@@ -386,7 +386,7 @@ fn preset_pdo_layouts() {
         assert_eq!(*ours, theirs);
     }
     assert_eq!(
-        (Rpdo4::cob_id(odc::node_id!(0)), Rpdo4::LEN, Rpdo4::MAPPING_VALUES),
+        (Rpdo4::cob_id(odc::node_id!(1)) - 1, Rpdo4::LEN, Rpdo4::MAPPING_VALUES),
         (0x500, 4, [0x6040_0010, 0x6071_0010])
     );
 }

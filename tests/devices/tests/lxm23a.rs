@@ -513,12 +513,12 @@ fn mapping_entries() {
 fn preset_pdo_layouts() {
     use pdo::*;
     let layouts = [
-        (Rpdo1::cob_id(odc::node_id!(0)), Rpdo1::LEN, &Rpdo1::MAPPING_VALUES[..]),
-        (Rpdo2::cob_id(odc::node_id!(0)) & 0x7FF, Rpdo2::LEN, &Rpdo2::MAPPING_VALUES[..]),
-        (Rpdo3::cob_id(odc::node_id!(0)) & 0x7FF, Rpdo3::LEN, &Rpdo3::MAPPING_VALUES[..]),
-        (Tpdo1::cob_id(odc::node_id!(0)), Tpdo1::LEN, &Tpdo1::MAPPING_VALUES[..]),
-        (Tpdo2::cob_id(odc::node_id!(0)) & 0x7FF, Tpdo2::LEN, &Tpdo2::MAPPING_VALUES[..]),
-        (Tpdo3::cob_id(odc::node_id!(0)) & 0x7FF, Tpdo3::LEN, &Tpdo3::MAPPING_VALUES[..]),
+        (Rpdo1::cob_id(odc::node_id!(1)) - 1, Rpdo1::LEN, &Rpdo1::MAPPING_VALUES[..]),
+        ((Rpdo2::cob_id(odc::node_id!(1)) & 0x7FF) - 1, Rpdo2::LEN, &Rpdo2::MAPPING_VALUES[..]),
+        ((Rpdo3::cob_id(odc::node_id!(1)) & 0x7FF) - 1, Rpdo3::LEN, &Rpdo3::MAPPING_VALUES[..]),
+        (Tpdo1::cob_id(odc::node_id!(1)) - 1, Tpdo1::LEN, &Tpdo1::MAPPING_VALUES[..]),
+        ((Tpdo2::cob_id(odc::node_id!(1)) & 0x7FF) - 1, Tpdo2::LEN, &Tpdo2::MAPPING_VALUES[..]),
+        ((Tpdo3::cob_id(odc::node_id!(1)) & 0x7FF) - 1, Tpdo3::LEN, &Tpdo3::MAPPING_VALUES[..]),
     ];
     let figures: [(u32, usize, &[u32]); 6] = [
         (0x200, 2, &[0x6040_0010]),

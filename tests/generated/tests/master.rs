@@ -169,7 +169,7 @@ fn a_plan_pdos_and_node_states() {
         other => panic!("{other:?}"),
     }
     // NMT stop: the heartbeat says stopped.
-    m.nmt(NmtCommand::Stop, odc::node_id!(0)).unwrap();
+    m.nmt_all(NmtCommand::Stop).unwrap();
     m.wait_state(NODE, NmtState::Stopped).unwrap();
 }
 
@@ -276,7 +276,7 @@ fn lss_fastscan_then_a_node_id() {
     lss.configure_node_id(Some(odc::node_id!(9))).unwrap();
     lss.switch_global(false).unwrap();
     // Reset communication: it boots as node 9.
-    m.nmt(NmtCommand::ResetCommunication, odc::node_id!(0)).unwrap();
+    m.nmt_all(NmtCommand::ResetCommunication).unwrap();
     m.wait_boot_up(odc::node_id!(9)).unwrap();
     assert_eq!(m.read(odc::node_id!(9), &od::DEVICE_TYPE).unwrap(), 0x0402_0192);
     // Nobody unconfigured any more; a fastscan finds nothing.

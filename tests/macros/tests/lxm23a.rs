@@ -49,5 +49,5 @@ fn slave_reads_the_device_type() {
 #[test]
 fn esi_device_and_role() {
     // role = "slave": a dictionary, and no master plan module (this would not compile).
-    let _ = odc_tests_macros::servoone::slave::Dictionary::new(odc::node_id!(0));
+    let _ = odc_tests_macros::servoone::slave::Dictionary::new(None);
 }

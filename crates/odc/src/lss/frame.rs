@@ -66,7 +66,10 @@ pub enum Request {
     },
     /// 0x40–0x43: one part of the address of the one slave to put in configuration state.
     SwitchStateSelective(Part, u32),
-    /// 0x11: configure node-ID (1–127, or 0xFF for unconfigured).
+    /// 0x11: configure node-ID (1–127, or 0xFF for unconfigured). The byte as on the wire,
+    /// not a [`NodeId`](crate::cob::NodeId): a slave must answer any byte a master sends
+    /// (with error 1 for one that is no node-ID); [`NodeId::from_lss`](crate::cob::NodeId::from_lss)
+    /// reads it.
     ConfigureNodeId(u8),
     /// 0x13: configure bit timing: table selector (0 = CiA 301's table), table index.
     ConfigureBitTiming {
@@ -139,7 +142,7 @@ pub enum Response {
     IdentifyNonConfigured,
     /// 0x5A–0x5D: one part of the slave's address.
     Inquire(Part, u32),
-    /// 0x5E: the slave's active node-ID (0xFF: unconfigured).
+    /// 0x5E: the slave's active node-ID (0xFF: unconfigured), the byte as on the wire.
     InquireNodeId(u8),
 }
 

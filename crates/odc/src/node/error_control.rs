@@ -9,6 +9,19 @@ use crate::nmt::NmtState;
 use crate::slave::ObjectDictionary;
 use crate::time::{Duration, Instant};
 
+/// Bit `node` (0–127) of a set of nodes, as [`Events::heartbeat_lost`] holds them. Not
+/// inlined: a variable shift of a `u128` is about 40 bytes of Thumb code at every use.
+#[inline(never)]
+pub(super) fn node_bit(node: u8) -> u128 {
+    1u128 << (node & 0x7F)
+}
+
+/// Whether `node` is in `set`.
+#[inline(never)]
+pub(super) fn has_node(set: u128, node: u8) -> bool {
+    set & node_bit(node) != 0
+}
+
 #[derive(Clone, Copy, Debug, Default)]
 struct Consumer {
     node: u8,
@@ -123,11 +136,11 @@ impl ErrorControl {
             return;
         }
         for c in self.consumers.iter_mut().filter(|c| c.node == node && !c.time.is_zero()) {
-            if c.last.is_none() || self.lost >> node & 1 == 1 {
-                ev.heartbeat_started |= 1 << node;
+            if c.last.is_none() || has_node(self.lost, node) {
+                ev.heartbeat_started |= node_bit(node);
             }
             c.last = Some(now);
-            self.lost &= !(1u128 << node);
+            self.lost &= !node_bit(node);
         }
     }
 
@@ -150,10 +163,10 @@ impl ErrorControl {
             if let Some(last) = c.last
                 && !c.time.is_zero()
                 && now > last.saturating_add(c.time)
-                && self.lost >> c.node & 1 == 0
+                && !has_node(self.lost, c.node)
             {
-                self.lost |= 1 << c.node;
-                ev.heartbeat_lost |= 1 << c.node;
+                self.lost |= node_bit(c.node);
+                ev.heartbeat_lost |= node_bit(c.node);
             }
         }
         #[cfg(feature = "guarding")]
@@ -173,7 +186,7 @@ impl ErrorControl {
         let consumers = self
             .consumers
             .iter()
-            .filter(|c| !c.time.is_zero() && self.lost >> c.node & 1 == 0)
+            .filter(|c| !c.time.is_zero() && !has_node(self.lost, c.node))
             .filter_map(|c| Some(c.last?.saturating_add(c.time) + Duration::MICROSECOND))
             .min();
         #[cfg(feature = "guarding")]

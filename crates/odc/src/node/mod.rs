@@ -495,7 +495,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         // error or heartbeat error"; CANopenNode's CO_EM_HEARTBEAT_CONSUMER), the node's
         // number in the first manufacturer byte (0 for life guarding); cleared when every
         // watched heartbeat is back.
-        for node in (0..128u8).filter(|&n| ev.heartbeat_lost >> n & 1 == 1) {
+        for node in (0..128u8).filter(|&n| error_control::has_node(ev.heartbeat_lost, n)) {
             self.raise_emcy_in(HEARTBEAT_ERROR, [node, 0, 0, 0, 0], now, out);
         }
         if ev.life_guarding_lost {

@@ -11,11 +11,12 @@ use crate::slave::ObjectDictionary;
 pub(super) fn get_u32<D: ObjectDictionary + ?Sized>(dict: &D, index: u16, sub: u8) -> Option<u32> {
     let mut buf = [0u8; 8];
     let n = dict.read(index, sub, &mut buf).ok()?;
-    let mut le = [0u8; 4];
-    for (d, s) in le.iter_mut().zip(buf.iter().take(n)) {
-        *d = *s;
-    }
-    Some(u32::from_le_bytes(le))
+    Some(le_u32(buf.get(..n).unwrap_or(&buf)))
+}
+
+/// The first up-to-4 bytes of `data` as a little-endian number.
+fn le_u32(data: &[u8]) -> u32 {
+    crate::bits::load_le_u64(data) as u32
 }
 
 pub(super) fn get_u16<D: ObjectDictionary + ?Sized>(dict: &D, index: u16, sub: u8) -> Option<u16> {
@@ -54,13 +55,7 @@ impl Dirty {
 impl<D: ObjectDictionary + ?Sized> View<'_, D> {
     /// CiA 301's rules for values of communication objects that depend on other values.
     fn check_parameter(&self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
-        let new = || {
-            let mut le = [0u8; 4];
-            for (d, s) in le.iter_mut().zip(data) {
-                *d = *s;
-            }
-            u32::from_le_bytes(le)
-        };
+        let new = le_u32(data);
         match (index, sub) {
             // A PDO's CAN-ID may change only while it is invalid (CiA 301 7.5.2.35/37:
             // 0x06090030 otherwise).
@@ -69,16 +64,16 @@ impl<D: ObjectDictionary + ?Sized> View<'_, D> {
                 let valid = |c: u32| c & (1 << 31) == 0;
                 if let Some(old) = old
                     && valid(old)
-                    && valid(new())
-                    && old & 0x3FFF_FFFF != new() & 0x3FFF_FFFF
+                    && valid(new)
+                    && old & 0x3FFF_FFFF != new & 0x3FFF_FFFF
                 {
                     return Err(SdoAbort::InvalidValue);
                 }
             }
             // Two heartbeat consumer entries for one node (CiA 301 7.5.2.14: 0x06040043).
             (0x1016, s) if s > 0 => {
-                let node = new() >> 16 & 0xFF;
-                let time = new() & 0xFFFF;
+                let node = new >> 16 & 0xFF;
+                let time = new & 0xFFFF;
                 let count = get_u8(&*self.dict, 0x1016, 0).unwrap_or(0);
                 let clash = (1..=count).filter(|&o| o != s).any(|o| {
                     get_u32(&*self.dict, 0x1016, o)

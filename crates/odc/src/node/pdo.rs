@@ -12,7 +12,7 @@
 //! Bounded, no heap: `R` receive and `T` transmit PDOs (the node's const parameters), each
 //! with at most [`MAX_MAPPED`] mapping entries (CiA 301 allows 64, one per bit of 8 bytes).
 
-use crate::bits::{load_le_u64, mask, read_bits, write_bits};
+use crate::bits::{load_le_u64, mask};
 use crate::can::CanFrame;
 use crate::slave::ObjectDictionary;
 use crate::time::{Duration, Instant};
@@ -170,6 +170,7 @@ pub(super) fn mapped_bits<D: ObjectDictionary + ?Sized>(
 /// Packs the objects that mapping object `index` names.
 fn pack<D: ObjectDictionary + ?Sized>(dict: &D, index: u16) -> Result<Data, SdoAbort> {
     let mut data = Data::default();
+    let mut word = 0u64;
     let mut at = 0usize;
     for e in entries(dict, index)? {
         let e = e?;
@@ -183,10 +184,12 @@ fn pack<D: ObjectDictionary + ?Sized>(dict: &D, index: u16) -> Result<Data, SdoA
             if n * 8 < e.bits as usize {
                 return Err(SdoAbort::LengthMismatch);
             }
-            write_bits(&mut data.bytes, at, bits, load_le_u64(&buf) & mask(bits));
+            // A PDO is at most 64 bits (checked above): the frame is one word, no bit loop.
+            word |= (load_le_u64(&buf) & mask(bits)).checked_shl(at as u32).unwrap_or(0);
         }
         at += e.bits as usize;
     }
+    data.bytes = word.to_le_bytes();
     data.len = at.div_ceil(8) as u8;
     Ok(data)
 }
@@ -199,6 +202,8 @@ fn unpack<D: ObjectDictionary + ?Sized>(
     data: &[u8],
 ) -> Result<(), SdoAbort> {
     let count = get_u8(dict, index, 0).ok_or(SdoAbort::NoSuchObject)?.min(MAX_MAPPED);
+    // A frame is at most 8 bytes: one word; bits past its end read as 0.
+    let word = load_le_u64(data);
     let mut at = 0usize;
     for sub in 1..=count {
         let e = get_u32(dict, index, sub).map(MappingEntry::from_u32).ok_or(SdoAbort::NoSuchSub)?;
@@ -206,8 +211,9 @@ fn unpack<D: ObjectDictionary + ?Sized>(
         if !e.is_dummy() {
             let mut buf = [0u8; 8];
             let n = dict.read(e.index, e.sub, &mut buf)?;
-            let value = read_bits(data, at, bits);
-            write_bits(&mut buf, 0, bits, value);
+            let value = word.checked_shr(at as u32).unwrap_or(0) & mask(bits);
+            // The object's bytes past the mapped bits stay as they were.
+            buf = (load_le_u64(&buf) & !mask(bits) | value).to_le_bytes();
             dict.write(
                 e.index,
                 e.sub,

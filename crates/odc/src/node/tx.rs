@@ -52,23 +52,16 @@ impl Default for TxQueue {
 }
 
 impl TxQueue {
-    /// Offers the kept frames again, oldest first, until the sender refuses one.
+    /// Offers the kept frames again, oldest first, until the sender refuses one. Written
+    /// without indexing, so the firmware path links no panic.
     fn flush<S: Sent>(&mut self, out: &mut impl FnMut(CanFrame) -> S) {
-        let len = usize::from(self.len);
-        let mut sent = 0;
-        for f in self.frames.iter().take(len) {
-            if !out(*f).taken() {
+        while self.len > 0 {
+            let [first, b, c, d] = self.frames;
+            if !out(first).taken() {
                 break;
             }
-            sent += 1;
-        }
-        if sent > 0 {
-            // Moves the rest to the front without a range index (whose failure path would
-            // link core::fmt into a firmware image): constant bounds, `get` for the source.
-            for i in 0..TX_QUEUE {
-                self.frames[i] = self.frames.get(i + sent).copied().unwrap_or(EMPTY);
-            }
-            self.len = self.len.saturating_sub(u8::try_from(sent).unwrap_or(u8::MAX));
+            self.frames = [b, c, d, EMPTY];
+            self.len -= 1;
         }
     }
 
@@ -130,7 +123,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         now: Instant,
         out: &mut impl FnMut(CanFrame) -> S,
     ) {
-        self.with_tx(out, |n, o| n.start_in(dict, now, &mut |f| o(f)));
+        self.with_tx(out, |n, mut o| n.start_in(dict, now, &mut o));
     }
 
     /// One received frame: NMT, node guarding RTR, heartbeats of other nodes, SYNC, SDO
@@ -142,7 +135,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         now: Instant,
         out: &mut impl FnMut(CanFrame) -> S,
     ) -> Events {
-        self.with_tx(out, |n, o| n.handle_in(dict, frame, now, &mut |f| o(f)))
+        self.with_tx(out, |n, mut o| n.handle_in(dict, frame, now, &mut o))
     }
 
     /// Timers: heartbeat, heartbeat consumers, life guarding, the SYNC producer, EMCY inhibit,
@@ -155,7 +148,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         now: Instant,
         out: &mut impl FnMut(CanFrame) -> S,
     ) -> Events {
-        self.with_tx(out, |n, o| n.poll_in(dict, now, &mut |f| o(f)))
+        self.with_tx(out, |n, mut o| n.poll_in(dict, now, &mut o))
     }
 
     /// Raises an error: sets its bit in the error register, adds it to the history (0x1003)
@@ -168,7 +161,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         now: Instant,
         out: &mut impl FnMut(CanFrame) -> S,
     ) {
-        self.with_tx(out, |n, o| n.raise_emcy_in(code, manufacturer, now, &mut |f| o(f)));
+        self.with_tx(out, |n, mut o| n.raise_emcy_in(code, manufacturer, now, &mut o));
     }
 
     /// Clears an error raised before; sends the "error reset" EMCY (code 0x0000) with the
@@ -179,6 +172,6 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         now: Instant,
         out: &mut impl FnMut(CanFrame) -> S,
     ) -> bool {
-        self.with_tx(out, |n, o| n.clear_emcy_in(code, now, &mut |f| o(f)))
+        self.with_tx(out, |n, mut o| n.clear_emcy_in(code, now, &mut o))
     }
 }
