@@ -1,11 +1,23 @@
-//! Generates the slave side of `eds/lxm23a.eds`.
+//! Generates the slave side of `eds/lxm23a.eds`; for a bare-metal ARM target, also hands the
+//! firmware example its memory layout (`memory.x`) and cortex-m-rt's linker script.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-fn main() -> Result<(), odc_build::Error> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let manifest = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = manifest.join("../..");
+    let target = std::env::var("TARGET")?;
+    if target.starts_with("thumbv") && target.contains("-none-") {
+        // cortex-m-rt's link.x includes memory.x from the linker's search path.
+        let out = PathBuf::from(std::env::var("OUT_DIR")?);
+        std::fs::copy(manifest.join("memory.x"), out.join("memory.x"))?;
+        println!("cargo:rustc-link-search={}", out.display());
+        println!("cargo:rustc-link-arg-examples=-Tlink.x");
+        println!("cargo:rerun-if-changed=memory.x");
+    }
     odc_build::Config::new()
         .device(root.join("eds/lxm23a.eds"))
         .role(odc_build::Role::Slave)
-        .compile()
+        .compile()?;
+    Ok(())
 }
