@@ -268,14 +268,14 @@ fn expand(input: &DeriveInput, krate: &Path, fields: &[Placed], total_bits: u32)
     let len = odc_layout::bytes_for_bits(total_bits);
     let len_lit = usize_lit(len);
     let bits_lit = usize_lit(total_bits);
-    // Three ways to move the bits: one little-endian word for an image of exactly 8 bytes (or
-    // fewer, when a field does not sit on byte boundaries); one load or store per field when
-    // every field does (a 6-byte PDO of a u16 and an i32 becomes two plain moves, where the
-    // word would be assembled from and split into pieces); bit by bit otherwise.
-    let aligned = len != 8
-        && fields
-            .iter()
-            .all(|f| f.range.offset % 8 == 0 && f.range.bits % 8 == 0 && f.range.bits <= 64);
+    // Three ways to move the bits: one load or store per field when every field sits on byte
+    // boundaries, as a human writes it (a 6-byte PDO of a u16 and an i32 becomes two plain
+    // moves, where a word would be assembled from and split into pieces; an 8-byte u16, i32,
+    // i16 three moves, where the word took two shifts and two ORs more); one little-endian
+    // word for an image of at most 8 bytes with a field that does not; bit by bit otherwise.
+    let aligned = fields
+        .iter()
+        .all(|f| f.range.offset % 8 == 0 && f.range.bits % 8 == 0 && f.range.bits <= 64);
     let word = len <= 8 && !aligned;
     let covered: u32 = fields.iter().map(|f| f.range.bits).sum();
 

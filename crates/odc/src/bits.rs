@@ -45,7 +45,8 @@ pub(crate) fn copy_bytes(dst: &mut [u8], src: &[u8]) {
 
 /// The first up-to-8 bytes of `buf` as a little-endian word, zero-extended.
 ///
-/// For images of at most 8 bytes this is the fast path: one load, then constant shifts.
+/// The path of images of at most 8 bytes with a field off byte boundaries: one load, then
+/// constant shifts.
 #[inline(always)]
 pub fn load_le_u64(buf: &[u8]) -> u64 {
     let mut b = [0u8; 8];
@@ -69,8 +70,8 @@ pub fn store_le_u64(buf: &mut [u8], word: u64) {
 /// The `n` (≤ 8) bytes at byte `at` as a little-endian word, zero-extended; zero when they are
 /// not all in `buf`.
 ///
-/// The path of PDOs whose fields all start and end on byte boundaries (and are not exactly
-/// 8 bytes, which [`load_le_u64`] serves): one load per field, of the field's own width.
+/// The path of PDOs whose fields all start and end on byte boundaries: one load per field,
+/// of the field's own width.
 #[inline(always)]
 pub fn get_le(buf: &[u8], at: usize, n: usize) -> u64 {
     let mut b = [0u8; 8];

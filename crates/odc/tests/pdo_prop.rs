@@ -150,6 +150,29 @@ struct Aligned14 {
     d: i16,
 }
 
+/// Byte-aligned fields filling exactly 8 bytes (a CiA 402 TPDO: statusword, position,
+/// torque): one move per field too, not one word assembled from pieces.
+#[derive(Debug, Clone, Copy, PartialEq, odc::Pdo)]
+struct Aligned8 {
+    #[pdo(index = 0x6041)]
+    statusword: u16,
+    #[pdo(index = 0x6064)]
+    position: i32,
+    #[pdo(index = 0x6077)]
+    torque: i16,
+}
+
+/// 8 bytes with a gap byte: the gap is cleared, the fields moved one by one.
+#[derive(Debug, Clone, Copy, PartialEq, odc::Pdo)]
+struct Aligned8Gap {
+    #[pdo(index = 0x6061)]
+    mode: i8,
+    #[pdo(index = 0x606C, pad_bits = 8)]
+    velocity: i32,
+    #[pdo(index = 0x6077)]
+    torque: i16,
+}
+
 fn narrow() -> impl Strategy<Value = Narrow> {
     (0u8..8, signed_in(11), any::<bool>(), 0u32..(1 << 29), signed_in(7), 0u8..16).prop_map(
         |(a, b, c, d, e, f)| Narrow {
@@ -245,6 +268,31 @@ proptest! {
         prop_assert_eq!(Aligned14::unpack(&packed).unwrap(), v);
     }
 
+    #[test]
+    fn aligned8_round_trip_and_reference(statusword: u16, position: i32, torque: i16) {
+        let v = Aligned8 { statusword, position, torque };
+        // Bytes past the PDO stay as they were.
+        let mut packed = [0xA5u8; 10];
+        v.pack_into(&mut packed).unwrap();
+        let reference = ref_pack::<Aligned8>(&[v.statusword.to_raw(), v.position.to_raw(), v.torque.to_raw()]);
+        prop_assert_eq!(&packed[..8], reference.as_slice());
+        prop_assert_eq!(&packed[8..], &[0xA5, 0xA5]);
+        prop_assert_eq!(Aligned8::unpack(&packed).unwrap(), v);
+        prop_assert_eq!(Aligned8::unpack(&reference).unwrap(), v);
+    }
+
+    #[test]
+    fn aligned8_with_gap_round_trip_and_reference(mode: i8, velocity: i32, torque: i16) {
+        let v = Aligned8Gap { mode, velocity, torque };
+        // Garbage in the buffer must not survive in the gap.
+        let mut packed = [0xA5u8; 8];
+        v.pack_into(&mut packed).unwrap();
+        let reference = ref_pack::<Aligned8Gap>(&[v.mode.to_raw(), v.velocity.to_raw(), v.torque.to_raw()]);
+        prop_assert_eq!(packed.as_slice(), reference.as_slice());
+        prop_assert_eq!(packed[1], 0);
+        prop_assert_eq!(Aligned8Gap::unpack(&packed).unwrap(), v);
+    }
+
     /// Any byte pattern unpacks (no enum without catch-all here) and re-packs to itself with
     /// the gap and tail bits cleared.
     #[test]
@@ -265,6 +313,8 @@ fn layouts_are_what_the_mapping_says() {
     assert_eq!(Wide::BITS, 320);
     assert_eq!(Wide::MAPPING.iter().map(|e| usize::from(e.bits)).sum::<usize>(), Wide::BITS);
     assert_eq!((Aligned6::BITS, Aligned6::LEN), (48, 6));
+    assert_eq!((Aligned8::BITS, Aligned8::LEN), (64, 8));
+    assert_eq!((Aligned8Gap::BITS, Aligned8Gap::LEN), (64, 8));
     assert_eq!((Aligned14::BITS, Aligned14::LEN), (112, 14));
     // An i16 mapped into 8 bits refuses values it cannot carry.
     let too_big = Aligned14 { a: 0, b: odc::I24::ZERO, c: 0, d: 200 };
