@@ -15,15 +15,42 @@
 use arbitrary::{Arbitrary, Unstructured};
 use libfuzzer_sys::fuzz_target;
 use odc::can::CanFrame;
+use odc::cob::NodeId;
 use odc::lss::{Identity, LssEvent, LssSlave, LssState};
 
-/// The calls into the runtime, in one place (the frame type is changing).
+/// The calls into the runtime, in one place: only these know its frame and node-ID types
+/// (the harness names a node-ID by its byte, 0xFF for none, as CiA 305 does).
+fn lss_new(identity: Identity, node: u8, bit_timing: u8) -> LssSlave {
+    // Any byte: 1-127 is a node-ID, every other one none (the model's reading too).
+    LssSlave::new(identity, NodeId::new(node), bit_timing)
+}
+
 fn lss_handle(s: &mut LssSlave, f: &CanFrame) -> (Option<CanFrame>, Option<LssEvent>) {
     s.handle(f)
 }
 
+fn lss_reset_communication(s: &mut LssSlave) -> Option<u8> {
+    s.reset_communication().map(NodeId::get)
+}
+
+/// (state, active node-ID, pending node-ID, bit timing, pending bit timing).
+fn lss_status(s: &LssSlave) -> (LssState, Option<u8>, Option<u8>, u8, u8) {
+    (
+        s.state(),
+        s.node_id().map(NodeId::get),
+        s.pending_node_id().map(NodeId::get),
+        s.bit_timing(),
+        s.pending_bit_timing(),
+    )
+}
+
+/// The node-ID an event carries: `None` for 0xFF; the model gives no other byte.
+fn event_id(id: u8) -> Option<NodeId> {
+    (id != UNCONF).then(|| NodeId::new(id).expect("the model's node-IDs are 1-127 or 0xFF"))
+}
+
 fn frame(id: u32, b: &[u8]) -> CanFrame {
-    CanFrame::from_slice(id, b).expect("at most 8 bytes, by construction")
+    CanFrame::from_slice(id, b).expect("11 bits and at most 8 bytes, by construction")
 }
 
 const UNCONF: u8 = 0xFF;
@@ -48,7 +75,7 @@ struct Model {
 }
 
 fn ans(b: [u8; 8]) -> Option<CanFrame> {
-    Some(CanFrame::new(0x7E4, b))
+    Some(CanFrame::new(0x7E4, b).expect("an 11-bit identifier"))
 }
 
 fn number(b: &[u8; 8]) -> u32 {
@@ -149,7 +176,7 @@ impl Model {
                 let id = b[1];
                 if id == UNCONF || (1..=127).contains(&id) {
                     self.pending = id;
-                    let e = LssEvent::NodeIdConfigured((id != UNCONF).then_some(id));
+                    let e = LssEvent::NodeIdConfigured(event_id(id));
                     (ans([0x11, 0, 0, 0, 0, 0, 0, 0]), Some(e))
                 } else {
                     (ans([0x11, 1, 0, 0, 0, 0, 0, 0]), None)
@@ -174,7 +201,7 @@ impl Model {
                 )
             }
             0x17 if self.storage => {
-                let node_id = (self.pending != UNCONF).then_some(self.pending);
+                let node_id = event_id(self.pending);
                 (None, Some(LssEvent::Store { node_id, bit_timing: self.pending_bit_timing }))
             }
             0x17 => (ans([0x17, 1, 0, 0, 0, 0, 0, 0]), None),
@@ -192,7 +219,7 @@ fn same(s: &LssSlave, m: &Model) {
     let state = if m.configuration { LssState::Configuration } else { LssState::Waiting };
     let opt = |v: u8| (v != UNCONF).then_some(v);
     assert_eq!(
-        (s.state(), s.node_id(), s.pending_node_id(), s.bit_timing(), s.pending_bit_timing()),
+        lss_status(s),
         (state, opt(m.active), opt(m.pending), m.bit_timing, m.pending_bit_timing),
         "slave and CiA 305 model differ: {m:?}"
     );
@@ -206,8 +233,7 @@ fn run(u: &mut Unstructured<'_>) -> arbitrary::Result<()> {
     let id = [part(u)?, part(u)?, part(u)?, part(u)?];
     let node: u8 = if u.ratio(1, 2)? { UNCONF } else { u8::arbitrary(u)? };
     let bit_timing = u.int_in_range(0..=9)?;
-    let mut slave =
-        LssSlave::new(Identity::new(id[0], id[1], id[2], id[3]), Some(node), bit_timing);
+    let mut slave = lss_new(Identity::new(id[0], id[1], id[2], id[3]), node, bit_timing);
     let mut m = Model {
         id,
         configuration: false,
@@ -255,7 +281,10 @@ fn run(u: &mut Unstructured<'_>) -> arbitrary::Result<()> {
                 let got = lss_handle(&mut slave, &frame(0x7E5, &b));
                 assert_eq!(got, want, "request {b:02X?}");
                 if let Some(a) = got.0 {
-                    assert!(a.id == 0x7E4 && a.len == 8 && !a.remote && !a.extended, "{a:?}");
+                    assert!(
+                        a.id() == 0x7E4 && a.len() == 8 && !a.is_remote() && !a.is_extended(),
+                        "{a:?}"
+                    );
                 }
             }
             7 => {
@@ -265,7 +294,7 @@ fn run(u: &mut Unstructured<'_>) -> arbitrary::Result<()> {
                 b[0] = *u.choose(&[0x04, 0x11, 0x4C, 0x51, 0x5E, b[0]])?;
                 let len = u.int_in_range(0..=8)?;
                 let f = match u.int_in_range(0..=3u8)? {
-                    0 => CanFrame::remote(0x7E5, len as u8),
+                    0 => CanFrame::remote(0x7E5, len as u8).expect("11 bits, 0-8"),
                     1 => CanFrame::extended(0x7E5, &b).expect("8 bytes"),
                     2 => frame(0x7E5, &b[..len.min(7)]),
                     _ => frame(*u.choose(&[0x7E4, 0x7E6, 0x000, 0x605])?, &b),
@@ -275,7 +304,7 @@ fn run(u: &mut Unstructured<'_>) -> arbitrary::Result<()> {
             8 => {
                 // NMT reset communication: the pending node-ID becomes active.
                 m.active = m.pending;
-                let now = slave.reset_communication();
+                let now = lss_reset_communication(&mut slave);
                 assert_eq!(now, (m.active != UNCONF).then_some(m.active));
             }
             _ => {

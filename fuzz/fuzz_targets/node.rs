@@ -28,21 +28,27 @@ mod lxm23a {
 use arbitrary::{Arbitrary, Unstructured};
 use libfuzzer_sys::fuzz_target;
 use odc::can::CanFrame;
+use odc::cob::NodeId;
 use odc::nmt::NmtState;
 use odc::node::{Events, Node};
+use odc::time::Instant;
 use sdo_model::Model;
 
 type Dict = lxm23a::slave::Dictionary;
 type TheNode = Node<64, 4, 4>;
 
-// The calls into the node, in one place: its time type, node-ID type and frame constructors
-// are changing on other branches, and only these functions need adapting.
+// The calls into the node, in one place: only these functions know its time type
+// (`odc::time::Instant`, µs), node-ID type (`NodeId`, `None` without one) and frame
+// constructors. The harness counts in µs and names a node without node-ID 0xFF (CiA 305).
 fn node_new(id: u8, lss: bool) -> TheNode {
-    let n = TheNode::new(id);
+    let n = match NodeId::new(id) {
+        Some(id) => TheNode::new(id),
+        None => TheNode::unconfigured(),
+    };
     if lss { n.with_lss(None, 0) } else { n }
 }
 fn node_start(n: &mut TheNode, d: &mut Dict, now_us: u64, out: &mut Vec<CanFrame>) {
-    n.start(d, now_us, &mut |f| out.push(f));
+    n.start(d, Instant::from_micros(now_us), &mut |f| out.push(f));
 }
 fn node_handle(
     n: &mut TheNode,
@@ -51,16 +57,25 @@ fn node_handle(
     now_us: u64,
     out: &mut Vec<CanFrame>,
 ) -> Events {
-    n.handle(d, f, now_us, &mut |f| out.push(f))
+    n.handle(d, f, Instant::from_micros(now_us), &mut |f| out.push(f))
 }
 fn node_poll(n: &mut TheNode, d: &mut Dict, now_us: u64, out: &mut Vec<CanFrame>) -> Events {
-    n.poll(d, now_us, &mut |f| out.push(f))
+    n.poll(d, Instant::from_micros(now_us), &mut |f| out.push(f))
 }
 fn node_id(n: &TheNode) -> u8 {
-    n.node_id()
+    NodeId::to_lss(n.node_id())
+}
+fn next_node_id(n: &TheNode) -> Option<NodeId> {
+    n.next_node_id()
+}
+fn dict_new(id: u8) -> Dict {
+    Dict::new(NodeId::new(id))
 }
 fn frame(id: u32, b: &[u8]) -> CanFrame {
-    CanFrame::from_slice(id, b).expect("at most 8 bytes, by construction")
+    CanFrame::from_slice(id, b).expect("11 bits and at most 8 bytes, by construction")
+}
+fn remote(id: u32, len: u8) -> CanFrame {
+    CanFrame::remote(id, len).expect("11 bits and at most 8 bytes, by construction")
 }
 
 /// `ODC_FUZZ_TRACE=1 target/.../node INPUT` prints every call, to read a failing input.
@@ -89,11 +104,14 @@ fn restricted(id: u32) -> bool {
 }
 
 fn check_frame(f: &CanFrame) {
-    assert!(!f.remote, "the node sent a remote frame: {f:?}");
-    assert!(f.len <= 8, "{f:?}");
-    assert!(f.data[usize::from(f.len)..].iter().all(|&b| b == 0), "bytes past the length: {f:?}");
-    let max = if f.extended { 0x1FFF_FFFF } else { 0x7FF };
-    assert!(f.id <= max, "identifier out of range: {f:?}");
+    assert!(!f.is_remote(), "the node sent a remote frame: {f:?}");
+    assert!(f.len() <= 8, "{f:?}");
+    assert!(
+        f.data()[usize::from(f.len())..].iter().all(|&b| b == 0),
+        "bytes past the length: {f:?}"
+    );
+    let max = if f.is_extended() { 0x1FFF_FFFF } else { 0x7FF };
+    assert!(f.id() <= max, "identifier out of range: {f:?}");
 }
 
 impl Harness {
@@ -112,7 +130,7 @@ impl Harness {
             // what this node may send on them is its error control, SDO responses and LSS.
             let own = [0x700 + u32::from(id), 0x580 + u32::from(id), 0x7E4];
             assert!(
-                f.extended || !restricted(f.id) || own.contains(&f.id),
+                f.is_extended() || !restricted(f.id()) || own.contains(&f.id()),
                 "{f:02X?} on a restricted CAN-ID"
             );
         }
@@ -122,7 +140,7 @@ impl Harness {
         if booted {
             self.reset_pending = false;
             self.toggle = false;
-            self.sdo = Model::new(odc::sdo::DEFAULT_TIMEOUT_MS);
+            self.sdo = Model::new(odc::sdo::DEFAULT_TIMEOUT);
             let valid = (1..=127).contains(&id);
             assert_eq!(bootups, usize::from(valid), "boot-up after a reset: {out:02X?}");
             if valid {
@@ -141,11 +159,11 @@ impl Harness {
         let running = if booted { self.state } else { before };
         if let Some(f) = input
             && f.is_data(0)
-            && f.len >= 2
+            && f.len() >= 2
             && running.is_some()
-            && (f.data[1] == 0 || f.data[1] == id)
+            && (f.data()[1] == 0 || f.data()[1] == id)
         {
-            match f.data[0] {
+            match f.data()[0] {
                 0x01 => self.state = Some(NmtState::Operational),
                 0x02 => self.state = Some(NmtState::Stopped),
                 0x80 => self.state = Some(NmtState::PreOperational),
@@ -168,20 +186,21 @@ impl Harness {
             assert_eq!(ev.state, self.state, "state change not reported");
         }
         // Error control: heartbeats carry the state; a guarding answer the toggle bit.
-        let guarding =
-            input.is_some_and(|f| f.remote && !f.extended && f.id == ec && running.is_some());
+        let guarding = input.is_some_and(|f| {
+            f.is_remote() && !f.is_extended() && f.id() == ec && running.is_some()
+        });
         for f in out.iter().filter(|f| f.is_data(ec) && f.bytes() != [0]) {
-            assert_eq!(f.len, 1, "error control frame of {} bytes", f.len);
+            assert_eq!(f.len(), 1, "error control frame of {} bytes", f.len());
             let s = running.expect("error control only from a started node");
             if guarding {
                 assert_eq!(
-                    f.data[0],
+                    f.data()[0],
                     s.to_u8() | if self.toggle { 0x80 } else { 0 },
                     "guarding answer"
                 );
                 self.toggle = !self.toggle;
             } else {
-                assert_eq!(f.data[0], s.to_u8(), "heartbeat");
+                assert_eq!(f.data()[0], s.to_u8(), "heartbeat");
             }
         }
         if guarding {
@@ -213,22 +232,22 @@ impl Harness {
         let (req, resp) = (0x600 + u32::from(id), 0x580 + u32::from(id));
         let sdo_out: Vec<CanFrame> = out.iter().filter(|f| f.is_data(resp)).copied().collect();
         let sdo_on = matches!(running, Some(NmtState::PreOperational | NmtState::Operational));
-        let now_ms = self.now_us / 1000;
+        let now = Instant::from_micros(self.now_us);
         match input {
             Some(f) if f.is_data(req) && sdo_on => {
                 for o in &sdo_out {
                     sdo_model::check_frame(o, resp);
                 }
-                self.sdo.request(f.bytes(), &sdo_out, None, now_ms, &|_| None);
+                self.sdo.request(f.bytes(), &sdo_out, None, now, &|_| None);
             }
-            None if sdo_on => self.sdo.poll(&sdo_out, now_ms),
+            None if sdo_on => self.sdo.poll(&sdo_out, now),
             _ => assert!(
                 sdo_out.is_empty(),
                 "SDO frames {sdo_out:02X?} for {input:02X?} while {running:?}"
             ),
         }
         if self.reset_pending {
-            self.sdo = Model::new(odc::sdo::DEFAULT_TIMEOUT_MS);
+            self.sdo = Model::new(odc::sdo::DEFAULT_TIMEOUT);
         }
     }
 
@@ -260,7 +279,7 @@ impl Harness {
     /// The application's part: a reset restores the dictionary's defaults.
     fn app(&mut self, ev: &Events) {
         if ev.reset.is_some() {
-            self.dict = Dict::new(self.node.next_node_id());
+            self.dict = Dict::new(next_node_id(&self.node));
         }
     }
 }
@@ -285,12 +304,12 @@ fn run(u: &mut Unstructured<'_>) -> arbitrary::Result<()> {
     let lss = id == 0xFF || bool::arbitrary(u)?;
     let mut h = Harness {
         node: node_new(id, lss),
-        dict: Dict::new(id),
+        dict: dict_new(id),
         now_us: 0,
         state: None,
         reset_pending: false,
         toggle: false,
-        sdo: Model::new(odc::sdo::DEFAULT_TIMEOUT_MS),
+        sdo: Model::new(odc::sdo::DEFAULT_TIMEOUT),
     };
     let mut out = Vec::new();
     node_start(&mut h.node, &mut h.dict, 0, &mut out);
@@ -341,13 +360,13 @@ fn run(u: &mut Unstructured<'_>) -> arbitrary::Result<()> {
                     b[3] = s;
                 }
                 let f = match u.int_in_range(0..=9u8)? {
-                    0 => CanFrame::remote(id, len as u8),
+                    0 => remote(id, len as u8),
                     1 => CanFrame::extended(id, &b[..len]).expect("at most 8 bytes"),
                     _ => frame(id, &b[..len]),
                 };
                 h.handle(&f);
             }
-            6 => h.handle(&CanFrame::remote(0x700 + me, 1)),
+            6 => h.handle(&remote(0x700 + me, 1)),
             _ => {
                 let dt = match u.int_in_range(0..=3u8)? {
                     0 => u64::from(u.int_in_range(0..=2000u16)?),

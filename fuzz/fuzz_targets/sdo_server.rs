@@ -19,28 +19,37 @@ use arbitrary::{Arbitrary, Unstructured};
 use dict::Dict;
 use libfuzzer_sys::fuzz_target;
 use odc::can::CanFrame;
+use odc::cob::NodeId;
+use odc::time::{Duration, Instant};
 use sdo_model::Model;
 
 const NODE: u8 = 5;
 const REQ: u32 = 0x600 + NODE as u32;
 const RESP: u32 = 0x580 + NODE as u32;
-const TIMEOUT_MS: u64 = 100;
+/// The server's timeout, in µs (the clock's unit): 100 ms.
+const TIMEOUT_US: u64 = 100_000;
+const TIMEOUT: Duration = Duration::from_micros(TIMEOUT_US);
 /// The server's transfer buffer.
 const N: usize = 32;
 
 type Server = odc::sdo::Server<N>;
 
-/// Every call into the runtime goes through these two functions (the runtime's frame and
-/// time types are changing; only here needs adapting).
-fn serve(server: &mut Server, dict: &mut Dict, frame: &CanFrame, now_ms: u64) -> Vec<CanFrame> {
+/// Every call into the runtime goes through these functions (its frame, time and node-ID
+/// types; only here needs adapting).
+fn server_new(blksize: u8) -> Server {
+    let node = NodeId::new(NODE).expect("a node-ID");
+    Server::new(node).with_timeout(TIMEOUT).with_blksize(blksize)
+}
+
+fn serve(server: &mut Server, dict: &mut Dict, frame: &CanFrame, now: Instant) -> Vec<CanFrame> {
     let mut out = Vec::new();
-    server.handle_into(dict, frame, now_ms, &mut |f| out.push(f));
+    server.handle_into(dict, frame, now, &mut |f| out.push(f));
     out
 }
 
-fn tick(server: &mut Server, now_ms: u64) -> Vec<CanFrame> {
+fn tick(server: &mut Server, now: Instant) -> Vec<CanFrame> {
     let mut out = Vec::new();
-    while let Some(f) = server.poll(now_ms) {
+    while let Some(f) = server.poll(now) {
         out.push(f);
         assert!(out.len() <= 1, "poll gave more than one frame between requests: {out:02X?}");
     }
@@ -55,7 +64,7 @@ struct Harness {
     server: Server,
     dict: Dict,
     model: Model,
-    now_ms: u64,
+    now: Instant,
 }
 
 impl Harness {
@@ -63,7 +72,7 @@ impl Harness {
     fn send(&mut self, f: &CanFrame) -> Vec<CanFrame> {
         let writes = self.dict.writes;
         let busy_before = self.server.is_busy();
-        let out = serve(&mut self.server, &mut self.dict, f, self.now_ms);
+        let out = serve(&mut self.server, &mut self.dict, f, self.now);
         for o in &out {
             sdo_model::check_frame(o, RESP);
         }
@@ -71,7 +80,7 @@ impl Harness {
         if f.is_data(REQ) {
             let dict = &self.dict;
             let read = |m: [u8; 3]| dict.value(u16::from_le_bytes([m[0], m[1]]), m[2]);
-            self.model.request(f.bytes(), &out, Some(wrote), self.now_ms, &read);
+            self.model.request(f.bytes(), &out, Some(wrote), self.now, &read);
         } else {
             assert!(out.is_empty(), "{f:?} is no request to this server, answered {out:02X?}");
             assert_eq!(wrote, 0);
@@ -86,20 +95,21 @@ impl Harness {
         out
     }
 
-    fn advance(&mut self, dt: u64) {
-        self.now_ms = self.now_ms.saturating_add(dt);
-        let out = tick(&mut self.server, self.now_ms);
+    /// `dt_us`: microseconds.
+    fn advance(&mut self, dt_us: u64) {
+        self.now = self.now.saturating_add(Duration::from_micros(dt_us));
+        let out = tick(&mut self.server, self.now);
         for o in &out {
             sdo_model::check_frame(o, RESP);
         }
-        self.model.poll(&out, self.now_ms);
+        self.model.poll(&out, self.now);
         assert_eq!(self.server.is_busy(), self.model.busy());
     }
 
     /// One request of the well-behaved client; it must not be aborted.
     fn ok(&mut self, bytes: [u8; 8]) -> Vec<CanFrame> {
         let out = self.send(&frame(REQ, &bytes));
-        assert!(out.iter().all(|f| f.data[0] != 0x80), "{bytes:02X?} aborted: {out:02X?}");
+        assert!(out.iter().all(|f| f.data()[0] != 0x80), "{bytes:02X?} aborted: {out:02X?}");
         out
     }
 
@@ -132,7 +142,7 @@ impl Harness {
             _ => {
                 let size = (value.len() as u32).to_le_bytes();
                 let init = self.ok([0xC6, i0, i1, sub, size[0], size[1], size[2], size[3]]);
-                let mut blksize = init[0].data[4];
+                let mut blksize = init[0].data()[4];
                 let segments: Vec<&[u8]> =
                     if value.is_empty() { vec![&[][..]] } else { value.chunks(7).collect() };
                 let mut seq = 0u8;
@@ -144,8 +154,8 @@ impl Harness {
                     let out = self.ok(b);
                     if last || seq == blksize {
                         assert_eq!(out.len(), 1, "no acknowledgement of a sub-block");
-                        assert_eq!(out[0].data[1], seq, "not every segment acknowledged");
-                        blksize = out[0].data[2];
+                        assert_eq!(out[0].data()[1], seq, "not every segment acknowledged");
+                        blksize = out[0].data()[2];
                         seq = 0;
                     }
                 }
@@ -163,15 +173,14 @@ impl Harness {
         let want = self.dict.value(index, sub).expect("the client uploads readable objects");
         let init = self.ok([0x40, i0, i1, sub, 0, 0, 0, 0]);
         let mut got = Vec::new();
-        if init[0].data[0] & 0b10 != 0 {
-            got.extend_from_slice(
-                &init[0].data[4..4 + 4 - usize::from((init[0].data[0] >> 2) & 3)],
-            );
+        let first = init[0].data();
+        if first[0] & 0b10 != 0 {
+            got.extend_from_slice(&first[4..4 + 4 - usize::from((first[0] >> 2) & 3)]);
         } else {
             let mut toggle = 0u8;
             loop {
                 let seg = self.ok([0x60 | toggle, 0, 0, 0, 0, 0, 0, 0]);
-                let b = seg[0].data;
+                let b = seg[0].data();
                 got.extend_from_slice(&b[1..8 - usize::from((b[0] >> 1) & 7)]);
                 toggle ^= 0x10;
                 if b[0] & 1 != 0 {
@@ -185,10 +194,10 @@ impl Harness {
 
 fn run(u: &mut Unstructured<'_>) -> arbitrary::Result<()> {
     let mut h = Harness {
-        server: Server::new(NODE).with_timeout(TIMEOUT_MS).with_blksize(u.int_in_range(1..=127)?),
+        server: server_new(u.int_in_range(1..=127)?),
         dict: Dict::new(),
-        model: Model::new(TIMEOUT_MS),
-        now_ms: 0,
+        model: Model::new(TIMEOUT),
+        now: Instant::ZERO,
     };
     while !u.is_empty() {
         match u.int_in_range(0..=15u8)? {
@@ -226,7 +235,7 @@ fn run(u: &mut Unstructured<'_>) -> arbitrary::Result<()> {
                 let mut b = [0u8; 8];
                 u.fill_buffer(&mut b)?;
                 let f = match u.int_in_range(0..=3u8)? {
-                    0 => CanFrame::remote(REQ, u.int_in_range(0..=8)?),
+                    0 => CanFrame::remote(REQ, u.int_in_range(0..=8)?).expect("11 bits, 0-8"),
                     1 => CanFrame::extended(REQ, &b).expect("8 bytes"),
                     2 => frame(RESP, &b),
                     _ => frame(u.int_in_range(0..=0x7FF)?, &b),
@@ -236,10 +245,16 @@ fn run(u: &mut Unstructured<'_>) -> arbitrary::Result<()> {
                 }
             }
             10..=12 => {
-                let dt = match u.int_in_range(0..=3u8)? {
+                // Steps in µs, the clock's resolution: 0-2 µs; the former steps in whole
+                // milliseconds (0-2 ms, 0 to twice the timeout), whose sums land on the
+                // deadline; 0 to twice the timeout in µs; the timeout, 1 µs less or more;
+                // anything.
+                let dt = match u.int_in_range(0..=5u8)? {
                     0 => u64::from(u.int_in_range(0..=2u8)?),
-                    1 => u64::from(u.int_in_range(0..=TIMEOUT_MS as u16 * 2)?),
-                    2 => TIMEOUT_MS + 1,
+                    1 => u64::from(u.int_in_range(0..=2u8)?) * 1000,
+                    2 => u64::from(u.int_in_range(0..=TIMEOUT_US as u32 / 1000 * 2)?) * 1000,
+                    3 => u64::from(u.int_in_range(0..=TIMEOUT_US as u32 * 2)?),
+                    4 => TIMEOUT_US - 1 + u64::from(u.int_in_range(0..=2u8)?),
                     _ => u64::arbitrary(u)?,
                 };
                 h.advance(dt);

@@ -19,6 +19,7 @@
 //!   says it is busy exactly while the model has a transfer under way.
 
 use odc::can::CanFrame;
+use odc::time::{Duration, Instant};
 
 /// What the client may send next, by CiA 301.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -55,9 +56,9 @@ pub enum Phase {
 /// The client-side view of one server.
 pub struct Model {
     pub phase: Phase,
-    /// Time of the last request, ms.
-    last_ms: u64,
-    timeout_ms: u64,
+    /// Time of the last request.
+    last: Instant,
+    timeout: Duration,
 }
 
 /// The 8 bytes of a request, zero-padded (a server reads a short request as padded).
@@ -74,22 +75,26 @@ fn mux(b: &[u8; 8]) -> [u8; 3] {
 }
 
 fn is_abort(f: &CanFrame) -> bool {
-    f.data[0] == 0x80
+    f.data()[0] == 0x80
 }
 
 fn abort_code(f: &CanFrame) -> u32 {
-    u32::from_le_bytes([f.data[4], f.data[5], f.data[6], f.data[7]])
+    let d = f.data();
+    u32::from_le_bytes([d[4], d[5], d[6], d[7]])
 }
 
 /// Checks one frame a server sent: response COB-ID, standard data frame, 8 bytes.
 pub fn check_frame(f: &CanFrame, resp_id: u32) {
-    assert_eq!(f.id, resp_id, "SDO response on another COB-ID: {f:?}");
-    assert!(!f.extended && !f.remote && f.len == 8, "SDO response not an 8-byte data frame: {f:?}");
+    assert_eq!(f.id(), resp_id, "SDO response on another COB-ID: {f:?}");
+    assert!(
+        !f.is_extended() && !f.is_remote() && f.len() == 8,
+        "SDO response not an 8-byte data frame: {f:?}"
+    );
 }
 
 impl Model {
-    pub fn new(timeout_ms: u64) -> Self {
-        Self { phase: Phase::Idle, last_ms: 0, timeout_ms }
+    pub fn new(timeout: Duration) -> Self {
+        Self { phase: Phase::Idle, last: Instant::ZERO, timeout }
     }
 
     pub fn busy(&self) -> bool {
@@ -105,10 +110,10 @@ impl Model {
         req: &[u8],
         out: &[CanFrame],
         wrote: Option<usize>,
-        now_ms: u64,
+        now: Instant,
         read: &dyn Fn([u8; 3]) -> Option<Vec<u8>>,
     ) {
-        self.last_ms = now_ms;
+        self.last = now;
         let b = pad(req);
         let ccs = b[0] >> 5;
         let one = |what: &str| {
@@ -146,13 +151,17 @@ impl Model {
                 && !is_abort(f)
             {
                 assert!(ack_due, "sub-block acknowledged before its end: {req:02X?} -> {f:02X?}");
-                assert_eq!(f.data[0], 0xA2, "not a block acknowledgement: {f:02X?}");
-                assert_eq!(f.data[1], expect - 1, "ackseq is not the last segment in order");
-                assert!((1..=127).contains(&f.data[2]), "block size {} out of 1-127", f.data[2]);
+                assert_eq!(f.data()[0], 0xA2, "not a block acknowledgement: {f:02X?}");
+                assert_eq!(f.data()[1], expect - 1, "ackseq is not the last segment in order");
+                assert!(
+                    (1..=127).contains(&f.data()[2]),
+                    "block size {} out of 1-127",
+                    f.data()[2]
+                );
                 self.phase = if saw_last {
                     Phase::BlockDlEnd
                 } else {
-                    Phase::BlockDlSegments { blksize: f.data[2], expect: 1, saw_last: false }
+                    Phase::BlockDlSegments { blksize: f.data()[2], expect: 1, saw_last: false }
                 };
             } else if aborted {
                 self.phase = Phase::Idle;
@@ -178,15 +187,19 @@ impl Model {
             // An abort is always a possible answer to a request; the multiplexer of an
             // initiate is echoed.
             if matches!((ccs, ss), (1 | 2, _) | (5, 0) | (6, 0 | 2)) {
-                assert_eq!(mux(&out[0].data), mux(&b), "abort names another object: {out:02X?}");
+                assert_eq!(mux(&out[0].data()), mux(&b), "abort names another object: {out:02X?}");
             }
         } else {
             match (ccs, phase) {
                 (0, Phase::Download) => {
                     one("download segment");
                     let f = &out[0];
-                    assert_eq!(f.data[0] & 0xEF, 0x20, "not a download segment response: {f:02X?}");
-                    assert_eq!(f.data[0] & 0x10, b[0] & 0x10, "toggle bit not echoed");
+                    assert_eq!(
+                        f.data()[0] & 0xEF,
+                        0x20,
+                        "not a download segment response: {f:02X?}"
+                    );
+                    assert_eq!(f.data()[0] & 0x10, b[0] & 0x10, "toggle bit not echoed");
                     if b[0] & 1 == 0 {
                         self.phase = Phase::Download;
                     } else {
@@ -196,9 +209,9 @@ impl Model {
                 (1, _) => {
                     one("initiate download");
                     let f = &out[0];
-                    assert_eq!(f.data[0], 0x60, "not an initiate download response: {f:02X?}");
+                    assert_eq!(f.data()[0], 0x60, "not an initiate download response: {f:02X?}");
                     assert_eq!(
-                        mux(&f.data),
+                        mux(&f.data()),
                         mux(&b),
                         "initiate download response for another object"
                     );
@@ -212,14 +225,14 @@ impl Model {
                 (3, Phase::Upload { value, pos }) => {
                     one("upload segment");
                     let f = &out[0];
-                    assert_eq!(f.data[0] >> 5, 0, "not an upload segment: {f:02X?}");
-                    assert_eq!(f.data[0] & 0x10, b[0] & 0x10, "toggle bit not echoed");
-                    let n = 7 - usize::from((f.data[0] >> 1) & 0b111);
-                    let last = f.data[0] & 1 != 0;
+                    assert_eq!(f.data()[0] >> 5, 0, "not an upload segment: {f:02X?}");
+                    assert_eq!(f.data()[0] & 0x10, b[0] & 0x10, "toggle bit not echoed");
+                    let n = 7 - usize::from((f.data()[0] >> 1) & 0b111);
+                    let last = f.data()[0] & 1 != 0;
                     if let Some(v) = &value {
                         assert_eq!(
                             v.get(pos..pos + n),
-                            Some(&f.data[1..1 + n]),
+                            Some(&f.data()[1..1 + n]),
                             "uploaded bytes differ"
                         );
                         assert_eq!(
@@ -237,18 +250,18 @@ impl Model {
                     one("initiate block upload");
                     let f = &out[0];
                     assert!((1..=127).contains(&b[4]), "block size {} taken", b[4]);
-                    if f.data[0] >> 5 == 2 {
+                    if f.data()[0] >> 5 == 2 {
                         // Protocol switch threshold: the normal upload answers.
                         assert!(b[5] != 0, "switched to a normal upload without a threshold");
                         self.upload_initiated(&b, out, read);
                     } else {
                         assert_eq!(
-                            f.data[0] & 0xE1,
+                            f.data()[0] & 0xE1,
                             0xC0,
                             "not an initiate block upload response: {f:02X?}"
                         );
                         assert_eq!(
-                            mux(&f.data),
+                            mux(&f.data()),
                             mux(&b),
                             "block upload response for another object"
                         );
@@ -265,7 +278,8 @@ impl Model {
                         b[1]
                     );
                     assert!((1..=127).contains(&b[2]), "block size {} taken", b[2]);
-                    if out.len() == 1 && out[0].data[0] >> 5 == 6 && out[0].data[0] & 0b11 == 1 {
+                    if out.len() == 1 && out[0].data()[0] >> 5 == 6 && out[0].data()[0] & 0b11 == 1
+                    {
                         self.phase = Phase::BlockUlAwaitEnd;
                     } else {
                         self.phase = sub_block(out, b[2], req);
@@ -278,22 +292,26 @@ impl Model {
                     one("initiate block download");
                     let f = &out[0];
                     assert_eq!(
-                        f.data[0] & 0xE3,
+                        f.data()[0] & 0xE3,
                         0xA0,
                         "not an initiate block download response: {f:02X?}"
                     );
-                    assert_eq!(mux(&f.data), mux(&b), "block download response for another object");
+                    assert_eq!(
+                        mux(&f.data()),
+                        mux(&b),
+                        "block download response for another object"
+                    );
                     assert!(
-                        (1..=127).contains(&f.data[4]),
+                        (1..=127).contains(&f.data()[4]),
                         "block size {} out of 1-127",
-                        f.data[4]
+                        f.data()[4]
                     );
                     self.phase =
-                        Phase::BlockDlSegments { blksize: f.data[4], expect: 1, saw_last: false };
+                        Phase::BlockDlSegments { blksize: f.data()[4], expect: 1, saw_last: false };
                 }
                 (6, Phase::BlockDlEnd) => {
                     one("end of a block download");
-                    assert_eq!(out[0].data[0], 0xA1, "not an end block download response");
+                    assert_eq!(out[0].data()[0], 0xA1, "not an end block download response");
                     confirmed_write = true;
                 }
                 (_, p) => panic!("{req:02X?} in {p:?} must be aborted, got {out:02X?}"),
@@ -316,24 +334,24 @@ impl Model {
     ) {
         assert_eq!(out.len(), 1, "initiate upload answered by {out:02X?}");
         let f = &out[0];
-        assert_eq!(f.data[0] >> 5, 2, "not an initiate upload response: {f:02X?}");
-        assert_eq!(mux(&f.data), mux(b), "upload response for another object");
+        assert_eq!(f.data()[0] >> 5, 2, "not an initiate upload response: {f:02X?}");
+        assert_eq!(mux(&f.data()), mux(b), "upload response for another object");
         let value = read(mux(b));
-        let e = f.data[0] & 0b10 != 0;
-        let s = f.data[0] & 0b01 != 0;
+        let e = f.data()[0] & 0b10 != 0;
+        let s = f.data()[0] & 0b01 != 0;
         if e {
             assert!(s, "expedited upload without its size");
-            let n = 4 - usize::from((f.data[0] >> 2) & 0b11);
+            let n = 4 - usize::from((f.data()[0] >> 2) & 0b11);
             if let Some(v) = &value {
                 assert_eq!(
-                    &f.data[4..4 + n],
+                    &f.data()[4..4 + n],
                     v.as_slice(),
                     "expedited upload differs from the dictionary"
                 );
             }
         } else {
             assert!(s, "segmented upload without its size");
-            let size = u32::from_le_bytes([f.data[4], f.data[5], f.data[6], f.data[7]]);
+            let size = u32::from_le_bytes([f.data()[4], f.data()[5], f.data()[6], f.data()[7]]);
             if let Some(v) = &value {
                 assert_eq!(size as usize, v.len(), "upload size differs from the dictionary's");
                 // 1-4 bytes go expedited (CiA 301: 4 - n of them valid; 0 bytes cannot).
@@ -348,8 +366,8 @@ impl Model {
     }
 
     /// The server's own frames between requests (`Server::poll`, the node's poll).
-    pub fn poll(&mut self, out: &[CanFrame], now_ms: u64) {
-        let expired = self.busy() && now_ms > self.last_ms.saturating_add(self.timeout_ms);
+    pub fn poll(&mut self, out: &[CanFrame], now: Instant) {
+        let expired = self.busy() && now > self.last.saturating_add(self.timeout);
         if expired {
             assert_eq!(out.len(), 1, "timeout: expected one abort, got {out:02X?}");
             assert!(is_abort(&out[0]), "timeout answered by {out:02X?}");
@@ -370,12 +388,12 @@ fn sub_block(out: &[CanFrame], blksize: u8, req: &[u8]) -> Phase {
         out.len()
     );
     for (i, f) in out.iter().enumerate() {
-        let seq = f.data[0] & 0x7F;
+        let seq = f.data()[0] & 0x7F;
         assert_eq!(usize::from(seq), i + 1, "segment numbers out of order: {out:02X?}");
-        let last = f.data[0] & 0x80 != 0;
+        let last = f.data()[0] & 0x80 != 0;
         assert!(!last || i + 1 == out.len(), "segments after the last one");
     }
-    let end = out.last().map(|f| f.data[0]).unwrap_or(0);
+    let end = out.last().map(|f| f.data()[0]).unwrap_or(0);
     assert!(end & 0x80 != 0 || out.len() == usize::from(blksize), "sub-block stopped early");
     Phase::BlockUlAwaitAck { sent: out.len() as u8 }
 }
