@@ -96,6 +96,9 @@ impl NmtState {
 
 /// An entry of the consumer heartbeat time array 0x1016 (CiA 301 §7.5.2.14): the producer's
 /// node id in bits 16–23, its heartbeat time in ms in bits 0–15.
+///
+/// `time_ms` stays a bare `u16`: it is the entry's 16-bit wire field, in CiA 301's unit, not
+/// an instant or a duration of the runtime's clock ([`crate::time`]).
 pub const fn heartbeat_consumer_entry(node: NodeId, time_ms: u16) -> u32 {
     (node.get() as u32) << 16 | time_ms as u32
 }

@@ -11,6 +11,7 @@
 //! ```
 //! use odc::cia402::{Controlword, Drive, DriveObjects, Driver, DriverStatus, Inputs};
 //! use odc::cia402::{ModeOfOperation, State, Statusword, SupportedModes};
+//! use odc::time::{Duration, Instant};
 //!
 //! /// A tiny drive's 402 objects (generated dictionaries implement the trait).
 //! #[derive(Default)]
@@ -28,15 +29,15 @@
 //! drive.start(&mut od);
 //! let mut driver = Driver::new(SupportedModes(0x1)); // 0x6502: pp only
 //! // One cycle: the drive's inputs in, the outputs written back, 10 ms pass.
-//! let mut cycle = |driver: &mut Driver, od: &mut Objects, now: &mut u64| {
+//! let mut cycle = |driver: &mut Driver, od: &mut Objects, now: &mut Instant| {
 //!     let out = driver.cycle(&Inputs::new(od.sw).with_position(od.position), *now);
 //!     (od.cw, od.mode) = (out.controlword, out.mode);
 //!     od.target = out.target_position.unwrap_or(od.target);
 //!     drive.update(od);
 //!     drive.step(od, 10);
-//!     *now += 10_000;
+//!     *now += Duration::from_millis(10);
 //! };
-//! let mut now = 0;
+//! let mut now = Instant::ZERO;
 //! driver.enable();
 //! while driver.status() == DriverStatus::Busy { cycle(&mut driver, &mut od, &mut now) }
 //! assert_eq!(od.sw.state(), Some(State::OperationEnabled));
@@ -51,6 +52,7 @@
 
 #[cfg_attr(not(feature = "cia402"), allow(unused_imports))]
 use super::{Controlword, ModeOfOperation, State, Statusword, SupportedModes};
+use crate::time::{Duration, Instant};
 
 /// What the driver reads from the drive each cycle (its TPDOs or input process data).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -214,7 +216,7 @@ enum Job {
 
 /// Default time a job may take.
 #[cfg(feature = "cia402")]
-pub const DEFAULT_TIMEOUT_MS: u64 = 5_000;
+pub const DEFAULT_TIMEOUT: Duration = Duration::from_secs(5);
 
 /// A CiA 402 drive's controller.
 #[derive(Clone, Debug)]
@@ -224,15 +226,15 @@ pub struct Driver {
     job: Job,
     status: DriverStatus,
     out: Outputs,
-    timeout_us: u64,
+    timeout: Duration,
     /// When the job started (set at its first cycle).
-    started_us: Option<u64>,
+    started: Option<Instant>,
 }
 
 #[cfg(feature = "cia402")]
 impl Driver {
     /// A driver for a drive supporting `supported` (0x6502), job timeout
-    /// [`DEFAULT_TIMEOUT_MS`].
+    /// [`DEFAULT_TIMEOUT`].
     pub const fn new(supported: SupportedModes) -> Self {
         Driver {
             supported,
@@ -245,14 +247,14 @@ impl Driver {
                 target_velocity: None,
                 target_torque: None,
             },
-            timeout_us: DEFAULT_TIMEOUT_MS * 1000,
-            started_us: None,
+            timeout: DEFAULT_TIMEOUT,
+            started: None,
         }
     }
 
     /// The same driver with another job timeout.
-    pub const fn with_timeout(mut self, ms: u64) -> Self {
-        self.timeout_us = ms.saturating_mul(1000);
+    pub const fn with_timeout(mut self, timeout: Duration) -> Self {
+        self.timeout = timeout;
         self
     }
 
@@ -269,7 +271,7 @@ impl Driver {
     fn start(&mut self, job: Job) {
         self.job = job;
         self.status = DriverStatus::Busy;
-        self.started_us = None;
+        self.started = None;
     }
 
     fn fail(&mut self, e: DriverError) -> Result<(), DriverError> {
@@ -386,15 +388,15 @@ impl Driver {
         Ok(())
     }
 
-    /// One cycle: the drive's inputs in, its outputs out.
-    pub fn cycle(&mut self, inputs: &Inputs, now_us: u64) -> Outputs {
-        let started = *self.started_us.get_or_insert(now_us);
+    /// One cycle at `now`: the drive's inputs in, its outputs out.
+    pub fn cycle(&mut self, inputs: &Inputs, now: Instant) -> Outputs {
+        let started = *self.started.get_or_insert(now);
         let sw = inputs.statusword;
         let state = sw.state();
         if self.status == DriverStatus::Busy {
             self.step(inputs, state);
             if self.status == DriverStatus::Busy
-                && now_us.saturating_sub(started) > self.timeout_us
+                && now - started > self.timeout
                 && self.job != Job::Stream
             {
                 let waiting_for = self.waiting_for();

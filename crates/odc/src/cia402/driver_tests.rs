@@ -7,6 +7,7 @@ use std::vec::Vec;
 
 use super::*;
 use crate::cia402::{Drive, DriveObjects};
+use crate::time::{Duration, Instant};
 
 #[derive(Default)]
 struct Objects {
@@ -58,7 +59,8 @@ struct Loop {
 impl Loop {
     fn new(supported: u32) -> Self {
         let mut l = Loop {
-            driver: Driver::new(SupportedModes(supported)).with_timeout(2_000),
+            driver: Driver::new(SupportedModes(supported))
+                .with_timeout(Duration::from_millis(2_000)),
             od: Objects::default(),
             drive: Drive::new(),
             now: 0,
@@ -71,7 +73,7 @@ impl Loop {
     fn cycle(&mut self) {
         let inputs =
             Inputs::new(self.od.sw).with_position(self.od.position).with_velocity(self.od.velocity);
-        let out = self.driver.cycle(&inputs, self.now);
+        let out = self.driver.cycle(&inputs, Instant::from_micros(self.now));
         if self.sent.last() != Some(&out.controlword.bits()) {
             self.sent.push(out.controlword.bits());
         }
@@ -188,12 +190,12 @@ fn modes_are_checked_against_0x6502() {
         Err(DriverError::WrongMode { needs: ModeOfOperation::ProfilePosition })
     );
     // The mode display confirms a mode: a drive reporting another one is a timeout.
-    let mut d = Driver::new(SupportedModes(0x1)).with_timeout(50);
+    let mut d = Driver::new(SupportedModes(0x1)).with_timeout(Duration::from_millis(50));
     d.set_mode(ModeOfOperation::ProfilePosition).unwrap();
     let wrong = Inputs::new(State::OperationEnabled.statusword()).with_mode(3);
     let mut now = 0;
     while d.status() == DriverStatus::Busy {
-        d.cycle(&wrong, now);
+        d.cycle(&wrong, Instant::from_micros(now));
         now += 10_000;
     }
     assert_eq!(
@@ -205,12 +207,12 @@ fn modes_are_checked_against_0x6502() {
 
 #[test]
 fn a_silent_drive_is_a_timeout() {
-    let mut d = Driver::new(SupportedModes(0x1)).with_timeout(100);
+    let mut d = Driver::new(SupportedModes(0x1)).with_timeout(Duration::from_millis(100));
     d.enable();
     let stuck = Inputs::new(State::SwitchOnDisabled.statusword());
     let mut now = 0;
     while d.status() == DriverStatus::Busy {
-        let out = d.cycle(&stuck, now);
+        let out = d.cycle(&stuck, Instant::from_micros(now));
         assert_eq!(out.controlword, Controlword::SHUTDOWN);
         now += 10_000;
     }
@@ -225,7 +227,7 @@ fn a_silent_drive_is_a_timeout() {
 fn scripted(d: &mut Driver, cycles: usize, mut device: impl FnMut(Outputs, usize) -> Statusword) {
     let mut sw = State::OperationEnabled.statusword();
     for k in 0..cycles {
-        let out = d.cycle(&Inputs::new(sw), k as u64 * 1_000);
+        let out = d.cycle(&Inputs::new(sw), Instant::from_micros(k as u64 * 1_000));
         sw = device(out, k);
         if d.status() != DriverStatus::Busy {
             return;
@@ -238,7 +240,7 @@ fn homing_to_attained_and_a_homing_error() {
     let enabled = State::OperationEnabled.statusword();
     let mut d = Driver::new(SupportedModes(1 << 5));
     d.set_mode(ModeOfOperation::Homing).unwrap();
-    d.cycle(&Inputs::new(enabled), 0);
+    d.cycle(&Inputs::new(enabled), Instant::ZERO);
     d.home().unwrap();
     let mut starts = 0;
     scripted(&mut d, 100, |out, _| {
@@ -260,13 +262,13 @@ fn a_csp_ramp_of_1000_cycles_then_a_following_error() {
     let enabled = State::OperationEnabled.statusword();
     let mut d = Driver::new(SupportedModes(1 << 7));
     d.set_mode(ModeOfOperation::CyclicSyncPosition).unwrap();
-    d.cycle(&Inputs::new(enabled), 0);
+    d.cycle(&Inputs::new(enabled), Instant::ZERO);
     let mut followed = Vec::new();
     for k in 0..1000i32 {
         d.stream_position(k * 10).unwrap();
         let out = d.cycle(
             &Inputs::new(enabled).with_position((k - 1) * 10),
-            u64::from(k.unsigned_abs()) * 1_000,
+            Instant::from_micros(u64::from(k.unsigned_abs()) * 1_000),
         );
         followed.push(out.target_position);
         assert_eq!(d.status(), DriverStatus::Busy, "cycle {k}");
@@ -274,6 +276,6 @@ fn a_csp_ramp_of_1000_cycles_then_a_following_error() {
     // Every set-point went out, in its cycle.
     assert!(followed.iter().enumerate().all(|(k, t)| *t == Some(k as i32 * 10)));
     d.stream_position(10_000).unwrap();
-    d.cycle(&Inputs::new(enabled.with_following_error(true)), 2_000_000);
+    d.cycle(&Inputs::new(enabled.with_following_error(true)), Instant::from_micros(2_000_000));
     assert_eq!(d.status(), DriverStatus::Failed(DriverError::FollowingError));
 }

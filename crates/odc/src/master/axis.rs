@@ -116,8 +116,8 @@ impl<'m, B: Bus, R: Pdo, T: Pdo> Axis<'m, B, R, T> {
     ///
     /// A struct that does not pack or unpack, or the bus error.
     pub fn cycle(&mut self) -> Result<Inputs, Error<B::Error>> {
-        let now_us = self.master.now_ms().saturating_mul(1000);
-        let out = self.driver.cycle(&self.inputs, now_us);
+        let now = crate::time::Instant::from_millis(self.master.now_ms());
+        let out = self.driver.cycle(&self.inputs, now);
         self.master.send_pdo(self.pdos.rpdo, &(self.pdos.command)(&out))?;
         self.master.sync()?;
         let id = self.pdos.tpdo & 0x7FF;

@@ -176,6 +176,10 @@ impl<'m, B: Bus> LssMaster<'m, B> {
     /// Activate bit timing: every device in configuration state switches after `delay_ms`,
     /// twice (before and after the switch, the bus stays silent). No answer is defined.
     ///
+    /// `delay_ms` stays a bare `u16`: it is CiA 305's 16-bit switch delay, in ms, sent as is
+    /// (the master does not wait it out), so a [`crate::time::Duration`] would only add a
+    /// conversion that can fail.
+    ///
     /// # Errors
     ///
     /// The bus error.
