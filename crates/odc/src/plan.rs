@@ -300,25 +300,24 @@ const fn put(out: &mut [SdoWrite], at: usize, w: SdoWrite) -> usize {
 
 /// How many writes [`plan`] gives for `pdos`.
 pub const fn plan_len(pdos: &[PdoConfig<'_>]) -> usize {
-    let (mut n, mut i) = (0, 0);
-    while i < pdos.len() {
-        n += pdos[i].len();
-        i += 1;
-    }
-    n
+    plan_builder::<0>(pdos, &[]).len()
 }
 
 /// The procedure of each PDO of `pdos` in turn, with `cob_ids[i]` the COB-ID of `pdos[i]`
 /// (0 when missing); `N` is [`plan_len`], as for [`PdoConfig::writes`].
 pub const fn plan<const N: usize>(pdos: &[PdoConfig<'_>], cob_ids: &[u32]) -> [SdoWrite; N] {
-    let mut out = [SdoWrite::u8(0, 0, 0); N];
-    let (mut at, mut i) = (0, 0);
+    plan_builder(pdos, cob_ids).finish()
+}
+
+/// [`plan`] as a [`PlanBuilder`] (its `len` counts the writes whatever `N`).
+const fn plan_builder<const N: usize>(pdos: &[PdoConfig<'_>], cob_ids: &[u32]) -> PlanBuilder<N> {
+    let (mut b, mut i) = (PlanBuilder::new(), 0);
     while i < pdos.len() {
         let cob = if i < cob_ids.len() { cob_ids[i] } else { 0 };
-        at = pdos[i].write_into(cob, &mut out, at);
+        b = b.pdo(&pdos[i], cob);
         i += 1;
     }
-    out
+    b
 }
 
 #[cfg(test)]
