@@ -54,11 +54,6 @@ fn run(python: &Path, file: &str, script: &str, args: &[&str]) -> serde_json::Va
     odc_tests_interop::last_json(&out)
 }
 
-#[test]
-#[cfg_attr(
-    odc_cli_no_python,
-    ignore = "needs python3 with canopen and python-can: set ODC_INTEROP_PYTHON (tests/interop/README.md)"
-)]
 fn python_canopen_masters_the_simulated_device() {
     let python = PathBuf::from(std::env::var_os("ODC_INTEROP_PYTHON").unwrap_or("python3".into()));
     for file in ["eds/lxm23a.eds", "eds/lexium-mdrive.eds", "eds/linmot-e1200.eds"] {
@@ -91,11 +86,6 @@ fn python_canopen_masters_the_simulated_device() {
 /// The node test of tests/interop (NMT, heartbeat, TPDO types 1/5/254, a remap, an RPDO,
 /// EMCY 0x8210, node guarding) through the CLI: python-canopen's checks of what it sees on the
 /// bus, as `tests/interop/tests/node.rs` makes them of a node it runs itself.
-#[test]
-#[cfg_attr(
-    odc_cli_no_python,
-    ignore = "needs python3 with canopen and python-can: set ODC_INTEROP_PYTHON (tests/interop/README.md)"
-)]
 fn python_canopen_drives_the_simulated_node() {
     use odc_tests_interop::node_report::{check, int};
     let python = PathBuf::from(std::env::var_os("ODC_INTEROP_PYTHON").unwrap_or("python3".into()));
@@ -125,7 +115,6 @@ fn python_canopen_drives_the_simulated_node() {
 
 /// `--can IFACE` on a machine without that interface (no `vcan0` here) is a usage error that
 /// names it; where `vcan0` exists, the device runs on it until the end of standard input.
-#[test]
 fn can_on_a_missing_interface_is_a_clear_error() {
     let out = Command::new(env!("CARGO_BIN_EXE_odc"))
         .args(["simulate", repo("eds/lxm23a.eds").to_str().unwrap(), "--node-id", "5"])
@@ -146,7 +135,6 @@ fn can_on_a_missing_interface_is_a_clear_error() {
     }
 }
 
-#[test]
 fn node_id_must_be_1_to_127() {
     let out = Command::new(env!("CARGO_BIN_EXE_odc"))
         .args(["simulate", repo("eds/lxm23a.eds").to_str().unwrap(), "--node-id", "128"])
@@ -156,4 +144,29 @@ fn node_id_must_be_1_to_127() {
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("128"));
+}
+
+/// The tests, with what each needs of the machine (odc_tests_support: ignored with the reason
+/// where a need is missing).
+fn main() -> std::process::ExitCode {
+    #[allow(unused_imports)]
+    use odc_tests_support::{Need, Test};
+    odc_tests_support::main(&[
+        Test {
+            name: "python_canopen_masters_the_simulated_device",
+            run: python_canopen_masters_the_simulated_device,
+            needs: &[Need::Python(&["canopen", "can"])],
+        },
+        Test {
+            name: "python_canopen_drives_the_simulated_node",
+            run: python_canopen_drives_the_simulated_node,
+            needs: &[Need::Python(&["canopen", "can"])],
+        },
+        Test {
+            name: "can_on_a_missing_interface_is_a_clear_error",
+            run: can_on_a_missing_interface_is_a_clear_error,
+            needs: &[],
+        },
+        Test { name: "node_id_must_be_1_to_127", run: node_id_must_be_1_to_127, needs: &[] },
+    ])
 }
