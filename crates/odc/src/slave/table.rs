@@ -83,14 +83,31 @@ fn store(data_type: DataType, data: &[u8], stored: &mut [u8]) {
     }
 }
 
+/// The [`Spec`] of a row's value as the shared paths use it: a `static` that rows with the
+/// same spec share, so that a [`Row`] points at it with a thin pointer (4 bytes on a 32-bit
+/// target, where the trait object's own pointer would take 8 in every row).
+#[derive(Clone, Copy)]
+pub struct SpecRef(&'static dyn Slot);
+
+impl SpecRef {
+    /// The reference to `spec`, for [`row!`](crate::slave::row).
+    pub const fn new<T>(spec: &'static Spec<T>) -> SpecRef
+    where
+        T: ObjValue + PartialOrd + Sync + 'static,
+    {
+        SpecRef(spec)
+    }
+}
+
 /// One entry of a generated dictionary: its address, access right, the [`Spec`] of its value
-/// and where the value is stored; 16 bytes on a 32-bit target.
+/// and where the value is stored; 12 bytes on a 32-bit target (a row is most of a
+/// dictionary's flash: 170 rows for CiA 301's communication objects alone).
 ///
 /// A row is a table entry, not code: the dictionary's read and write paths ([`Table::read`],
 /// [`Table::write`]) serve every row. Generated code writes `row!(od::CONTROLWORD)`.
 #[derive(Clone, Copy)]
 pub struct Row {
-    spec: &'static dyn Slot,
+    spec: &'static SpecRef,
     /// [`key`] of the address in the low 24 bits, the access right in the high 8.
     key: u32,
     /// Offset of the value in the dictionary's storage ([`Row::new`] puts its length here,
@@ -103,9 +120,10 @@ const ACCESS: [Access; 6] =
     [Access::Ro, Access::Wo, Access::Rw, Access::Rwr, Access::Rww, Access::Const];
 
 impl Row {
-    /// The row of `entry`, whose limits and default are `spec` (`entry.spec()`: see
-    /// [`row!`](crate::slave::row)).
-    pub const fn new<T>(entry: &Entry<T>, spec: &'static Spec<T>) -> Row
+    /// The row of `entry`, whose limits and default are `spec`: `SpecRef::new(&entry.spec())`,
+    /// as [`row!`](crate::slave::row) writes it (a spec made from another entry would give the
+    /// value that entry's checks and size).
+    pub const fn new<T>(entry: &Entry<T>, spec: &'static SpecRef) -> Row
     where
         T: ObjValue + PartialOrd + Sync + 'static,
     {
@@ -130,19 +148,19 @@ impl Row {
 
     /// The entry's CiA 301 data type.
     pub fn data_type(&self) -> DataType {
-        self.spec.data_type()
+        self.spec.0.data_type()
     }
 
     /// The stored bytes of this row in `values`.
     fn of<'v>(&self, values: &'v [u8]) -> Result<&'v [u8], SdoAbort> {
         let at = self.at as usize;
         // `values` is a dictionary's storage, `Table::size` bytes long: always `Some`.
-        values.get(at..at + self.spec.len()).ok_or(SdoAbort::General)
+        values.get(at..at + self.spec.0.len()).ok_or(SdoAbort::General)
     }
 
     fn of_mut<'v>(&self, values: &'v mut [u8]) -> Result<&'v mut [u8], SdoAbort> {
         let at = self.at as usize;
-        values.get_mut(at..at + self.spec.len()).ok_or(SdoAbort::General)
+        values.get_mut(at..at + self.spec.0.len()).ok_or(SdoAbort::General)
     }
 }
 
@@ -213,7 +231,7 @@ impl<const N: usize> Table<N> {
     pub fn init(&self, values: &mut [u8], node_id: Option<NodeId>) {
         for row in &self.rows {
             if let Ok(stored) = row.of_mut(values) {
-                row.spec.init(stored, node_id);
+                row.spec.0.init(stored, node_id);
             }
         }
     }
@@ -282,7 +300,7 @@ impl<const N: usize> Table<N> {
         if !row.access().writable() {
             return Err(SdoAbort::WriteOfReadOnly);
         }
-        row.spec.check(data)?;
+        row.spec.0.check(data)?;
         let addr = row.addr();
         hook.before_write(addr, data)?;
         store(row.data_type(), data, row.of_mut(values)?);
@@ -293,7 +311,7 @@ impl<const N: usize> Table<N> {
     /// The row of a typed descriptor, if the table has its address with its type.
     fn typed<T: ObjValue>(&self, entry: &Entry<T>) -> Result<&Row, SdoAbort> {
         let row = self.row(entry.addr.index, entry.addr.sub)?;
-        if row.data_type() != T::DATA_TYPE || row.spec.len() != T::MAX_LEN {
+        if row.data_type() != T::DATA_TYPE || row.spec.0.len() != T::MAX_LEN {
             return Err(SdoAbort::LengthMismatch);
         }
         Ok(row)

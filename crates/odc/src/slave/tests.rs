@@ -228,7 +228,7 @@ fn initial_values() {
 #[test]
 fn rows_keep_every_access_right() {
     for access in [Access::Ro, Access::Wo, Access::Rw, Access::Rwr, Access::Rww, Access::Const] {
-        const SPEC: crate::slave::Spec<u8> = od::PASSWORD_U8.spec();
+        const SPEC: crate::slave::SpecRef = crate::slave::SpecRef::new(&od::PASSWORD_U8.spec());
         let entry: Entry<u8> = Entry::new(0xFFFF, 0xFF, "", access, false);
         let row = Row::new(&entry, &SPEC);
         assert_eq!((row.access(), row.addr()), (access, ObjectAddr::new(0xFFFF, 0xFF)));
