@@ -490,19 +490,18 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         if self.dirty.0 != 0 {
             self.reload(&*dict, now);
         }
-        self.error_control.poll(id.error_control(), state, now, out, &mut ev);
+        let newly_lost = self.error_control.poll(id.error_control(), state, now, out, &mut ev);
         // A lost heartbeat or life guarding is EMCY 0x8130 (CiA 301 table 21, "life guard
         // error or heartbeat error"; CANopenNode's CO_EM_HEARTBEAT_CONSUMER), the node's
         // number in the first manufacturer byte (0 for life guarding); cleared when every
         // watched heartbeat is back.
-        // Only the set bits: this runs on every poll, and a loop over all 128 node-IDs cost
-        // an idle pass about 7,000 instructions (tests/no-std/qemu.py).
-        let mut lost = ev.heartbeat_lost;
-        while lost != 0 {
-            // trailing_zeros of a non-zero u128 is below 128, so it fits a u8.
-            let node = lost.trailing_zeros() as u8;
-            lost &= lost - 1;
-            self.raise_emcy_in(HEARTBEAT_ERROR, [node, 0, 0, 0, 0], now, out);
+        // Only the consumers lost now: this runs on every poll, and a loop over all 128
+        // node-IDs cost an idle pass about 7,000 instructions (tests/no-std/qemu.py).
+        for i in 0..MAX_HB_CONSUMERS {
+            if newly_lost >> i & 1 != 0 {
+                let node = self.error_control.consumer_node(i);
+                self.raise_emcy_in(HEARTBEAT_ERROR, [node, 0, 0, 0, 0], now, out);
+            }
         }
         if ev.life_guarding_lost {
             self.raise_emcy_in(HEARTBEAT_ERROR, [0; 5], now, out);
