@@ -71,17 +71,16 @@ impl Outcome {
     }
 }
 
-/// A packed PDO: its bytes and length.
+/// A packed PDO: its bytes as one little-endian word, and its length. A word compares in
+/// two instructions where 8 bytes took a loop ("did the mapped data change" runs at every
+/// poll of an event-driven TPDO), and goes to and from the dictionary without copies: 272 B
+/// less code than bytes in `tests/slave-size`'s canopennode image, for 192 B more RAM (the
+/// PDO state aligned to 8 bytes, for 4 + 4 PDOs; two `u32` halves: 118 B more code, 96 B
+/// more RAM).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 struct Data {
-    bytes: [u8; 8],
+    word: u64,
     len: u8,
-}
-
-impl Data {
-    fn as_slice(&self) -> &[u8] {
-        self.bytes.get(..usize::from(self.len)).unwrap_or(&self.bytes)
-    }
 }
 
 #[derive(Clone, Copy, Debug, Default)]
@@ -137,10 +136,12 @@ fn can_id(cob_id: u32) -> u32 {
 }
 
 fn frame(cob_id: u32, data: &Data) -> Option<CanFrame> {
+    let bytes = data.word.to_le_bytes();
+    let bytes = bytes.get(..usize::from(data.len))?;
     if cob_id & FRAME_29 != 0 {
-        CanFrame::extended(can_id(cob_id), data.as_slice())
+        CanFrame::extended(can_id(cob_id), bytes)
     } else {
-        CanFrame::from_slice(can_id(cob_id), data.as_slice())
+        CanFrame::from_slice(can_id(cob_id), bytes)
     }
 }
 
@@ -169,7 +170,6 @@ pub(super) fn mapped_bits<D: ObjectDictionary + ?Sized>(
 
 /// Packs the objects that mapping object `index` names.
 fn pack<D: ObjectDictionary + ?Sized>(dict: &D, index: u16) -> Result<Data, SdoAbort> {
-    let mut data = Data::default();
     let mut word = 0u64;
     let mut at = 0usize;
     for e in entries(dict, index)? {
@@ -189,21 +189,18 @@ fn pack<D: ObjectDictionary + ?Sized>(dict: &D, index: u16) -> Result<Data, SdoA
         }
         at += e.bits as usize;
     }
-    data.bytes = word.to_le_bytes();
-    data.len = at.div_ceil(8) as u8;
-    Ok(data)
+    Ok(Data { word, len: at.div_ceil(8) as u8 })
 }
 
-/// Writes the bytes of a received PDO into the objects that mapping object `index` names,
-/// skipping dummy entries. Each value keeps the bytes of its object past the mapped bits.
+/// Writes the bytes of a received PDO (`word`: a frame is at most 8 bytes, one word; bits
+/// past its end are 0) into the objects that mapping object `index` names, skipping dummy
+/// entries. Each value keeps the bytes of its object past the mapped bits.
 fn unpack<D: ObjectDictionary + ?Sized>(
     dict: &mut D,
     index: u16,
-    data: &[u8],
+    word: u64,
 ) -> Result<(), SdoAbort> {
     let count = get_u8(dict, index, 0).ok_or(SdoAbort::NoSuchObject)?.min(MAX_MAPPED);
-    // A frame is at most 8 bytes: one word; bits past its end read as 0.
-    let word = load_le_u64(data);
     let mut at = 0usize;
     for sub in 1..=count {
         let e = get_u32(dict, index, sub).map(MappingEntry::from_u32).ok_or(SdoAbort::NoSuchSub)?;
@@ -353,7 +350,7 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
         let mut o = Outcome::default();
         for (i, r) in self.rx.iter_mut().enumerate() {
             if let Some(data) = r.pending.take() {
-                match unpack(dict, 0x1600 + i as u16, data.as_slice()) {
+                match unpack(dict, 0x1600 + i as u16, data.word) {
                     Ok(()) => o.rpdo |= Outcome::bit(i),
                     Err(abort) => o.error = Some(PdoError { pdo: PdoId::Rx(i as u16 + 1), abort }),
                 }
@@ -460,16 +457,11 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
             // Longer: the mapped bytes are used, the rest ignored, EMCY 0x8220.
             o.length_emcy = Some(0x8220);
         }
-        let mut data = Data::default();
-        let n = usize::from(f.len.min(8));
-        if let (Some(d), Some(s)) = (data.bytes.get_mut(..n), f.bytes().get(..n)) {
-            crate::bits::copy_bytes(d, s);
-        }
-        data.len = f.len.min(8);
+        let data = Data { word: load_le_u64(f.bytes()), len: f.len.min(8) };
         if r.ttype <= 240 {
             r.pending = Some(data);
         } else {
-            match unpack(dict, map, data.as_slice()) {
+            match unpack(dict, map, data.word) {
                 Ok(()) => o.rpdo |= Outcome::bit(i),
                 Err(abort) => o.error = Some(PdoError { pdo: PdoId::Rx(i as u16 + 1), abort }),
             }
