@@ -72,6 +72,19 @@ impl ErrorControl {
         }
     }
 
+    /// Back to [`ErrorControl::new`], in place.
+    pub(super) fn reset(&mut self) {
+        self.heartbeat = Duration::ZERO;
+        self.next_heartbeat = Instant::ZERO;
+        self.consumers = [Consumer::default(); MAX_HB_CONSUMERS];
+        self.lost = 0;
+        #[cfg(feature = "guarding")]
+        {
+            self.guarding =
+                Guarding { toggle: false, life_time: Duration::ZERO, last: None, lost: false };
+        }
+    }
+
     /// The first heartbeat is one period after the boot-up.
     pub(super) fn start(&mut self, now: Instant) {
         self.next_heartbeat = now.saturating_add(self.heartbeat);

@@ -240,7 +240,10 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
     /// A PDO exists when its COB-ID's bit 31 is clear and its mapping has objects: sub-index 0
     /// of the mapping object at 0 disables the mapping (CiA 301 7.5.2.36), and a PDO without
     /// one is not sent or received (as CANopenNode's `CO_PDO.c` makes it invalid).
-    pub(super) fn load<D: ObjectDictionary + ?Sized>(&mut self, dict: &D) {
+    ///
+    /// `restart`: every PDO starts afresh (a reset: the node's start clears them this way
+    /// rather than build a new engine on the stack).
+    pub(super) fn load<D: ObjectDictionary + ?Sized>(&mut self, dict: &D, restart: bool) {
         let exists = |cob_id: u32, mapping: u16| {
             cob_id & INVALID == 0 && get_u8(dict, mapping, 0).is_some_and(|n| n > 0)
         };
@@ -249,7 +252,7 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
             let cob_id = get_u32(dict, index, 1).unwrap_or(INVALID);
             let ttype = get_u8(dict, index, 2).unwrap_or(255);
             let valid = exists(cob_id, 0x1600 + i as u16);
-            if (r.cob_id, r.ttype, r.valid) != (cob_id, ttype, valid) {
+            if restart || (r.cob_id, r.ttype, r.valid) != (cob_id, ttype, valid) {
                 *r = Rpdo { valid, cob_id, ttype, pending: None };
             }
         }
@@ -278,7 +281,7 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
                     fresh.event,
                     fresh.sync_start,
                 );
-            if !same {
+            if restart || !same {
                 *t = fresh;
             }
         }
