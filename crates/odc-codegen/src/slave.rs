@@ -149,9 +149,17 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
                 /// to it. `None`: a node without node-ID (LSS), whose `$NODEID` defaults are
                 /// taken as absent.
                 pub fn new(node_id: impl Into<Option<#rt::cob::NodeId>>) -> Self {
-                    let mut values = [0; LAYOUT.size()];
-                    TABLE.init(&mut values, node_id.into());
-                    Dictionary { values }
+                    let mut dictionary = Dictionary { values: [0; LAYOUT.size()] };
+                    TABLE.init(&mut dictionary.values, node_id.into());
+                    dictionary
+                }
+
+                /// Every entry back to its default for node `node_id`, as
+                /// [`Dictionary::new`] makes it (a reset node or communication), in place:
+                /// `*dictionary = Dictionary::new(id)` puts the values on the stack first.
+                pub fn reset(&mut self, node_id: impl Into<Option<#rt::cob::NodeId>>) {
+                    self.values = [0; LAYOUT.size()];
+                    TABLE.init(&mut self.values, node_id.into());
                 }
 
                 /// The value of `entry`, one of `od`'s descriptors.

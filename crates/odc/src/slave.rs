@@ -65,7 +65,7 @@
 
 mod table;
 
-pub use table::{Row, Spec, Table};
+pub use table::{Row, Spec, SpecRef, Table};
 
 use crate::cob::NodeId;
 use crate::{Access, DefaultValue, Entry, ObjValue, ObjectAddr, SdoAbort};
@@ -188,13 +188,13 @@ fn initial_value<T: ObjValue + PartialOrd>(
 }
 
 /// The [`Row`] of a descriptor, for the `const` table of generated code: `row!(od::X)` is
-/// `Row::new(&od::X, &od::X.spec())`, the [`Spec`] promoted to a `static` that entries with the
-/// same limits and default share.
+/// `Row::new(&od::X, &SpecRef::new(&od::X.spec()))`, the [`Spec`] and its [`SpecRef`]
+/// promoted to `static`s that entries with the same limits and default share.
 #[macro_export]
 #[doc(hidden)]
 macro_rules! __slave_row {
     ($entry:expr) => {
-        $crate::slave::Row::new(&$entry, &$entry.spec())
+        $crate::slave::Row::new(&$entry, &$crate::slave::SpecRef::new(&$entry.spec()))
     };
 }
 

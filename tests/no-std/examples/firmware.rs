@@ -68,7 +68,7 @@ pub fn run<C: embedded_can::nb::Can>(can: C, clock_ms: impl FnMut() -> u64) -> !
             last_ms = now_ms;
         }
         if events.reset.is_some() {
-            *od = Dictionary::new(node.next_node_id()); // defaults back
+            od.reset(node.next_node_id()); // defaults back, in place
             drive = Drive::new();
             drive.start(od);
         }

@@ -38,6 +38,8 @@ impl Dirty {
     pub(super) const SYNC: u8 = 8;
     pub(super) const EMCY: u8 = 16;
     pub(super) const PDO: u8 = 32;
+    /// Not a write: the node starts (boot-up, a reset), so the PDOs start afresh.
+    pub(super) const RESTART: u8 = 128;
 
     fn of(index: u16) -> u8 {
         match index {

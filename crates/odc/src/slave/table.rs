@@ -83,45 +83,100 @@ fn store(data_type: DataType, data: &[u8], stored: &mut [u8]) {
     }
 }
 
+/// The [`Spec`] of a row's value as the shared paths use it: a `static` that rows with the
+/// same spec share, so that a [`Row`] points at it with a thin pointer (4 bytes on a 32-bit
+/// target, where the trait object's own pointer would take 8 in every row).
+#[derive(Clone, Copy)]
+pub struct SpecRef(&'static dyn Slot);
+
+impl SpecRef {
+    /// The reference to `spec`, for [`row!`](crate::slave::row).
+    pub const fn new<T>(spec: &'static Spec<T>) -> SpecRef
+    where
+        T: ObjValue + PartialOrd + Sync + 'static,
+    {
+        SpecRef(spec)
+    }
+}
+
 /// One entry of a generated dictionary: its address, access right, the [`Spec`] of its value
-/// and where the value is stored; 16 bytes on a 32-bit target.
+/// and where the value is stored; 10 bytes on a 32-bit target (rows are most of a
+/// dictionary's flash: 170 of them for CiA 301's communication objects alone).
 ///
 /// A row is a table entry, not code: the dictionary's read and write paths ([`Table::read`],
 /// [`Table::write`]) serve every row. Generated code writes `row!(od::CONTROLWORD)`.
+///
+/// Packed to 2-byte alignment, so that a row takes 10 bytes and not 12; no reference to a
+/// field is ever taken (the compiler refuses one), fields are copied out.
 #[derive(Clone, Copy)]
+#[repr(C, packed(2))]
 pub struct Row {
-    spec: &'static dyn Slot,
-    /// [`key`] of the address in the low 24 bits, the access right in the high 8.
+    spec: &'static SpecRef,
+    /// [`key`] of the address in bits 0–23, the access right's code in bits 24–26, bits
+    /// 16–20 of the offset in bits 27–31.
     key: u32,
-    /// Offset of the value in the dictionary's storage ([`Row::new`] puts its length here,
-    /// [`Table::new`] the offset).
-    at: u32,
+    /// Bits 0–15 of the offset of the value in the dictionary's storage ([`Row::new`] puts
+    /// the value's length in the offset, [`Table::new`] the offset).
+    at: u16,
 }
+
+/// Offsets and lengths in a [`Row`] are below 2 MiB (21 bits).
+const AT_LIMIT: usize = 1 << 21;
 
 /// The access rights by their code in [`Row::key`].
 const ACCESS: [Access; 6] =
     [Access::Ro, Access::Wo, Access::Rw, Access::Rwr, Access::Rww, Access::Const];
 
 impl Row {
-    /// The row of `entry`, whose limits and default are `spec` (`entry.spec()`: see
-    /// [`row!`](crate::slave::row)).
-    pub const fn new<T>(entry: &Entry<T>, spec: &'static Spec<T>) -> Row
+    /// The row of `entry`, whose limits and default are `spec`: `SpecRef::new(&entry.spec())`,
+    /// as [`row!`](crate::slave::row) writes it (a spec made from another entry would give the
+    /// value that entry's checks and size).
+    pub const fn new<T>(entry: &Entry<T>, spec: &'static SpecRef) -> Row
     where
         T: ObjValue + PartialOrd + Sync + 'static,
     {
         let access = entry.access as u32;
         let key = key(entry.addr.index, entry.addr.sub) | access << 24;
-        Row { spec, key, at: T::MAX_LEN as u32 }
+        // Evaluated when the `const` table is built: a compile error, not a run-time panic.
+        assert!(T::MAX_LEN < AT_LIMIT, "a dictionary value of 2 MiB or more");
+        Row { spec, key, at: 0 }.with_at(T::MAX_LEN)
+    }
+
+    /// The offset (or, before [`Table::new`], the length) of the value.
+    const fn at(&self) -> usize {
+        let key = self.key;
+        let low = self.at;
+        low as usize | ((key >> 27) as usize) << 16
+    }
+
+    /// The same row with offset (or length) `at`, below [`AT_LIMIT`].
+    const fn with_at(mut self, at: usize) -> Row {
+        self.at = at as u16;
+        self.key = self.key & 0x07FF_FFFF | ((at >> 16) as u32) << 27;
+        self
+    }
+
+    fn spec(&self) -> &'static dyn Slot {
+        let spec = self.spec;
+        spec.0
+    }
+
+    /// The search key of its address.
+    fn search_key(&self) -> u32 {
+        let key = self.key;
+        key & 0xFF_FFFF
     }
 
     /// The entry's address.
     pub const fn addr(&self) -> ObjectAddr {
-        ObjectAddr::new((self.key >> 8) as u16, self.key as u8)
+        let key = self.key;
+        ObjectAddr::new((key >> 8) as u16, key as u8)
     }
 
     /// The entry's access right.
     pub fn access(&self) -> Access {
-        match ACCESS.get((self.key >> 24) as usize) {
+        let key = self.key;
+        match ACCESS.get((key >> 24 & 7) as usize) {
             Some(&a) => a,
             // Unreachable: `Row::new` stores the code of an `Access`.
             None => Access::Ro,
@@ -130,19 +185,19 @@ impl Row {
 
     /// The entry's CiA 301 data type.
     pub fn data_type(&self) -> DataType {
-        self.spec.data_type()
+        self.spec().data_type()
     }
 
     /// The stored bytes of this row in `values`.
     fn of<'v>(&self, values: &'v [u8]) -> Result<&'v [u8], SdoAbort> {
-        let at = self.at as usize;
+        let at = self.at();
         // `values` is a dictionary's storage, `Table::size` bytes long: always `Some`.
-        values.get(at..at + self.spec.len()).ok_or(SdoAbort::General)
+        values.get(at..at + self.spec().len()).ok_or(SdoAbort::General)
     }
 
     fn of_mut<'v>(&self, values: &'v mut [u8]) -> Result<&'v mut [u8], SdoAbort> {
-        let at = self.at as usize;
-        values.get_mut(at..at + self.spec.len()).ok_or(SdoAbort::General)
+        let at = self.at();
+        values.get_mut(at..at + self.spec().len()).ok_or(SdoAbort::General)
     }
 }
 
@@ -152,7 +207,7 @@ impl fmt::Debug for Row {
             .field("addr", &self.addr())
             .field("access", &self.access())
             .field("data_type", &self.data_type())
-            .field("at", &self.at)
+            .field("at", &self.at())
             .finish()
     }
 }
@@ -178,12 +233,14 @@ impl<const N: usize> Table<N> {
         let mut i = 0;
         // `i < N`: the indexing cannot fail.
         while i < N {
-            let len = rows[i].at;
-            rows[i].at = at;
+            let len = rows[i].at();
+            rows[i] = rows[i].with_at(at);
             at += len;
             i += 1;
         }
-        Table { rows, size: at as usize }
+        // Evaluated when the `const` table is built: a compile error, not a run-time panic.
+        assert!(at < AT_LIMIT, "a dictionary of 2 MiB or more");
+        Table { rows, size: at }
     }
 
     /// The size of the storage in bytes: the encoded sizes of every entry's type.
@@ -213,7 +270,7 @@ impl<const N: usize> Table<N> {
     pub fn init(&self, values: &mut [u8], node_id: Option<NodeId>) {
         for row in &self.rows {
             if let Ok(stored) = row.of_mut(values) {
-                row.spec.init(stored, node_id);
+                row.spec().init(stored, node_id);
             }
         }
     }
@@ -224,7 +281,7 @@ impl<const N: usize> Table<N> {
     }
 
     fn row(&self, index: u16, sub: u8) -> Result<&Row, SdoAbort> {
-        let pos = search(&self.rows, |r| r.key & 0xFF_FFFF, index, sub)?;
+        let pos = search(&self.rows, Row::search_key, index, sub)?;
         self.rows.get(pos).ok_or(SdoAbort::NoSuchObject)
     }
 
@@ -282,7 +339,7 @@ impl<const N: usize> Table<N> {
         if !row.access().writable() {
             return Err(SdoAbort::WriteOfReadOnly);
         }
-        row.spec.check(data)?;
+        row.spec().check(data)?;
         let addr = row.addr();
         hook.before_write(addr, data)?;
         store(row.data_type(), data, row.of_mut(values)?);
@@ -293,7 +350,7 @@ impl<const N: usize> Table<N> {
     /// The row of a typed descriptor, if the table has its address with its type.
     fn typed<T: ObjValue>(&self, entry: &Entry<T>) -> Result<&Row, SdoAbort> {
         let row = self.row(entry.addr.index, entry.addr.sub)?;
-        if row.data_type() != T::DATA_TYPE || row.spec.len() != T::MAX_LEN {
+        if row.data_type() != T::DATA_TYPE || row.spec().len() != T::MAX_LEN {
             return Err(SdoAbort::LengthMismatch);
         }
         Ok(row)
