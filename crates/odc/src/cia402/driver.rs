@@ -52,6 +52,7 @@
 
 #[cfg_attr(not(feature = "cia402"), allow(unused_imports))]
 use super::{Controlword, ModeOfOperation, State, Statusword, SupportedModes};
+#[cfg_attr(not(feature = "cia402"), allow(unused_imports))]
 use crate::time::{Duration, Instant};
 
 /// What the driver reads from the drive each cycle (its TPDOs or input process data).
