@@ -232,6 +232,9 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
                 fn access(&self, index: u16, sub: u8) -> Option<#rt::Access> {
                     TABLE.access(index, sub)
                 }
+                fn pdo_mappable(&self, index: u16, sub: u8, tx: bool) -> Result<u32, #rt::SdoAbort> {
+                    TABLE.pdo_mappable(index, sub, tx)
+                }
             }
 
             #drive

@@ -16,6 +16,8 @@ use crate::value::{Slot, slot};
 struct Row {
     addr: ObjectAddr,
     access: Access,
+    /// The file's PDO mapping flag.
+    mapping: odc_model::PdoMapping,
     slot: Box<dyn Slot>,
     at: usize,
 }
@@ -78,7 +80,13 @@ impl ModelDictionary {
                 _ => {}
             }
             let addr = ObjectAddr::new(e.index, e.sub.sub_index);
-            rows.push(Row { addr, access: access(e.sub.access), slot, at });
+            rows.push(Row {
+                addr,
+                access: access(e.sub.access),
+                mapping: e.sub.pdo_mapping,
+                slot,
+                at,
+            });
             at += len;
         }
         let mut od = ModelDictionary { rows, values: vec![0; at], drive: drive.0 && drive.1 };
@@ -258,6 +266,16 @@ impl ObjectDictionary for ModelDictionary {
 
     fn access(&self, index: u16, sub: u8) -> Option<odc::Access> {
         self.row(index, sub).ok().map(|row| row.access)
+    }
+
+    /// As the generated table answers: the file's flag and the access's direction.
+    fn pdo_mappable(&self, index: u16, sub: u8, tx: bool) -> Result<u32, SdoAbort> {
+        let row = self.row(index, sub)?;
+        let allowed = if tx { row.access.tpdo_allowed() } else { row.access.rpdo_allowed() };
+        if !row.mapping.is_mappable() || !allowed {
+            return Err(SdoAbort::NotMappable);
+        }
+        Ok(u32::try_from(row.slot.len() * 8).unwrap_or(u32::MAX))
     }
 }
 

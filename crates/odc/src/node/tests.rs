@@ -131,6 +131,15 @@ impl ObjectDictionary for Dict {
         let o = &self.objs[self.find(index, sub).ok()?];
         Some(if o.writable { crate::Access::Rw } else { crate::Access::Ro })
     }
+
+    /// As a file would say: 0x1000 is not mappable, read-only entries only into TPDOs.
+    fn pdo_mappable(&self, index: u16, sub: u8, tx: bool) -> Result<u32, SdoAbort> {
+        let o = &self.objs[self.find(index, sub)?];
+        if index == 0x1000 || !tx && !o.writable {
+            return Err(SdoAbort::NotMappable);
+        }
+        Ok(o.value.len() as u32 * 8)
+    }
 }
 
 /// A node on a dictionary, with the frames it sent.
@@ -547,6 +556,49 @@ fn remap_over_sdo_changes_the_tpdo() {
         b.sdo_write(0x1A00, s, &0x2002_0020u32.to_le_bytes());
     }
     assert_eq!(b.sdo_write(0x1A00, 0, &[3]), [0x80, 0x00, 0x1A, 0x00, 0x42, 0x00, 0x04, 0x06]);
+}
+
+/// The abort in an SDO answer.
+fn abort_code(reply: [u8; 8]) -> u32 {
+    assert_eq!(reply[0], 0x80, "an abort: {reply:02X?}");
+    u32::from_le_bytes([reply[4], reply[5], reply[6], reply[7]])
+}
+
+/// CiA 301 §7.5.2.36 (RPDO mapping) and §7.5.2.38 (TPDO mapping): the write of an entry
+/// naming an object the device does not have is refused with 0x06020000, of one that may
+/// not be mapped (or with more bits than the object has) with 0x06040041; enabling a
+/// mapping (sub 0) checks its entries the same way, and 0x06040042 for more than 64 bits.
+#[test]
+fn mapping_entries_are_checked_when_written() {
+    let mut b = Bench::new();
+    b.take();
+    // Pre-operational, TPDO 1 disabled for the remap.
+    b.sdo_write(0x1800, 1, &0x8000_0185u32.to_le_bytes());
+    assert_eq!(b.sdo_write(0x1A00, 0, &[0])[0], 0x60);
+    let entry = |b: &mut Bench, map: u16, v: u32| abort_code(b.sdo_write(map, 1, &v.to_le_bytes()));
+    assert_eq!(entry(&mut b, 0x1A00, 0x3000_0010), 0x0602_0000, "no object 0x3000");
+    assert_eq!(entry(&mut b, 0x1A00, 0x2000_0910), 0x0602_0000, "no sub 9 of 0x2000");
+    assert_eq!(entry(&mut b, 0x1A00, 0x1000_0020), 0x0604_0041, "0x1000 not mappable");
+    assert_eq!(entry(&mut b, 0x1A00, 0x2000_0020), 0x0604_0041, "32 bits of a 16-bit object");
+    assert_eq!(entry(&mut b, 0x1A00, 0x2000_0000), 0x0604_0041, "no bits");
+    assert_eq!(b.sdo_write(0x1600, 0, &[0])[0], 0x60);
+    assert_eq!(entry(&mut b, 0x1600, 0x1001_0008), 0x0604_0041, "read-only into an RPDO");
+    // Refused writes leave the entries as they were.
+    assert_eq!(b.dict.get(0x1A00, 1), 0x2000_0010u32.to_le_bytes());
+    // A good entry, a dummy in an RPDO, and 0 (an unused entry) are accepted.
+    assert_eq!(b.sdo_write(0x1A00, 1, &0x2002_0020u32.to_le_bytes())[0], 0x60);
+    assert_eq!(b.sdo_write(0x1600, 1, &0x0006_0010u32.to_le_bytes())[0], 0x60);
+    assert_eq!(b.sdo_write(0x1A00, 2, &0u32.to_le_bytes())[0], 0x60);
+    // Sub 0 counts an entry the firmware left bad: refused when the mapping is enabled.
+    b.dict.set(0x1A00, 2, &0x1000_0020u32.to_le_bytes());
+    assert_eq!(abort_code(b.sdo_write(0x1A00, 0, &[2])), 0x0604_0041);
+    b.dict.set(0x1A00, 2, &0x4000_0008u32.to_le_bytes());
+    assert_eq!(abort_code(b.sdo_write(0x1A00, 0, &[2])), 0x0602_0000);
+    b.dict.set(0x1A00, 2, &0x2002_0020u32.to_le_bytes());
+    b.dict.set(0x1A00, 3, &0x2001_0008u32.to_le_bytes());
+    assert_eq!(abort_code(b.sdo_write(0x1A00, 0, &[3])), 0x0604_0042, "72 bits");
+    assert_eq!(b.sdo_write(0x1A00, 0, &[2])[0], 0x60);
+    assert_eq!(abort_code(b.sdo_write(0x1A00, 0, &[65])), 0x0604_0042, "65 entries");
 }
 
 #[test]

@@ -91,12 +91,16 @@ fn store(data_type: DataType, data: &[u8], stored: &mut [u8]) {
 #[derive(Clone, Copy)]
 pub struct Row {
     spec: &'static dyn Slot,
-    /// [`key`] of the address in the low 24 bits, the access right in the high 8.
+    /// [`key`] of the address in the low 24 bits, the access right in bits 24–30, whether
+    /// the file allows PDO mapping in bit 31 ([`MAPPABLE`]).
     key: u32,
     /// Offset of the value in the dictionary's storage ([`Row::new`] puts its length here,
     /// [`Table::new`] the offset).
     at: u32,
 }
+
+/// [`Row::key`]'s bit for an entry the file allows to map into PDOs.
+const MAPPABLE: u32 = 1 << 31;
 
 /// The access rights by their code in [`Row::key`].
 const ACCESS: [Access; 6] =
@@ -110,7 +114,8 @@ impl Row {
         T: ObjValue + PartialOrd + Sync + 'static,
     {
         let access = entry.access as u32;
-        let key = key(entry.addr.index, entry.addr.sub) | access << 24;
+        let mappable = if entry.pdo_mappable { MAPPABLE } else { 0 };
+        let key = key(entry.addr.index, entry.addr.sub) | access << 24 | mappable;
         Row { spec, key, at: T::MAX_LEN as u32 }
     }
 
@@ -121,7 +126,7 @@ impl Row {
 
     /// The entry's access right.
     pub fn access(&self) -> Access {
-        match ACCESS.get((self.key >> 24) as usize) {
+        match ACCESS.get((self.key >> 24 & 0x7F) as usize) {
             Some(&a) => a,
             // Unreachable: `Row::new` stores the code of an `Access`.
             None => Access::Ro,
@@ -221,6 +226,22 @@ impl<const N: usize> Table<N> {
     /// The access of `index:sub`, if the table has it.
     pub fn access(&self, index: u16, sub: u8) -> Option<Access> {
         self.row(index, sub).ok().map(Row::access)
+    }
+
+    /// Whether `index:sub` may be mapped into a transmit (`tx`) or receive PDO: its size in
+    /// bits (see [`ObjectDictionary::pdo_mappable`](super::ObjectDictionary::pdo_mappable)).
+    ///
+    /// # Errors
+    ///
+    /// [`SdoAbort::NoSuchObject`], [`SdoAbort::NoSuchSub`] or [`SdoAbort::NotMappable`].
+    pub fn pdo_mappable(&self, index: u16, sub: u8, tx: bool) -> Result<u32, SdoAbort> {
+        let row = self.row(index, sub)?;
+        let access = row.access();
+        let allowed = if tx { access.tpdo_allowed() } else { access.rpdo_allowed() };
+        if row.key & MAPPABLE == 0 || !allowed {
+            return Err(SdoAbort::NotMappable);
+        }
+        Ok(row.spec.len() as u32 * 8)
     }
 
     fn row(&self, index: u16, sub: u8) -> Result<&Row, SdoAbort> {

@@ -235,3 +235,19 @@ fn rows_keep_every_access_right() {
         assert_eq!(row.data_type(), DataType::Unsigned8);
     }
 }
+
+/// CiA 301 §7.5.2.36/38: a mapping entry names an object the file lets map in that
+/// direction (`PDOMapping=1`; CiA 306 access: `rww` into RPDOs, `ro` into TPDOs), with its
+/// size; the node refuses the others with 0x06040041 or 0x06020000.
+#[test]
+fn pdo_mappable_follows_the_flag_and_the_direction() {
+    // 0x6040 controlword: rww, PDOMapping=1, 16 bits.
+    assert_eq!(TABLE.pdo_mappable(0x6040, 0, false), Ok(16));
+    assert_eq!(TABLE.pdo_mappable(0x6040, 0, true), Err(SdoAbort::NotMappable));
+    // 0x2000:2 is rw but its file says PDOMapping=0.
+    assert_eq!(TABLE.pdo_mappable(0x2000, 2, false), Err(SdoAbort::NotMappable));
+    assert_eq!(TABLE.pdo_mappable(0x2000, 9, true), Err(SdoAbort::NoSuchSub));
+    assert_eq!(TABLE.pdo_mappable(0x3000, 0, true), Err(SdoAbort::NoSuchObject));
+    // The flag bit does not change the access.
+    assert_eq!(TABLE.access(0x6040, 0), Some(Access::Rww));
+}
