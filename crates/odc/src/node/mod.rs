@@ -94,6 +94,19 @@ pub enum Reset {
     Communication,
 }
 
+/// What a master asked of the device's non-volatile memory over SDO (CiA 301 §7.5.2.13/14),
+/// with the sub-index: 1 all parameters, 2 communication, 3 application, 4–127
+/// manufacturer-specific. The node checked the signature; the application does the work.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Storage {
+    /// 0x1010 "save": store the parameters now.
+    Save(u8),
+    /// 0x1011 "load": the defaults are to be valid after the next reset (reset node for
+    /// sub 1 and 3, reset communication for 2).
+    Restore(u8),
+}
+
 /// What happened in one call of [`Node::handle`], [`Node::poll`] or the other calls, for the
 /// application.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -125,6 +138,9 @@ pub struct Events {
     /// to [`LssSlave::bit_timing`] after the delay, or note a pending node-ID or bit timing.
     /// A node-ID becomes active by itself at the next reset ([`Events::reset`]).
     pub lss: Option<LssEvent>,
+    /// A store (0x1010 "save") or restore (0x1011 "load") command: the application stores
+    /// its parameters, or makes the defaults valid after the next reset.
+    pub storage: Option<Storage>,
 }
 
 impl Events {
@@ -150,6 +166,7 @@ impl Events {
         self.sdo_written |= e.sdo_written;
         self.pdo_error = e.pdo_error.or(self.pdo_error);
         self.lss = e.lss.or(self.lss);
+        self.storage = e.storage.or(self.storage);
     }
 }
 
@@ -348,7 +365,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         // runs, so a remap cannot put a half-written mapping on the bus, and devices whose
         // file makes the COB-ID read-only (the LinMot E1200's) can still be remapped.
         let locked = if state == Some(NmtState::Operational) { pdo.valid() } else { [0; 2] };
-        View { dict, emcy, dirty, written: false, locked }
+        View { dict, emcy, dirty, written: false, storage: None, locked }
     }
 
     /// [`Node::handle`] once its sender keeps the frames it refuses.
@@ -404,6 +421,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
             // A block upload's whole sub-block goes out at once.
             self.sdo.handle_into(&mut view, frame, now, out);
             ev.sdo_written = view.written;
+            ev.storage = view.storage;
             if self.dirty.0 != 0 {
                 self.reload(&*dict, now);
             }

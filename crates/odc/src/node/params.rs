@@ -114,6 +114,32 @@ impl<D: ObjectDictionary + ?Sized> View<'_, D> {
 }
 
 impl<D: ObjectDictionary + ?Sized> View<'_, D> {
+    /// 0x1010 store parameters / 0x1011 restore default parameters (CiA 301 §7.5.2.13/14):
+    /// the signature "save" / "load" (ASCII, as the 4 bytes of the download) asks the
+    /// application to do it ([`Events::storage`](super::Events::storage)); any other value
+    /// is refused with 0x08000020. The dictionary's value stays what a read answers: the
+    /// storage capability.
+    fn storage_command(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
+        if let Err(e @ (SdoAbort::NoSuchObject | SdoAbort::NoSuchSub)) =
+            self.dict.read(index, sub, &mut [0u8; 8])
+        {
+            return Err(e);
+        }
+        let (signature, command) = if index == 0x1010 {
+            (b"save", super::Storage::Save(sub))
+        } else {
+            (b"load", super::Storage::Restore(sub))
+        };
+        if data.len() != 4 {
+            return Err(SdoAbort::LengthMismatch);
+        }
+        if data != signature {
+            return Err(SdoAbort::DataTransfer);
+        }
+        self.storage = Some(command);
+        Ok(())
+    }
+
     /// Whether mapping `entry` into a transmit (`tx`) or receive PDO is allowed: the object
     /// exists (0x06020000), its file allows mapping it that way and the entry maps no more
     /// bits than it has (0x06040041), as CiA 301 §7.5.2.36/38 say the write of the entry
@@ -174,6 +200,9 @@ pub(super) struct View<'a, D: ?Sized> {
     pub(super) emcy: &'a mut emcy::Emcy,
     pub(super) dirty: &'a mut Dirty,
     pub(super) written: bool,
+    /// A store (0x1010) or restore (0x1011) command with its signature, for the
+    /// application.
+    pub(super) storage: Option<super::Storage>,
     /// The mappings of these PDOs may not change (CiA 301 7.5.2.36: only while the PDO is
     /// invalid): bit n of word 0 for TPDO n+1, of word 1 for RPDO n+1.
     pub(super) locked: [u64; 2],
@@ -198,6 +227,9 @@ impl<D: ObjectDictionary + ?Sized> ObjectDictionary for View<'_, D> {
         // Access first, as the dictionary would refuse it (a read-only COB-ID: 0x06010002).
         if self.dict.access(index, sub).is_some_and(|a| !a.writable()) {
             return Err(SdoAbort::WriteOfReadOnly);
+        }
+        if matches!(index, 0x1010 | 0x1011) && sub > 0 {
+            return self.storage_command(index, sub, data);
         }
         self.check_parameter(index, sub, data)?;
         if let Some((word, n)) = match index {

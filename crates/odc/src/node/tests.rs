@@ -46,6 +46,11 @@ impl Dict {
         d.add(0x1006, 0, &0u32.to_le_bytes(), rw);
         d.add(0x100C, 0, &0u16.to_le_bytes(), rw);
         d.add(0x100D, 0, &[0], rw);
+        // Store / restore all parameters: capability "on command" (bit 0).
+        d.add(0x1010, 0, &[1], false);
+        d.add(0x1010, 1, &1u32.to_le_bytes(), rw);
+        d.add(0x1011, 0, &[1], false);
+        d.add(0x1011, 1, &1u32.to_le_bytes(), rw);
         d.add(0x1014, 0, &(0x80u32 + u32::from(ID)).to_le_bytes(), false);
         d.add(0x1015, 0, &0u16.to_le_bytes(), rw);
         d.add(0x1016, 0, &[2], false);
@@ -825,4 +830,29 @@ fn tpdo_without_mapped_objects_is_not_sent() {
     b.sdo_write(0x1A00, 0, &[1]);
     b.run_to(20);
     assert!(b.take().iter().any(|f| f.id == 0x185 && f.len == 2), "TPDO 1 with 0x2000");
+}
+
+/// CiA 301 §7.5.2.13 (0x1010 store parameters) and §7.5.2.14 (0x1011 restore default
+/// parameters): only the signatures "save" (0x65766173) and "load" (0x64616F6C) are
+/// accepted, anything else is refused with 0x08000020; a read still gives the capability.
+#[test]
+fn store_and_restore_need_their_signatures() {
+    let mut b = Bench::new();
+    b.take();
+    let save = u32::from_le_bytes(*b"save");
+    assert_eq!(save, 0x6576_6173);
+    let load = u32::from_le_bytes(*b"load");
+    assert_eq!(abort_code(b.sdo_write(0x1010, 1, &1u32.to_le_bytes())), 0x0800_0020);
+    assert_eq!(abort_code(b.sdo_write(0x1010, 1, &load.to_le_bytes())), 0x0800_0020);
+    assert_eq!(abort_code(b.sdo_write(0x1011, 1, &save.to_le_bytes())), 0x0800_0020);
+    assert_eq!(abort_code(b.sdo_write(0x1010, 2, &save.to_le_bytes())), 0x0609_0011);
+    let [lo, hi] = 0x1010u16.to_le_bytes();
+    let ev = b.rx(CanFrame::new(0x605, [0x23, lo, hi, 1, b's', b'a', b'v', b'e']).unwrap());
+    assert_eq!(b.take(), [data(0x585, &[0x60, lo, hi, 1, 0, 0, 0, 0])]);
+    assert_eq!(ev.storage, Some(Storage::Save(1)));
+    assert_eq!(b.sdo_read(0x1010, 1)[4..8], 1u32.to_le_bytes(), "the capability stays");
+    let [lo, hi] = 0x1011u16.to_le_bytes();
+    let ev = b.rx(CanFrame::new(0x605, [0x23, lo, hi, 1, b'l', b'o', b'a', b'd']).unwrap());
+    assert_eq!(ev.storage, Some(Storage::Restore(1)));
+    assert_eq!(b.dict.writes, []);
 }
