@@ -267,6 +267,35 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         self.emcy.register()
     }
 
+    /// The application sets the error register (CiA 301 0x1001 is the device's, and a
+    /// device may set bits the node cannot know, or none for an error CiA 301 gives a
+    /// class): with `Some`, every EMCY the node sends from now on (raise and "error reset")
+    /// carries it and a read of 0x1001 answers it, until the next call; `None` gives it back
+    /// to the node, which sets the bits of the active errors' classes (CiA 301 table 47) and
+    /// the generic bit. It stays over resets.
+    ///
+    /// ```
+    /// # use odc::{can::CanFrame, emcy::{EmcyCode, ErrorRegister}, node::Node, time::Instant};
+    /// # struct Od;
+    /// # impl odc::slave::ObjectDictionary for Od {
+    /// #     fn read(&self, i: u16, _: u8, b: &mut [u8]) -> Result<usize, odc::SdoAbort> {
+    /// #         if i == 0x1014 { b[..4].copy_from_slice(&0x85u32.to_le_bytes()); Ok(4) }
+    /// #         else { Err(odc::SdoAbort::NoSuchObject) }
+    /// #     }
+    /// #     fn write(&mut self, _: u16, _: u8, _: &[u8]) -> Result<(), odc::SdoAbort> { Ok(()) }
+    /// # }
+    /// let (mut od, mut sent) = (Od, Vec::new());
+    /// let mut node: Node<32> = Node::new(odc::node_id!(5));
+    /// node.start(&mut od, Instant::ZERO, &mut |f| sent.push(f));
+    /// // A device that reports a short circuit (2212h) with register 00h, as its manual says.
+    /// node.set_error_register(Some(ErrorRegister::NONE));
+    /// node.raise_emcy(EmcyCode(0x2212), [0; 5], Instant::ZERO, &mut |f| sent.push(f));
+    /// assert_eq!(Some(sent[1]), CanFrame::new(0x85, [0x12, 0x22, 0x00, 0, 0, 0, 0, 0]));
+    /// ```
+    pub fn set_error_register(&mut self, register: Option<ErrorRegister>) {
+        self.emcy.set_register(register);
+    }
+
     /// The error history (0x1003), newest first: error code in bits 0–15, the first two
     /// manufacturer bytes in bits 16–31.
     pub fn error_history(&self) -> &[u32] {
@@ -304,7 +333,9 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         };
         #[cfg(not(feature = "lss-slave"))]
         let id = requested;
+        let app_register = self.emcy.app_register();
         *self = Self::with_id(id);
+        self.emcy.set_register(app_register);
         #[cfg(feature = "lss-slave")]
         {
             self.lss_setup = setup;

@@ -856,3 +856,25 @@ fn store_and_restore_need_their_signatures() {
     assert_eq!(ev.storage, Some(Storage::Restore(1)));
     assert_eq!(b.dict.writes, []);
 }
+
+/// CiA 301 §7.5.2.2 (0x1001 error register) and §7.2.7.3.1 (EMCY byte 2, the error
+/// register): the register is the device's. The application sets it; EMCY frames and 0x1001
+/// carry it, over a reset communication too, until it gives it back to the node.
+#[test]
+fn the_application_sets_the_error_register() {
+    let mut b = Bench::new();
+    b.take();
+    let mut sent = Vec::new();
+    let at = crate::time::Instant::ZERO;
+    b.node.set_error_register(Some(ErrorRegister(0x01)));
+    b.node.raise_emcy(crate::emcy::EmcyCode(0x3100), [0; 5], at, &mut |f| sent.push(f));
+    assert_eq!(sent, [data(0x85, &[0x00, 0x31, 0x01, 0, 0, 0, 0, 0])], "not 0x05");
+    assert_eq!(b.sdo_read(0x1001, 0)[4], 0x01);
+    b.nmt(0x82);
+    b.run_to(1);
+    assert_eq!(b.node.error_register(), ErrorRegister(0x01), "kept over reset communication");
+    b.node.set_error_register(None);
+    sent.clear();
+    b.node.raise_emcy(crate::emcy::EmcyCode(0x3100), [0; 5], at, &mut |f| sent.push(f));
+    assert_eq!(sent[0].data[2], 0x05, "the node's again: generic and voltage");
+}
