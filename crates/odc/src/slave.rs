@@ -138,6 +138,21 @@ pub trait WriteHook {
     fn after_write(&mut self, addr: ObjectAddr) {
         let _ = addr;
     }
+
+    /// Takes the data of a DOMAIN download (after `before_write`): the dictionary stores no
+    /// DOMAIN bytes, so they are the application's to keep or act on (a program image for
+    /// 0x1F50, a file). It comes whole, at most the SDO server's buffer long (`N` of
+    /// `Server<N>` and `Node<N>`; a longer download is refused with 0x05040005).
+    ///
+    /// # Errors
+    ///
+    /// The abort to answer. By default [`SdoAbort::DataTransfer`] (0x08000020, "cannot be
+    /// stored to the application"): a dictionary without a hook for it refuses the data
+    /// instead of dropping it.
+    fn write_domain(&mut self, addr: ObjectAddr, data: &[u8]) -> Result<(), SdoAbort> {
+        let _ = (addr, data);
+        Err(SdoAbort::DataTransfer)
+    }
 }
 
 /// The hook that accepts everything.

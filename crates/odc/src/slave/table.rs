@@ -254,7 +254,8 @@ impl<const N: usize> Table<N> {
     /// # Errors
     ///
     /// [`SdoAbort::NoSuchObject`] or [`SdoAbort::NoSuchSub`] (see [`Table::read`]),
-    /// [`SdoAbort::ReadOfWriteOnly`], [`SdoAbort::TooShort`] when `buf` cannot hold the value.
+    /// [`SdoAbort::ReadOfWriteOnly`], [`SdoAbort::TooShort`] when `buf` cannot hold the value,
+    /// [`SdoAbort::NoData`] (0x08000024) for a DOMAIN, whose data the table does not keep.
     pub fn read(
         &self,
         values: &[u8],
@@ -267,9 +268,12 @@ impl<const N: usize> Table<N> {
             return Err(SdoAbort::ReadOfWriteOnly);
         }
         let stored = row.of(values)?;
-        // The stored bytes are the encoding, but for the zeros that pad a shorter string.
+        // The stored bytes are the encoding, but for the zeros that pad a shorter string. A
+        // DOMAIN's data is the application's (`WriteHook::write_domain`): none here.
         let len = match row.data_type() {
             DataType::VisibleString => stored.iter().rposition(|&b| b != 0).map_or(0, |p| p + 1),
+            DataType::UnicodeString => crate::value::unicode_len(stored),
+            DataType::Domain => return Err(SdoAbort::NoData),
             _ => stored.len(),
         };
         let (src, dst) = (stored.get(..len), buf.get_mut(..len));
@@ -289,8 +293,8 @@ impl<const N: usize> Table<N> {
     /// [`SdoAbort::WriteOfReadOnly`], the length or value error of decoding `data`
     /// ([`SdoAbort::TooShort`], `TooLong`, `InvalidValue`), the limits
     /// ([`SdoAbort::MaxLessThanMin`], `ValueTooHigh`, `ValueTooLow`, see
-    /// [`crate::check_range`]), or what `hook.before_write` answered; the value is then
-    /// unchanged.
+    /// [`crate::check_range`]), or what `hook.before_write` answered (for a DOMAIN, then
+    /// `hook.write_domain`); the value is then unchanged.
     pub fn write(
         &self,
         values: &mut [u8],
@@ -306,6 +310,9 @@ impl<const N: usize> Table<N> {
         row.spec.check(data)?;
         let addr = row.addr();
         hook.before_write(addr, data)?;
+        if row.data_type() == DataType::Domain {
+            hook.write_domain(addr, data)?;
+        }
         store(row.data_type(), data, row.of_mut(values)?);
         hook.after_write(addr);
         Ok(())
