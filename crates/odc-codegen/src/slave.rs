@@ -125,10 +125,17 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
         ctx.device.name()
     ));
     let drive = drive_objects(ctx);
+    let lss = ctx.device.device_info.lss_supported.as_ref().is_some_and(|v| v.value);
     quote! {
         #docs
         pub mod slave {
             #imports
+
+            /// Whether the device answers LSS (CiA 305): the file's `LSS_Supported` (absent
+            /// means no, CiA 306). Give the node its LSS slave (`Node::with_lss`) only when
+            /// it is `true`: a device whose file says 0 stays silent on 0x7E5, as
+            /// `odc simulate` does.
+            pub const LSS_SUPPORTED: bool = #lss;
 
             /// The entries of the dictionary, sorted by (index, sub-index): each one's
             /// address, access, limits and default (from its descriptor in `od`) and where its

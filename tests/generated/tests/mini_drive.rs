@@ -178,3 +178,9 @@ fn domain_and_unicode_entries_are_served() {
     assert_eq!(d.write_with(0x1F50, 1, &image, &mut program), Ok(()));
     assert_eq!(program.0, image);
 }
+
+/// CiA 306 `LSS_Supported=0` in the file: the generated flag says the device has no LSS.
+#[test]
+fn lss_follows_the_file() {
+    const { assert!(!slave::LSS_SUPPORTED) };
+}

@@ -3,6 +3,7 @@
 //! the PDO engine get (0x1001 and 0x1003 answered by the node, CiA 301's rules between values).
 
 use super::{emcy, pdo};
+use crate::cia402::{ModeOfOperation, SupportedModes};
 use crate::slave::ObjectDictionary;
 use crate::{MappingEntry, SdoAbort};
 
@@ -93,6 +94,18 @@ impl<D: ObjectDictionary + ?Sized> View<'_, D> {
             (0x1005, 0) if restricted_11_bit(new) => return Err(SdoAbort::InvalidValue),
             (0x1014, 0) if new & (1 << 31) == 0 && restricted_11_bit(new) => {
                 return Err(SdoAbort::InvalidValue);
+            }
+            // Modes of operation (CiA 402 §6.3.1, 0x6060): a profile mode the drive does not
+            // announce in 0x6502 is refused (0x06090030). 0 (no mode) and the manufacturer's
+            // negative modes are the application's to judge.
+            (0x6060, 0) => {
+                let mode = data.first().map_or(0, |&m| m as i8);
+                if mode > 0
+                    && let Some(supported) = get_u32(&*self.dict, 0x6502, 0)
+                    && !SupportedModes(supported).supports(ModeOfOperation::from_i8(mode))
+                {
+                    return Err(SdoAbort::InvalidValue);
+                }
             }
             // Two heartbeat consumer entries for one node (CiA 301 7.5.2.14: 0x06040043).
             (0x1016, s) if s > 0 => {

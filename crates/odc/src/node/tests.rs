@@ -85,6 +85,10 @@ impl Dict {
         d.add(0x2000, 0, &[0; 2], rw);
         d.add(0x2001, 0, &[0], rw);
         d.add(0x2002, 0, &[0; 4], rw);
+        // A drive's modes: 0x6060, and 0x6502 announcing profile position (bit 0) and
+        // homing (bit 5).
+        d.add(0x6060, 0, &[0], rw);
+        d.add(0x6502, 0, &0x21u32.to_le_bytes(), false);
         d
     }
 
@@ -877,4 +881,24 @@ fn the_application_sets_the_error_register() {
     sent.clear();
     b.node.raise_emcy(crate::emcy::EmcyCode(0x3100), [0; 5], at, &mut |f| sent.push(f));
     assert_eq!(sent[0].data[2], 0x05, "the node's again: generic and voltage");
+}
+
+/// CiA 402 §6.3.1 (0x6060 modes of operation) and §6.3.3 (0x6502 supported drive modes): a
+/// mode 0x6502 does not list is refused with 0x06090030; listed ones, 0 and the
+/// manufacturer's negative modes are written.
+#[test]
+fn modes_of_operation_follow_0x6502() {
+    let mut b = Bench::new();
+    b.take();
+    for (mode, ok) in
+        [(1i8, true), (6, true), (0, true), (-1, true), (3, false), (8, false), (5, false)]
+    {
+        let reply = b.sdo_write(0x6060, 0, &[mode as u8]);
+        if ok {
+            assert_eq!(reply[0], 0x60, "mode {mode}");
+            assert_eq!(b.dict.get(0x6060, 0), [mode as u8]);
+        } else {
+            assert_eq!(abort_code(reply), 0x0609_0030, "mode {mode}");
+        }
+    }
 }
