@@ -69,6 +69,38 @@ fn drive_objects(ctx: &Ctx<'_>) -> TokenStream {
             });
         }
     }
+    for (index, ty, method) in [
+        (0x6098, RustTy::Signed(8), quote!(homing_method)),
+        (0x607C, RustTy::Signed(32), quote!(home_offset)),
+        (0x6071, RustTy::Signed(16), quote!(target_torque)),
+    ] {
+        if let Some(e) = var(index, ty) {
+            let t = ty.tokens(rt);
+            methods.push(quote! {
+                fn #method(&self) -> Option<#t> {
+                    self.get(#e).ok()
+                }
+            });
+        }
+    }
+    // 0x6099:01, speed during search for switch: a sub-object of the homing speeds.
+    if let Some(name) = ctx.names.entries.get(&(0x6099, 1))
+        && let (Some(m), RustTy::Unsigned(32)) = (&name.module, name.ty)
+    {
+        let k = &name.konst;
+        methods.push(quote! {
+            fn homing_speed(&self) -> Option<u32> {
+                self.get(od::#m::#k).ok()
+            }
+        });
+    }
+    if let Some(e) = var(0x6077, RustTy::Signed(16)) {
+        methods.push(quote! {
+            fn set_torque_actual_value(&mut self, torque: i16) {
+                let _ = self.set(#e, torque);
+            }
+        });
+    }
     for (index, method, arg) in [
         (0x6064, quote!(set_position_actual_value), quote!(position)),
         (0x606C, quote!(set_velocity_actual_value), quote!(velocity)),

@@ -342,6 +342,21 @@ impl DriveObjects for ModelDictionary {
     fn set_velocity_actual_value(&mut self, velocity: i32) {
         let _ = self.set(0x606C, 0, velocity);
     }
+    fn homing_method(&self) -> Option<i8> {
+        self.get(0x6098, 0).ok()
+    }
+    fn homing_speed(&self) -> Option<u32> {
+        self.get(0x6099, 1).ok()
+    }
+    fn home_offset(&self) -> Option<i32> {
+        self.get(0x607C, 0).ok()
+    }
+    fn target_torque(&self) -> Option<i16> {
+        self.get(0x6071, 0).ok()
+    }
+    fn set_torque_actual_value(&mut self, torque: i16) {
+        let _ = self.set(0x6077, 0, torque);
+    }
 }
 
 impl fmt::Debug for ModelDictionary {

@@ -1,4 +1,4 @@
-//! DOMAIN and UNICODE_STRING entries in the simulator (CiA 301 §7.4.7.1): served, not
+//! DOMAIN and UNICODE_STRING entries in the simulator (CiA 301 data types DOMAIN 0x000F, UNICODE_STRING 0x000B): served, not
 //! dropped. The fixture is the code generation tests' mini drive: 0x1F50:01 "Program
 //! number 1" (DOMAIN, wo, as CiA 302-3's program download object) and 0x2001 (UNICODE_STRING,
 //! default "Ax").

@@ -144,7 +144,7 @@ fn master_plan_follows_cia301() {
     assert_eq!(SdoWrite::u16(1, 2, 0x1234).to_le_bytes(), ([0x34, 0x12, 0, 0], 2));
 }
 
-/// CiA 301 §7.4.7.1: DOMAIN (0x1F50:01, program data, CiA 302-3) and UNICODE_STRING (0x2001)
+/// CiA 301 data types DOMAIN and UNICODE_STRING: DOMAIN (0x1F50:01, program data, CiA 302-3) and UNICODE_STRING (0x2001)
 /// entries are in the generated dictionary. The UNICODE_STRING holds the file's default
 /// ("Ax", UTF-16LE) in the bytes its default takes; the DOMAIN's data goes to the
 /// application's `WriteHook::write_domain`, and a dictionary without one refuses it

@@ -94,7 +94,7 @@ pub enum Reset {
     Communication,
 }
 
-/// What a master asked of the device's non-volatile memory over SDO (CiA 301 §7.5.2.13/14),
+/// What a master asked of the device's non-volatile memory over SDO (CiA 301, objects 0x1010 and 0x1011),
 /// with the sub-index: 1 all parameters, 2 communication, 3 application, 4–127
 /// manufacturer-specific. The node checked the signature; the application does the work.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -95,7 +95,7 @@ impl<D: ObjectDictionary + ?Sized> View<'_, D> {
             (0x1014, 0) if new & (1 << 31) == 0 && restricted_11_bit(new) => {
                 return Err(SdoAbort::InvalidValue);
             }
-            // Modes of operation (CiA 402 §6.3.1, 0x6060): a profile mode the drive does not
+            // Modes of operation (CiA 402-2 object 0x6060): a profile mode the drive does not
             // announce in 0x6502 is refused (0x06090030). 0 (no mode) and the manufacturer's
             // negative modes are the application's to judge.
             (0x6060, 0) => {
@@ -127,7 +127,7 @@ impl<D: ObjectDictionary + ?Sized> View<'_, D> {
 }
 
 impl<D: ObjectDictionary + ?Sized> View<'_, D> {
-    /// 0x1010 store parameters / 0x1011 restore default parameters (CiA 301 §7.5.2.13/14):
+    /// 0x1010 store parameters / 0x1011 restore default parameters (CiA 301, objects 0x1010 and 0x1011):
     /// the signature "save" / "load" (ASCII, as the 4 bytes of the download) asks the
     /// application to do it ([`Events::storage`](super::Events::storage)); any other value
     /// is refused with 0x08000020. The dictionary's value stays what a read answers: the

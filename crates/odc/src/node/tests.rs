@@ -836,7 +836,7 @@ fn tpdo_without_mapped_objects_is_not_sent() {
     assert!(b.take().iter().any(|f| f.id == 0x185 && f.len == 2), "TPDO 1 with 0x2000");
 }
 
-/// CiA 301 §7.5.2.13 (0x1010 store parameters) and §7.5.2.14 (0x1011 restore default
+/// CiA 301 object descriptions of 0x1010 (store parameters) and 0x1011 (restore default
 /// parameters): only the signatures "save" (0x65766173) and "load" (0x64616F6C) are
 /// accepted, anything else is refused with 0x08000020; a read still gives the capability.
 #[test]
@@ -861,7 +861,7 @@ fn store_and_restore_need_their_signatures() {
     assert_eq!(b.dict.writes, []);
 }
 
-/// CiA 301 §7.5.2.2 (0x1001 error register) and §7.2.7.3.1 (EMCY byte 2, the error
+/// CiA 301 object 0x1001 (error register) and the EMCY message (byte 2, the error
 /// register): the register is the device's. The application sets it; EMCY frames and 0x1001
 /// carry it, over a reset communication too, until it gives it back to the node.
 #[test]
@@ -883,7 +883,7 @@ fn the_application_sets_the_error_register() {
     assert_eq!(sent[0].data[2], 0x05, "the node's again: generic and voltage");
 }
 
-/// CiA 402 §6.3.1 (0x6060 modes of operation) and §6.3.3 (0x6502 supported drive modes): a
+/// CiA 402-2 objects 0x6060 (modes of operation) and 0x6502 (supported drive modes): a
 /// mode 0x6502 does not list is refused with 0x06090030; listed ones, 0 and the
 /// manufacturer's negative modes are written.
 #[test]
