@@ -451,7 +451,7 @@ fn emcy_message() {
     let mut wire = node_bench::NodeWire::new(NODE, slave::Dictionary::new(NODE));
     wire.node.set_error_register(Some(ErrorRegister::NONE));
     wire.raise_emcy(EmcyCode(0x2212), [0; 5]);
-    assert_same(&wire.frames(0x81), &[printed("81 / 12 22 00 00 00 00 00 00")]);
+    assert_eq!(wire.frames(0x81), [frame], "odc's node sends the figure's frame");
 
     let mut wire = node_bench::NodeWire::new(NODE, slave::Dictionary::new(NODE));
     wire.raise_emcy(EmcyCode(0x2212), [0; 5]);

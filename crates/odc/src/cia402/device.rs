@@ -524,13 +524,16 @@ impl Axis {
 pub struct Drive {
     control: DeviceControl,
     axis: Axis,
+    /// The torque actual value last written (0x6077): written again only when it changes,
+    /// as the other modes leave it at 0 (one dictionary write less per frame).
+    torque_shown: Option<i16>,
 }
 
 #[cfg(feature = "cia402")]
 impl Drive {
     /// A drive in "not ready to switch on", the axis at 0.
     pub const fn new() -> Self {
-        Self { control: DeviceControl::new(), axis: Axis::new() }
+        Self { control: DeviceControl::new(), axis: Axis::new(), torque_shown: None }
     }
 
     /// The same drive with another state machine (say, another quick stop option code).
@@ -588,7 +591,7 @@ impl Drive {
         taken
     }
 
-    fn publish<D: DriveObjects + ?Sized>(&self, od: &mut D) {
+    fn publish<D: DriveObjects + ?Sized>(&mut self, od: &mut D) {
         od.set_statusword(self.axis.statusword(self.control.statusword()));
         if let Some(mode) = od.modes_of_operation() {
             od.set_modes_of_operation_display(mode);
@@ -596,7 +599,11 @@ impl Drive {
         let clamp = |v: i64| i32::try_from(v).unwrap_or(if v < 0 { i32::MIN } else { i32::MAX });
         od.set_position_actual_value(clamp(self.axis.position()));
         od.set_velocity_actual_value(clamp(self.axis.velocity()));
-        od.set_torque_actual_value(self.axis.torque());
+        let torque = self.axis.torque();
+        if self.torque_shown != Some(torque) {
+            od.set_torque_actual_value(torque);
+            self.torque_shown = Some(torque);
+        }
     }
 }
 
