@@ -1,7 +1,8 @@
 //! `odc sdo`, `odc nmt` and `odc lss` against `odc simulate eds/lxm23a.eds --tcp` on a
 //! loopback port: values by name and by index, typed by the file; an abort with its CiA 301
-//! meaning (exit 1); a name the file lacks (exit 2, with near matches); NMT; LSS inquire and a
-//! new node-ID after reset communication. Expected values are the file's defaults (0x1000
+//! meaning (exit 1); a name the file lacks (exit 2, with near matches); NMT; no LSS answer
+//! (its file says `LSS_Supported=0`). Then `eds/lexium-mdrive.eds` (`LSS_Supported=1`): LSS
+//! inquire and a new node-ID after reset communication. Expected values are the file's defaults (0x1000
 //! 0x04020192, 0x1018:01 0x1DD) and CiA 301's abort code 0x06010002.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
@@ -76,21 +77,34 @@ fn sdo_nmt_lss_against_the_simulated_drive() {
     assert_eq!(text(&out.stdout), "000  01 05  NMT Start to node 5\n");
     assert_eq!(sdo("read", &["Statusword"]).status.code(), Some(0));
 
-    // LSS: every device into configuration state, who it is, a new node-ID from the next
-    // reset communication.
-    let lss = |args: &[&str]| {
+    // LSS: the LXM23A's file says `LSS_Supported=0`, so the simulated drive does not answer
+    // (CiA 306); the Lexium MDrive's says 1.
+    let lss = |addr: &str, args: &[&str]| {
         let mut all = vec!["lss"];
         all.extend_from_slice(args);
-        all.extend_from_slice(&["--tcp", &addr]);
+        all.extend_from_slice(&["--tcp", addr]);
         odc(&all)
     };
-    assert_eq!(lss(&["all"]).status.code(), Some(0));
+    assert_eq!(lss(&addr, &["all"]).status.code(), Some(0));
+    let out = lss(&addr, &["inquire"]);
+    assert_ne!(out.status.code(), Some(0));
+    assert!(text(&out.stderr).contains("no answer"), "{}", text(&out.stderr));
+    drop(sim.stdin.take());
+    assert!(sim.wait().unwrap().success());
+
+    // Every device into configuration state, who it is (the file's 0x1018 defaults: vendor
+    // 0x21B, product 0, revision 0x507, no serial), a new node-ID from the next reset
+    // communication.
+    let (mut sim, addr) = simulate("eds/lexium-mdrive.eds");
+    let file = repo("eds/lexium-mdrive.eds");
+    let node = format!("5={}", file.display());
+    assert_eq!(lss(&addr, &["all"]).status.code(), Some(0));
     assert_eq!(
-        text(&lss(&["inquire"]).stdout),
-        "0x000001DD:0x00006000:0x02000001:0x00000000 node-ID 5\n"
+        text(&lss(&addr, &["inquire"]).stdout),
+        "0x0000021B:0x00000000:0x00000507:0x00000000 node-ID 5\n"
     );
-    assert_eq!(lss(&["set-id", "7"]).status.code(), Some(0));
-    assert_eq!(lss(&["done"]).status.code(), Some(0));
+    assert_eq!(lss(&addr, &["set-id", "7"]).status.code(), Some(0));
+    assert_eq!(lss(&addr, &["done"]).status.code(), Some(0));
     assert_eq!(odc(&["nmt", "reset-comm", "--tcp", &addr]).status.code(), Some(0));
     std::thread::sleep(std::time::Duration::from_millis(300));
     let at7 = format!("7={}", file.display());

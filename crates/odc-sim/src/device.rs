@@ -4,9 +4,10 @@
 //!
 //! The node is the runtime's [`Node`] over a [`ModelDictionary`]: the same NMT, heartbeat,
 //! node guarding, SYNC, PDO engine (following remaps), EMCY, SDO server (with block transfer)
-//! and LSS slave as generated firmware runs. What a simulation adds: the resets of the
-//! dictionary the node asks for, and a CiA 402 drive (state machine and axis) updated after
-//! every frame and tick, so RPDO and SDO controlwords both move it.
+//! and, for a file with `LSS_Supported=1`, LSS slave as generated firmware runs. What a
+//! simulation adds: the resets of the dictionary the node asks for, and a CiA 402 drive
+//! (state machine and axis) updated after every frame and tick, so RPDO and SDO controlwords
+//! both move it.
 
 use odc::can::CanFrame;
 use odc::cia402::{DeviceControl, Drive};
@@ -44,8 +45,14 @@ impl SimDevice {
     pub fn new(device: &Device, node_id: NodeId) -> Self {
         let od = ModelDictionary::new(device, node_id);
         let drive = od.is_drive().then(Drive::new);
-        // LSS with the identity of 0x1018 (read at start), bit timing 0 (1 Mbit/s; CiA 305).
-        let node = Node::new(node_id).with_lss(None, 0);
+        // LSS with the identity of 0x1018 (read at start), bit timing 0 (1 Mbit/s; CiA 305),
+        // when the file says `LSS_Supported=1` (absent means no, CiA 306): a device whose
+        // file says 0 does not answer on 0x7E5.
+        let node = Node::new(node_id);
+        let node = match device.device_info.lss_supported.as_ref().is_some_and(|v| v.value) {
+            true => node.with_lss(None, 0),
+            false => node,
+        };
         Self { node, od, drive, last_tick_ms: 0 }
     }
 

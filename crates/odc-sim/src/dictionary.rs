@@ -16,6 +16,8 @@ use crate::value::{Slot, slot};
 struct Row {
     addr: ObjectAddr,
     access: Access,
+    /// The file's PDO mapping flag.
+    mapping: odc_model::PdoMapping,
     slot: Box<dyn Slot>,
     at: usize,
 }
@@ -30,8 +32,9 @@ impl Row {
 /// `odc simulate` serves.
 ///
 /// Its entries are those of the generated `slave::Dictionary` of the same file
-/// ([`odc_analysis::slave_entries`]), and so are their semantics: the values stored in their
-/// SDO encoding, initial values from the default with `$NODEID` applied (else zero moved into
+/// ([`odc_analysis::slave_entries`]), and so are their semantics but for DOMAIN entries (the
+/// simulated application keeps their data, [`ModelDictionary::domain`], where firmware's
+/// `WriteHook::write_domain` takes it): the values stored in their SDO encoding, initial values from the default with `$NODEID` applied (else zero moved into
 /// the limits), SDO reads and writes with the same access, length and limit checks and the
 /// same abort codes. The crate's tests compare the two entry by entry for every CANopen file
 /// of `eds/`.
@@ -59,6 +62,11 @@ impl Row {
 pub struct ModelDictionary {
     rows: Vec<Row>,
     values: Vec<u8>,
+    /// The data last downloaded into each DOMAIN entry (none stored in `values`): the
+    /// simulated application keeps it, as firmware would in its `WriteHook::write_domain`,
+    /// and a read answers it. At most the SDO server's buffer long
+    /// ([`SDO_BUFFER`](crate::SDO_BUFFER)).
+    domains: std::collections::BTreeMap<ObjectAddr, Vec<u8>>,
     drive: bool,
 }
 
@@ -78,10 +86,21 @@ impl ModelDictionary {
                 _ => {}
             }
             let addr = ObjectAddr::new(e.index, e.sub.sub_index);
-            rows.push(Row { addr, access: access(e.sub.access), slot, at });
+            rows.push(Row {
+                addr,
+                access: access(e.sub.access),
+                mapping: e.sub.pdo_mapping,
+                slot,
+                at,
+            });
             at += len;
         }
-        let mut od = ModelDictionary { rows, values: vec![0; at], drive: drive.0 && drive.1 };
+        let mut od = ModelDictionary {
+            rows,
+            values: vec![0; at],
+            domains: std::collections::BTreeMap::new(),
+            drive: drive.0 && drive.1,
+        };
         od.reset(node_id);
         od
     }
@@ -98,6 +117,7 @@ impl ModelDictionary {
     }
 
     fn reset_where(&mut self, node_id: Option<NodeId>, which: impl Fn(u16) -> bool) {
+        self.domains.retain(|addr, _| !which(addr.index));
         for row in self.rows.iter().filter(|r| which(r.addr.index)) {
             if let Some(stored) = self.values.get_mut(row.at..row.at + row.slot.len()) {
                 stored.fill(0);
@@ -177,6 +197,12 @@ impl ModelDictionary {
         self.row(index, sub).ok().map(|r| r.slot.len())
     }
 
+    /// The data last downloaded into the DOMAIN entry `index:sub` (a program image for
+    /// 0x1F50), for the simulated application; `None` before any.
+    pub fn domain(&self, index: u16, sub: u8) -> Option<&[u8]> {
+        self.domains.get(&ObjectAddr::new(index, sub)).map(Vec::as_slice)
+    }
+
     /// The stored bytes of `index:sub`, for the firmware side (process data): no access
     /// check.
     pub fn raw(&self, index: u16, sub: u8) -> Option<&[u8]> {
@@ -232,9 +258,20 @@ impl ObjectDictionary for ModelDictionary {
         if !row.access.readable() {
             return Err(SdoAbort::ReadOfWriteOnly);
         }
-        let stored = self.stored(row)?;
+        let stored = match row.slot.data_type() {
+            // Empty until a download.
+            DataType::Domain => self.domains.get(&row.addr).map_or(&[][..], Vec::as_slice),
+            _ => self.stored(row)?,
+        };
         let len = match row.slot.data_type() {
             DataType::VisibleString => stored.iter().rposition(|&b| b != 0).map_or(0, |p| p + 1),
+            DataType::UnicodeString => {
+                let mut end = stored.len() & !1;
+                while end >= 2 && stored.get(end - 2..end) == Some(&[0, 0]) {
+                    end -= 2;
+                }
+                end
+            }
             _ => stored.len(),
         };
         let (Some(src), Some(dst)) = (stored.get(..len), buf.get_mut(..len)) else {
@@ -250,6 +287,10 @@ impl ObjectDictionary for ModelDictionary {
             return Err(SdoAbort::WriteOfReadOnly);
         }
         row.slot.check(data)?;
+        if row.slot.data_type() == DataType::Domain {
+            self.domains.insert(row.addr, data.to_vec());
+            return Ok(());
+        }
         let (at, len, data_type) = (row.at, row.slot.len(), row.slot.data_type());
         let stored = self.values.get_mut(at..at + len).ok_or(SdoAbort::General)?;
         store(data_type, data, stored);
@@ -258,6 +299,16 @@ impl ObjectDictionary for ModelDictionary {
 
     fn access(&self, index: u16, sub: u8) -> Option<odc::Access> {
         self.row(index, sub).ok().map(|row| row.access)
+    }
+
+    /// As the generated table answers: the file's flag and the access's direction.
+    fn pdo_mappable(&self, index: u16, sub: u8, tx: bool) -> Result<u32, SdoAbort> {
+        let row = self.row(index, sub)?;
+        let allowed = if tx { row.access.tpdo_allowed() } else { row.access.rpdo_allowed() };
+        if !row.mapping.is_mappable() || !allowed {
+            return Err(SdoAbort::NotMappable);
+        }
+        Ok(u32::try_from(row.slot.len() * 8).unwrap_or(u32::MAX))
     }
 }
 
@@ -290,6 +341,21 @@ impl DriveObjects for ModelDictionary {
     }
     fn set_velocity_actual_value(&mut self, velocity: i32) {
         let _ = self.set(0x606C, 0, velocity);
+    }
+    fn homing_method(&self) -> Option<i8> {
+        self.get(0x6098, 0).ok()
+    }
+    fn homing_speed(&self) -> Option<u32> {
+        self.get(0x6099, 1).ok()
+    }
+    fn home_offset(&self) -> Option<i32> {
+        self.get(0x607C, 0).ok()
+    }
+    fn target_torque(&self) -> Option<i16> {
+        self.get(0x6071, 0).ok()
+    }
+    fn set_torque_actual_value(&mut self, torque: i16) {
+        let _ = self.set(0x6077, 0, torque);
     }
 }
 

@@ -310,6 +310,16 @@ pub fn slot(sub: &SubObject, ty: RustTy) -> Box<dyn Slot> {
                 high: limit(sub.high_limit.as_deref()),
             })
         }
+        RustTy::Unicode(cap) => {
+            let default = match default {
+                Some(Value::Unicode(u)) if u.len() * 2 <= cap => {
+                    Some(u.iter().flat_map(|c| c.to_le_bytes()).collect())
+                }
+                _ => None,
+            };
+            Box::new(Unicode { cap, default })
+        }
+        RustTy::Domain => Box::new(DomainSlot),
         RustTy::Bytes(len) => {
             let limit = |v: Option<&odc_model::Spanned<Value>>| octet_value(&v?.value, len);
             Box::new(Octets {
@@ -319,6 +329,64 @@ pub fn slot(sub: &SubObject, ty: RustTy) -> Box<dyn Slot> {
                 high: limit(sub.high_limit.as_deref()),
             })
         }
+    }
+}
+
+/// UNICODE_STRING of at most `cap` bytes, as the runtime's `UnicodeString<N>`.
+struct Unicode {
+    cap: usize,
+    default: Option<Vec<u8>>,
+}
+
+impl Slot for Unicode {
+    fn check(&self, data: &[u8]) -> Result<(), SdoAbort> {
+        // As `UnicodeString::<N>::decode`: whole code units, zero units at the end pad.
+        if data.len() & 1 != 0 {
+            return Err(ValueError::Invalid.into());
+        }
+        let mut end = data.len();
+        while end >= 2 && data.get(end - 2..end) == Some(&[0, 0]) {
+            end -= 2;
+        }
+        if end > self.cap {
+            return Err(ValueError::TooLong.into());
+        }
+        Ok(())
+    }
+
+    fn init(&self, stored: &mut [u8], _: Option<NodeId>) {
+        if let Some(d) = &self.default {
+            for (s, d) in stored.iter_mut().zip(d.iter()) {
+                *s = *d;
+            }
+        }
+    }
+
+    fn len(&self) -> usize {
+        self.cap
+    }
+
+    fn data_type(&self) -> DataType {
+        DataType::UnicodeString
+    }
+}
+
+/// DOMAIN: any bytes; the dictionary keeps them apart from the fixed-size values.
+struct DomainSlot;
+
+impl Slot for DomainSlot {
+    fn check(&self, _: &[u8]) -> Result<(), SdoAbort> {
+        Ok(())
+    }
+
+    fn init(&self, _: &mut [u8], _: Option<NodeId>) {}
+
+    fn len(&self) -> usize {
+        0
+    }
+
+    fn data_type(&self) -> DataType {
+        DataType::Domain
     }
 }
 

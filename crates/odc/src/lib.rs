@@ -125,8 +125,8 @@ pub use entry::{DefaultValue, Entry, EntryInfo, check_range};
 pub use pdo::{MappingEntry, PackError, Pdo, PdoValue, UnpackError};
 pub use types::{Access, DataType, ObjectAddr};
 pub use value::{
-    I24, I40, I48, I56, ObjValue, OctetString, TimeDifference, TimeOfDay, U24, U40, U48, U56,
-    ValueError, VisibleString,
+    Domain, I24, I40, I48, I56, ObjValue, OctetString, TimeDifference, TimeOfDay, U24, U40, U48,
+    U56, UnicodeString, ValueError, VisibleString,
 };
 
 #[cfg(feature = "derive")]

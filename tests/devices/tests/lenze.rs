@@ -3,7 +3,7 @@
 //! and the odc runtime. Codes are addressed through the generated Lenze scheme
 //! (`lenze::C00061`, …), so the examples also check the code → index rule.
 //!
-//! Count: 85 printed, 83 reproduced (tests/devices/README.md).
+//! Count: 85 printed, 85 reproduced (tests/devices/README.md).
 //!
 //! What is compared, and what is not:
 //! - The partial frames of 9.2.2 (bytes 2–4), 9.2.3 and 9.2.4 (bytes 5–8) are compared in
@@ -17,7 +17,8 @@
 //! - The node guarding and heartbeat tables of 10.1.1 and 10.2.1 print the state bytes (in
 //!   binary, the toggle bit as "0/1"); odc's `node::Node` answers and sends them.
 //! - The EMCY code table of 10.3: odc's node gives each code's error register from its
-//!   class; 0x3100 with 0x01 and 0x8700 with 0x11 are the device's own and not compared. The
+//!   class; 0x3100 with 0x01 and 0x8700 with 0x11 are the device's own, set by the
+//!   application through `Node::set_error_register`. The
 //!   EMCY example is raised by odc's node, bytes 5–8 the Lenze error number the device holds
 //!   in C00168 (byte 4 "reserved").
 //! - The two bit-packed configuration values of chapter 10 are rebuilt as well: the node
@@ -372,9 +373,9 @@ fn heartbeat() {
 /// 10.3: the table of emergency error codes and the error register each comes with: 0x1000
 /// with 0x01, the communication errors 0x8100, 0x8130, 0x8150, 0x8210, 0x8220 with 0x11, and
 /// 0x0000 ("One of several errors eliminated" with the register that remains, "Single error
-/// eliminated (no more errors)" with 0x00). Not compared: 0x3100 with 0x01 and 0x8700 with
-/// 0x11, the device's own registers (odc's node sets bit 2 for a voltage code and only the
-/// generic bit for 0x87xx, which CiA 301 does not define).
+/// eliminated (no more errors)" with 0x00); 0x3100 with 0x01 and 0x8700 with 0x11, the
+/// device's own registers (CiA 301's classes would give 0x05 and 0x01), through the register
+/// the application sets (`Node::set_error_register`).
 #[test]
 fn emcy_codes() {
     let mut od = slave::Dictionary::new(odc::node_id!(1));
@@ -403,6 +404,20 @@ fn emcy_codes() {
     node.clear_emcy(EmcyCode(0x1000), odc::time::Instant::from_micros(23_000), &mut |f| {
         wire.push(f)
     });
+    // The device's own registers, set by the application (CiA 301 0x1001 is the device's):
+    // 0x3100 with 0x01, 0x8700 with 0x11.
+    at = 24_000;
+    for (code, register) in [(0x3100, 0x01), (0x8700, 0x11)] {
+        node.set_error_register(Some(ErrorRegister(register)));
+        node.raise_emcy(EmcyCode(code), [0; 5], odc::time::Instant::from_micros(at), &mut |f| {
+            wire.push(f)
+        });
+        node.set_error_register(Some(ErrorRegister::NONE));
+        node.clear_emcy(EmcyCode(code), odc::time::Instant::from_micros(at + 1_000), &mut |f| {
+            wire.push(f)
+        });
+        at += 2_000;
+    }
     let rows: Vec<(u16, u8)> = wire[1..]
         .iter()
         .map(|f| (u16::from_le_bytes([f.data()[0], f.data()[1]]), f.data()[2]))
@@ -425,6 +440,10 @@ fn emcy_codes() {
             (0x1000, 0x01),
             (0x8100, 0x11),
             (0x0000, 0x01),
+            (0x0000, 0x00),
+            (0x3100, 0x01),
+            (0x0000, 0x00),
+            (0x8700, 0x11),
             (0x0000, 0x00),
         ]
     );

@@ -431,10 +431,11 @@ fn pdo_mapping() {
 ///
 /// Bytes 0–1 the error code, 2 the error register, 3–4 reserved, 5 the PDO number, 6–7 a
 /// vendor-specific code (3.5), all 0 here. The frame is built with odc's EMCY codec from the
-/// figure's fields. odc's node raising 2212h sends the same bytes but byte 2: it sets the
-/// register bits of an active error (bit 0 generic, bit 1 current for 2xxxh, CiA 301 table 47),
-/// as the manual's own text asks ("Bit 0 remains set as long as an error is active"), where
-/// the figure shows 00h.
+/// figure's fields, and odc's node sends the same bytes when the application sets the
+/// register it keeps for the error (`Node::set_error_register`, 00h as the figure prints it);
+/// left to the node, byte 2 is 03h: the register bits of an active error (bit 0 generic, bit 1
+/// current for 2xxxh, CiA 301 table 47), as the manual's own text asks ("Bit 0 remains set as
+/// long as an error is active").
 #[test]
 fn emcy_message() {
     let cob_id = odc::slave::initial(&od::COB_ID_EMERGENCY_MESSAGE, Some(NODE), 0);
@@ -446,6 +447,11 @@ fn emcy_message() {
     };
     let frame = CanFrame::new(cob_id, emcy.encode()).unwrap();
     assert_same(&[frame], &[printed("81 / 12 22 00 00 00 00 00 00")]);
+
+    let mut wire = node_bench::NodeWire::new(NODE, slave::Dictionary::new(NODE));
+    wire.node.set_error_register(Some(ErrorRegister::NONE));
+    wire.raise_emcy(EmcyCode(0x2212), [0; 5]);
+    assert_eq!(wire.frames(0x81), [frame], "odc's node sends the figure's frame");
 
     let mut wire = node_bench::NodeWire::new(NODE, slave::Dictionary::new(NODE));
     wire.raise_emcy(EmcyCode(0x2212), [0; 5]);

@@ -65,7 +65,7 @@ pub fn layout(od: &ModelDictionary, sm: u8) -> Result<Option<Layout>, Refused> {
         for e in 1..=entries {
             let v = read_le(od, pdo, e).ok_or(Refused)?;
             let (index, sub, bits) = ((v >> 16) as u16, (v >> 8) as u8, (v & 0xFF) as usize);
-            // Indices 1–7 are the dummy types of gaps (CiA 301 §7.4.7.1).
+            // Indices 1–7 are the dummy types of gaps (CiA 301 data types DOMAIN 0x000F, UNICODE_STRING 0x000B).
             let gap = index < 8;
             if !mappable(od, v) {
                 return Err(Refused);

@@ -40,6 +40,8 @@
 
 mod device;
 mod driver;
+#[cfg(feature = "cia402")]
+mod homing;
 mod modes;
 mod state;
 mod values;
@@ -47,7 +49,7 @@ mod words;
 
 pub use device::DriveObjects;
 #[cfg(feature = "cia402")]
-pub use device::{Axis, DeviceControl, Drive, transition};
+pub use device::{Axis, DeviceControl, Drive, HOME_SWITCH, transition};
 pub use driver::{DrivePdos, Inputs, Outputs};
 #[cfg(feature = "cia402")]
 pub use driver::{Driver, DriverError, DriverStatus};

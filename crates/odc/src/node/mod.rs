@@ -94,6 +94,19 @@ pub enum Reset {
     Communication,
 }
 
+/// What a master asked of the device's non-volatile memory over SDO (CiA 301, objects 0x1010 and 0x1011),
+/// with the sub-index: 1 all parameters, 2 communication, 3 application, 4–127
+/// manufacturer-specific. The node checked the signature; the application does the work.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum Storage {
+    /// 0x1010 "save": store the parameters now.
+    Save(u8),
+    /// 0x1011 "load": the defaults are to be valid after the next reset (reset node for
+    /// sub 1 and 3, reset communication for 2).
+    Restore(u8),
+}
+
 /// What happened in one call of [`Node::handle`], [`Node::poll`] or the other calls, for the
 /// application.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -125,6 +138,9 @@ pub struct Events {
     /// to [`LssSlave::bit_timing`] after the delay, or note a pending node-ID or bit timing.
     /// A node-ID becomes active by itself at the next reset ([`Events::reset`]).
     pub lss: Option<LssEvent>,
+    /// A store (0x1010 "save") or restore (0x1011 "load") command: the application stores
+    /// its parameters, or makes the defaults valid after the next reset.
+    pub storage: Option<Storage>,
 }
 
 impl Events {
@@ -150,6 +166,7 @@ impl Events {
         self.sdo_written |= e.sdo_written;
         self.pdo_error = e.pdo_error.or(self.pdo_error);
         self.lss = e.lss.or(self.lss);
+        self.storage = e.storage.or(self.storage);
     }
 }
 
@@ -269,6 +286,35 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         self.emcy.register()
     }
 
+    /// The application sets the error register (CiA 301 0x1001 is the device's, and a
+    /// device may set bits the node cannot know, or none for an error CiA 301 gives a
+    /// class): with `Some`, every EMCY the node sends from now on (raise and "error reset")
+    /// carries it and a read of 0x1001 answers it, until the next call; `None` gives it back
+    /// to the node, which sets the bits of the active errors' classes (CiA 301 table 47) and
+    /// the generic bit. It stays over resets.
+    ///
+    /// ```
+    /// # use odc::{can::CanFrame, emcy::{EmcyCode, ErrorRegister}, node::Node, time::Instant};
+    /// # struct Od;
+    /// # impl odc::slave::ObjectDictionary for Od {
+    /// #     fn read(&self, i: u16, _: u8, b: &mut [u8]) -> Result<usize, odc::SdoAbort> {
+    /// #         if i == 0x1014 { b[..4].copy_from_slice(&0x85u32.to_le_bytes()); Ok(4) }
+    /// #         else { Err(odc::SdoAbort::NoSuchObject) }
+    /// #     }
+    /// #     fn write(&mut self, _: u16, _: u8, _: &[u8]) -> Result<(), odc::SdoAbort> { Ok(()) }
+    /// # }
+    /// let (mut od, mut sent) = (Od, Vec::new());
+    /// let mut node: Node<32> = Node::new(odc::node_id!(5));
+    /// node.start(&mut od, Instant::ZERO, &mut |f| sent.push(f));
+    /// // A device that reports a short circuit (2212h) with register 00h, as its manual says.
+    /// node.set_error_register(Some(ErrorRegister::NONE));
+    /// node.raise_emcy(EmcyCode(0x2212), [0; 5], Instant::ZERO, &mut |f| sent.push(f));
+    /// assert_eq!(Some(sent[1]), CanFrame::new(0x85, [0x12, 0x22, 0x00, 0, 0, 0, 0, 0]));
+    /// ```
+    pub fn set_error_register(&mut self, register: Option<ErrorRegister>) {
+        self.emcy.set_register(register);
+    }
+
     /// The error history (0x1003), newest first: error code in bits 0–15, the first two
     /// manufacturer bytes in bits 16–31.
     pub fn error_history(&self) -> &[u32] {
@@ -360,7 +406,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         // runs, so a remap cannot put a half-written mapping on the bus, and devices whose
         // file makes the COB-ID read-only (the LinMot E1200's) can still be remapped.
         let locked = if state == Some(NmtState::Operational) { pdo.valid() } else { [0; 2] };
-        View { dict, emcy, dirty, written: false, locked }
+        View { dict, emcy, dirty, written: false, storage: None, locked }
     }
 
     /// [`Node::handle`] once its sender keeps the frames it refuses.
@@ -416,6 +462,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
             // A block upload's whole sub-block goes out at once.
             self.sdo.handle_into(&mut view, frame, now, out);
             ev.sdo_written = view.written;
+            ev.storage = view.storage;
             if self.dirty.0 != 0 {
                 self.reload(&*dict, now);
             }

@@ -113,15 +113,18 @@ impl SpecRef {
 pub struct Row {
     spec: &'static SpecRef,
     /// [`key`] of the address in bits 0–23, the access right's code in bits 24–26, bits
-    /// 16–20 of the offset in bits 27–31.
+    /// 16–19 of the offset in bits 27–30, whether the file allows PDO mapping in bit 31
+    /// ([`MAPPABLE`]).
     key: u32,
     /// Bits 0–15 of the offset of the value in the dictionary's storage ([`Row::new`] puts
     /// the value's length in the offset, [`Table::new`] the offset).
     at: u16,
 }
 
-/// Offsets and lengths in a [`Row`] are below 2 MiB (21 bits).
-const AT_LIMIT: usize = 1 << 21;
+/// Offsets and lengths in a [`Row`] are below 1 MiB (20 bits).
+const AT_LIMIT: usize = 1 << 20;
+/// [`Row::key`]'s bit for an entry the file allows to map into PDOs.
+const MAPPABLE: u32 = 1 << 31;
 
 /// The access rights by their code in [`Row::key`].
 const ACCESS: [Access; 6] =
@@ -136,9 +139,10 @@ impl Row {
         T: ObjValue + PartialOrd + Sync + 'static,
     {
         let access = entry.access as u32;
-        let key = key(entry.addr.index, entry.addr.sub) | access << 24;
+        let mappable = if entry.pdo_mappable { MAPPABLE } else { 0 };
+        let key = key(entry.addr.index, entry.addr.sub) | access << 24 | mappable;
         // Evaluated when the `const` table is built: a compile error, not a run-time panic.
-        assert!(T::MAX_LEN < AT_LIMIT, "a dictionary value of 2 MiB or more");
+        assert!(T::MAX_LEN < AT_LIMIT, "a dictionary value of 1 MiB or more");
         Row { spec, key, at: 0 }.with_at(T::MAX_LEN)
     }
 
@@ -146,13 +150,13 @@ impl Row {
     const fn at(&self) -> usize {
         let key = self.key;
         let low = self.at;
-        low as usize | ((key >> 27) as usize) << 16
+        low as usize | ((key >> 27 & 0xF) as usize) << 16
     }
 
     /// The same row with offset (or length) `at`, below [`AT_LIMIT`].
     const fn with_at(mut self, at: usize) -> Row {
         self.at = at as u16;
-        self.key = self.key & 0x07FF_FFFF | ((at >> 16) as u32) << 27;
+        self.key = self.key & 0x87FF_FFFF | ((at >> 16) as u32 & 0xF) << 27;
         self
     }
 
@@ -239,7 +243,7 @@ impl<const N: usize> Table<N> {
             i += 1;
         }
         // Evaluated when the `const` table is built: a compile error, not a run-time panic.
-        assert!(at < AT_LIMIT, "a dictionary of 2 MiB or more");
+        assert!(at < AT_LIMIT, "a dictionary of 1 MiB or more");
         Table { rows, size: at }
     }
 
@@ -280,6 +284,23 @@ impl<const N: usize> Table<N> {
         self.row(index, sub).ok().map(Row::access)
     }
 
+    /// Whether `index:sub` may be mapped into a transmit (`tx`) or receive PDO: its size in
+    /// bits (see [`ObjectDictionary::pdo_mappable`](super::ObjectDictionary::pdo_mappable)).
+    ///
+    /// # Errors
+    ///
+    /// [`SdoAbort::NoSuchObject`], [`SdoAbort::NoSuchSub`] or [`SdoAbort::NotMappable`].
+    pub fn pdo_mappable(&self, index: u16, sub: u8, tx: bool) -> Result<u32, SdoAbort> {
+        let row = self.row(index, sub)?;
+        let access = row.access();
+        let allowed = if tx { access.tpdo_allowed() } else { access.rpdo_allowed() };
+        let key = row.key;
+        if key & MAPPABLE == 0 || !allowed {
+            return Err(SdoAbort::NotMappable);
+        }
+        Ok(row.spec().len() as u32 * 8)
+    }
+
     fn row(&self, index: u16, sub: u8) -> Result<&Row, SdoAbort> {
         let pos = search(&self.rows, Row::search_key, index, sub)?;
         self.rows.get(pos).ok_or(SdoAbort::NoSuchObject)
@@ -290,7 +311,8 @@ impl<const N: usize> Table<N> {
     /// # Errors
     ///
     /// [`SdoAbort::NoSuchObject`] or [`SdoAbort::NoSuchSub`] (see [`Table::read`]),
-    /// [`SdoAbort::ReadOfWriteOnly`], [`SdoAbort::TooShort`] when `buf` cannot hold the value.
+    /// [`SdoAbort::ReadOfWriteOnly`], [`SdoAbort::TooShort`] when `buf` cannot hold the value,
+    /// [`SdoAbort::NoData`] (0x08000024) for a DOMAIN, whose data the table does not keep.
     pub fn read(
         &self,
         values: &[u8],
@@ -303,9 +325,12 @@ impl<const N: usize> Table<N> {
             return Err(SdoAbort::ReadOfWriteOnly);
         }
         let stored = row.of(values)?;
-        // The stored bytes are the encoding, but for the zeros that pad a shorter string.
+        // The stored bytes are the encoding, but for the zeros that pad a shorter string. A
+        // DOMAIN's data is the application's (`WriteHook::write_domain`): none here.
         let len = match row.data_type() {
             DataType::VisibleString => stored.iter().rposition(|&b| b != 0).map_or(0, |p| p + 1),
+            DataType::UnicodeString => crate::value::unicode_len(stored),
+            DataType::Domain => return Err(SdoAbort::NoData),
             _ => stored.len(),
         };
         let (src, dst) = (stored.get(..len), buf.get_mut(..len));
@@ -325,8 +350,8 @@ impl<const N: usize> Table<N> {
     /// [`SdoAbort::WriteOfReadOnly`], the length or value error of decoding `data`
     /// ([`SdoAbort::TooShort`], `TooLong`, `InvalidValue`), the limits
     /// ([`SdoAbort::MaxLessThanMin`], `ValueTooHigh`, `ValueTooLow`, see
-    /// [`crate::check_range`]), or what `hook.before_write` answered; the value is then
-    /// unchanged.
+    /// [`crate::check_range`]), or what `hook.before_write` answered (for a DOMAIN, then
+    /// `hook.write_domain`); the value is then unchanged.
     pub fn write(
         &self,
         values: &mut [u8],
@@ -342,6 +367,9 @@ impl<const N: usize> Table<N> {
         row.spec().check(data)?;
         let addr = row.addr();
         hook.before_write(addr, data)?;
+        if row.data_type() == DataType::Domain {
+            hook.write_domain(addr, data)?;
+        }
         store(row.data_type(), data, row.of_mut(values)?);
         hook.after_write(addr);
         Ok(())

@@ -236,12 +236,12 @@ fn rows_keep_every_access_right() {
     }
 }
 
-/// A row keeps offsets past 16 bits (bits 16–20 live beside the access right): a value stored
+/// A row keeps offsets past 16 bits (bits 16–19 live beside the access right and the mapping flag): a value stored
 /// behind a 70,000-byte string reads back, and the access rights stay apart from the offset.
 #[test]
 fn rows_reach_past_64_kib() {
     const BIG: Entry<crate::OctetString<70_000>> = Entry::new(0x2000, 0, "", Access::Ro, false);
-    const SMALL: Entry<u32> = Entry::new(0x2001, 0, "", Access::Rw, false);
+    const SMALL: Entry<u32> = Entry::new(0x2001, 0, "", Access::Rw, true);
     const TABLE: Table<2> = Table::new([crate::slave::row!(BIG), crate::slave::row!(SMALL)]);
     assert_eq!(TABLE.size(), 70_004);
     let mut values = vec![0u8; TABLE.size()];
@@ -253,4 +253,23 @@ fn rows_reach_past_64_kib() {
     assert_eq!(TABLE.access(0x2000, 0), Some(Access::Ro));
     assert_eq!(TABLE.access(0x2001, 0), Some(Access::Rw));
     assert_eq!(TABLE.write(&mut values, 0x2000, 0, &[0], &mut ()), Err(SdoAbort::WriteOfReadOnly));
+    // The offset's high bits leave the mapping flag alone: BIG is not mappable, SMALL is.
+    assert_eq!(TABLE.pdo_mappable(0x2000, 0, true), Err(SdoAbort::NotMappable));
+    assert_eq!(TABLE.pdo_mappable(0x2001, 0, true), Ok(32));
+}
+
+/// CiA 301 §7.5.2.36/38: a mapping entry names an object the file lets map in that
+/// direction (`PDOMapping=1`; CiA 306 access: `rww` into RPDOs, `ro` into TPDOs), with its
+/// size; the node refuses the others with 0x06040041 or 0x06020000.
+#[test]
+fn pdo_mappable_follows_the_flag_and_the_direction() {
+    // 0x6040 controlword: rww, PDOMapping=1, 16 bits.
+    assert_eq!(TABLE.pdo_mappable(0x6040, 0, false), Ok(16));
+    assert_eq!(TABLE.pdo_mappable(0x6040, 0, true), Err(SdoAbort::NotMappable));
+    // 0x2000:2 is rw but its file says PDOMapping=0.
+    assert_eq!(TABLE.pdo_mappable(0x2000, 2, false), Err(SdoAbort::NotMappable));
+    assert_eq!(TABLE.pdo_mappable(0x2000, 9, true), Err(SdoAbort::NoSuchSub));
+    assert_eq!(TABLE.pdo_mappable(0x3000, 0, true), Err(SdoAbort::NoSuchObject));
+    // The flag bit does not change the access.
+    assert_eq!(TABLE.access(0x6040, 0), Some(Access::Rww));
 }
