@@ -96,6 +96,31 @@ impl Duration {
     }
 }
 
+#[cfg(feature = "std")]
+impl Instant {
+    /// The time since `epoch` on the host's monotonic clock, as an instant (saturating): how
+    /// the `std` transports tell the time.
+    pub fn since(epoch: std::time::Instant) -> Self {
+        Self(u64::try_from(epoch.elapsed().as_micros()).unwrap_or(u64::MAX))
+    }
+}
+
+impl core::fmt::Display for Duration {
+    /// In the largest unit that keeps it whole: `1.5 s` is `1500 ms`, `250 µs` stays µs.
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let us = self.0;
+        if us == 0 {
+            f.write_str("0 ms")
+        } else if us.is_multiple_of(1_000_000) {
+            write!(f, "{} s", us / 1_000_000)
+        } else if us.is_multiple_of(1000) {
+            write!(f, "{} ms", us / 1000)
+        } else {
+            write!(f, "{us} µs")
+        }
+    }
+}
+
 impl Add<Duration> for Instant {
     type Output = Instant;
 
@@ -144,6 +169,7 @@ impl From<Duration> for core::time::Duration {
 
 #[cfg(test)]
 mod tests {
+    extern crate std;
     use super::*;
 
     #[test]
@@ -164,5 +190,14 @@ mod tests {
         );
         assert_eq!(core::time::Duration::from(Duration::from_micros(1500)).as_micros(), 1500);
         assert!(Duration::ZERO.is_zero() && !Duration::MICROSECOND.is_zero());
+    }
+
+    #[test]
+    fn durations_print_in_their_largest_whole_unit() {
+        use std::string::ToString;
+        assert_eq!(Duration::from_secs(5).to_string(), "5 s");
+        assert_eq!(Duration::from_millis(1500).to_string(), "1500 ms");
+        assert_eq!(Duration::from_micros(250).to_string(), "250 µs");
+        assert_eq!(Duration::ZERO.to_string(), "0 ms");
     }
 }

@@ -54,7 +54,7 @@ impl Device {
                         return;
                     }
                 }
-                let deadline = port.now_ms() + 1;
+                let deadline = port.now() + odc::time::Duration::from_millis(1);
                 let events = match port.recv(deadline) {
                     Ok(Some(f)) => node.handle(
                         &mut dict,
@@ -96,7 +96,7 @@ impl Drop for Device {
 
 fn setup() -> (Master<MemPort>, Device, MemPort) {
     let bus = MemBus::new();
-    let master = Master::new(bus.port()).with_timeout(500);
+    let master = Master::new(bus.port()).with_timeout(odc::time::Duration::from_millis(500));
     let spy = bus.port();
     let device = Device::spawn(bus.port(), Some(NODE), None);
     (master, device, spy)
@@ -178,14 +178,14 @@ fn a_lost_heartbeat_is_an_event() {
     let (mut m, mut device, _spy) = setup();
     m.wait_boot_up(NODE).unwrap();
     m.write(NODE, &od::PRODUCER_HEARTBEAT_TIME, 10).unwrap();
-    m.watch_heartbeat(NODE, 60);
+    m.watch_heartbeat(NODE, odc::time::Duration::from_millis(60));
     // Heartbeats come; no loss while they do.
-    let until = m.now_ms() + 150;
+    let until = m.now() + odc::time::Duration::from_millis(150);
     while let Some(e) = m.poll(until).unwrap() {
         assert_ne!(e, Event::HeartbeatLost { node: NODE }, "lost while beating");
     }
     device.stop();
-    let until = m.now_ms() + 300;
+    let until = m.now() + odc::time::Duration::from_millis(300);
     let mut lost = 0;
     while let Some(e) = m.poll(until).unwrap() {
         if e == (Event::HeartbeatLost { node: NODE }) {
@@ -198,14 +198,14 @@ fn a_lost_heartbeat_is_an_event() {
 #[test]
 fn a_heartbeat_with_an_undefined_state_is_handed_out() {
     let bus = MemBus::new();
-    let mut m = Master::new(bus.port()).with_timeout(100);
+    let mut m = Master::new(bus.port()).with_timeout(odc::time::Duration::from_millis(100));
     let mut device = bus.port();
     let heartbeat = |byte: u8| CanFrame::from_slice(0x704, &[byte]).unwrap();
     // Pre-operational (0x7F) twice: one state event; 0x55 is no CiA 301 state.
     for byte in [0x7F, 0x7F, 0x55] {
         device.send(&heartbeat(byte)).unwrap();
     }
-    let until = m.now_ms() + 40;
+    let until = m.now() + odc::time::Duration::from_millis(40);
     let mut events = Vec::new();
     while let Some(e) = m.poll(until).unwrap() {
         events.push(e);
@@ -222,7 +222,7 @@ fn a_heartbeat_with_an_undefined_state_is_handed_out() {
 #[test]
 fn sync_producer_with_counter_and_emcy() {
     let bus = MemBus::new();
-    let mut m = Master::new(bus.port()).with_timeout(100);
+    let mut m = Master::new(bus.port()).with_timeout(odc::time::Duration::from_millis(100));
     let mut device = bus.port();
     let (tx, rx) = mpsc::channel();
     m.observe(move |dir, f| {
@@ -233,8 +233,8 @@ fn sync_producer_with_counter_and_emcy() {
     m.set_sync_counter(Some(3)).unwrap();
     assert!(m.set_sync_counter(Some(1)).is_err(), "CiA 301: overflow 2..=240");
     m.set_sync_counter(Some(3)).unwrap();
-    m.set_sync_period(Some(5));
-    let until = m.now_ms() + 60;
+    m.set_sync_period(Some(odc::time::Duration::from_millis(5)));
+    let until = m.now() + odc::time::Duration::from_millis(60);
     // An EMCY from node 4 meanwhile: 0x8130 (heartbeat or life guarding), register 0x11.
     device.send(&CanFrame::from_slice(0x084, &[0x30, 0x81, 0x11, 4, 0, 0, 0, 0]).unwrap()).unwrap();
     let mut emcy = None;
@@ -257,7 +257,7 @@ fn sync_producer_with_counter_and_emcy() {
 #[test]
 fn lss_fastscan_then_a_node_id() {
     let bus = MemBus::new();
-    let mut m = Master::new(bus.port()).with_timeout(500);
+    let mut m = Master::new(bus.port()).with_timeout(odc::time::Duration::from_millis(500));
     let identity = Identity {
         vendor: 0x0000_01DD,
         product: 0x6000,
@@ -267,7 +267,7 @@ fn lss_fastscan_then_a_node_id() {
     // An unconfigured device (node-ID 255): no boot-up until it has a node-ID.
     let _device = Device::spawn(bus.port(), None, Some(identity));
     std::thread::sleep(std::time::Duration::from_millis(20));
-    let mut lss = m.lss().with_timeout(20);
+    let mut lss = m.lss().with_timeout(odc::time::Duration::from_millis(20));
     assert!(lss.any_unconfigured().unwrap());
     assert_eq!(lss.fastscan().unwrap(), Some(identity));
     // Found, it is in configuration state: it answers inquiries and takes a node-ID.
@@ -280,7 +280,7 @@ fn lss_fastscan_then_a_node_id() {
     m.wait_boot_up(odc::node_id!(9)).unwrap();
     assert_eq!(m.read(odc::node_id!(9), &od::DEVICE_TYPE).unwrap(), 0x0402_0192);
     // Nobody unconfigured any more; a fastscan finds nothing.
-    let mut lss = m.lss().with_timeout(20);
+    let mut lss = m.lss().with_timeout(odc::time::Duration::from_millis(20));
     assert!(!lss.any_unconfigured().unwrap());
     assert_eq!(lss.fastscan().unwrap(), None);
     // Selective switch by its address, then store: this node does not support it (CiA 305

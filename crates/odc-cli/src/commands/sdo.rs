@@ -70,7 +70,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         })?),
         None => None,
     };
-    let mut master = Master::new(common.bus.open()?).with_timeout(common.timeout);
+    let mut master = Master::new(common.bus.open()?)
+        .with_timeout(odc::time::Duration::from_millis(common.timeout));
     let at = format!("0x{:04X}:{:02X} {}", target.index, target.sub, target.name);
     let result = match &payload {
         Some(bytes) => master.download(node, target.index, target.sub, bytes).map(|()| None),

@@ -3,6 +3,7 @@
 //! coding of the statusword (mask 0x6F: bits 0–3, 5, 6).
 
 use super::*;
+use crate::time::Duration;
 
 /// The objects of a drive, as plain fields.
 #[derive(Debug, Default)]
@@ -142,11 +143,11 @@ fn quick_stop_ends_by_its_option_code() {
     // (transition 12) without a command.
     let (mut drive, mut od) = after(&enabled, 2);
     assert!(coded(od.sw, QUICK_STOP_ACTIVE));
-    assert_eq!(drive.step(&mut od, 10), Some(12));
+    assert_eq!(drive.step(&mut od, Duration::from_millis(10)), Some(12));
     assert!(coded(od.sw, SWITCH_ON_DISABLED));
     // Option code 6: stay in "quick stop active"; enable operation goes back (16).
     let (mut drive, mut od) = after(&enabled, 6);
-    assert_eq!(drive.step(&mut od, 10), None);
+    assert_eq!(drive.step(&mut od, Duration::from_millis(10)), None);
     assert!(coded(od.sw, QUICK_STOP_ACTIVE));
     od.cw = Controlword(ENABLE_OPERATION);
     assert_eq!(drive.update(&mut od), Some(16));
@@ -164,7 +165,7 @@ fn fault_reaction_fault_and_reset() {
     assert_eq!(drive.fault(&mut od), Some(13));
     assert!(coded(od.sw, FAULT_REACTION_ACTIVE));
     assert!(od.sw.fault());
-    assert_eq!(drive.step(&mut od, 1), Some(14));
+    assert_eq!(drive.step(&mut od, Duration::from_millis(1)), Some(14));
     assert!(coded(od.sw, FAULT));
     // Commands do nothing in "fault"; fault reset acts on the rising edge of bit 7 (15).
     od.cw = Controlword(ENABLE_OPERATION);
@@ -174,7 +175,7 @@ fn fault_reaction_fault_and_reset() {
     assert!(coded(od.sw, SWITCH_ON_DISABLED));
     // A fault from "fault" again is no transition; bit 7 held high resets nothing twice.
     assert_eq!(drive.fault(&mut od), Some(13));
-    assert_eq!(drive.step(&mut od, 1), Some(14));
+    assert_eq!(drive.step(&mut od, Duration::from_millis(1)), Some(14));
     assert_eq!(drive.fault(&mut od), None);
     assert_eq!(drive.update(&mut od), None, "bit 7 still set: no edge");
     od.cw = Controlword(0);
@@ -213,9 +214,9 @@ fn profile_position_moves_to_the_target() {
     od.cw = Controlword(ENABLE_OPERATION).with_new_setpoint(true);
     drive.update(&mut od);
     assert!(od.sw.setpoint_ack() && !od.sw.target_reached());
-    drive.step(&mut od, 100);
+    drive.step(&mut od, Duration::from_millis(100));
     assert_eq!((od.position, od.velocity), (-200, -2000));
-    drive.step(&mut od, 1000);
+    drive.step(&mut od, Duration::from_millis(1000));
     assert_eq!((od.position, od.velocity), (-500, 0));
     assert!(od.sw.target_reached());
     // Relative (bit 6): 100 more from here.
@@ -225,7 +226,7 @@ fn profile_position_moves_to_the_target() {
     od.target = 100;
     od.cw = Controlword(ENABLE_OPERATION).with_new_setpoint(true).with_relative(true);
     drive.update(&mut od);
-    drive.step(&mut od, 1000);
+    drive.step(&mut od, Duration::from_millis(1000));
     assert_eq!(od.position, -400);
     // No motion outside "operation enabled".
     od.cw = Controlword(ENABLE_OPERATION);
@@ -233,7 +234,7 @@ fn profile_position_moves_to_the_target() {
     od.target = 0;
     od.cw = Controlword(SWITCH_ON).with_new_setpoint(true);
     drive.update(&mut od);
-    drive.step(&mut od, 1000);
+    drive.step(&mut od, Duration::from_millis(1000));
     assert_eq!(od.position, -400);
 }
 
@@ -244,12 +245,12 @@ fn profile_velocity_follows_the_target_velocity() {
     od.target_velocity = 300;
     drive.update(&mut od);
     assert!(!od.sw.setpoint_ack(), "bit 12 in pv: speed is not zero");
-    drive.step(&mut od, 500);
+    drive.step(&mut od, Duration::from_millis(500));
     assert_eq!((od.position, od.velocity), (150, 300));
     // Halt (bit 8) stops it; speed zero (bit 12) set.
     od.cw = Controlword(ENABLE_OPERATION).with_halt(true);
     drive.update(&mut od);
-    drive.step(&mut od, 500);
+    drive.step(&mut od, Duration::from_millis(500));
     assert_eq!((od.position, od.velocity), (150, 0));
     assert!(od.sw.setpoint_ack());
 }

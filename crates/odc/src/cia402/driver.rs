@@ -34,7 +34,7 @@
 //!     (od.cw, od.mode) = (out.controlword, out.mode);
 //!     od.target = out.target_position.unwrap_or(od.target);
 //!     drive.update(od);
-//!     drive.step(od, 10);
+//!     drive.step(od, Duration::from_millis(10));
 //!     *now += Duration::from_millis(10);
 //! };
 //! let mut now = Instant::ZERO;

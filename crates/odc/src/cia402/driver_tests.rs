@@ -82,7 +82,7 @@ impl Loop {
         self.od.target = out.target_position.unwrap_or(self.od.target);
         self.od.velocity_target = out.target_velocity.unwrap_or(self.od.velocity_target);
         self.drive.update(&mut self.od);
-        self.drive.step(&mut self.od, 10);
+        self.drive.step(&mut self.od, crate::time::Duration::from_millis(10));
         self.now += 10_000;
     }
 

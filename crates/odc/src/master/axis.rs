@@ -26,6 +26,7 @@ use super::{Error, Master};
 use crate::Pdo;
 use crate::cia402::{Driver, DriverStatus, Inputs, ModeOfOperation, Statusword};
 use crate::cob::NodeId;
+use crate::time::Duration;
 use crate::transport::Bus;
 
 /// The device's process data for its 402 objects: the RPDO that carries the controlword
@@ -42,9 +43,9 @@ pub struct ProcessData<R, T> {
     pub status: fn(&T) -> Inputs,
 }
 
-/// How long a cycle waits for the TPDO after its SYNC, in ms; without one (an event-driven
-/// TPDO whose data did not change) the last inputs stand.
-pub const CYCLE_WAIT_MS: u64 = 20;
+/// How long a cycle waits for the TPDO after its SYNC; without one (an event-driven TPDO
+/// whose data did not change) the last inputs stand.
+pub const CYCLE_WAIT: Duration = Duration::from_millis(20);
 
 /// A CiA 402 drive driven over PDOs and SYNC.
 pub struct Axis<'m, B: Bus, R, T> {
@@ -116,16 +117,16 @@ impl<'m, B: Bus, R: Pdo, T: Pdo> Axis<'m, B, R, T> {
     ///
     /// A struct that does not pack or unpack, or the bus error.
     pub fn cycle(&mut self) -> Result<Inputs, Error<B::Error>> {
-        let now = crate::time::Instant::from_millis(self.master.now_ms());
+        let now = self.master.now();
         let out = self.driver.cycle(&self.inputs, now);
         self.master.send_pdo(self.pdos.rpdo, &(self.pdos.command)(&out))?;
         self.master.sync()?;
         let id = self.pdos.tpdo & 0x7FF;
-        let deadline = self.master.now_ms().saturating_add(CYCLE_WAIT_MS);
+        let deadline = self.master.now() + CYCLE_WAIT;
         let mut latest = self.master.link.take(deadline, |f| f.is_data(id)).map_err(Error::Bus)?;
         // An event-driven TPDO may have come more than once: the newest is the drive's state.
         if latest.is_some() {
-            let now = self.master.now_ms();
+            let now = self.master.now();
             while let Some(f) = self.master.link.take(now, |f| f.is_data(id)).map_err(Error::Bus)? {
                 latest = Some(f);
             }

@@ -5,6 +5,7 @@ use std::boxed::Box;
 use std::collections::VecDeque;
 
 use crate::can::CanFrame;
+use crate::time::Instant;
 use crate::transport::Bus;
 
 /// Which way a frame went, for an observer.
@@ -35,27 +36,27 @@ impl<B: Bus> Link<B> {
         self.bus.send(frame)
     }
 
-    /// The next frame from the bus (not the queue), waiting until `deadline_ms`.
-    pub(super) fn receive(&mut self, deadline_ms: u64) -> Result<Option<CanFrame>, B::Error> {
-        let frame = self.bus.recv(deadline_ms)?;
+    /// The next frame from the bus (not the queue), waiting until `deadline`.
+    pub(super) fn receive(&mut self, deadline: Instant) -> Result<Option<CanFrame>, B::Error> {
+        let frame = self.bus.recv(deadline)?;
         if let (Some(o), Some(f)) = (&mut self.observer, &frame) {
             o(Dir::Received, f);
         }
         Ok(frame)
     }
 
-    /// The first frame (queued first) that `want` accepts, waiting until `deadline_ms`; the
+    /// The first frame (queued first) that `want` accepts, waiting until `deadline`; the
     /// others received meanwhile are queued.
     pub(super) fn take(
         &mut self,
-        deadline_ms: u64,
+        deadline: Instant,
         want: impl Fn(&CanFrame) -> bool,
     ) -> Result<Option<CanFrame>, B::Error> {
         if let Some(pos) = self.pending.iter().position(&want) {
             return Ok(self.pending.remove(pos));
         }
         loop {
-            match self.receive(deadline_ms)? {
+            match self.receive(deadline)? {
                 Some(f) if want(&f) => return Ok(Some(f)),
                 Some(f) => self.pending.push_back(f),
                 None => return Ok(None),
@@ -72,12 +73,12 @@ impl<B: Bus> Bus for Link<B> {
         Link::send(self, frame)
     }
 
-    fn recv(&mut self, deadline_ms: u64) -> Result<Option<CanFrame>, B::Error> {
+    fn recv(&mut self, deadline: Instant) -> Result<Option<CanFrame>, B::Error> {
         let id = self.sdo_response;
-        self.take(deadline_ms, |f| Some(f.id) == id && !f.extended && !f.remote)
+        self.take(deadline, |f| Some(f.id) == id && !f.extended && !f.remote)
     }
 
-    fn now_ms(&mut self) -> u64 {
-        self.bus.now_ms()
+    fn now(&mut self) -> Instant {
+        self.bus.now()
     }
 }

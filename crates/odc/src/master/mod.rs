@@ -22,10 +22,11 @@
 //! use odc::nmt::{NmtCommand, NmtState};
 //! use odc::transport::{Bus, mem::MemBus};
 //! use odc::can::CanFrame;
+//! use odc::time::Duration;
 //!
 //! let bus = MemBus::new();
 //! let (mut device, port) = (bus.port(), bus.port());
-//! let mut master = Master::new(port).with_timeout(100);
+//! let mut master = Master::new(port).with_timeout(Duration::from_millis(100));
 //! // A device says it booted, and later that it is operational.
 //! device.send(&CanFrame::from_slice(0x705, &[0x00]).unwrap()).unwrap();
 //! let node = odc::node_id!(5);
@@ -33,7 +34,7 @@
 //! assert_eq!(master.state(node), Some(NmtState::PreOperational));
 //! master.nmt(NmtCommand::Start, node)?;
 //! device.send(&CanFrame::from_slice(0x705, &[0x05]).unwrap()).unwrap();
-//! let deadline = master.now_ms() + 100;
+//! let deadline = master.now() + Duration::from_millis(100);
 //! assert_eq!(master.poll(deadline)?, Some(Event::State { node, state: NmtState::Operational }));
 //! # Ok::<(), odc::master::Error<odc::transport::mem::Closed>>(())
 //! ```
@@ -56,13 +57,14 @@ use crate::emcy::EmcyFrame;
 use crate::nmt::NmtState;
 use crate::plan::SdoWrite;
 use crate::sdo::Client;
+use crate::time::{Duration, Instant};
 use crate::transport::Bus;
 
 /// Bytes of the largest SDO value the master transfers (segmented or block).
 pub const SDO_BUFFER: usize = 4096;
 
-/// Default time the master waits for an answer, in ms.
-pub const DEFAULT_TIMEOUT_MS: u64 = 1000;
+/// Default time the master waits for an answer (1 s, as [`crate::sdo::DEFAULT_TIMEOUT`]).
+pub const DEFAULT_TIMEOUT: Duration = Duration::from_secs(1);
 
 /// Something that happened on the bus.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -116,22 +118,22 @@ use link::Link;
 struct Watch {
     state: Option<NmtState>,
     /// Heartbeat consumer time, when watched.
-    timeout_ms: Option<u64>,
-    last_seen_ms: u64,
+    timeout: Option<Duration>,
+    last_seen: Instant,
     lost: bool,
 }
 
 /// The SYNC producer.
 #[derive(Clone, Copy, Debug)]
 struct SyncProducer {
-    period_ms: u64,
-    next_ms: u64,
+    period: Duration,
+    next: Instant,
 }
 
 /// A CANopen master over a bus.
 pub struct Master<B: Bus> {
     link: Link<B>,
-    timeout_ms: u64,
+    timeout: Duration,
     clients: BTreeMap<NodeId, Box<Client<SDO_BUFFER>>>,
     nodes: BTreeMap<NodeId, Watch>,
     sync: Option<SyncProducer>,
@@ -141,11 +143,11 @@ pub struct Master<B: Bus> {
 }
 
 impl<B: Bus> Master<B> {
-    /// A master on `bus`, waiting [`DEFAULT_TIMEOUT_MS`] for answers.
+    /// A master on `bus`, waiting [`DEFAULT_TIMEOUT`] for answers.
     pub fn new(bus: B) -> Self {
         Master {
             link: Link { bus, pending: VecDeque::new(), observer: None, sdo_response: None },
-            timeout_ms: DEFAULT_TIMEOUT_MS,
+            timeout: DEFAULT_TIMEOUT,
             clients: BTreeMap::new(),
             nodes: BTreeMap::new(),
             sync: None,
@@ -155,8 +157,8 @@ impl<B: Bus> Master<B> {
     }
 
     /// The same master with another answer timeout (SDO responses, boot-up, PDOs).
-    pub fn with_timeout(mut self, ms: u64) -> Self {
-        self.timeout_ms = ms;
+    pub fn with_timeout(mut self, timeout: Duration) -> Self {
+        self.timeout = timeout;
         self.clients.clear();
         self
     }
@@ -171,13 +173,13 @@ impl<B: Bus> Master<B> {
         &mut self.link.bus
     }
 
-    /// The bus's clock, in ms.
-    pub fn now_ms(&mut self) -> u64 {
-        self.link.bus.now_ms()
+    /// The bus's clock.
+    pub fn now(&mut self) -> Instant {
+        self.link.bus.now()
     }
 
-    fn deadline(&mut self) -> u64 {
-        self.now_ms().saturating_add(self.timeout_ms)
+    fn deadline(&mut self) -> Instant {
+        self.now() + self.timeout
     }
 
     /// Sends a frame as it is.

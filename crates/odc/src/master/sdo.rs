@@ -139,7 +139,7 @@ impl<B: Bus> Master<B> {
     /// link then lets its responses through.
     fn take_client(&mut self, node: NodeId) -> Result<Box<Client<SDO_BUFFER>>, Error<B::Error>> {
         self.link.sdo_response = Some(node.sdo_response().raw());
-        let timeout = self.timeout_ms;
+        let timeout = self.timeout;
         Ok(self
             .clients
             .remove(&node)
