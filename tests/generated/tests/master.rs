@@ -152,13 +152,16 @@ fn a_plan_pdos_and_node_states() {
     assert_eq!(m.state(NODE), Some(NmtState::Operational));
     // An RPDO struct in, the dictionary changed.
     let cw = Controlword::SHUTDOWN;
-    m.send_pdo(pdo::Rpdo2::cob_id(NODE), &pdo::Rpdo2 { controlword: cw, target_position: -7 })
-        .unwrap();
+    m.send_pdo(
+        odc::cob::CobId(pdo::Rpdo2::cob_id(NODE)),
+        &pdo::Rpdo2 { controlword: cw, target_position: -7 },
+    )
+    .unwrap();
     assert_eq!(m.read(NODE, &od::TARGET_POSITION).unwrap(), -7);
     assert_eq!(m.read(NODE, &od::CONTROLWORD).unwrap().bits(), cw.bits());
     // A SYNC, and the TPDO struct out.
     m.sync().unwrap();
-    let t: pdo::Tpdo2 = m.recv_pdo(pdo::Tpdo2::cob_id(NODE)).unwrap();
+    let t: pdo::Tpdo2 = m.recv_pdo(odc::cob::CobId(pdo::Tpdo2::cob_id(NODE))).unwrap();
     assert_eq!(t.position_actual_value, m.read(NODE, &od::POSITION_ACTUAL_VALUE).unwrap());
     // A plan write the device refuses: which write, and why.
     let bad = [odc::plan::SdoWrite::u32(0x1000, 0, 1)];

@@ -119,9 +119,9 @@ pub trait DrivePdos {
     /// The TPDO with the statusword.
     type Status: crate::Pdo;
     /// The RPDO's COB-ID at `node_id`.
-    fn command_cob_id(node_id: crate::cob::NodeId) -> u32;
+    fn command_cob_id(node_id: crate::cob::NodeId) -> crate::cob::CobId;
     /// The TPDO's COB-ID at `node_id`.
-    fn status_cob_id(node_id: crate::cob::NodeId) -> u32;
+    fn status_cob_id(node_id: crate::cob::NodeId) -> crate::cob::CobId;
     /// The RPDO for the driver's outputs.
     fn command(outputs: &Outputs) -> Self::Command;
     /// The driver's inputs from the TPDO.

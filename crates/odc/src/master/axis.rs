@@ -4,14 +4,15 @@
 //!
 //! ```no_run
 //! # use odc::master::{Master, axis::{Axis, ProcessData}};
+//! # use odc::cob::CobId;
 //! # use odc::cia402::{Controlword, Driver, Inputs, ModeOfOperation, Outputs, Statusword, SupportedModes};
 //! # #[derive(odc::Pdo)] struct Rpdo2 { #[pdo(index = 0x6040)] controlword: u16, #[pdo(index = 0x607A)] target_position: i32 }
 //! # #[derive(odc::Pdo)] struct Tpdo2 { #[pdo(index = 0x6041)] statusword: u16, #[pdo(index = 0x6064)] position: i32 }
 //! # fn run(bus: odc::transport::mem::MemPort) -> Result<(), Box<dyn std::error::Error>> {
 //! let mut master = Master::new(bus);
 //! let pdos = ProcessData {
-//!     rpdo: 0x301,
-//!     tpdo: 0x281,
+//!     rpdo: CobId::new(0x301),
+//!     tpdo: CobId::new(0x281),
 //!     command: |o: &Outputs| Rpdo2 { controlword: o.controlword.bits(), target_position: o.target_position.unwrap_or(0) },
 //!     status: |t: &Tpdo2| Inputs::new(Statusword(t.statusword)).with_position(t.position),
 //! };
@@ -25,7 +26,7 @@
 use super::{Error, Master};
 use crate::Pdo;
 use crate::cia402::{Driver, DriverStatus, Inputs, ModeOfOperation, Statusword};
-use crate::cob::NodeId;
+use crate::cob::{CobId, NodeId};
 use crate::time::Duration;
 use crate::transport::Bus;
 
@@ -34,9 +35,9 @@ use crate::transport::Bus;
 /// driver's outputs and inputs map onto their generated structs.
 pub struct ProcessData<R, T> {
     /// COB-ID of the RPDO.
-    pub rpdo: u32,
+    pub rpdo: CobId,
     /// COB-ID of the TPDO.
-    pub tpdo: u32,
+    pub tpdo: CobId,
     /// The RPDO struct for the driver's outputs.
     pub command: fn(&crate::cia402::Outputs) -> R,
     /// The driver's inputs from the TPDO struct.
@@ -121,18 +122,22 @@ impl<'m, B: Bus, R: Pdo, T: Pdo> Axis<'m, B, R, T> {
         let out = self.driver.cycle(&self.inputs, now);
         self.master.send_pdo(self.pdos.rpdo, &(self.pdos.command)(&out))?;
         self.master.sync()?;
-        let id = self.pdos.tpdo & 0x7FF;
+        let tpdo = self.pdos.tpdo;
         let deadline = self.master.now() + CYCLE_WAIT;
-        let mut latest = self.master.link.take(deadline, |f| f.is_data(id)).map_err(Error::Bus)?;
+        let mut latest =
+            self.master.link.take(deadline, |f| tpdo.matches(f)).map_err(Error::Bus)?;
         // An event-driven TPDO may have come more than once: the newest is the drive's state.
         if latest.is_some() {
             let now = self.master.now();
-            while let Some(f) = self.master.link.take(now, |f| f.is_data(id)).map_err(Error::Bus)? {
+            while let Some(f) =
+                self.master.link.take(now, |f| tpdo.matches(f)).map_err(Error::Bus)?
+            {
                 latest = Some(f);
             }
         }
         if let Some(f) = latest {
-            let t = T::unpack(f.bytes()).map_err(|reason| Error::Unpack { cob_id: id, reason })?;
+            let t =
+                T::unpack(f.bytes()).map_err(|reason| Error::Unpack { cob_id: tpdo, reason })?;
             self.inputs = (self.pdos.status)(&t);
         }
         self.cycles += 1;

@@ -3,7 +3,7 @@
 use std::fmt;
 
 use super::lss;
-use crate::cob::NodeId;
+use crate::cob::{CobId, NodeId};
 use crate::plan::SdoWrite;
 use crate::sdo::SdoError;
 
@@ -41,15 +41,15 @@ pub enum Error<E> {
     },
     /// A PDO struct does not pack, or a received PDO does not unpack into it.
     Pdo {
-        /// The CAN-ID.
-        cob_id: u32,
+        /// The PDO's COB-ID.
+        cob_id: CobId,
         /// What the layout engine said.
         reason: crate::PackError,
     },
     /// A received PDO does not unpack into the struct asked for.
     Unpack {
-        /// The CAN-ID.
-        cob_id: u32,
+        /// The PDO's COB-ID.
+        cob_id: CobId,
         /// What the layout engine said.
         reason: crate::UnpackError,
     },
@@ -75,10 +75,10 @@ impl<E: fmt::Display> fmt::Display for Error<E> {
             ),
             Self::Timeout { what } => write!(f, "timeout: no {what}"),
             Self::Pdo { cob_id, reason } => {
-                write!(f, "PDO 0x{cob_id:03X} does not pack: {reason:?}")
+                write!(f, "PDO 0x{:03X} does not pack: {reason:?}", cob_id.can_id())
             }
             Self::Unpack { cob_id, reason } => {
-                write!(f, "PDO 0x{cob_id:03X} does not unpack: {reason:?}")
+                write!(f, "PDO 0x{:03X} does not unpack: {reason:?}", cob_id.can_id())
             }
             Self::Lss(e) => write!(f, "LSS: {e}"),
             Self::Drive(e) => write!(f, "CiA 402: {e}"),

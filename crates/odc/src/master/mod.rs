@@ -52,7 +52,7 @@ use std::vec::Vec;
 
 use crate::Pdo;
 use crate::can::CanFrame;
-use crate::cob::NodeId;
+use crate::cob::{CobId, NodeId};
 use crate::emcy::EmcyFrame;
 use crate::nmt::NmtState;
 use crate::plan::SdoWrite;
@@ -93,10 +93,10 @@ pub enum Event {
         /// Code, error register, manufacturer bytes.
         emcy: EmcyFrame,
     },
-    /// A PDO (COB-ID 0x181–0x57F).
+    /// A PDO (an 11-bit data frame on 0x181–0x57F).
     Pdo {
-        /// Its CAN-ID.
-        cob_id: u32,
+        /// Its COB-ID (11-bit, valid).
+        cob_id: CobId,
         /// The frame.
         frame: CanFrame,
     },
@@ -193,48 +193,42 @@ impl<B: Bus> Master<B> {
 
     // ---- PDO -----------------------------------------------------------------------------
 
-    /// Sends an RPDO: the struct's bytes on the CAN-ID of `cob_id` (its bit 31 and the other
-    /// flags dropped).
+    /// Sends an RPDO: the struct's bytes on `cob_id`'s identifier, 11- or 29-bit as its bit
+    /// 29 says (bit 31, "not valid", and bit 30 do not change the frame).
     ///
     /// # Errors
     ///
     /// A value that does not fit its field, or the bus error.
-    pub fn send_pdo<P: Pdo>(&mut self, cob_id: u32, pdo: &P) -> Result<(), Error<B::Error>> {
-        let id = cob_id & 0x7FF;
-        let bytes = pdo.pack().map_err(|reason| Error::Pdo { cob_id: id, reason })?;
-        let frame = CanFrame::from_slice(id, bytes.as_ref())
-            .ok_or(Error::Invalid("a PDO of more than 8 bytes"))?;
+    pub fn send_pdo<P: Pdo>(&mut self, cob_id: CobId, pdo: &P) -> Result<(), Error<B::Error>> {
+        let bytes = pdo.pack().map_err(|reason| Error::Pdo { cob_id, reason })?;
+        let frame =
+            cob_id.frame(bytes.as_ref()).ok_or(Error::Invalid("a PDO of more than 8 bytes"))?;
         self.send(&frame)
     }
 
-    /// The next TPDO on `cob_id`, unpacked (queued ones first).
+    /// The next TPDO on `cob_id` (a data frame of its identifier and format), unpacked
+    /// (queued ones first).
     ///
     /// # Errors
     ///
     /// [`Error::Timeout`], a frame that does not unpack into `P`, or the bus error.
-    pub fn recv_pdo<P: Pdo>(&mut self, cob_id: u32) -> Result<P, Error<B::Error>> {
-        let id = cob_id & 0x7FF;
-        let deadline = self.deadline();
-        let frame = self
-            .link
-            .take(deadline, |f| f.is_data(id))
-            .map_err(Error::Bus)?
-            .ok_or(Error::Timeout { what: "PDO" })?;
-        P::unpack(frame.bytes()).map_err(|reason| Error::Unpack { cob_id: id, reason })
+    pub fn recv_pdo<P: Pdo>(&mut self, cob_id: CobId) -> Result<P, Error<B::Error>> {
+        let frame = self.recv_frame(cob_id)?;
+        P::unpack(frame.bytes()).map_err(|reason| Error::Unpack { cob_id, reason })
     }
 
-    /// The next data frame with CAN-ID `id` (queued ones first), as it is: for process data
+    /// The next data frame on `cob_id` (queued ones first), as it is: for process data
     /// without a struct, or a vendor protocol.
     ///
     /// # Errors
     ///
     /// [`Error::Timeout`], or the bus error.
-    pub fn recv_frame(&mut self, id: u32) -> Result<CanFrame, Error<B::Error>> {
+    pub fn recv_frame(&mut self, cob_id: CobId) -> Result<CanFrame, Error<B::Error>> {
         let deadline = self.deadline();
         self.link
-            .take(deadline, |f| f.is_data(id))
+            .take(deadline, |f| cob_id.matches(f))
             .map_err(Error::Bus)?
-            .ok_or(Error::Timeout { what: "frame" })
+            .ok_or(Error::Timeout { what: "PDO" })
     }
 
     /// The LSS master (CiA 305) on this master's bus.
@@ -251,14 +245,14 @@ impl<B: Bus> Master<B> {
 pub fn mapping_plan<P: Pdo>(
     comm_index: u16,
     mapping_index: u16,
-    cob_id: u32,
+    cob_id: CobId,
     transmission_type: u8,
 ) -> Vec<SdoWrite> {
     let mapping: Vec<u32> = P::MAPPING.iter().map(|e| e.to_u32()).collect();
     crate::plan::PdoConfig::new(mapping_index, &mapping)
         .with_comm(comm_index, true)
         .with_transmission_type(transmission_type)
-        .to_vec(cob_id)
+        .to_vec(cob_id.0)
 }
 
 /// A data frame of at most 8 bytes.

@@ -2,7 +2,7 @@
 
 use super::{Error, Event, Master, SyncProducer, frame};
 use crate::can::CanFrame;
-use crate::cob::NodeId;
+use crate::cob::{CobId, NodeId};
 use crate::emcy::EmcyFrame;
 use crate::nmt::{NmtCommand, NmtState};
 use crate::time::{Duration, Instant};
@@ -98,7 +98,7 @@ impl<B: Bus> Master<B> {
                 (Some(node), Ok(emcy)) => Event::Emcy { node, emcy },
                 _ => Event::Other(*f),
             },
-            0x181..=0x57F => Event::Pdo { cob_id: id, frame: *f },
+            0x181..=0x57F => Event::Pdo { cob_id: CobId::of_frame(f), frame: *f },
             0x701..=0x77F => {
                 let Some(node) = NodeId::of_error_control(id) else {
                     return Some(Event::Other(*f));
