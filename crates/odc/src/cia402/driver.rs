@@ -214,7 +214,13 @@ enum Job {
     Stream,
 }
 
-/// Default time a job may take.
+/// Default time a job may take (5 s; [`Driver::with_timeout`] sets another).
+///
+/// When a job is not done in time, [`Driver::status`] is [`DriverError::Timeout`] naming what
+/// it waited for, and the drive is stopped: a drive in "operation enabled" gets the halt bit
+/// (controlword bit 8, CiA 402-2 §6.3.1 / IEC 61800-7-201 "halt"), so it decelerates as its
+/// halt option code 0x605D says and stays enabled for the next job; in any other state the
+/// power stage does not drive a motion and the controlword stays as it was.
 #[cfg(feature = "cia402")]
 pub const DEFAULT_TIMEOUT: Duration = Duration::from_secs(5);
 
@@ -252,7 +258,8 @@ impl Driver {
         }
     }
 
-    /// The same driver with another job timeout.
+    /// The same driver with another job timeout (what happens when it fires:
+    /// [`DEFAULT_TIMEOUT`]).
     pub const fn with_timeout(mut self, timeout: Duration) -> Self {
         self.timeout = timeout;
         self
@@ -402,6 +409,11 @@ impl Driver {
                 let waiting_for = self.waiting_for();
                 self.status = DriverStatus::Failed(DriverError::Timeout { waiting_for });
                 self.job = Job::None;
+                // A job that ran out of time must not leave the axis moving (see
+                // DEFAULT_TIMEOUT): halt, CiA 402-2 controlword bit 8.
+                if state == Some(State::OperationEnabled) {
+                    self.out.controlword = Controlword::ENABLE_OPERATION.with_halt(true);
+                }
             }
         }
         self.out
