@@ -48,6 +48,11 @@ impl Instant {
         Self(self.0.saturating_add(d.0))
     }
 
+    /// `self - d`, at least the epoch.
+    pub const fn saturating_sub(self, d: Duration) -> Self {
+        Self(self.0.saturating_sub(d.0))
+    }
+
     /// The time from `earlier` to `self`; zero when `earlier` is later.
     pub const fn saturating_duration_since(self, earlier: Self) -> Duration {
         Duration(self.0.saturating_sub(earlier.0))
@@ -183,6 +188,14 @@ mod tests {
             Instant::from_micros(u64::MAX)
         );
         assert_eq!(Instant::from_micros(10) - Instant::from_micros(30), Duration::ZERO);
+        assert_eq!(
+            Instant::from_micros(10).saturating_sub(Duration::from_micros(30)),
+            Instant::ZERO
+        );
+        assert_eq!(
+            Instant::from_micros(30).saturating_sub(Duration::from_micros(10)),
+            Instant::from_micros(20)
+        );
         assert_eq!(Instant::from_micros(30) - Instant::from_micros(10), Duration::from_micros(20));
         assert_eq!(
             Duration::from(core::time::Duration::from_nanos(2_500)),

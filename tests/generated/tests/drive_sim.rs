@@ -68,7 +68,7 @@ fn session<P: DrivePdos>(file: &str, plans: &[&[odc::plan::SdoWrite]], velocity:
             }
             Ok(())
         }
-        Err(Error::Drive(e)) => Err(e),
+        Err(Error::Drive { error, .. }) => Err(error),
         Err(e) => panic!("{file}: {e}"),
     };
     // Two more cycles for the last set-point to come back in the TPDO.

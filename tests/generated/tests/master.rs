@@ -128,13 +128,42 @@ fn boot_up_sdo_and_aborts() {
         }
         other => panic!("{other:?}"),
     }
-    // A node that is not there: the client's own timeout abort, not a hang.
+    // A node that is not there: a timeout, not a hang, that says nothing came from it.
     match m.upload(odc::node_id!(9), 0x1000, 0) {
-        Err(Error::Sdo { node, error: SdoError::Local(a), .. }) if node.get() == 9 => {
-            assert_eq!(a, SdoAbort::Timeout);
+        Err(e @ Error::Timeout { node: Some(node), heard: false, .. }) if node.get() == 9 => {
+            let text = e.to_string();
+            assert!(text.contains("nothing at all from node 9 within 500 ms"), "{text}");
+            assert!(text.contains("SDO response for 0x1000:00"), "{text}");
         }
         other => panic!("{other:?}"),
     }
+}
+
+/// #33 item 4: a stopped node (CiA 301 §7.3.2.2: no SDO in "stopped") that sends its
+/// heartbeat is alive but silent on SDO, and the timeout says so, unlike an absent node's.
+#[test]
+fn a_timeout_tells_a_silent_node_from_an_absent_one() {
+    let (mut m, _device, _spy) = setup();
+    m.wait_boot_up(NODE).unwrap();
+    m.write(NODE, &od::PRODUCER_HEARTBEAT_TIME, 20).unwrap();
+    m.nmt(NmtCommand::Stop, NODE).unwrap();
+    m.wait_state(NODE, NmtState::Stopped).unwrap();
+    match m.upload(NODE, 0x1000, 0) {
+        Err(e @ Error::Timeout { heard: true, state: Some(NmtState::Stopped), .. }) => {
+            let text = e.to_string();
+            assert!(text.contains("node 1 is alive"), "{text}");
+            assert!(text.contains("stopped, where it serves no SDO"), "{text}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // Master errors print which node and what was waited for, not a Debug dump.
+    let e = m.wait_boot_up(odc::node_id!(9)).unwrap_err();
+    assert_eq!(format!("{e:?}"), e.to_string(), "Debug is the Display text");
+    assert_eq!(
+        e.to_string(),
+        "timeout: nothing at all from node 9 within 500 ms (waiting for the boot-up message): \
+         is it on the bus, with this node-ID and bit rate?"
+    );
 }
 
 #[test]

@@ -94,6 +94,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             eprintln!("error: {at}: {a}");
             Ok(ExitCode::from(1))
         }
+        // No response: the master's error says whether the node was heard at all.
+        Err(e @ MasterError::Timeout { .. }) => {
+            eprintln!("error: {at}: {e}");
+            Ok(ExitCode::from(1))
+        }
         Err(e) => Err(anyhow::anyhow!("{at}: {e}")),
     }
 }

@@ -155,7 +155,7 @@ impl<'m, B: Bus, R: Pdo, T: Pdo> Axis<'m, B, R, T> {
                 DriverStatus::Busy => {
                     self.cycle()?;
                 }
-                DriverStatus::Failed(e) => return Err(Error::Drive(e)),
+                DriverStatus::Failed(error) => return Err(Error::Drive { node: self.node, error }),
                 DriverStatus::Done | DriverStatus::Idle => return Ok(()),
             }
         }
@@ -188,7 +188,7 @@ impl<'m, B: Bus, R: Pdo, T: Pdo> Axis<'m, B, R, T> {
     ///
     /// [`Error::Drive`] with the mode refused, the SDO error, or another mode displayed.
     pub fn set_mode(&mut self, mode: ModeOfOperation) -> Result<(), Error<B::Error>> {
-        self.driver.set_mode(mode).map_err(Error::Drive)?;
+        self.driver.set_mode(mode).map_err(|error| Error::Drive { node: self.node, error })?;
         let v = mode.to_i8().to_le_bytes();
         self.master.download(self.node, 0x6060, 0, &v)?;
         let shown = self.master.upload(self.node, 0x6061, 0)?;
@@ -204,7 +204,9 @@ impl<'m, B: Bus, R: Pdo, T: Pdo> Axis<'m, B, R, T> {
     ///
     /// As [`Axis::run`].
     pub fn move_to(&mut self, target: i32) -> Result<(), Error<B::Error>> {
-        self.driver.move_to(target, false).map_err(Error::Drive)?;
+        self.driver
+            .move_to(target, false)
+            .map_err(|error| Error::Drive { node: self.node, error })?;
         self.run()
     }
 
@@ -214,7 +216,7 @@ impl<'m, B: Bus, R: Pdo, T: Pdo> Axis<'m, B, R, T> {
     ///
     /// As [`Axis::run`].
     pub fn run_at(&mut self, velocity: i32) -> Result<(), Error<B::Error>> {
-        self.driver.run_at(velocity).map_err(Error::Drive)?;
+        self.driver.run_at(velocity).map_err(|error| Error::Drive { node: self.node, error })?;
         self.run()
     }
 

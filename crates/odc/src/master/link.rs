@@ -2,9 +2,10 @@
 //! observer, and the SDO client sees only its responses.
 
 use std::boxed::Box;
-use std::collections::VecDeque;
+use std::collections::{BTreeMap, VecDeque};
 
 use crate::can::CanFrame;
+use crate::cob::{self, Function, NodeId};
 use crate::time::Instant;
 use crate::transport::Bus;
 
@@ -26,6 +27,21 @@ pub(super) struct Link<B> {
     pub(super) observer: Option<Observer>,
     /// The SDO response CAN-ID the current transfer waits for.
     pub(super) sdo_response: Option<u32>,
+    /// When each node was last heard: any frame it sends (boot-up, heartbeat, EMCY, TPDO,
+    /// SDO response), so a timeout can tell a silent node from an absent one.
+    pub(super) heard: BTreeMap<NodeId, Instant>,
+}
+
+/// The node that sent `frame`, by CiA 301's predefined connection set: only the functions a
+/// node transmits (a request to it is no sign of life).
+fn sender(frame: &CanFrame) -> Option<NodeId> {
+    if frame.is_extended() || frame.is_remote() {
+        return None;
+    }
+    match cob::classify(u16::try_from(frame.id()).ok()?)? {
+        (Function::Emcy | Function::Tpdo(_) | Function::SdoTx | Function::Heartbeat, node) => node,
+        _ => None,
+    }
 }
 
 impl<B: Bus> Link<B> {
@@ -39,8 +55,14 @@ impl<B: Bus> Link<B> {
     /// The next frame from the bus (not the queue), waiting until `deadline`.
     pub(super) fn receive(&mut self, deadline: Instant) -> Result<Option<CanFrame>, B::Error> {
         let frame = self.bus.recv(deadline)?;
-        if let (Some(o), Some(f)) = (&mut self.observer, &frame) {
-            o(Dir::Received, f);
+        if let Some(f) = &frame {
+            if let Some(node) = sender(f) {
+                let now = self.bus.now();
+                self.heard.insert(node, now);
+            }
+            if let Some(o) = &mut self.observer {
+                o(Dir::Received, f);
+            }
         }
         Ok(frame)
     }

@@ -109,7 +109,7 @@ pub enum Event {
     Other(CanFrame),
 }
 
-pub use error::Error;
+pub use error::{Error, Waited};
 pub use link::Dir;
 use link::Link;
 
@@ -146,7 +146,13 @@ impl<B: Bus> Master<B> {
     /// A master on `bus`, waiting [`DEFAULT_TIMEOUT`] for answers.
     pub fn new(bus: B) -> Self {
         Master {
-            link: Link { bus, pending: VecDeque::new(), observer: None, sdo_response: None },
+            link: Link {
+                bus,
+                pending: VecDeque::new(),
+                observer: None,
+                sdo_response: None,
+                heard: BTreeMap::new(),
+            },
             timeout: DEFAULT_TIMEOUT,
             clients: BTreeMap::new(),
             nodes: BTreeMap::new(),
@@ -178,8 +184,23 @@ impl<B: Bus> Master<B> {
         self.link.bus.now()
     }
 
-    fn deadline(&mut self) -> Instant {
-        self.now() + self.timeout
+    /// The answer timeout (SDO responses, boot-up, PDOs).
+    pub fn timeout(&self) -> Duration {
+        self.timeout
+    }
+
+    /// When `node` was last heard: the last frame it sent (boot-up, heartbeat, EMCY, TPDO,
+    /// SDO response) that the master received; `None` if none yet.
+    pub fn last_heard(&self, node: NodeId) -> Option<Instant> {
+        self.link.heard.get(&node).copied()
+    }
+
+    /// The timeout error of a wait for `what` from `node` that began at `since`: whether the
+    /// node was heard meanwhile, and its last reported state.
+    fn timeout_error(&self, node: Option<NodeId>, what: Waited, since: Instant) -> Error<B::Error> {
+        let heard = node.and_then(|n| self.last_heard(n)).is_some_and(|t| t >= since);
+        let state = node.and_then(|n| self.state(n));
+        Error::Timeout { node, what, waited: self.timeout, heard, state }
     }
 
     /// Sends a frame as it is.
@@ -224,11 +245,21 @@ impl<B: Bus> Master<B> {
     ///
     /// [`Error::Timeout`], or the bus error.
     pub fn recv_frame(&mut self, cob_id: CobId) -> Result<CanFrame, Error<B::Error>> {
-        let deadline = self.deadline();
-        self.link
-            .take(deadline, |f| cob_id.matches(f))
-            .map_err(Error::Bus)?
-            .ok_or(Error::Timeout { what: "PDO" })
+        let since = self.now();
+        let deadline = since + self.timeout;
+        match self.link.take(deadline, |f| cob_id.matches(f)).map_err(Error::Bus)? {
+            Some(f) => Ok(f),
+            None => {
+                let node = match cob_id.is_extended() {
+                    true => None,
+                    false => u16::try_from(cob_id.can_id())
+                        .ok()
+                        .and_then(crate::cob::classify)
+                        .and_then(|(_, n)| n),
+                };
+                Err(self.timeout_error(node, Waited::Frame(cob_id), since))
+            }
+        }
     }
 
     /// The LSS master (CiA 305) on this master's bus.

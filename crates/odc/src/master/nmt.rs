@@ -1,6 +1,6 @@
 //! NMT master, heartbeat consumer, the events of the bus and the SYNC producer.
 
-use super::{Error, Event, Master, SyncProducer, frame};
+use super::{Error, Event, Master, SyncProducer, Waited, frame};
 use crate::can::CanFrame;
 use crate::cob::{CobId, NodeId};
 use crate::emcy::EmcyFrame;
@@ -52,14 +52,15 @@ impl<B: Bus> Master<B> {
     /// [`Error::Timeout`] when none comes in time, or the bus error.
     pub fn wait_boot_up(&mut self, node: NodeId) -> Result<(), Error<B::Error>> {
         let id = node.error_control().raw();
-        let deadline = self.deadline();
+        let since = self.now();
+        let deadline = since + self.timeout;
         let boot = |f: &CanFrame| f.is_data(id) && f.bytes() == [0];
         match self.link.take(deadline, boot).map_err(Error::Bus)? {
             Some(f) => {
                 self.note(&f);
                 Ok(())
             }
-            None => Err(Error::Timeout { what: "boot-up message" }),
+            None => Err(self.timeout_error(Some(node), Waited::BootUp, since)),
         }
     }
 
@@ -70,7 +71,8 @@ impl<B: Bus> Master<B> {
     /// [`Error::Timeout`], or the bus error.
     pub fn wait_state(&mut self, node: NodeId, state: NmtState) -> Result<(), Error<B::Error>> {
         let id = node.error_control().raw();
-        let deadline = self.deadline();
+        let since = self.now();
+        let deadline = since + self.timeout;
         let want = |f: &CanFrame| {
             f.is_data(id) && f.bytes().first().and_then(|b| NmtState::from_u8(*b)) == Some(state)
         };
@@ -79,7 +81,18 @@ impl<B: Bus> Master<B> {
                 self.note(&f);
                 Ok(())
             }
-            None => Err(Error::Timeout { what: "heartbeat with the state waited for" }),
+            None => {
+                // The heartbeats seen meanwhile (queued) still tell the node's last state.
+                let pending: std::vec::Vec<CanFrame> = self.link.pending.iter().copied().collect();
+                for f in pending.iter().filter(|f| f.is_data(id)) {
+                    if let Some(s) = f.bytes().first().and_then(|b| NmtState::from_u8(*b))
+                        && s != NmtState::BootUp
+                    {
+                        self.nodes.entry(node).or_default().state = Some(s);
+                    }
+                }
+                Err(self.timeout_error(Some(node), Waited::State(state), since))
+            }
         }
     }
 
