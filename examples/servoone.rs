@@ -11,6 +11,7 @@
 use std::thread;
 
 use odc::cia402::{Controlword, Driver, Inputs, ModeOfOperation, Outputs, Statusword};
+use odc::cob::CobId;
 use odc::master::axis::{Axis, ProcessData};
 use odc::master::mapping_plan;
 use odc::nmt::NmtCommand;
@@ -68,7 +69,7 @@ pub fn main() -> Result<(), Error> {
     step(
         "the application's mapping: R_PDO1 controlword + target position, T_PDO1 statusword + position",
     );
-    let (rx, tx) = (pdo::Rpdo1::cob_id(NODE), pdo::Tpdo1::cob_id(NODE));
+    let (rx, tx) = (CobId(pdo::Rpdo1::cob_id(NODE)), CobId(pdo::Tpdo1::cob_id(NODE)));
     m.execute(
         NODE,
         &mapping_plan::<Command>(pdo::Rpdo1::COMM_INDEX, pdo::Rpdo1::MAPPING_INDEX, rx, 255),

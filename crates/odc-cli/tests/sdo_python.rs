@@ -77,7 +77,7 @@ fn odc_sdo_reads_and_writes_python_canopen_by_name() {
             .stderr(Stdio::piped())
             .spawn()
             .unwrap();
-        let deadline = watch.now_ms() + 30_000;
+        let deadline = watch.now() + odc::time::Duration::from_millis(30_000);
         loop {
             match watch.recv(deadline).unwrap() {
                 Some(f) if f.id() == 0x705 && f.bytes() == [0] => break,

@@ -234,12 +234,12 @@ fn drive_pdos(ctx: &Ctx<'_>) -> TokenStream {
             type Command = super::pdo::#r;
             type Status = super::pdo::#t;
 
-            fn command_cob_id(node_id: #rt::cob::NodeId) -> u32 {
-                super::pdo::#r::cob_id(node_id)
+            fn command_cob_id(node_id: #rt::cob::NodeId) -> #rt::cob::CobId {
+                #rt::cob::CobId(super::pdo::#r::cob_id(node_id))
             }
 
-            fn status_cob_id(node_id: #rt::cob::NodeId) -> u32 {
-                super::pdo::#t::cob_id(node_id)
+            fn status_cob_id(node_id: #rt::cob::NodeId) -> #rt::cob::CobId {
+                #rt::cob::CobId(super::pdo::#t::cob_id(node_id))
             }
 
             fn command(o: &#rt::cia402::Outputs) -> super::pdo::#r {

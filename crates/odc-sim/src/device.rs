@@ -110,7 +110,7 @@ impl SimDevice {
         let dt = now_ms.saturating_sub(self.last_tick_ms);
         self.last_tick_ms = now_ms;
         if let Some(drive) = &mut self.drive {
-            drive.step(&mut self.od, u32::try_from(dt).unwrap_or(u32::MAX));
+            drive.step(&mut self.od, odc::time::Duration::from_millis(dt));
         }
     }
 
@@ -151,17 +151,19 @@ pub fn run_on_bus<B: odc::sdo::Bus>(
     mut stop: impl FnMut() -> bool,
 ) -> Result<(), B::Error> {
     let mut out = Vec::new();
-    device.start(bus.now_ms(), &mut |f| out.push(f));
-    let mut next_tick = bus.now_ms() + tick_ms;
+    // The device's tick counts in ms; the bus's clock is an `Instant`.
+    let now_ms = |bus: &mut B| bus.now().as_millis();
+    device.start(now_ms(bus), &mut |f| out.push(f));
+    let mut next_tick = now_ms(bus) + tick_ms;
     while !stop() {
         for f in out.drain(..) {
             bus.send(&f)?;
         }
-        if let Some(frame) = bus.recv(next_tick)? {
-            let now = bus.now_ms();
+        if let Some(frame) = bus.recv(odc::time::Instant::from_millis(next_tick))? {
+            let now = now_ms(bus);
             device.handle(&frame, now, &mut |f| out.push(f));
         }
-        let now = bus.now_ms();
+        let now = now_ms(bus);
         if now >= next_tick {
             device.poll(now, &mut |f| out.push(f));
             next_tick = now + tick_ms;

@@ -317,8 +317,8 @@ fn pdo_mapping() {
     let dev = &mut m.bus_mut().od;
     dev.set(od::STATUSWORD, Statusword(0x0A10)).unwrap();
     dev.set(od::POSITION_ACTUAL_VALUE, 0x000E_1103).unwrap();
-    let tx = odc::slave::initial(&t3::COB_ID_USED_BY_PDO, Some(NODE), 0);
-    let rx = odc::slave::initial(&r3::COB_ID_USED_BY_PDO, Some(NODE), 0);
+    let tx = odc::cob::CobId(odc::slave::initial(&t3::COB_ID_USED_BY_PDO, Some(NODE), 0));
+    let rx = odc::cob::CobId(odc::slave::initial(&r3::COB_ID_USED_BY_PDO, Some(NODE), 0));
     let (t3_comm, t3_map) = (t3::COB_ID_USED_BY_PDO.addr.index, 0x1A02);
     let (r3_comm, r3_map) = (r3::COB_ID_USED_BY_PDO.addr.index, 0x1602);
     // In pre-operational (no PDO runs), T_PDO3 gets the statusword alone; the node sends it
@@ -335,7 +335,7 @@ fn pdo_mapping() {
     m.send_pdo(rx, &target).unwrap();
     assert_eq!(m.bus_mut().od.get(od::TARGET_POSITION), Ok(0x0000_0A00));
 
-    let pdos = m.bus_mut().frames_of(&[tx & 0x7FF, rx & 0x7FF]);
+    let pdos = m.bus_mut().frames_of(&[tx.can_id(), rx.can_id()]);
     assert_same(
         &pdos,
         &[

@@ -183,14 +183,17 @@ fn upid_write_16_bit() {
 fn answers_without_size() {
     let mut client = Client::<8>::new(NODE);
     let addr = upid::U1CA4_RAM.addr;
-    client.start_upload(addr.index, addr.sub, 0).expect("idle");
+    client.start_upload(addr.index, addr.sub, odc::time::Instant::ZERO).expect("idle");
     let answer = Response::InitiateUpload(
         addr,
         Init::Expedited { data: [0x34, 0x12, 0, 0], len: 4, sized: false },
     );
     assert_eq!(answer.encode()[0], 0x42);
     let frame = CanFrame::new(0x581, answer.encode()).unwrap();
-    assert_eq!(client.handle(&frame, 1), Some(odc::sdo::Step::Done));
+    assert_eq!(
+        client.handle(&frame, odc::time::Instant::from_millis(1)),
+        Some(odc::sdo::Step::Done)
+    );
     let value: u16 = odc::ObjValue::decode(&client.data()[..2]).expect("2 bytes");
     assert_eq!(value, 0x1234);
 }

@@ -396,8 +396,8 @@ fn pdo_mapping() {
     // "By default, R_PDO4 is empty" (and T_PDO4: the file maps nothing in either).
     assert_eq!((pdo::Rpdo4::LEN, pdo::Tpdo4::LEN), (0, 0));
     // The COB-IDs the file gives node 1 (481h and 501h, not valid by default).
-    let tx = odc::slave::initial(&t4::COB_ID_USED_BY_PDO, Some(NODE), 0);
-    let rx = odc::slave::initial(&r4::COB_ID_USED_BY_PDO, Some(NODE), 0);
+    let tx = odc::cob::CobId(odc::slave::initial(&t4::COB_ID_USED_BY_PDO, Some(NODE), 0));
+    let rx = odc::cob::CobId(odc::slave::initial(&r4::COB_ID_USED_BY_PDO, Some(NODE), 0));
     let (t4_comm, t4_map) = (t4::COB_ID_USED_BY_PDO.addr.index, 0x1A03);
     let (r4_comm, r4_map) = (r4::COB_ID_USED_BY_PDO.addr.index, 0x1603);
     m.nmt(NmtCommand::Start, NODE).unwrap();
@@ -415,7 +415,7 @@ fn pdo_mapping() {
     m.send_pdo(rx, &target).unwrap();
     assert_eq!(m.bus_mut().od.get(od::TARGET_POSITION), Ok(0x0000_0A00));
 
-    let pdos = m.bus_mut().frames_of(&[tx & 0x7FF, rx & 0x7FF]);
+    let pdos = m.bus_mut().frames_of(&[tx.can_id(), rx.can_id()]);
     assert_same(
         &pdos,
         &[

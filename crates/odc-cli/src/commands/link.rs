@@ -71,19 +71,19 @@ impl Bus for Link {
         }
     }
 
-    fn recv(&mut self, deadline_ms: u64) -> std::io::Result<Option<CanFrame>> {
+    fn recv(&mut self, deadline: odc::time::Instant) -> std::io::Result<Option<CanFrame>> {
         match self {
-            Link::Tcp(b) => b.recv(deadline_ms),
+            Link::Tcp(b) => b.recv(deadline),
             #[cfg(all(feature = "socketcan", target_os = "linux"))]
-            Link::Can(b) => b.recv(deadline_ms),
+            Link::Can(b) => b.recv(deadline),
         }
     }
 
-    fn now_ms(&mut self) -> u64 {
+    fn now(&mut self) -> odc::time::Instant {
         match self {
-            Link::Tcp(b) => b.now_ms(),
+            Link::Tcp(b) => b.now(),
             #[cfg(all(feature = "socketcan", target_os = "linux"))]
-            Link::Can(b) => b.now_ms(),
+            Link::Can(b) => b.now(),
         }
     }
 }

@@ -86,7 +86,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mut link = bus.open()?;
     let start = std::time::Instant::now();
     loop {
-        let deadline = link.now_ms().saturating_add(1000);
+        let deadline = link.now() + odc::time::Duration::from_secs(1);
         match link.recv(deadline) {
             Ok(Some(frame)) => print(&decoder.decode(&frame, Some(start.elapsed().as_secs_f64())))?,
             Ok(None) => {}

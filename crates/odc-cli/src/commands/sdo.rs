@@ -70,7 +70,8 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         })?),
         None => None,
     };
-    let mut master = Master::new(common.bus.open()?).with_timeout(common.timeout);
+    let mut master = Master::new(common.bus.open()?)
+        .with_timeout(odc::time::Duration::from_millis(common.timeout));
     let at = format!("0x{:04X}:{:02X} {}", target.index, target.sub, target.name);
     let result = match &payload {
         Some(bytes) => master.download(node, target.index, target.sub, bytes).map(|()| None),
@@ -91,6 +92,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         }
         Err(MasterError::Sdo { error: SdoError::Remote(a) | SdoError::Local(a), .. }) => {
             eprintln!("error: {at}: {a}");
+            Ok(ExitCode::from(1))
+        }
+        // No response: the master's error says whether the node was heard at all.
+        Err(e @ MasterError::Timeout { .. }) => {
+            eprintln!("error: {at}: {e}");
             Ok(ExitCode::from(1))
         }
         Err(e) => Err(anyhow::anyhow!("{at}: {e}")),

@@ -214,18 +214,18 @@ impl SubDevice {
                 }
             }
         }
-        let dt_ms = match self.last_ns {
+        let dt = match self.last_ns {
             Some(last) => {
                 let ns = at.arrival_ns.saturating_sub(last) + self.carry_ns;
-                self.carry_ns = ns % 1_000_000;
-                u32::try_from(ns / 1_000_000).unwrap_or(u32::MAX)
+                self.carry_ns = ns % 1000;
+                odc::time::Duration::from_micros(ns / 1000)
             }
-            None => 0,
+            None => odc::time::Duration::ZERO,
         };
         self.last_ns = Some(at.arrival_ns);
         if let Some(drive) = &mut self.drive {
             drive.update(&mut self.od);
-            drive.step(&mut self.od, dt_ms);
+            drive.step(&mut self.od, dt);
         }
         self.write_inputs();
     }

@@ -11,6 +11,7 @@
 //!
 //! ```
 //! use odc::cia402::{Controlword, Drive, DriveObjects, ModeOfOperation, State, Statusword};
+//! use odc::time::Duration;
 //!
 //! /// The 402 objects of a tiny drive (generated dictionaries implement the trait).
 //! #[derive(Default)]
@@ -37,9 +38,9 @@
 //! od.cw = Controlword::ENABLE_OPERATION.with_new_setpoint(true);
 //! drive.update(&mut od);
 //! assert!(od.sw.setpoint_ack() && !od.sw.target_reached());
-//! drive.step(&mut od, 100); // 100 ms at 1000 units/s
+//! drive.step(&mut od, Duration::from_millis(100)); // at 1000 units/s
 //! assert_eq!(od.position, 100);
-//! drive.step(&mut od, 200);
+//! drive.step(&mut od, Duration::from_millis(200));
 //! assert_eq!(od.position, 250);
 //! assert!(od.sw.target_reached());
 //! ```
@@ -50,6 +51,8 @@ pub use super::homing::HOME_SWITCH;
 use super::homing::{Homing, Method};
 #[cfg_attr(not(feature = "cia402"), allow(unused_imports))]
 use super::{Controlword, ModeOfOperation, State, Statusword};
+#[cfg(feature = "cia402")]
+use crate::time::Duration;
 
 /// The CiA 402 objects a drive's firmware reads (what the master commands) and sets (what
 /// the drive reports, read-only over SDO). Generated slave dictionaries implement it when the
@@ -274,7 +277,7 @@ pub struct Axis {
     setpoint_ack: bool,
     last: Controlword,
     mode: Option<ModeOfOperation>,
-    /// Motion of less than one unit carried to the next step, in units × ms.
+    /// Motion of less than one unit carried to the next step, in units × µs.
     carry: i64,
     homing: Homing,
     /// The position of the mechanics minus the position actual value (homing moves the
@@ -451,12 +454,13 @@ impl Axis {
         self.last = cw;
     }
 
-    /// Moves for `dt_ms` milliseconds at the commanded velocity (stopping at a profile
-    /// position target).
-    pub fn step(&mut self, dt_ms: u32) {
-        let travel = self.velocity.saturating_mul(i64::from(dt_ms)).saturating_add(self.carry);
-        let mut delta = travel / 1000;
-        self.carry = travel % 1000;
+    /// Moves for `dt` at the commanded velocity (units/s; stopping at a profile position
+    /// target).
+    pub fn step(&mut self, dt: Duration) {
+        let dt_us = i64::try_from(dt.as_micros()).unwrap_or(i64::MAX);
+        let travel = self.velocity.saturating_mul(dt_us).saturating_add(self.carry);
+        let mut delta = travel / 1_000_000;
+        self.carry = travel % 1_000_000;
         let homing = self.homing == Homing::Searching;
         if (self.mode == Some(ModeOfOperation::ProfilePosition) || homing)
             && let Some(t) = self.target
@@ -568,14 +572,14 @@ impl Drive {
         taken
     }
 
-    /// `dt_ms` milliseconds of motion; a quick stop or fault reaction completes here (the
-    /// axis stops at once). Returns the transition number taken, if any.
-    pub fn step<D: DriveObjects + ?Sized>(&mut self, od: &mut D, dt_ms: u32) -> Option<u8> {
+    /// `dt` of motion; a quick stop or fault reaction completes here (the axis stops at
+    /// once). Returns the transition number taken, if any.
+    pub fn step<D: DriveObjects + ?Sized>(&mut self, od: &mut D, dt: Duration) -> Option<u8> {
         let taken = if self.control.stopping() {
             self.axis.stop();
             self.control.stopped()
         } else {
-            self.axis.step(dt_ms);
+            self.axis.step(dt);
             None
         };
         self.axis.command(od, self.control.state());

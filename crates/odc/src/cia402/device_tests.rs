@@ -3,6 +3,7 @@
 //! coding of the statusword (mask 0x6F: bits 0–3, 5, 6).
 
 use super::*;
+use crate::time::Duration;
 
 /// The objects of a drive, as plain fields.
 #[derive(Debug, Default)]
@@ -162,11 +163,11 @@ fn quick_stop_ends_by_its_option_code() {
     // (transition 12) without a command.
     let (mut drive, mut od) = after(&enabled, 2);
     assert!(coded(od.sw, QUICK_STOP_ACTIVE));
-    assert_eq!(drive.step(&mut od, 10), Some(12));
+    assert_eq!(drive.step(&mut od, Duration::from_millis(10)), Some(12));
     assert!(coded(od.sw, SWITCH_ON_DISABLED));
     // Option code 6: stay in "quick stop active"; enable operation goes back (16).
     let (mut drive, mut od) = after(&enabled, 6);
-    assert_eq!(drive.step(&mut od, 10), None);
+    assert_eq!(drive.step(&mut od, Duration::from_millis(10)), None);
     assert!(coded(od.sw, QUICK_STOP_ACTIVE));
     od.cw = Controlword(ENABLE_OPERATION);
     assert_eq!(drive.update(&mut od), Some(16));
@@ -184,7 +185,7 @@ fn fault_reaction_fault_and_reset() {
     assert_eq!(drive.fault(&mut od), Some(13));
     assert!(coded(od.sw, FAULT_REACTION_ACTIVE));
     assert!(od.sw.fault());
-    assert_eq!(drive.step(&mut od, 1), Some(14));
+    assert_eq!(drive.step(&mut od, Duration::from_millis(1)), Some(14));
     assert!(coded(od.sw, FAULT));
     // Commands do nothing in "fault"; fault reset acts on the rising edge of bit 7 (15).
     od.cw = Controlword(ENABLE_OPERATION);
@@ -194,7 +195,7 @@ fn fault_reaction_fault_and_reset() {
     assert!(coded(od.sw, SWITCH_ON_DISABLED));
     // A fault from "fault" again is no transition; bit 7 held high resets nothing twice.
     assert_eq!(drive.fault(&mut od), Some(13));
-    assert_eq!(drive.step(&mut od, 1), Some(14));
+    assert_eq!(drive.step(&mut od, Duration::from_millis(1)), Some(14));
     assert_eq!(drive.fault(&mut od), None);
     assert_eq!(drive.update(&mut od), None, "bit 7 still set: no edge");
     od.cw = Controlword(0);
@@ -233,9 +234,9 @@ fn profile_position_moves_to_the_target() {
     od.cw = Controlword(ENABLE_OPERATION).with_new_setpoint(true);
     drive.update(&mut od);
     assert!(od.sw.setpoint_ack() && !od.sw.target_reached());
-    drive.step(&mut od, 100);
+    drive.step(&mut od, Duration::from_millis(100));
     assert_eq!((od.position, od.velocity), (-200, -2000));
-    drive.step(&mut od, 1000);
+    drive.step(&mut od, Duration::from_millis(1000));
     assert_eq!((od.position, od.velocity), (-500, 0));
     assert!(od.sw.target_reached());
     // Relative (bit 6): 100 more from here.
@@ -245,7 +246,7 @@ fn profile_position_moves_to_the_target() {
     od.target = 100;
     od.cw = Controlword(ENABLE_OPERATION).with_new_setpoint(true).with_relative(true);
     drive.update(&mut od);
-    drive.step(&mut od, 1000);
+    drive.step(&mut od, Duration::from_millis(1000));
     assert_eq!(od.position, -400);
     // No motion outside "operation enabled".
     od.cw = Controlword(ENABLE_OPERATION);
@@ -253,7 +254,7 @@ fn profile_position_moves_to_the_target() {
     od.target = 0;
     od.cw = Controlword(SWITCH_ON).with_new_setpoint(true);
     drive.update(&mut od);
-    drive.step(&mut od, 1000);
+    drive.step(&mut od, Duration::from_millis(1000));
     assert_eq!(od.position, -400);
 }
 
@@ -264,12 +265,12 @@ fn profile_velocity_follows_the_target_velocity() {
     od.target_velocity = 300;
     drive.update(&mut od);
     assert!(!od.sw.setpoint_ack(), "bit 12 in pv: speed is not zero");
-    drive.step(&mut od, 500);
+    drive.step(&mut od, Duration::from_millis(500));
     assert_eq!((od.position, od.velocity), (150, 300));
     // Halt (bit 8) stops it; speed zero (bit 12) set.
     od.cw = Controlword(ENABLE_OPERATION).with_halt(true);
     drive.update(&mut od);
-    drive.step(&mut od, 500);
+    drive.step(&mut od, Duration::from_millis(500));
     assert_eq!((od.position, od.velocity), (150, 0));
     assert!(od.sw.setpoint_ack());
 }
@@ -303,7 +304,7 @@ fn homing_on_the_current_position() {
         drive.update(&mut od);
         assert_eq!(od.position, 500, "method {method}");
         assert!(od.sw.homing_attained() && od.sw.target_reached() && !od.sw.homing_error());
-        drive.step(&mut od, 100);
+        drive.step(&mut od, Duration::from_millis(100));
         assert_eq!((od.position, od.velocity), (500, 0));
     }
 }
@@ -320,22 +321,22 @@ fn homing_on_the_home_switch() {
     od.home_offset = -20;
     od.cw = Controlword(START_HOMING);
     drive.update(&mut od);
-    drive.step(&mut od, 1000);
+    drive.step(&mut od, Duration::from_millis(1000));
     assert_eq!((od.position, od.velocity), (500, 500));
     assert!(!od.sw.homing_attained() && !od.sw.target_reached());
     // Bit 4 cleared: interrupted, the axis stands.
     od.cw = Controlword(ENABLE_OPERATION);
     drive.update(&mut od);
-    drive.step(&mut od, 500);
+    drive.step(&mut od, Duration::from_millis(500));
     assert_eq!((od.position, od.velocity), (500, 0));
     assert!(!od.sw.homing_attained() && od.sw.target_reached());
     // Started again: 500 units more to the switch at mechanical position 1000.
     assert_eq!(HOME_SWITCH, 1000);
     od.cw = Controlword(START_HOMING);
     drive.update(&mut od);
-    drive.step(&mut od, 600);
+    drive.step(&mut od, Duration::from_millis(600));
     assert_eq!((od.position, od.velocity), (800, 500));
-    drive.step(&mut od, 500);
+    drive.step(&mut od, Duration::from_millis(500));
     assert_eq!(od.position, -20, "the home position reads as the home offset");
     assert!(od.sw.homing_attained() && od.sw.target_reached());
 }
@@ -361,7 +362,7 @@ fn cyclic_synchronous_modes_follow_their_targets() {
     let (mut drive, mut od) = enabled_in(ModeOfOperation::CyclicSyncVelocity);
     od.target_velocity = -300;
     drive.update(&mut od);
-    drive.step(&mut od, 1000);
+    drive.step(&mut od, Duration::from_millis(1000));
     assert_eq!((od.position, od.velocity), (-300, -300));
     assert!(od.sw.setpoint_ack(), "bit 12: following the command value");
     let (mut drive, mut od) = enabled_in(ModeOfOperation::CyclicSyncTorque);
@@ -369,7 +370,7 @@ fn cyclic_synchronous_modes_follow_their_targets() {
     drive.update(&mut od);
     assert_eq!(od.torque, 250);
     od.target_torque = -40;
-    drive.step(&mut od, 1);
+    drive.step(&mut od, Duration::from_millis(1));
     assert_eq!((od.torque, od.position), (-40, 0));
     od.cw = Controlword(DISABLE_OPERATION);
     drive.update(&mut od);
@@ -377,6 +378,6 @@ fn cyclic_synchronous_modes_follow_their_targets() {
     let (mut drive, mut od) = enabled_in(ModeOfOperation::CyclicSyncPosition);
     od.target = 1234;
     drive.update(&mut od);
-    drive.step(&mut od, 1);
+    drive.step(&mut od, Duration::from_millis(1));
     assert_eq!(od.position, 1234);
 }

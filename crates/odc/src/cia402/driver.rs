@@ -34,7 +34,7 @@
 //!     (od.cw, od.mode) = (out.controlword, out.mode);
 //!     od.target = out.target_position.unwrap_or(od.target);
 //!     drive.update(od);
-//!     drive.step(od, 10);
+//!     drive.step(od, Duration::from_millis(10));
 //!     *now += Duration::from_millis(10);
 //! };
 //! let mut now = Instant::ZERO;
@@ -120,9 +120,9 @@ pub trait DrivePdos {
     /// The TPDO with the statusword.
     type Status: crate::Pdo;
     /// The RPDO's COB-ID at `node_id`.
-    fn command_cob_id(node_id: crate::cob::NodeId) -> u32;
+    fn command_cob_id(node_id: crate::cob::NodeId) -> crate::cob::CobId;
     /// The TPDO's COB-ID at `node_id`.
-    fn status_cob_id(node_id: crate::cob::NodeId) -> u32;
+    fn status_cob_id(node_id: crate::cob::NodeId) -> crate::cob::CobId;
     /// The RPDO for the driver's outputs.
     fn command(outputs: &Outputs) -> Self::Command;
     /// The driver's inputs from the TPDO.
@@ -215,7 +215,13 @@ enum Job {
     Stream,
 }
 
-/// Default time a job may take.
+/// Default time a job may take (5 s; [`Driver::with_timeout`] sets another).
+///
+/// When a job is not done in time, [`Driver::status`] is [`DriverError::Timeout`] naming what
+/// it waited for, and the drive is stopped: a drive in "operation enabled" gets the halt bit
+/// (controlword bit 8, CiA 402-2 §6.3.1 / IEC 61800-7-201 "halt"), so it decelerates as its
+/// halt option code 0x605D says and stays enabled for the next job; in any other state the
+/// power stage does not drive a motion and the controlword stays as it was.
 #[cfg(feature = "cia402")]
 pub const DEFAULT_TIMEOUT: Duration = Duration::from_secs(5);
 
@@ -253,7 +259,8 @@ impl Driver {
         }
     }
 
-    /// The same driver with another job timeout.
+    /// The same driver with another job timeout (what happens when it fires:
+    /// [`DEFAULT_TIMEOUT`]).
     pub const fn with_timeout(mut self, timeout: Duration) -> Self {
         self.timeout = timeout;
         self
@@ -403,6 +410,11 @@ impl Driver {
                 let waiting_for = self.waiting_for();
                 self.status = DriverStatus::Failed(DriverError::Timeout { waiting_for });
                 self.job = Job::None;
+                // A job that ran out of time must not leave the axis moving (see
+                // DEFAULT_TIMEOUT): halt, CiA 402-2 controlword bit 8.
+                if state == Some(State::OperationEnabled) {
+                    self.out.controlword = Controlword::ENABLE_OPERATION.with_halt(true);
+                }
             }
         }
         self.out

@@ -113,13 +113,13 @@ impl<D: ObjectDictionary> Bus for Wire<D> {
         Ok(())
     }
 
-    fn recv(&mut self, _deadline_ms: u64) -> Result<Option<CanFrame>, Self::Error> {
+    fn recv(&mut self, _deadline: odc::time::Instant) -> Result<Option<CanFrame>, Self::Error> {
         Ok(self.inbox.pop_front())
     }
 
-    fn now_ms(&mut self) -> u64 {
+    fn now(&mut self) -> odc::time::Instant {
         self.now += 1;
-        self.now
+        odc::time::Instant::from_millis(self.now)
     }
 }
 
