@@ -26,6 +26,7 @@ fn run(python: &Path, file: &str, script: &str, args: &[&str]) -> serde_json::Va
     let eds = repo(file);
     let mut sim = Command::new(env!("CARGO_BIN_EXE_odc"))
         .args(["simulate", eds.to_str().unwrap(), "--node-id", "5", "--tcp", "127.0.0.1:0"])
+        .arg("--stop-on-eof")
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::inherit())
@@ -124,12 +125,13 @@ fn python_canopen_drives_the_simulated_node() {
 }
 
 /// `--can IFACE` on a machine without that interface (no `vcan0` here) is a usage error that
-/// names it; where `vcan0` exists, the device runs on it until the end of standard input.
+/// names it; where `vcan0` exists, the device runs on it until the end of standard input
+/// (`--stop-on-eof`).
 #[test]
 fn can_on_a_missing_interface_is_a_clear_error() {
     let out = Command::new(env!("CARGO_BIN_EXE_odc"))
         .args(["simulate", repo("eds/lxm23a.eds").to_str().unwrap(), "--node-id", "5"])
-        .args(["--can", "vcan0"])
+        .args(["--can", "vcan0", "--stop-on-eof"])
         .stdin(Stdio::null())
         .output()
         .unwrap();
@@ -156,4 +158,60 @@ fn node_id_must_be_1_to_127() {
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("128"));
+}
+
+/// `odc simulate` is a server: with standard input /dev/null (nohup, systemd, CI) it keeps
+/// serving until SIGTERM, and a closed standard output and error (`… 2>&1 | head`) do not end
+/// it with a panic (exit 101): it answers SDO after both are closed and after client events
+/// it logs, and exits 0 at SIGTERM.
+#[cfg(unix)]
+#[test]
+fn simulate_serves_until_sigterm_without_stdin_or_output() {
+    use std::time::{Duration, Instant};
+    let eds = repo("eds/lxm23a.eds");
+    let mut sim = Command::new(env!("CARGO_BIN_EXE_odc"))
+        .args(["simulate", eds.to_str().unwrap(), "--node-id", "5", "--tcp", "127.0.0.1:0"])
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut out = BufReader::new(sim.stdout.take().unwrap());
+    let mut first = String::new();
+    out.read_line(&mut first).unwrap();
+    let addr = first.trim().strip_prefix("listening on ").unwrap_or_else(|| panic!("{first:?}"));
+    // Both of its output pipes closed, as `head` closes them when it has its lines.
+    drop(out);
+    drop(sim.stderr.take());
+    std::thread::sleep(Duration::from_millis(300));
+    assert!(sim.try_wait().unwrap().is_none(), "odc simulate stopped with stdin /dev/null");
+    let node = format!("5={}", eds.display());
+    for _ in 0..3 {
+        // Each client connects and leaves: events the simulation logs to its closed stderr.
+        let read = Command::new(env!("CARGO_BIN_EXE_odc"))
+            .args(["sdo", "read", "--node", &node, "--tcp", addr, "0x1000"])
+            .output()
+            .unwrap();
+        assert_eq!(
+            String::from_utf8_lossy(&read.stdout),
+            "0x1000:00 Device type = 67240338 (0x4020192)\n",
+            "{}",
+            String::from_utf8_lossy(&read.stderr)
+        );
+    }
+    assert!(sim.try_wait().unwrap().is_none(), "odc simulate stopped before SIGTERM");
+    let kill = Command::new("kill").args(["-TERM", &sim.id().to_string()]).status().unwrap();
+    assert!(kill.success());
+    let deadline = Instant::now() + Duration::from_secs(10);
+    let status = loop {
+        if let Some(status) = sim.try_wait().unwrap() {
+            break status;
+        }
+        if Instant::now() > deadline {
+            let _ = sim.kill();
+            panic!("odc simulate did not stop within 10 s of SIGTERM");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    assert_eq!(status.code(), Some(0), "odc simulate at SIGTERM: {status}");
 }

@@ -1,5 +1,12 @@
 //! One module per subcommand: its arguments and its `run`.
 
+/// `eprintln!` that ignores a closed standard error ([`err`]): for servers and long runs.
+macro_rules! elog {
+    ($($arg:tt)*) => {
+        $crate::commands::err(&format!("{}\n", format_args!($($arg)*)))
+    };
+}
+
 pub mod check;
 pub mod convert;
 pub mod diff;
@@ -51,6 +58,24 @@ pub fn out(text: &str) -> anyhow::Result<()> {
         Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),
         _ => Ok(()),
     }
+}
+
+/// [`out`], flushed at once: a line a waiting client reads (`listening on …`).
+pub fn out_flushed(text: &str) -> anyhow::Result<()> {
+    use std::io::Write;
+    out(text)?;
+    match std::io::stdout().lock().flush() {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),
+        _ => Ok(()),
+    }
+}
+
+/// Writes a progress or log line to standard error, ignoring a closed one: a server whose
+/// log pipe was closed (`odc simulate … 2>&1 | head`) goes on serving instead of panicking as
+/// `eprint!` would.
+pub fn err(text: &str) {
+    use std::io::Write;
+    let _ = std::io::stderr().lock().write_all(text.as_bytes());
 }
 
 /// Prints diagnostics to standard error (human, short) or standard output (JSON).
