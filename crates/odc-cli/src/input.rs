@@ -6,10 +6,24 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 use odc_pipeline::{Level, Loaded, Options, Select};
 
-/// Rule levels and the device to work on: the same flags for `check`, `generate`, `info`,
-/// `dump` and `convert`, so that each refuses exactly the files `check` reports errors for.
+/// Rule levels and the device to work on: the flags of every command that reads one device
+/// file (`check`, `generate`, `info`, `dump`, `convert`, `doc`, `sii`, `simulate`), so that each
+/// refuses exactly the files `check` reports errors for.
 #[derive(clap::Args, Clone, Debug, Default)]
 pub struct Levels {
+    /// `--strict`, `-D`, `-W`, `-A`, `--config`.
+    #[command(flatten)]
+    pub rules: Rules,
+    /// For a file with several devices: `PRODUCT[:REVISION]` or a name (`odc info` lists them).
+    #[arg(long, value_name = "DEVICE")]
+    pub device: Option<String>,
+}
+
+/// Rule levels: the flags of every command that loads device files, including those that
+/// name a device by other means (`sdo`/`monitor`'s `--node ID=FILE`, `diff`'s two files,
+/// `conformance`). The refusal of a file names `-A CODE`; every such command takes it.
+#[derive(clap::Args, Clone, Debug, Default)]
+pub struct Rules {
     /// Turn every warning into an error.
     #[arg(long)]
     pub strict: bool,
@@ -25,16 +39,14 @@ pub struct Levels {
     /// Checker configuration (odc.toml form), instead of the overlay beside the device file.
     #[arg(long, value_name = "FILE")]
     pub config: Option<PathBuf>,
-    /// For a file with several devices: `PRODUCT[:REVISION]` or a name (`odc info` lists them).
-    #[arg(long, value_name = "DEVICE")]
-    pub device: Option<String>,
 }
 
-impl Levels {
-    /// The pipeline's options: `--config`, then `-A`, `-W`, `-D` (each later kind wins over an
-    /// earlier one for the same rule), then `--strict`.
-    pub fn options(&self) -> Options {
-        let mut options = Options::new().strict(self.strict);
+impl Rules {
+    /// `options` with these flags on top: `--config`, then `-A`, `-W`, `-D` (each later kind
+    /// wins over an earlier one for the same rule, and all over levels `options` has), then
+    /// `--strict`.
+    pub fn apply(&self, mut options: Options) -> Options {
+        options = options.strict(self.strict);
         options.config_file = self.config.clone();
         for (names, level) in
             [(&self.allow, Level::Allow), (&self.warn, Level::Warn), (&self.deny, Level::Deny)]
@@ -43,6 +55,14 @@ impl Levels {
                 options = options.level(name.clone(), level);
             }
         }
+        options
+    }
+}
+
+impl Levels {
+    /// The pipeline's options: [`Rules::apply`] and the device selection.
+    pub fn options(&self) -> Options {
+        let mut options = self.rules.apply(Options::new());
         if let Some(spec) = &self.device {
             options = options.select(Select::Spec(spec.clone()));
         }

@@ -342,3 +342,54 @@ fn failed_generate_leaves_the_previous_output_untouched() {
     assert_eq!(std::fs::read_to_string(&out_path).unwrap(), "previous module");
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "no temporary file left behind");
 }
+
+/// Every command that loads a device file takes the rule levels its refusal names (`-A CODE`):
+/// the fixture's two errors (C205, F108) allowed, each gets past the gate; without them it
+/// is refused (exit 1) with the `-A` advice. Commands that talk to a bus print the file's
+/// warnings as one count with the command that shows them, not the warning itself (C407).
+#[test]
+fn every_loading_command_takes_the_rule_levels() {
+    let eds = fixture("bad-value.eds");
+    let node = format!("5={eds}");
+    let dir = tempdir();
+    let dir_s = dir.display().to_string();
+    let out_eds = dir.join("out.eds").display().to_string();
+    // Port 1 on loopback refuses connections and 192.0.2.1 (TEST-NET-1) is no local address:
+    // each bus command fails after loading, with exit 2.
+    let commands: Vec<(Vec<&str>, Option<i32>, bool)> = vec![
+        (vec!["check", &eds], Some(0), false),
+        (vec!["dump", &eds], Some(0), false),
+        (vec!["info", &eds], Some(0), false),
+        (vec!["doc", &eds, "-o", &dir_s], Some(0), false),
+        (vec!["convert", &eds, "-o", &out_eds], Some(0), false),
+        (vec!["diff", &eds, &eds], Some(0), false),
+        (vec!["monitor", "--node", &node, "--log", "/dev/null"], Some(0), true),
+        (vec!["sdo", "read", "--node", &node, "--tcp", "127.0.0.1:1", "0x1000"], Some(2), true),
+        (vec!["simulate", &eds, "--node-id", "5", "--tcp", "192.0.2.1:0"], Some(2), true),
+    ];
+    for (args, code, bus) in commands {
+        let mut with = args.clone();
+        with.extend(["-A", "C205", "-A", "F108"]);
+        let out = odc(&with);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), code, "odc {}: {err}", with.join(" "));
+        assert!(!err.contains("error["), "odc {}: {err}", with.join(" "));
+        if bus {
+            let count = format!("1 warning (`odc check {eds}` shows them)");
+            assert!(err.contains(&count), "odc {}: {err}", with.join(" "));
+            assert!(!err.contains("C407"), "odc {}: {err}", with.join(" "));
+        }
+        if args[0] == "diff" {
+            // diff allows the CiA rules itself: only the format rule is left to refuse.
+            continue;
+        }
+        let out = odc(&args);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(1), "odc {}: {err}", args.join(" "));
+        // `check` reports; the others refuse and say how to go on.
+        let advice = args[0] == "check" || err.contains("`-A C205`");
+        assert!(advice, "odc {}: {err}", args.join(" "));
+    }
+    let out = odc(&["diff", &eds, &eds]);
+    assert!(stderr(&out).contains("`-A F108`"), "{}", stderr(&out));
+}

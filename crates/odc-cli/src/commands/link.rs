@@ -121,18 +121,20 @@ fn parse_u8(s: &str) -> Option<u8> {
     parse_u64(s).and_then(|n| u8::try_from(n).ok())
 }
 
-/// The device of a node's file (the file's one device, or the one `--device` picks).
-pub fn load(spec: &NodeSpec) -> anyhow::Result<Device> {
-    Ok(load_with_process_data(spec)?.0)
+/// The device of a node's file (the file's one device), checked at the levels of `rules`.
+pub fn load(spec: &NodeSpec, rules: &input::Rules) -> anyhow::Result<Device> {
+    Ok(load_with_process_data(spec, rules)?.0)
 }
 
 /// The device of a node's file and the process data its overlay lays out
 /// (`[[process-data]]`), for the monitor.
 pub fn load_with_process_data(
     spec: &NodeSpec,
+    rules: &input::Rules,
 ) -> anyhow::Result<(Device, Vec<odc_monitor::ProcessLayout>)> {
-    let loaded = input::load(&spec.file, &input::Levels::default())?;
-    super::gate(&loaded)?;
+    let levels = input::Levels { rules: rules.clone(), device: None };
+    let loaded = input::load(&spec.file, &levels)?;
+    super::gate_bus(&loaded)?;
     let layouts = loaded
         .codegen
         .process_data

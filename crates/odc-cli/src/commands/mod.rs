@@ -128,6 +128,24 @@ pub fn gate(loaded: &odc_pipeline::Loaded) -> anyhow::Result<()> {
     gate_over(loaded, &loaded.diagnostics)
 }
 
+/// The error gate of the commands that talk to a bus (`sdo`, `monitor`, `simulate`,
+/// `conformance`): errors in full, as [`gate`] prints them, but the warnings as one count
+/// with the command that shows them, not dozens of lines on every call.
+pub fn gate_bus(loaded: &odc_pipeline::Loaded) -> anyhow::Result<()> {
+    let errors: Vec<Diagnostic> = loaded.errors().cloned().collect();
+    print_diagnostics(&loaded.sources, &errors, DiagFormat::Human, Color::Auto)?;
+    let n = loaded.warnings().count();
+    if n > 0 {
+        let plural = if n == 1 { "" } else { "s" };
+        elog!(
+            "{}: {n} warning{plural} (`odc check {}` shows them)",
+            loaded.name,
+            loaded.path.display()
+        );
+    }
+    loaded.refuse(&loaded.diagnostics).map_err(|refused| HasErrors(refused).into())
+}
+
 /// [`gate`] over other diagnostics of the loaded file (those of a device derived from it).
 pub fn gate_over(loaded: &odc_pipeline::Loaded, diagnostics: &[Diagnostic]) -> anyhow::Result<()> {
     let shown: Vec<Diagnostic> =

@@ -44,13 +44,16 @@ pub struct Args {
     /// Output format.
     #[arg(long, value_enum, default_value_t)]
     format: MonitorFormat,
+    /// Rule levels for the device files.
+    #[command(flatten)]
+    rules: crate::input::Rules,
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mut devices = Vec::new();
     let mut process = Vec::new();
     for spec in &args.node {
-        let (device, layouts) = load_with_process_data(spec)?;
+        let (device, layouts) = load_with_process_data(spec, &args.rules)?;
         devices.push((spec.id.get(), device));
         process.push((spec.id, layouts));
     }

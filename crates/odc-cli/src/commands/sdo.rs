@@ -46,6 +46,9 @@ struct Common {
     /// How long to wait for each answer, in ms.
     #[arg(long, default_value_t = 1000)]
     timeout: u64,
+    /// Rule levels for the device file.
+    #[command(flatten)]
+    rules: crate::input::Rules,
 }
 
 /// An object of the file, resolved.
@@ -61,7 +64,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         Op::Read(c) => (c, None),
         Op::Write { common, value } => (common, Some(value.as_str())),
     };
-    let device = load(&common.node)?;
+    let device = load(&common.node, &common.rules)?;
     let target = resolve(&device, &common.object)?;
     let node = common.node.id;
     let payload = match value {

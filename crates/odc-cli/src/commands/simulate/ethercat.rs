@@ -21,7 +21,7 @@ pub fn run(
     for spec in files {
         let (path, levels) = split_spec(spec, levels);
         let loaded = input::load(path, &levels)?;
-        super::super::gate(&loaded)?;
+        super::super::gate_bus(&loaded)?;
         let model = loaded.device()?;
         let Some(ecat) = model.ethercat.as_deref() else {
             bail!("{}: --interface runs EtherCAT devices (ESI); this is a CANopen device", spec)

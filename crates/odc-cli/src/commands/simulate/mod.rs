@@ -66,7 +66,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     };
     let Some(node_id) = args.node_id else { bail!("--node-id N: the CANopen device's node-ID") };
     let loaded = input::load(Path::new(file), &args.levels)?;
-    super::gate(&loaded)?;
+    super::gate_bus(&loaded)?;
     let model = loaded.device()?;
     if model.ethercat.is_some() {
         bail!(
