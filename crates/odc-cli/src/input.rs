@@ -70,10 +70,31 @@ impl Levels {
     }
 }
 
-/// Reads and checks one device file. I/O, overlay and selection problems are errors (exit 2);
-/// problems in the content are diagnostics.
+/// Reads and checks one device file (`-`: standard input). I/O, overlay and selection
+/// problems are errors (exit 2); problems in the content are diagnostics.
 pub fn load(path: &Path, levels: &Levels) -> anyhow::Result<Loaded> {
-    Ok(odc_pipeline::load(path, &levels.options())?)
+    let (path, bytes) = read(path)?;
+    load_bytes(&path, bytes, levels)
+}
+
+/// [`load`] of a file already [`read`].
+pub fn load_bytes(path: &Path, bytes: Vec<u8>, levels: &Levels) -> anyhow::Result<Loaded> {
+    Ok(odc_pipeline::load_bytes(path, bytes, &levels.options())?)
+}
+
+/// How diagnostics name standard input.
+const STDIN: &str = "<stdin>";
+
+/// A device file's bytes, read once (so `/dev/stdin` or a pipe works), and the path that
+/// names it: `-` reads standard input, named `<stdin>`.
+pub fn read(path: &Path) -> anyhow::Result<(PathBuf, Vec<u8>)> {
+    let io = |source| odc_pipeline::Error::Io { path: path.to_path_buf(), source };
+    if path == Path::new("-") {
+        let bytes = odc_pipeline::read_device(std::io::stdin().lock()).map_err(io)?;
+        return Ok((PathBuf::from(STDIN), bytes));
+    }
+    let bytes = odc_pipeline::read_device_file(path).map_err(io)?;
+    Ok((path.to_path_buf(), bytes))
 }
 
 /// Writes `contents` to `path` atomically ([`odc_build::write_atomic`]): into a temporary file

@@ -79,7 +79,7 @@ fn main() -> ExitCode {
     match result {
         Ok(code) => code,
         Err(err) => {
-            eprintln!("error: {err:#}");
+            commands::err(&format!("error: {}\n", message(&err)));
             if err.downcast_ref::<commands::HasErrors>().is_some() {
                 ExitCode::from(1)
             } else {
@@ -87,4 +87,22 @@ fn main() -> ExitCode {
             }
         }
     }
+}
+
+/// The error and its causes, `: `-separated, each cause once: an error whose text already
+/// includes its cause's (`cannot read x.eds: No such file or directory (os error 2)`) does not
+/// repeat it.
+fn message(err: &anyhow::Error) -> String {
+    let mut text = String::new();
+    for cause in err.chain() {
+        let part = cause.to_string();
+        if text.contains(&part) {
+            continue;
+        }
+        if !text.is_empty() {
+            text.push_str(": ");
+        }
+        text.push_str(&part);
+    }
+    text
 }

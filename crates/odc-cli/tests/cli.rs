@@ -393,3 +393,51 @@ fn every_loading_command_takes_the_rule_levels() {
     let out = odc(&["diff", &eds, &eds]);
     assert!(stderr(&out).contains("`-A F108`"), "{}", stderr(&out));
 }
+
+/// An I/O error prints its cause once, not `(os error 2): … (os error 2)`.
+#[test]
+fn io_error_cause_printed_once() {
+    let out = odc(&["info", "/nonexistent/odc/file.eds"]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(err.matches("(os error 2)").count(), 1, "{err}");
+}
+
+/// Standard input as a device file: `-`, and `/dev/stdin` read once (through a pipe, which
+/// cannot be read twice).
+#[test]
+fn info_reads_standard_input_once() {
+    use std::io::Write;
+    use std::process::Stdio;
+    let eds = std::fs::read(repo_file("eds/lxm23a.eds")).unwrap();
+    for file in ["-", "/dev/stdin"] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_odc"))
+            .args(["info", file])
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        child.stdin.take().unwrap().write_all(&eds).unwrap();
+        let out = child.wait_with_output().unwrap();
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(out.status.code(), Some(0), "{file}: {}", stderr(&out));
+        assert!(text.starts_with("LXM23A ("), "{file}: {text}");
+        assert!(text.contains("98 objects"), "{file}: {text}");
+    }
+}
+
+/// A file that is not well-formed XML is refused without advice to allow the rule that says
+/// so (`-A F202` would only hide what was lost).
+#[test]
+fn malformed_xml_is_not_advised_around() {
+    let dir = tempdir();
+    let path = dir.join("broken.xml");
+    std::fs::write(&path, "<EtherCATInfo><Vendor>").unwrap();
+    let out = odc(&["dump", &path.display().to_string()]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("F202"), "{err}");
+    assert!(!err.contains("-A F202") && !err.contains("allow"), "{err}");
+    assert!(err.contains("cannot be read as a device description"), "{err}");
+}
