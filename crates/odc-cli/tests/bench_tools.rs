@@ -161,3 +161,48 @@ fn monitor_reads_a_candump_log_and_a_live_bus() {
     drop(sim.stdin.take());
     let _ = sim.wait();
 }
+
+/// `odc sdo` as a user types it: `--tcp localhost:PORT`; a typo answered with the names within
+/// a small edit distance; a record's exact name reads each of its sub-objects; an object the
+/// node's file lacks read by index, raw (the simulated LXM23A has 0x606B, the Lexium MDrive's
+/// file does not).
+#[test]
+fn sdo_takes_hosts_typos_records_and_unknown_indexes() {
+    let (mut sim, addr) = simulate("eds/lxm23a.eds");
+    let port = addr.rsplit_once(':').unwrap().1;
+    let local = format!("localhost:{port}");
+    let node = format!("5={}", repo("eds/lxm23a.eds").display());
+    let sdo = |node: &str, object: &str| {
+        odc(&["sdo", "read", "--node", node, "--tcp", &local, object, "--timeout", "2000"])
+    };
+    let out = sdo(&node, "0x1000");
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert_eq!(text(&out.stdout), "0x1000:00 Device type = 67240338 (0x4020192)\n");
+
+    let out = sdo(&node, "Profle velocty");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        text(&out.stderr).contains("did you mean one of:\n  0x6081 Profile velocity"),
+        "{}",
+        text(&out.stderr)
+    );
+
+    let out = sdo(&node, "Identity object");
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let lines = text(&out.stdout);
+    assert!(lines.starts_with("0x1018:00 Identity object/"), "{lines}");
+    assert!(lines.contains("0x1018:01 Identity object/Vendor ID = 477 (0x1DD)\n"), "{lines}");
+
+    let other = format!("5={}", repo("eds/lexium-mdrive.eds").display());
+    let out = sdo(&other, "0x606B");
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stdout).starts_with("0x606B:00 (not in the device file) = ")
+            && text(&out.stdout).ends_with(" (raw)\n"),
+        "{}",
+        text(&out.stdout)
+    );
+
+    drop(sim.stdin.take());
+    assert!(sim.wait().unwrap().success());
+}

@@ -1,7 +1,6 @@
 //! `odc monitor`: a bus, live or from a candump log, decoded with the device files.
 
 use std::io::{BufRead, BufReader};
-use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -31,7 +30,7 @@ pub enum MonitorFormat {
 pub struct Args {
     /// A virtual CAN bus over TCP, as `odc simulate --tcp` serves it.
     #[arg(long, value_name = "HOST:PORT")]
-    tcp: Option<SocketAddr>,
+    tcp: Option<String>,
     /// A SocketCAN interface (Linux).
     #[arg(long, value_name = "IFACE")]
     can: Option<String>,
@@ -85,7 +84,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         }
         return Ok(if bad == 0 { ExitCode::SUCCESS } else { ExitCode::from(1) });
     }
-    let bus = BusArgs { tcp: args.tcp, can: args.can.clone() };
+    let bus = BusArgs { tcp: args.tcp.clone(), can: args.can.clone() };
     let mut link = bus.open()?;
     let start = std::time::Instant::now();
     loop {

@@ -1,7 +1,6 @@
 //! `odc simulate`: a device file as a live device, to test a master against: a CANopen device
 //! on a CAN bus (`--tcp`, `--can`), or EtherCAT devices on a network interface (`--interface`).
 
-use std::net::SocketAddr;
 use std::path::Path;
 use std::process::ExitCode;
 
@@ -43,7 +42,7 @@ pub struct Args {
     node_id: Option<u8>,
     /// Listen on HOST:PORT as a virtual bus (port 0: a free port).
     #[arg(long, value_name = "HOST:PORT")]
-    tcp: Option<SocketAddr>,
+    tcp: Option<String>,
     /// A SocketCAN interface (can0, vcan0).
     #[arg(long, value_name = "IFACE")]
     can: Option<String>,
@@ -91,8 +90,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     }
 }
 
-fn tcp(addr: SocketAddr, device: &mut SimDevice, stop_on_eof: bool) -> anyhow::Result<ExitCode> {
-    let bus = VirtualBus::bind(addr).with_context(|| format!("cannot listen on {addr}"))?;
+fn tcp(addr: String, device: &mut SimDevice, stop_on_eof: bool) -> anyhow::Result<ExitCode> {
+    let bus =
+        VirtualBus::bind(addr.as_str()).with_context(|| format!("cannot listen on {addr}"))?;
     super::out_flushed(&format!("listening on {}\n", bus.local_addr()))?;
     let stop = bus.stop_handle();
     stop::on_stop(stop_on_eof, move || stop.stop())?;
