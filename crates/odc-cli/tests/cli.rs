@@ -441,3 +441,39 @@ fn malformed_xml_is_not_advised_around() {
     assert!(!err.contains("-A F202") && !err.contains("allow"), "{err}");
     assert!(err.contains("cannot be read as a device description"), "{err}");
 }
+
+/// `--color auto` follows the conventions: `CLICOLOR_FORCE` colours output that is no
+/// terminal, and `NO_COLOR` wins over it.
+#[test]
+fn no_color_is_honoured() {
+    let run = |vars: &[(&str, &str)]| {
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_odc"));
+        cmd.args(["check", &fixture("bad-value.eds")]);
+        for k in ["NO_COLOR", "CLICOLOR", "CLICOLOR_FORCE"] {
+            cmd.env_remove(k);
+        }
+        for (k, v) in vars {
+            cmd.env(k, v);
+        }
+        stderr(&cmd.output().unwrap())
+    };
+    assert!(run(&[("CLICOLOR_FORCE", "1")]).contains("\x1b["));
+    assert!(!run(&[("CLICOLOR_FORCE", "1"), ("NO_COLOR", "1")]).contains("\x1b["));
+    assert!(!run(&[]).contains("\x1b["), "a pipe is no terminal");
+}
+
+/// Shell completions and a manual page, from the command's own definition.
+#[test]
+fn completions_and_man_page() {
+    let out = odc(&["completions", "bash"]);
+    assert_eq!(out.status.code(), Some(0));
+    let bash = String::from_utf8_lossy(&out.stdout);
+    assert!(bash.contains("_odc()") && bash.contains("simulate") && bash.contains("--stop-on-eof"));
+    let out = odc(&["completions", "zsh"]);
+    assert!(String::from_utf8_lossy(&out.stdout).starts_with("#compdef odc"));
+    let out = odc(&["man"]);
+    assert_eq!(out.status.code(), Some(0));
+    let page = String::from_utf8_lossy(&out.stdout);
+    assert!(page.contains(".TH odc 1"), "{page}");
+    assert!(page.contains("simulate"), "{page}");
+}

@@ -1,6 +1,5 @@
 //! `odc diff`: what changed between two device descriptions, of any formats.
 
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -68,11 +67,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let text = match args.format {
         DiffFormat::Json => odc_diff::json(&changes) + "\n",
         DiffFormat::Human => {
-            let color = match args.color {
-                Color::Auto => std::io::stdout().is_terminal(),
-                Color::Always => true,
-                Color::Never => false,
-            };
+            let color = args.color.on(&std::io::stdout());
             if changes.is_empty() {
                 "no differences\n".to_owned()
             } else {

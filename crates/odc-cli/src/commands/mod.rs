@@ -23,8 +23,6 @@ pub mod sdo;
 pub mod sii;
 pub mod simulate;
 
-use std::io::IsTerminal;
-
 use odc_model::{Diagnostic, Severity, Sources, diag};
 
 /// How diagnostics are printed.
@@ -43,11 +41,23 @@ pub enum DiagFormat {
 /// When to colour human output.
 #[derive(Clone, Copy, Debug, Default, clap::ValueEnum)]
 pub enum Color {
-    /// When standard error is a terminal.
+    /// When the output is a terminal, unless `NO_COLOR` is set (`CLICOLOR_FORCE` forces it).
     #[default]
     Auto,
     Always,
     Never,
+}
+
+impl Color {
+    /// Whether to colour what goes to `stream`: `Auto` follows the conventions through
+    /// `anstream` (NO_COLOR, CLICOLOR, CLICOLOR_FORCE, TERM, a terminal).
+    pub fn on(self, stream: &impl anstream::stream::RawStream) -> bool {
+        match self {
+            Color::Auto => anstream::AutoStream::choice(stream) != anstream::ColorChoice::Never,
+            Color::Always => true,
+            Color::Never => false,
+        }
+    }
 }
 
 /// Writes to standard output. A closed pipe (`odc dump x.eds | head`) ends the output quietly
@@ -96,14 +106,7 @@ pub fn print_diagnostics(
 /// Diagnostics rendered in a format, as [`print_diagnostics`] prints them.
 pub fn render(sources: &Sources, diags: &[Diagnostic], format: DiagFormat, color: Color) -> String {
     match format {
-        DiagFormat::Human => {
-            let color = match color {
-                Color::Auto => std::io::stderr().is_terminal(),
-                Color::Always => true,
-                Color::Never => false,
-            };
-            diag::render_human(sources, diags, color)
-        }
+        DiagFormat::Human => diag::render_human(sources, diags, color.on(&std::io::stderr())),
         DiagFormat::Short => diag::render_short(sources, diags),
         DiagFormat::Json => diag::render_json(sources, diags),
     }
