@@ -477,3 +477,30 @@ fn completions_and_man_page() {
     assert!(page.contains(".TH odc 1"), "{page}");
     assert!(page.contains("simulate"), "{page}");
 }
+
+/// The monitor without a device file shows an SDO answer's address once, and with one names
+/// the CiA 402 modes of operation (0x6060/0x6061) as it names controlword and statusword.
+#[test]
+fn monitor_addresses_once_and_names_modes() {
+    let dir = tempdir();
+    let log = dir.join("sdo.log");
+    std::fs::write(
+        &log,
+        "(1.0) can0 605#4000100000000000\n(1.1) can0 585#4300100092010400\n\
+         (1.2) can0 605#2F60600001000000\n(1.3) can0 585#6060600000000000\n",
+    )
+    .unwrap();
+    let out = odc(&["monitor", "--log", &log.display().to_string()]);
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    let answer = text.lines().nth(1).unwrap();
+    assert!(answer.ends_with("read answer 0x1000:00 = 92 01 04 00"), "{answer}");
+    let node = format!("5={}", repo_file("eds/lxm23a.eds"));
+    let out = odc(&["monitor", "--log", &log.display().to_string(), "--node", &node]);
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        text.contains(
+            "write confirmed 0x6060:00 Modes of operation = 1 (Profile position mode (pp))"
+        ),
+        "{text}"
+    );
+}
