@@ -504,3 +504,22 @@ fn monitor_addresses_once_and_names_modes() {
         "{text}"
     );
 }
+
+/// README's first command writes where git ignores it (`target/`), so trying it leaves no
+/// untracked file in the repository.
+#[test]
+fn readme_first_command_writes_under_target() {
+    let readme = std::fs::read_to_string(repo_file("README.md")).unwrap();
+    let first = readme
+        .lines()
+        .find(|l| l.starts_with("cargo run -p odc-cli -- "))
+        .expect("README starts with a cargo run line");
+    let output = first
+        .split_whitespace()
+        .skip_while(|w| *w != "-o")
+        .nth(1)
+        .unwrap_or_else(|| panic!("no -o in {first}"));
+    let ignore = std::fs::read_to_string(repo_file(".gitignore")).unwrap();
+    assert!(ignore.lines().any(|l| l == "/target"), "target/ is no longer ignored");
+    assert!(output.starts_with("target/"), "README's first command writes {output}");
+}

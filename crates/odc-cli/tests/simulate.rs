@@ -215,3 +215,31 @@ fn simulate_serves_until_sigterm_without_stdin_or_output() {
     };
     assert_eq!(status.code(), Some(0), "odc simulate at SIGTERM: {status}");
 }
+
+/// `--interface` on an interface that is down says so and how to bring it up, not
+/// "Unexpected poll event". Needs a veth pair (root, iproute2); skipped visibly without.
+#[cfg(target_os = "linux")]
+#[test]
+fn interface_down_is_a_clear_error() {
+    let name = format!("odcd{}", std::process::id() % 100_000);
+    let peer = format!("{name}p");
+    let made = Command::new("ip")
+        .args(["link", "add", &name, "type", "veth", "peer", "name", &peer])
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    if !made {
+        println!("skipped: cannot make a veth pair here (needs root and iproute2)");
+        return;
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_odc"))
+        .args(["simulate", repo("esi/servoone.xml").to_str().unwrap(), "--interface", &name])
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    let _ = Command::new("ip").args(["link", "del", &name]).status();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains(&format!("--interface {name}: the interface is down")), "{err}");
+    assert!(err.contains(&format!("ip link set {name} up")), "{err}");
+}

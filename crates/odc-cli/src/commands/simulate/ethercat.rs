@@ -63,6 +63,12 @@ fn serve(iface: &str, _chain: Chain, _stop_on_eof: bool) -> anyhow::Result<ExitC
 fn serve(iface: &str, mut chain: Chain, stop_on_eof: bool) -> anyhow::Result<ExitCode> {
     use std::sync::atomic::Ordering;
     use std::time::Instant;
+    if is_down(iface) {
+        bail!(
+            "--interface {iface}: the interface is down; bring it up first \
+             (`ip link set {iface} up`, as root)"
+        );
+    }
     let mut endpoint = odc_sim::EthernetEndpoint::open(iface)
         .with_context(|| format!("--interface {iface}: cannot open it for raw frames"))?;
     super::super::out_flushed(&format!("serving {} devices on {iface}\n", chain.devices().len()))?;
@@ -71,7 +77,14 @@ fn serve(iface: &str, mut chain: Chain, stop_on_eof: bool) -> anyhow::Result<Exi
     let clock = || u64::try_from(start.elapsed().as_nanos()).unwrap_or(u64::MAX);
     let served = endpoint
         .serve(|frame| chain.process(frame, clock()).is_ok(), || stop.load(Ordering::Relaxed))
-        .with_context(|| format!("--interface {iface}"))?;
+        .with_context(|| {
+            // The raw socket reports an interface taken down under it only as a poll error.
+            if is_down(iface) {
+                format!("--interface {iface}: the interface went down")
+            } else {
+                format!("--interface {iface}")
+            }
+        })?;
     elog!(
         "{} frames ({} datagrams) served, {} malformed or not EtherCAT",
         served.frames,
@@ -87,4 +100,18 @@ fn serve(iface: &str, mut chain: Chain, stop_on_eof: bool) -> anyhow::Result<Exi
         );
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Whether the interface exists and is administratively down (`IFF_UP` clear in
+/// `/sys/class/net/IFACE/flags`): a raw socket on it fails at the first poll with no word
+/// of why.
+#[cfg(target_os = "linux")]
+fn is_down(iface: &str) -> bool {
+    const IFF_UP: u32 = 0x1;
+    let Ok(text) = std::fs::read_to_string(Path::new("/sys/class/net").join(iface).join("flags"))
+    else {
+        return false;
+    };
+    let hex = text.trim().trim_start_matches("0x");
+    u32::from_str_radix(hex, 16).is_ok_and(|flags| flags & IFF_UP == 0)
 }
