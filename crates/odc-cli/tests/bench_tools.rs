@@ -206,3 +206,45 @@ fn sdo_takes_hosts_typos_records_and_unknown_indexes() {
     drop(sim.stdin.take());
     assert!(sim.wait().unwrap().success());
 }
+
+/// `odc simulate --node-id 255`: a device without node-ID (CiA 305), as the Lexium MDrive
+/// comes. It stays silent (no boot-up); odc's LSS master finds it by fastscan with the
+/// identity of its file's 0x1018, gives it node-ID 9, and after reset communication it boots
+/// as node 9 and answers SDO there.
+#[test]
+fn simulate_without_node_id_is_found_by_lss_fastscan() {
+    use odc::lss::Identity;
+    use odc::master::Master;
+    use odc::nmt::NmtCommand;
+    let mut sim = Command::new(env!("CARGO_BIN_EXE_odc"))
+        .args(["simulate", repo("eds/lxm23a.eds").to_str().unwrap(), "--node-id", "255"])
+        .args(["--tcp", "127.0.0.1:0", "--stop-on-eof"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut first = String::new();
+    BufReader::new(sim.stdout.take().unwrap()).read_line(&mut first).unwrap();
+    let addr = first.trim().strip_prefix("listening on ").unwrap().to_owned();
+    let bus = odc::transport::tcp::TcpCan::connect(addr.as_str()).unwrap();
+    let mut m = Master::new(bus).with_timeout(1000);
+    let mut lss = m.lss().with_timeout(50);
+    assert!(lss.any_unconfigured().unwrap());
+    // eds/lxm23a.eds: vendor 0x1DD, product 0x6000, revision 0x02000001, no serial number.
+    let found = lss.fastscan().unwrap();
+    assert_eq!(
+        found,
+        Some(Identity { vendor: 0x1DD, product: 0x6000, revision: 0x0200_0001, serial: 0 })
+    );
+    assert_eq!(lss.inquire_node_id().unwrap(), None);
+    let nine = odc::node_id!(9);
+    lss.configure_node_id(Some(nine)).unwrap();
+    lss.switch_global(false).unwrap();
+    m.nmt_all(NmtCommand::ResetCommunication).unwrap();
+    m.wait_boot_up(nine).unwrap();
+    assert_eq!(m.upload(nine, 0x1000, 0).unwrap(), 0x0402_0192u32.to_le_bytes());
+    drop(m);
+    drop(sim.stdin.take());
+    assert!(sim.wait().unwrap().success());
+}

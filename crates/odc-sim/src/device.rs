@@ -40,12 +40,19 @@ pub struct SimDevice {
 
 impl SimDevice {
     /// The device of `device` on node `node_id` (1–127), in initialisation: call
-    /// [`SimDevice::start`] for its boot-up.
-    pub fn new(device: &Device, node_id: NodeId) -> Self {
+    /// [`SimDevice::start`] for its boot-up. `None`: a device without node-ID (CiA 305's
+    /// 0xFF, as drives without address switches come), silent until an LSS master finds it
+    /// (fastscan) and gives it one, then boots at the next reset communication.
+    pub fn new(device: &Device, node_id: impl Into<Option<NodeId>>) -> Self {
+        let node_id = node_id.into();
         let od = ModelDictionary::new(device, node_id);
         let drive = od.is_drive().then(Drive::new);
+        let node = match node_id {
+            Some(id) => Node::new(id),
+            None => Node::unconfigured(),
+        };
         // LSS with the identity of 0x1018 (read at start), bit timing 0 (1 Mbit/s; CiA 305).
-        let node = Node::new(node_id).with_lss(None, 0);
+        let node = node.with_lss(None, 0);
         Self { node, od, drive, last_tick_ms: 0 }
     }
 

@@ -37,8 +37,9 @@ pub struct Args {
     /// EDS or DCF file; with --interface, ESI files (`FILE@DEVICE` for one of several).
     #[arg(required = true, value_name = "FILE")]
     files: Vec<String>,
-    /// The node-ID of the CANopen device, 1–127.
-    #[arg(long, value_parser = clap::value_parser!(u8).range(1..=127))]
+    /// The node-ID of the CANopen device: 1–127, or 255 for none (CiA 305: the device waits
+    /// for an LSS master to find it with fastscan and give it one).
+    #[arg(long, value_parser = parse_node_id)]
     node_id: Option<u8>,
     /// Listen on HOST:PORT as a virtual bus (port 0: a free port).
     #[arg(long, value_name = "HOST:PORT")]
@@ -63,7 +64,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let [file] = &args.files[..] else {
         bail!("a CANopen device is one file; several files make an EtherCAT line (--interface)")
     };
-    let Some(node_id) = args.node_id else { bail!("--node-id N: the CANopen device's node-ID") };
+    let Some(node_id) = args.node_id else {
+        bail!("--node-id N: the CANopen device's node-ID (1..=127, or 255 for none)")
+    };
     let loaded = input::load(Path::new(file), &args.levels)?;
     super::gate_bus(&loaded)?;
     let model = loaded.device()?;
@@ -73,20 +76,28 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
             loaded.file_name()
         );
     }
-    let node_id = odc::cob::NodeId::new(node_id).context("--node-id: 1..=127")?;
+    // 255: no node-ID (CiA 305), `None` here.
+    let node_id = odc::cob::NodeId::from_lss(node_id).context("--node-id: 1..=127 or 255")?;
     let mut device = SimDevice::new(model, node_id);
     let what = if device.is_drive() { ", a CiA 402 drive" } else { "" };
-    elog!(
-        "simulating {} as node {}{what}: {} entries",
-        model.name(),
-        node_id,
-        device.dictionary().len()
+    let node = node_id.map_or_else(
+        || "without node-ID (waiting for LSS)".to_owned(),
+        |id| format!("as node {id}"),
     );
+    elog!("simulating {} {node}{what}: {} entries", model.name(), device.dictionary().len());
     match (args.tcp, args.can) {
         (Some(addr), _) => tcp(addr, &mut device, args.stop_on_eof),
         (None, Some(iface)) => can(&iface, &mut device, args.stop_on_eof),
         // clap's group requires one of the two.
         (None, None) => bail!("give --tcp HOST:PORT or --can IFACE"),
+    }
+}
+
+/// `--node-id`: 1–127, or 255 (none).
+fn parse_node_id(text: &str) -> Result<u8, String> {
+    match text.parse::<u8>() {
+        Ok(n @ (1..=127 | 255)) => Ok(n),
+        _ => Err(format!("`{text}`: a node-ID is 1..=127, or 255 for none (LSS)")),
     }
 }
 
