@@ -252,7 +252,11 @@ fn identity(device: &odc_model::Device) -> Value {
     odc_cli_no_soem,
     ignore = "needs pysoem (ODC_INTEROP_PYTHON), root and iproute2 for a veth pair in a network namespace (ODC_NET_REQUIRED)"
 )]
-#[cfg_attr(odc_cli_no_corpus, ignore = "needs the real-world corpus (ODC_CORPUS)")]
+// One `ignore` at most: two on one test are an `unused attribute` warning.
+#[cfg_attr(
+    all(odc_cli_no_corpus, not(odc_cli_no_soem)),
+    ignore = "needs the real-world corpus (ODC_CORPUS)"
+)]
 fn soem_runs_a_line_of_three() {
     use odc_analysis::image::default_assignment;
     // The ServoOne; a Beckhoff EL2008 (8 digital outputs, fixed PDOs, no mailbox: SOEM maps

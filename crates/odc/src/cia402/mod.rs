@@ -48,9 +48,9 @@ mod words;
 pub use device::DriveObjects;
 #[cfg(feature = "cia402")]
 pub use device::{Axis, DeviceControl, Drive, transition};
-pub use driver::{DrivePdos, Inputs, Outputs};
 #[cfg(feature = "cia402")]
-pub use driver::{Driver, DriverError, DriverStatus};
+pub use driver::{DEFAULT_TIMEOUT, Driver, DriverError, DriverStatus};
+pub use driver::{DrivePdos, Inputs, Outputs};
 pub use modes::{ModeOfOperation, SupportedModes};
 pub use state::State;
 pub use words::{Command, Controlword, Statusword};
