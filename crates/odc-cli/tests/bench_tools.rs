@@ -22,6 +22,7 @@ fn odc(args: &[&str]) -> Output {
 fn simulate(file: &str) -> (Child, String) {
     let mut sim = Command::new(env!("CARGO_BIN_EXE_odc"))
         .args(["simulate", repo(file).to_str().unwrap(), "--node-id", "5", "--tcp", "127.0.0.1:0"])
+        .arg("--stop-on-eof")
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
@@ -174,4 +175,91 @@ fn monitor_reads_a_candump_log_and_a_live_bus() {
     assert!(seen.contains("Device type = 67240338 (0x4020192)"), "{seen}");
     drop(sim.stdin.take());
     let _ = sim.wait();
+}
+
+/// `odc sdo` as a user types it: `--tcp localhost:PORT`; a typo answered with the names within
+/// a small edit distance; a record's exact name reads each of its sub-objects; an object the
+/// node's file lacks read by index, raw (the simulated LXM23A has 0x606B, the Lexium MDrive's
+/// file does not).
+#[test]
+fn sdo_takes_hosts_typos_records_and_unknown_indexes() {
+    let (mut sim, addr) = simulate("eds/lxm23a.eds");
+    let port = addr.rsplit_once(':').unwrap().1;
+    let local = format!("localhost:{port}");
+    let node = format!("5={}", repo("eds/lxm23a.eds").display());
+    let sdo = |node: &str, object: &str| {
+        odc(&["sdo", "read", "--node", node, "--tcp", &local, object, "--timeout", "2000"])
+    };
+    let out = sdo(&node, "0x1000");
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert_eq!(text(&out.stdout), "0x1000:00 Device type = 67240338 (0x4020192)\n");
+
+    let out = sdo(&node, "Profle velocty");
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        text(&out.stderr).contains("did you mean one of:\n  0x6081 Profile velocity"),
+        "{}",
+        text(&out.stderr)
+    );
+
+    let out = sdo(&node, "Identity object");
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let lines = text(&out.stdout);
+    assert!(lines.starts_with("0x1018:00 Identity object/"), "{lines}");
+    assert!(lines.contains("0x1018:01 Identity object/Vendor ID = 477 (0x1DD)\n"), "{lines}");
+
+    let other = format!("5={}", repo("eds/lexium-mdrive.eds").display());
+    let out = sdo(&other, "0x606B");
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    assert!(
+        text(&out.stdout).starts_with("0x606B:00 (not in the device file) = ")
+            && text(&out.stdout).ends_with(" (raw)\n"),
+        "{}",
+        text(&out.stdout)
+    );
+
+    drop(sim.stdin.take());
+    assert!(sim.wait().unwrap().success());
+}
+
+/// `odc simulate --node-id 255`: a device without node-ID (CiA 305), as the Lexium MDrive
+/// comes. It stays silent (no boot-up); odc's LSS master finds it by fastscan with the
+/// identity of its file's 0x1018, gives it node-ID 9, and after reset communication it boots
+/// as node 9 and answers SDO there.
+#[test]
+fn simulate_without_node_id_is_found_by_lss_fastscan() {
+    use odc::lss::Identity;
+    use odc::master::Master;
+    use odc::nmt::NmtCommand;
+    let mut sim = Command::new(env!("CARGO_BIN_EXE_odc"))
+        .args(["simulate", repo("eds/lxm23a.eds").to_str().unwrap(), "--node-id", "255"])
+        .args(["--tcp", "127.0.0.1:0", "--stop-on-eof"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut first = String::new();
+    BufReader::new(sim.stdout.take().unwrap()).read_line(&mut first).unwrap();
+    let addr = first.trim().strip_prefix("listening on ").unwrap().to_owned();
+    let bus = odc::transport::tcp::TcpCan::connect(addr.as_str()).unwrap();
+    let mut m = Master::new(bus).with_timeout(odc::time::Duration::from_millis(1000));
+    let mut lss = m.lss().with_timeout(odc::time::Duration::from_millis(50));
+    assert!(lss.any_unconfigured().unwrap());
+    // eds/lxm23a.eds: vendor 0x1DD, product 0x6000, revision 0x02000001, no serial number.
+    let found = lss.fastscan().unwrap();
+    assert_eq!(
+        found,
+        Some(Identity { vendor: 0x1DD, product: 0x6000, revision: 0x0200_0001, serial: 0 })
+    );
+    assert_eq!(lss.inquire_node_id().unwrap(), None);
+    let nine = odc::node_id!(9);
+    lss.configure_node_id(Some(nine)).unwrap();
+    lss.switch_global(false).unwrap();
+    m.nmt_all(NmtCommand::ResetCommunication).unwrap();
+    m.wait_boot_up(nine).unwrap();
+    assert_eq!(m.upload(nine, 0x1000, 0).unwrap(), 0x0402_0192u32.to_le_bytes());
+    drop(m);
+    drop(sim.stdin.take());
+    assert!(sim.wait().unwrap().success());
 }

@@ -102,7 +102,7 @@ fn soem(tag: char, specs: &[String], devices: Value) -> (Value, String) {
     let mut sim = realtime(env!("CARGO_BIN_EXE_odc"))
         .arg("simulate")
         .args(specs)
-        .args(["--interface", &wire.devices])
+        .args(["--interface", &wire.devices, "--stop-on-eof"])
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())

@@ -10,7 +10,7 @@ use crate::{Ctx, doc};
 
 /// The `PdoConfig` of one CANopen PDO: what the runtime's CiA 301 procedure
 /// (`odc::plan::PdoConfig`) writes for it.
-fn canopen_config(pdo: &Pdo, ty: &Ident, rt: &TokenStream) -> TokenStream {
+pub(crate) fn canopen_config(pdo: &Pdo, ty: &Ident, rt: &TokenStream) -> TokenStream {
     let map = index_literal(pdo.mapping_index);
     let mut e = quote!(#rt::plan::PdoConfig::new(#map, &super::pdo::#ty::MAPPING_VALUES));
     if let Some(c) = pdo.comm_index {

@@ -41,15 +41,23 @@ pub struct SimDevice {
 
 impl SimDevice {
     /// The device of `device` on node `node_id` (1–127), in initialisation: call
-    /// [`SimDevice::start`] for its boot-up.
-    pub fn new(device: &Device, node_id: NodeId) -> Self {
+    /// [`SimDevice::start`] for its boot-up. `None`: a device without node-ID (CiA 305's
+    /// 0xFF, as drives without address switches come), silent until an LSS master finds it
+    /// (fastscan) and gives it one, then boots at the next reset communication.
+    pub fn new(device: &Device, node_id: impl Into<Option<NodeId>>) -> Self {
+        let node_id = node_id.into();
         let od = ModelDictionary::new(device, node_id);
         let drive = od.is_drive().then(Drive::new);
         // LSS with the identity of 0x1018 (read at start), bit timing 0 (1 Mbit/s; CiA 305),
         // when the file says `LSS_Supported=1` (absent means no, CiA 306): a device whose
-        // file says 0 does not answer on 0x7E5.
-        let node = Node::new(node_id);
-        let node = match device.device_info.lss_supported.as_ref().is_some_and(|v| v.value) {
+        // file says 0 does not answer on 0x7E5. A device started without node-ID gets it
+        // anyway: LSS is its only way to one.
+        let lss = device.device_info.lss_supported.as_ref().is_some_and(|v| v.value);
+        let node = match node_id {
+            Some(id) => Node::new(id),
+            None => Node::unconfigured(),
+        };
+        let node = match lss || node_id.is_none() {
             true => node.with_lss(None, 0),
             false => node,
         };

@@ -16,7 +16,7 @@
 //!   SDO Information service;
 //! - [`pdo`]: process data through the FMMUs into and out of the dictionary;
 //! - [`SubDevice`] joins them (with a CiA 402 drive when the device is one) and [`Chain`]
-//!   runs a frame through several in a line; [`EthercrabLink`] (feature `ethercrab`) wires
+//!   runs a frame through several in a line; `EthercrabLink` (feature `ethercrab`) wires
 //!   a chain to an ethercrab master in the same process.
 //!
 //! Simplifications, each visible to a master only in timing: an ESC answers at once (the

@@ -111,8 +111,9 @@ pub struct Outputs {
 }
 
 /// A CiA 402 device's process data as its generated code maps it: the generated
-/// `cia402::Pdos` of a device whose default mapping carries the controlword out and the
-/// statusword in. The driver's [`Outputs`] become its RPDO struct, its TPDO struct becomes
+/// `cia402::Pdos` of a CANopen drive, two PDOs of its default mapping (the controlword and a
+/// target out, the statusword in) or, where it has no such pair, RPDO 1 and TPDO 1 as the
+/// generated `cia402::plan` maps them. The driver's [`Outputs`] become its RPDO struct, its TPDO struct becomes
 /// [`Inputs`].
 pub trait DrivePdos {
     /// The RPDO with the controlword.

@@ -7,7 +7,7 @@
 //! `no_std`, no heap, no threads: the caller feeds every received frame to [`Node::handle`],
 //! calls [`Node::poll`] often enough for its timers (heartbeat, event timers, inhibit times,
 //! guarding; every millisecond is plenty, [`Node::next_deadline`] says when it must), and
-//! passes the time of a monotonic clock ([`Instant`](crate::time::Instant)); the node's frames
+//! passes the time of a monotonic clock ([`Instant`]); the node's frames
 //! go to the `out` closure (a CAN driver's transmit queue), which may refuse one by returning
 //! `Err` ([`Sent`]): the node keeps up to [`TX_QUEUE`] refused frames in order, offers them
 //! first at its next call, and counts those that did not fit ([`Node::tx_lost`]). The node reads its parameters from
