@@ -282,12 +282,18 @@ fn node_guarding() {
     // The node's TPDOs (started, event-driven) share the wire: the figure shows 741h only.
     let guarding: Vec<_> =
         m.bus_mut().log[start..].iter().filter(|f| f.id() == id).copied().collect();
-    let rtr = || printed("741 RTR").not_reproduced(GUARDING);
     let mut rec = Records::new("node_guarding");
     rec.compare(
         "3.6.2.1, Fig. 3.28",
         &guarding,
-        &[rtr(), printed("741 / 05"), rtr(), printed("741 / 85"), rtr(), printed("741 / 05")],
+        &[
+            printed("741 RTR").not_reproduced(GUARDING),
+            printed("741 / 05"),
+            printed("741 RTR").not_reproduced(GUARDING),
+            printed("741 / 85"),
+            printed("741 RTR").not_reproduced(GUARDING),
+            printed("741 / 05"),
+        ],
     );
 }
 
