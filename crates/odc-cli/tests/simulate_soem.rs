@@ -174,9 +174,9 @@ fn check_servoone(dev: &Value) {
     assert_eq!(dev["name"], "ServoOne");
     // config_map: 6 bytes each way (INTEGER16/UNSIGNED16 + INTEGER32, CiA 402).
     assert_eq!((&dev["outputs_len"], &dev["inputs_len"]), (&json!(6), &json!(6)));
-    // 0x1000 = 0x00020192 (the ESI's default), 0x1018:1 = 0, 0x6502 supported modes.
+    // 0x1000 = 0x00000192 (the ESI's default), 0x1018:1 = 0, 0x6502 supported modes.
     let reads = &dev["reads"];
-    assert_eq!(reads[0], json!([0x1000, 0, "92010200"]));
+    assert_eq!(reads[0], json!([0x1000, 0, "92010000"]));
     assert_eq!(reads[1], json!([0x1018, 1, "00000000"]));
     assert_eq!(reads[2][2].as_str().unwrap().len(), 8, "0x6502 is UNSIGNED32");
     assert_eq!(dev["written"], json!([[0x6060, 0, "08"], [0x607A, 0, "e8030000"]]));

@@ -111,8 +111,8 @@ fn sdo_through_generated_descriptors_values_and_aborts() {
         let sd = group.iter(&maindevice).next().unwrap();
         // The generated start-up: identity check, then 0x1C12:00 = 0 and 0x1C13:00 = 0.
         servoone::startup::configure(&sd).await.unwrap();
-        // Expedited uploads: 0x1000 device type, the ESI's DefaultData 92010200 (LE).
-        assert_eq!(ec::sdo_read(&sd, &od::DEVICE_TYPE).await.unwrap(), 0x0002_0192);
+        // Expedited uploads: 0x1000 device type, the ESI's DefaultData 92010000 (LE).
+        assert_eq!(ec::sdo_read(&sd, &od::DEVICE_TYPE).await.unwrap(), 0x0000_0192);
         assert_eq!(ec::sdo_read(&sd, &od::identity_object::NUMBER_OF_ENTRIES).await.unwrap(), 4);
         assert_eq!(
             ec::sdo_read(&sd, &od::rx_pdo_assign::NUMBER_OF_ASSIGNED_RX_PDOS).await.unwrap(),
