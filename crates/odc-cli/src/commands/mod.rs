@@ -1,6 +1,7 @@
 //! One module per subcommand: its arguments and its `run`.
 
 pub mod check;
+pub mod conformance;
 pub mod convert;
 pub mod diff;
 pub mod doc;
