@@ -176,8 +176,19 @@ where
                     value.len()
                 ));
             };
-            if let Err(e) = s.master.download_block(s.node, wi, ws, &wv) {
-                return Outcome::fail(format!("block download 0x{wi:04X}:{ws:02X}: {e}"));
+            match s.master.download_block(s.node, wi, ws, &wv) {
+                Err(odc::master::Error::Sdo { error: odc::sdo::SdoError::Remote(a), .. })
+                    if a.to_u32() == 0x0504_0001 =>
+                {
+                    return Outcome::pass(format!(
+                        "block upload of 0x{index:04X}:{sub:02X}; block download refused \
+                         (0x05040001: the device has none, as CiA 301 allows)"
+                    ));
+                }
+                Err(e) => {
+                    return Outcome::fail(format!("block download 0x{wi:04X}:{ws:02X}: {e}"));
+                }
+                Ok(()) => {}
             }
             match s.read(wi, ws) {
                 Ok(v) if v == wv => Outcome::pass(format!(
