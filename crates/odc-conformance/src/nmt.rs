@@ -14,7 +14,8 @@ const PERIOD_MS: u64 = 100;
 /// The life time factor the guarding check sets.
 const LIFE_TIME_FACTOR: u8 = 3;
 
-/// The valid TPDOs of the device: their CAN-IDs, and whether one sends on SYNC or on a timer.
+/// The valid TPDOs of the device: their CAN-IDs, and whether one sends within 300 ms of
+/// operational with a SYNC every 50 ms.
 pub(crate) fn tpdos<B: Bus>(s: &mut Session<'_, B>) -> (Vec<u32>, bool)
 where
     B::Error: Display,
@@ -31,9 +32,13 @@ where
             continue;
         }
         ids.push(cob & 0x7FF);
+        let map = 0x1A00 + i;
+        let mapped = s.read(map, 0).ok().and_then(|b| b.first().copied()).unwrap_or(0);
         let ty = s.read(comm, 2).ok().and_then(|b| b.first().copied()).unwrap_or(255);
         let timer = if s.sub(comm, 5).is_some() { s.read_u32(comm, 5).unwrap_or(0) } else { 0 };
-        sends |= ty <= 240 || timer > 0;
+        // Within the 300 ms of operational (6 SYNCs): cyclic every 1-5 SYNCs, or an event
+        // timer of at most 250 ms. Acyclic (0) and RTR-only types send on an event only.
+        sends |= mapped > 0 && ((1..=5).contains(&ty) || (ty >= 254 && (1..=250).contains(&timer)));
     }
     (ids, sends)
 }
