@@ -382,3 +382,24 @@ where
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use odc_model::DataType;
+
+    fn sub(dt: DataType) -> SubObject {
+        SubObject::new(0, "x", dt, Access::Rw)
+    }
+
+    #[test]
+    fn integers_in_the_bytes_of_their_type() {
+        assert_eq!(int_bytes(&sub(DataType::Unsigned8), 255), Some(vec![0xFF]));
+        assert_eq!(int_bytes(&sub(DataType::Unsigned8), 256), None, "past UNSIGNED8");
+        assert_eq!(int_bytes(&sub(DataType::Unsigned8), -1), None);
+        assert_eq!(int_bytes(&sub(DataType::Integer16), -2), Some(vec![0xFE, 0xFF]));
+        assert_eq!(int_bytes(&sub(DataType::Integer16), 32768), None);
+        assert_eq!(int_bytes(&sub(DataType::Unsigned24), 0x12_3456), Some(vec![0x56, 0x34, 0x12]));
+        assert_eq!(int_bytes(&sub(DataType::VisibleString), 1), None, "not a number");
+    }
+}

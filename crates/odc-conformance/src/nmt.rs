@@ -98,7 +98,7 @@ where
         "nmt.pdo-states",
         Group::Nmt,
         "CiA 301 7.3.2.2.2 (Table 51)",
-        "PDOs only in operational (SYNC every 50 ms meanwhile)",
+        "PDOs only in operational (SYNC every 50 ms, counted from 100 ms after each NMT command)",
         |s| {
             let (ids, sends) = tpdos(s);
             if ids.is_empty() {
@@ -106,17 +106,20 @@ where
             }
             let mut problems = Vec::new();
             let mut seen_operational = 0;
-            s.master.set_sync_period(Some(50));
             for (c, allowed) in [
                 (NmtCommand::EnterPreOperational, false),
                 (NmtCommand::Start, true),
                 (NmtCommand::Stop, false),
                 (NmtCommand::EnterPreOperational, false),
             ] {
+                // No SYNC across the command, and 100 ms for what the node sent before it
+                // (a PDO answering the last SYNC) to arrive: only then are PDOs counted.
+                s.master.set_sync_period(None);
                 if let Err(e) = s.nmt(c) {
-                    s.master.set_sync_period(None);
                     return Outcome::fail(e);
                 }
+                s.listen(100);
+                s.master.set_sync_period(Some(50));
                 let pdos =
                     s.listen(300).iter().filter(|(_, f)| ids.iter().any(|i| f.is_data(*i))).count();
                 if allowed {
@@ -260,6 +263,14 @@ where
                 return Outcome::na("node guarding was not set up (see nmt.guarding)");
             };
             let node = s.node;
+            if s.sub(0x1014, 0).is_none() {
+                // Guarding stops here all the same; the values of before come back.
+                s.master.unguard(node);
+                for (i, v) in old {
+                    let _ = s.write(i, 0, &v);
+                }
+                return Outcome::na("the file has no 0x1014: the node sends no EMCY");
+            }
             s.master.unguard(node);
             let emcy = node.emcy().raw();
             let life = PERIOD_MS * u64::from(LIFE_TIME_FACTOR);

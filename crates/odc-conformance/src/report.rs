@@ -139,3 +139,60 @@ impl Report {
 fn esc(s: &str) -> String {
     s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Group;
+
+    fn check(id: &'static str, outcome: Outcome) -> CheckResult {
+        CheckResult { id, group: Group::Sdo, clause: "CiA 301 x", title: "t", outcome }
+    }
+
+    #[test]
+    fn counts_summary_json_and_html() {
+        let r = Report::new(
+            "Dev <1>",
+            5,
+            vec![
+                check("sdo.a", Outcome::pass("ok")),
+                check(
+                    "sdo.b",
+                    Outcome::Fail {
+                        reason: "bad & worse".into(),
+                        frames: vec!["     1 ms -> 605 [40 00 10 00 00 00 00 00]".into()],
+                    },
+                ),
+                check("sdo.c", Outcome::na("why")),
+            ],
+        );
+        assert_eq!(r.counts, Counts { pass: 1, fail: 1, not_applicable: 1 });
+        assert_eq!(r.failed(), ["sdo.b"]);
+        let text = r.summary();
+        assert!(text.contains("FAIL  sdo.b "), "{text}");
+        assert!(text.contains("        1 ms -> 605 [40"), "the frames under the failure: {text}");
+        assert!(text.ends_with("1 passed, 1 failed, 1 not applicable\n"), "{text}");
+        let json: serde_json::Value = serde_json::from_str(&r.to_json()).unwrap();
+        assert_eq!(json["checks"][1]["result"], "fail");
+        assert_eq!(json["checks"][1]["reason"], "bad & worse");
+        assert_eq!(json["checks"][2]["why"], "why");
+        assert_eq!(json["checks"][0]["group"], "sdo");
+        let html = r.to_html();
+        assert!(html.contains("Dev &lt;1&gt;") && html.contains("bad &amp; worse"), "{html}");
+        assert!(!html.contains("<1>"));
+    }
+
+    #[test]
+    fn problems_become_one_outcome() {
+        assert!(matches!(Outcome::from_problems(&[], 0, "x"), Outcome::NotApplicable { .. }));
+        assert_eq!(Outcome::from_problems(&[], 3, "limits"), Outcome::pass("3 limits checked"));
+        let many: Vec<String> = (0..15).map(|i| format!("p{i}")).collect();
+        let Outcome::Fail { reason, .. } = Outcome::from_problems(&many, 20, "entries") else {
+            panic!()
+        };
+        assert!(reason.starts_with("15 of 20 entries: p0; p1"), "{reason}");
+        assert!(reason.ends_with("p11; and 3 more"), "{reason}");
+        assert_eq!(Group::from_name("CiA402"), Some(Group::Cia402));
+        assert_eq!(Group::from_name("nope"), None);
+    }
+}
