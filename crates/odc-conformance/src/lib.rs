@@ -204,6 +204,17 @@ where
 {
     let mut s = Session::new(device, node, bus, options);
     s.settle();
+    // A node that does not answer at all would make every check wait out its timeouts (one
+    // per entry): one result says so instead.
+    if s.read(0x1000, 0) == Err(session::SdoFail::Timeout) {
+        s.check("node.answers", Group::Identity, "CiA 301 7.2.4", "the node answers SDO", |_| {
+            Outcome::fail(format!(
+                "no answer to an SDO upload of 0x1000 at node {node}: is it on the bus, at \
+                 this node-ID and bit rate, and not stopped?"
+            ))
+        });
+        return s.finish();
+    }
     for group in Group::ALL {
         if !options.groups.is_empty() && !options.groups.contains(&group) {
             continue;

@@ -117,3 +117,19 @@ fn lxm23a_defects_found_with_their_frames() {
         Outcome::NotApplicable { .. }
     ));
 }
+
+#[test]
+fn a_silent_node_is_one_failure_not_a_wait_per_entry() {
+    // A bus with nobody on it: the simulated device is at node 5, the checks ask node 9.
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../eds/lxm23a.eds");
+    let loaded = odc_pipeline::load(&path, &odc_pipeline::Options::new()).unwrap();
+    let device = loaded.device().unwrap();
+    let bus = odc::transport::mem::MemBus::new();
+    let port = bus.port();
+    let options = Options { timeout_ms: 100, ..Options::default() };
+    let start = std::time::Instant::now();
+    let r = odc_conformance::run(device, NodeId::new(9).unwrap(), port, &options);
+    assert_eq!(r.failed(), ["node.answers"]);
+    assert_eq!(r.checks.len(), 1);
+    assert!(start.elapsed() < std::time::Duration::from_secs(2));
+}
