@@ -1,5 +1,5 @@
 //! PDOs (CiA 301 7.2.2, 7.5.2.35-38): the mapping rules, writing a mapping while the PDO is
-//! valid, the transmission types and the event timer. The TPDO tested is the first one whose
+//! valid, the transmission types, the event timer and the inhibit time. The TPDO tested is the first one whose
 //! COB-ID and mapping the file makes writable; everything is written back.
 
 use std::fmt::Display;
@@ -247,6 +247,63 @@ where
             } else {
                 Outcome::fail(format!("0x{comm:04X}: {}", problems.join("; ")))
             }
+        },
+    );
+    s.check(
+        "pdo.inhibit-time",
+        Group::Pdo,
+        "CiA 301 7.2.2.4, 7.5.2.35",
+        "an inhibit time of 100 ms holds back a TPDO whose event timer asks for one every 20 ms",
+        |s| {
+            let Some(t) = &tpdo else { return Outcome::na(none) };
+            let comm = t.comm;
+            let writable = |s: &Session<'_, B>, sub| s.sub(comm, sub).is_some_and(|so| so.access.writable());
+            if !(writable(s, 2) && writable(s, 3) && writable(s, 5)) || t.count == 0 {
+                return Outcome::na(format!(
+                    "0x{comm:04X} has no writable type, inhibit time and event timer, or maps nothing"
+                ));
+            }
+            let old: Vec<(u8, Vec<u8>)> =
+                [2u8, 3, 5].iter().filter_map(|&k| Some((k, s.read(comm, k).ok()?))).collect();
+            let id = t.cob & 0x7FF;
+            // The inhibit time may change only while the PDO is not valid (CiA 301 7.5.2.35).
+            let setup = s
+                .write(comm, 1, &(t.cob | 0x8000_0000).to_le_bytes())
+                .and_then(|()| s.write(comm, 2, &[254]))
+                .and_then(|()| s.write(comm, 3, &1000u16.to_le_bytes()))
+                .and_then(|()| s.write(comm, 5, &20u16.to_le_bytes()))
+                .and_then(|()| s.write(comm, 1, &(t.cob & !0x8000_0000).to_le_bytes()));
+            let out = match setup {
+                Err(e) => Outcome::fail(format!("setting up 0x{comm:04X}: {e}")),
+                Ok(()) => {
+                    let _ = s.nmt(NmtCommand::Start);
+                    let times: Vec<u64> =
+                        s.listen(1050).iter().filter(|(_, f)| f.is_data(id)).map(|(t, _)| *t).collect();
+                    let _ = s.nmt(NmtCommand::EnterPreOperational);
+                    let min_gap = times.windows(2).map(|w| w[1] - w[0]).min();
+                    match min_gap {
+                        _ if times.len() < 5 => Outcome::fail(format!(
+                            "{} PDOs in 1050 ms (event timer 20 ms, inhibit 100 ms)",
+                            times.len()
+                        )),
+                        Some(g) if g + 10 < 100 => Outcome::fail(format!(
+                            "{} PDOs in 1050 ms, a gap of {g} ms under the 100 ms inhibit time",
+                            times.len()
+                        )),
+                        g => Outcome::pass(format!(
+                            "{} PDOs in 1050 ms, gaps from {} ms",
+                            times.len(),
+                            g.unwrap_or(0)
+                        )),
+                    }
+                }
+            };
+            let _ = s.write(comm, 1, &(t.cob | 0x8000_0000).to_le_bytes());
+            for (k, v) in old {
+                let _ = s.write(comm, k, &v);
+            }
+            let _ = s.write(comm, 1, &t.cob.to_le_bytes());
+            out
         },
     );
 }
