@@ -1,5 +1,6 @@
 //! PDOs (CiA 301 7.2.2, 7.5.2.35-38): the mapping rules, writing a mapping while the PDO is
-//! valid, the transmission types, the event timer and the inhibit time. The TPDO tested is the first one whose
+//! valid, the transmission types, the event timer, the inhibit time, and the SYNC counter with a
+//! TPDO's start value. The TPDO tested is the first one whose
 //! COB-ID and mapping the file makes writable; everything is written back.
 
 use std::fmt::Display;
@@ -301,6 +302,68 @@ where
             let _ = s.write(comm, 1, &(t.cob | 0x8000_0000).to_le_bytes());
             for (k, v) in old {
                 let _ = s.write(comm, k, &v);
+            }
+            let _ = s.write(comm, 1, &t.cob.to_le_bytes());
+            out
+        },
+    );
+    s.check(
+        "pdo.sync-start",
+        Group::Pdo,
+        "CiA 301 7.2.5.2, 7.5.2.22, 7.5.2.35 (SYNC counter, start value)",
+        "with SYNCs counting to 10 (0x1019), a type 2 TPDO with start value 3 is sent after the \
+         SYNCs counted 3, 5, 7 and 9",
+        |s| {
+            let Some(t) = &tpdo else { return Outcome::na(none) };
+            let comm = t.comm;
+            let writable = |s: &Session<'_, B>, i, sub| s.sub(i, sub).is_some_and(|so| so.access.writable());
+            if !(writable(s, 0x1019, 0) && writable(s, comm, 2) && writable(s, comm, 6))
+                || t.count == 0
+            {
+                return Outcome::na(format!(
+                    "the file has no writable 0x1019 and 0x{comm:04X}:02/06, or 0x{comm:04X} maps nothing"
+                ));
+            }
+            let old_overflow = s.read(0x1019, 0).ok();
+            let old: Vec<(u8, Vec<u8>)> =
+                [2u8, 6].iter().filter_map(|&k| Some((k, s.read(comm, k).ok()?))).collect();
+            let id = t.cob & 0x7FF;
+            let setup = s
+                .write(comm, 1, &(t.cob | 0x8000_0000).to_le_bytes())
+                .and_then(|()| s.write(0x1019, 0, &[10]))
+                .and_then(|()| s.write(comm, 2, &[2]))
+                .and_then(|()| s.write(comm, 6, &[3]))
+                .and_then(|()| s.write(comm, 1, &(t.cob & !0x8000_0000).to_le_bytes()));
+            let out = match setup {
+                Err(e) => Outcome::fail(format!("setting up 0x1019 and 0x{comm:04X}: {e}")),
+                Ok(()) => {
+                    let _ = s.master.set_sync_counter(Some(10));
+                    let _ = s.nmt(NmtCommand::Start);
+                    s.listen(50);
+                    let mut after = Vec::new();
+                    for counter in 1..=10u8 {
+                        let _ = s.master.sync();
+                        if s.listen(40).iter().any(|(_, f)| f.is_data(id)) {
+                            after.push(counter);
+                        }
+                    }
+                    let _ = s.nmt(NmtCommand::EnterPreOperational);
+                    let _ = s.master.set_sync_counter(None);
+                    if after == [3, 5, 7, 9] {
+                        Outcome::pass("PDOs after the SYNCs counted 3, 5, 7, 9")
+                    } else {
+                        Outcome::fail(format!(
+                            "PDOs after the SYNCs counted {after:?}, not [3, 5, 7, 9]"
+                        ))
+                    }
+                }
+            };
+            let _ = s.write(comm, 1, &(t.cob | 0x8000_0000).to_le_bytes());
+            for (k, v) in old {
+                let _ = s.write(comm, k, &v);
+            }
+            if let Some(v) = old_overflow {
+                let _ = s.write(0x1019, 0, &v);
             }
             let _ = s.write(comm, 1, &t.cob.to_le_bytes());
             out
