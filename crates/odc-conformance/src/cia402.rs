@@ -51,8 +51,7 @@ where
         "cia402.state-machine",
         Group::Cia402,
         "CiA 402-2 6.2.1 (Figure 12, Tables 30 and 31)",
-        "transitions 2, 3, 4, 5, 6, 3, 4, 11, 12/9, 7 by controlword, each to the state the \
-         table names",
+        "transitions 2 to 12 by controlword, each to the state Table 31 names",
         |s| {
             if !drive {
                 return Outcome::na("not a CiA 402 drive (0x1000, 0x6040/0x6041)");
@@ -61,18 +60,37 @@ where
                 return Outcome::na("the file has no 0x6040 and 0x6041");
             }
             let old = s.read(0x6040, 0).ok();
-            let steps: [(&str, u16, &[&str]); 11] = [
-                ("fault reset", 0x80, &["switch on disabled", "not ready to switch on"]),
-                ("disable voltage", 0x00, &["switch on disabled"]),
-                ("2 shutdown", 0x06, &["ready to switch on"]),
-                ("3 switch on", 0x07, &["switched on"]),
-                ("4 enable operation", 0x0F, &["operation enabled"]),
-                ("5 disable operation", 0x07, &["switched on"]),
-                ("6 shutdown", 0x06, &["ready to switch on"]),
-                ("3 switch on", 0x07, &["switched on"]),
-                ("4 enable operation", 0x0F, &["operation enabled"]),
+            const SOD: &[&str] = &["switch on disabled"];
+            const RTSO: &[&str] = &["ready to switch on"];
+            const SO: &[&str] = &["switched on"];
+            const OE: &[&str] = &["operation enabled"];
+            // Every transition the controlword makes (CiA 402-2 Table 31), 2 to 12; 13 and 14
+            // are the drive's own (a fault), 15 only from a fault.
+            let steps: [(&str, u16, &[&str]); 24] = [
+                ("15 fault reset", 0x80, &["switch on disabled", "not ready to switch on"]),
+                ("disable voltage", 0x00, SOD),
+                ("2 shutdown", 0x06, RTSO),
+                ("7 quick stop", 0x02, SOD),
+                ("2 shutdown", 0x06, RTSO),
+                ("3 switch on", 0x07, SO),
+                ("4 enable operation", 0x0F, OE),
+                ("5 disable operation", 0x07, SO),
+                ("6 shutdown", 0x06, RTSO),
+                ("3 switch on", 0x07, SO),
+                ("10 disable voltage", 0x00, SOD),
+                ("2 shutdown", 0x06, RTSO),
+                ("3 switch on", 0x07, SO),
+                ("4 enable operation", 0x0F, OE),
+                ("8 shutdown", 0x06, RTSO),
+                ("3 switch on", 0x07, SO),
+                ("4 enable operation", 0x0F, OE),
+                ("9 disable voltage", 0x00, SOD),
+                ("2 shutdown", 0x06, RTSO),
+                ("3 switch on", 0x07, SO),
+                ("4 enable operation", 0x0F, OE),
                 ("11 quick stop", 0x02, &["quick stop active", "switch on disabled"]),
-                ("12/9 disable voltage", 0x00, &["switch on disabled"]),
+                ("12 disable voltage", 0x00, SOD),
+                ("disable voltage", 0x00, SOD),
             ];
             let mut seen = Vec::new();
             let mut outcome = None;
