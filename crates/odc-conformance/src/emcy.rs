@@ -17,12 +17,14 @@ where
         "emcy.cob-id",
         Group::Emcy,
         "CiA 301 7.5.2.29",
-        "0x1014 is valid and 0x80 + node-ID (the pre-defined connection set)",
+        "0x1014 is valid and the file's (by default 0x80 + node-ID, the pre-defined connection set)",
         |s| {
-            if s.sub(0x1014, 0).is_none() {
+            let Some(so) = s.sub(0x1014, 0) else {
                 return Outcome::na("the file has no 0x1014");
-            }
-            let want = s.node.emcy().raw();
+            };
+            let want = s
+                .default_bytes(so)
+                .map_or(s.node.emcy().raw(), |b| crate::session::le(&b) as u32);
             match s.read_u32(0x1014, 0) {
                 Ok(v) if v == want => Outcome::pass(format!("0x{v:08X}")),
                 Ok(v) => Outcome::fail(format!("0x1014 is 0x{v:08X}, not 0x{want:08X}")),
@@ -110,7 +112,7 @@ where
     if let Err(e) = s.send(id, &short) {
         return Outcome::fail(e);
     }
-    let emcy_id = s.node.emcy().raw();
+    let emcy_id = s.emcy_id();
     let frames = s.listen(300);
     let _ = s.nmt(NmtCommand::EnterPreOperational);
     let Some((_, f)) = frames.iter().find(|(_, f)| f.is_data(emcy_id)) else {

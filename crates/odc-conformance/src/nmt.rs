@@ -271,8 +271,8 @@ where
                 }
                 return Outcome::na("the file has no 0x1014: the node sends no EMCY");
             }
+            let emcy = s.emcy_id();
             s.master.unguard(node);
-            let emcy = node.emcy().raw();
             let life = PERIOD_MS * u64::from(LIFE_TIME_FACTOR);
             let frames = s.listen(life + 300);
             let loss = frames

@@ -9,7 +9,7 @@ use odc::nmt::NmtCommand;
 use odc::transport::Bus;
 use odc_model::{Direction, SubObject};
 
-use crate::session::{SdoFail, Session};
+use crate::session::{SdoFail, Session, le};
 use crate::{Group, Outcome};
 
 /// A TPDO and what it held before the checks.
@@ -215,6 +215,8 @@ where
                 let _ = s.master.sync();
                 n += s.listen(30).iter().filter(|(_, f)| f.is_data(id)).count();
             }
+            // The answer to the last SYNC may come after its window.
+            n += s.listen(100).iter().filter(|(_, f)| f.is_data(id)).count();
             if n == 10 {
                 detail.push("type 1: 10 PDOs for 10 SYNCs".to_string());
             } else {
@@ -230,12 +232,22 @@ where
                     problems.push(format!("type 254, event timer 100: {e}"));
                 } else {
                     let _ = s.nmt(NmtCommand::Start);
-                    let frames = s.listen(1050);
-                    let n = frames.iter().filter(|(_, f)| f.is_data(id)).count();
-                    if (9..=12).contains(&n) {
-                        detail.push(format!("event timer 100 ms: {n} PDOs in 1050 ms"));
+                    // The inhibit time (0x18xx:03, 100 µs) spaces them further where longer.
+                    let inhibit_ms = if s.sub(comm, 3).is_some() {
+                        s.read(comm, 3).map_or(0, |b| le(&b) / 10)
                     } else {
-                        problems.push(format!("event timer 100 ms: {n} PDOs in 1050 ms, not 9-12"));
+                        0
+                    };
+                    let period = inhibit_ms.max(100);
+                    let (lo, hi) = (1000 / period - 1, 1050 / period + 2);
+                    let frames = s.listen(1050);
+                    let n = frames.iter().filter(|(_, f)| f.is_data(id)).count() as u64;
+                    let what =
+                        format!("event timer 100 ms, inhibit {inhibit_ms} ms: {n} PDOs in 1050 ms");
+                    if (lo..=hi).contains(&n) {
+                        detail.push(what);
+                    } else {
+                        problems.push(format!("{what}, not {lo}-{hi}"));
                     }
                 }
                 let _ = s.nmt(NmtCommand::EnterPreOperational);

@@ -152,6 +152,15 @@ where
         Ok(u32::from_le_bytes(w))
     }
 
+    /// The CAN-ID the device sends EMCY on: its 0x1014 (bits 0-10), else 0x80 + node-ID.
+    pub fn emcy_id(&mut self) -> u32 {
+        let own = self.node.emcy().raw();
+        if self.dev.sub(0x1014, 0).is_none() {
+            return own;
+        }
+        self.read_u32(0x1014, 0).map_or(own, |v| v & 0x7FF)
+    }
+
     /// One request frame of the client's choice, and the server's answer.
     pub fn raw_sdo(&mut self, request: [u8; 8]) -> Result<Option<[u8; 8]>, String> {
         self.send(self.node.sdo_request().raw(), &request)?;

@@ -34,8 +34,8 @@ pub(super) struct Guard {
     guard_time_ms: u64,
     life_time_ms: u64,
     next_rtr_ms: u64,
-    /// The RTR sent and not yet answered.
-    outstanding: bool,
+    /// Remote frames sent and not yet answered (more than one when answers come late).
+    outstanding: u32,
     /// The toggle bit of the next answer, once known.
     expect: Option<bool>,
     last_valid_ms: u64,
@@ -69,7 +69,7 @@ impl<B: Bus> Master<B> {
                 guard_time_ms,
                 life_time_ms: guard_time_ms.saturating_mul(u64::from(life_time_factor)),
                 next_rtr_ms: now,
-                outstanding: false,
+                outstanding: 0,
                 expect: None,
                 last_valid_ms: now,
                 status: GuardStatus::default(),
@@ -96,14 +96,14 @@ impl<B: Bus> Master<B> {
         let [byte] = f.bytes() else { return false };
         if *byte == 0 {
             g.expect = Some(false);
-            g.outstanding = false;
+            g.outstanding = 0;
             return false;
         }
-        if !g.outstanding {
+        if g.outstanding == 0 {
             // A heartbeat of a node that also beats: not an answer.
             return false;
         }
-        g.outstanding = false;
+        g.outstanding -= 1;
         let toggle = byte & 0x80 != 0;
         if g.expect.is_some_and(|t| t != toggle) {
             g.status.toggle_errors += 1;
@@ -132,7 +132,9 @@ impl<B: Bus> Master<B> {
             if now >= g.next_rtr_ms {
                 g.next_rtr_ms =
                     g.next_rtr_ms.saturating_add(g.guard_time_ms).max(now.saturating_add(1));
-                g.outstanding = true;
+                // An answer older than the life time will not come: at most that many wait.
+                let most = u32::try_from(g.life_time_ms / g.guard_time_ms).unwrap_or(u32::MAX);
+                g.outstanding = (g.outstanding + 1).min(most.max(1));
                 g.status.requests += 1;
                 due.push(*node);
             }
@@ -216,6 +218,36 @@ mod tests {
         let lost = events.iter().filter(|e| **e == Event::GuardingLost { node: NODE }).count();
         assert_eq!(lost, 1, "{events:?}");
         assert_eq!(status.answers, 0);
+    }
+
+    #[test]
+    fn late_answers_keep_their_toggle() {
+        // Each answer comes one request late: the first request is not answered at once, so
+        // two are outstanding when answers start; the toggle still alternates.
+        let bus = MemBus::new();
+        let (mut device, port) = (bus.port(), bus.port());
+        let mut master = Master::new(port);
+        master.guard(NODE, 20, 3).unwrap();
+        let start = master.now_ms();
+        let mut n = 0u32;
+        let mut pending = false;
+        while master.now_ms() < start + 200 {
+            let deadline = master.now_ms() + 5;
+            let _ = master.poll(deadline).unwrap();
+            while let Some(f) = device.recv(0).unwrap() {
+                if f.is_remote() {
+                    if pending {
+                        let b = 0x7F | if n % 2 == 1 { 0x80 } else { 0 };
+                        device.send(&CanFrame::from_slice(0x705, &[b]).unwrap()).unwrap();
+                        n += 1;
+                    }
+                    pending = true;
+                }
+            }
+        }
+        let st = master.guarding(NODE).unwrap();
+        assert_eq!(st.toggle_errors, 0, "{st:?}");
+        assert!(st.answers >= 7 && !st.lost, "{st:?}");
     }
 
     #[test]
