@@ -106,13 +106,14 @@ where
     let Some((id, len)) = rpdo(s) else {
         return Outcome::na("no valid RPDO that maps a byte or more");
     };
+    // Read before the RPDO: frames that come during an SDO transfer are not in `listen`'s.
+    let emcy_id = s.emcy_id();
     let _ = s.nmt(NmtCommand::Start);
     s.listen(30);
     let short = vec![0u8; len - 1];
     if let Err(e) = s.send(id, &short) {
         return Outcome::fail(e);
     }
-    let emcy_id = s.emcy_id();
     let frames = s.listen(300);
     let _ = s.nmt(NmtCommand::EnterPreOperational);
     let Some((_, f)) = frames.iter().find(|(_, f)| f.is_data(emcy_id)) else {

@@ -108,7 +108,8 @@ fn lxm23a_defects_found_with_their_frames() {
     }
     // The guarding service of odc's master against odc's node: answers with the toggle bit,
     // and the node's life-guarding EMCY when it stops.
-    for id in ["nmt.guarding", "nmt.life-guarding"] {
+    // And what lxm23a's file makes checkable: an EMCY from a short RPDO, the inhibit time.
+    for id in ["nmt.guarding", "nmt.life-guarding", "emcy.layout", "pdo.inhibit-time"] {
         assert!(matches!(r.get(id).unwrap().outcome, Outcome::Pass { .. }), "{id}");
     }
     // Without --restore-defaults the 0x1011 "load" check is not run.
