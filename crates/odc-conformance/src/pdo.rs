@@ -58,6 +58,14 @@ where
     let _ = s.write(t.comm, 1, &t.cob.to_le_bytes());
 }
 
+/// Whether the device is a SYNC producer (0x1005 bit 30, CiA 301 7.5.2.5).
+fn producer<B: Bus>(s: &mut Session<'_, B>) -> bool
+where
+    B::Error: Display,
+{
+    s.sub(0x1005, 0).is_some() && s.read_u32(0x1005, 0).is_ok_and(|v| v & 0x4000_0000 != 0)
+}
+
 fn entry(index: u16, sub: u8, bits: u32) -> [u8; 4] {
     (u32::from(index) << 16 | u32::from(sub) << 8 | (bits & 0xFF)).to_le_bytes()
 }
@@ -202,6 +210,12 @@ where
             let Ok(old_type) = s.read(comm, 2) else {
                 return Outcome::na(format!("0x{comm:04X}:02 does not read"));
             };
+            if producer(s) {
+                return Outcome::na(
+                    "the device produces SYNC itself (0x1005 bit 30): its SYNCs and the \
+                     tester's would both count",
+                );
+            }
             let id = t.cob & 0x7FF;
             let mut problems = Vec::new();
             let mut detail = Vec::new();
@@ -335,6 +349,12 @@ where
                 return Outcome::na(format!(
                     "the file has no writable 0x1019 and 0x{comm:04X}:02/06, or 0x{comm:04X} maps nothing"
                 ));
+            }
+            if producer(s) {
+                return Outcome::na(
+                    "the device produces SYNC itself (0x1005 bit 30): its SYNCs and the \
+                     tester's would both count",
+                );
             }
             let old_overflow = s.read(0x1019, 0).ok();
             let old: Vec<(u8, Vec<u8>)> =
