@@ -14,7 +14,7 @@ const EXIT_STATUS: &str = "\
 Exit status:
   0  no diagnostic at error level (warnings allowed)
   1  at least one error-level diagnostic (check), or a file with errors where a command needs a
-     usable model (dump, convert, info, generate)
+     usable model (dump, convert, info, generate); a failed check (conformance)
   2  usage error (bad arguments, unknown device or rule) or I/O error (unreadable input,
      unwritable output); nothing is written
 
@@ -50,6 +50,7 @@ enum Command {
     Sii(commands::sii::Args),
     Simulate(commands::simulate::Args),
     Sdo(commands::sdo::Args),
+    Conformance(commands::conformance::Args),
     Nmt(commands::nmt::Args),
     Lss(commands::lss::Args),
     Monitor(commands::monitor::Args),
@@ -83,6 +84,7 @@ fn main() -> ExitCode {
         Command::Sii(args) => commands::sii::run(args),
         Command::Simulate(args) => commands::simulate::run(args),
         Command::Sdo(args) => commands::sdo::run(args),
+        Command::Conformance(args) => commands::conformance::run(args),
         Command::Nmt(args) => commands::nmt::run(args),
         Command::Lss(args) => commands::lss::run(args),
         Command::Monitor(args) => commands::monitor::run(args),

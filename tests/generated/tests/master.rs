@@ -1,6 +1,6 @@
 //! `odc::master::Master` against odc's own node (`odc::node::Node` serving the dictionary
 //! generated from `eds/lxm23a.eds`) on the in-memory bus: NMT and node states, heartbeat
-//! consumer, SDO with generated descriptors and aborts, plans, PDOs with generated structs,
+//! consumer, node guarding, SDO with generated descriptors and aborts, plans, PDOs with generated structs,
 //! SYNC with counter, EMCY, and LSS fastscan. Expected frames and values are CiA 301/305's.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
@@ -225,6 +225,49 @@ fn a_lost_heartbeat_is_an_event() {
         }
     }
     assert_eq!(lost, 1, "one event per loss");
+}
+
+#[test]
+fn node_guarding_from_the_master() {
+    let (mut m, mut device, _spy) = setup();
+    m.wait_boot_up(NODE).unwrap();
+    // The node watches the master with guard time 20 ms × life time factor 3 (CiA 301
+    // 0x100C, 0x100D); the master guards it every 20 ms, with the same life time.
+    m.download(NODE, 0x100C, 0, &20u16.to_le_bytes()).unwrap();
+    m.download(NODE, 0x100D, 0, &[3]).unwrap();
+    m.guard(NODE, odc::time::Duration::from_millis(20), 3).unwrap();
+    let until = m.now() + odc::time::Duration::from_millis(200);
+    while let Some(e) = m.poll(until).unwrap() {
+        assert_ne!(e, Event::GuardingLost { node: NODE }, "lost while answering");
+    }
+    let st = m.guarding(NODE).unwrap();
+    assert!(st.requests >= 9 && st.answers + 1 >= st.requests, "{st:?}");
+    assert_eq!(st.toggle_errors, 0, "the node's toggle bit alternates");
+    assert_eq!(st.state, Some(NmtState::PreOperational));
+    // The master stops guarding: the node reports the life-guarding loss (EMCY 0x8130).
+    m.unguard(NODE);
+    let until = m.now() + odc::time::Duration::from_millis(200);
+    let mut emcy = None;
+    while let Some(e) = m.poll(until).unwrap() {
+        if let Event::Emcy { node: NODE, emcy: frame } = e {
+            emcy = Some(frame.code);
+        }
+    }
+    assert_eq!(emcy, Some(EmcyCode(0x8130)));
+    // Guarded again, then the node goes away: one loss event.
+    m.guard(NODE, odc::time::Duration::from_millis(20), 3).unwrap();
+    let until = m.now() + odc::time::Duration::from_millis(60);
+    while m.poll(until).unwrap().is_some() {}
+    device.stop();
+    let until = m.now() + odc::time::Duration::from_millis(200);
+    let mut lost = 0;
+    while let Some(e) = m.poll(until).unwrap() {
+        if e == (Event::GuardingLost { node: NODE }) {
+            lost += 1;
+        }
+    }
+    assert_eq!(lost, 1, "one event per loss");
+    assert!(m.guarding(NODE).unwrap().lost);
 }
 
 #[test]

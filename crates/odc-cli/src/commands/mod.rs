@@ -8,6 +8,7 @@ macro_rules! elog {
 }
 
 pub mod check;
+pub mod conformance;
 pub mod convert;
 pub mod diff;
 pub mod doc;

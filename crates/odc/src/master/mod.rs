@@ -2,7 +2,8 @@
 //! of [`crate::transport`]: SocketCAN, embedded-can HALs, TCP, in-memory).
 //!
 //! - NMT master: commands to one node or all; each node's state as its boot-up, heartbeat or
-//!   guarding answer last said; a heartbeat consumer that makes a lost node an event;
+//!   guarding answer last said; a heartbeat consumer that makes a lost node an event; node
+//!   guarding (remote frames, toggle bit, life-guarding loss as an event);
 //! - SYNC producer (with the CiA 301 counter when asked for);
 //! - SDO client for every node (expedited, segmented; block transfer with
 //!   [`Master::upload_block`]), typed by generated descriptors;
@@ -41,6 +42,7 @@
 
 pub mod axis;
 mod error;
+mod guard;
 mod link;
 pub mod lss;
 mod nmt;
@@ -86,6 +88,12 @@ pub enum Event {
         /// The node.
         node: NodeId,
     },
+    /// A node guarded with [`Master::guard`] gave no valid answer (toggle bit alternating)
+    /// within its life time.
+    GuardingLost {
+        /// The node.
+        node: NodeId,
+    },
     /// An emergency message (`EmcyCode`'s `Display` gives its CiA 301/402 meaning).
     Emcy {
         /// The node.
@@ -110,6 +118,7 @@ pub enum Event {
 }
 
 pub use error::{Error, Waited};
+pub use guard::GuardStatus;
 pub use link::Dir;
 use link::Link;
 
@@ -136,6 +145,7 @@ pub struct Master<B: Bus> {
     timeout: Duration,
     clients: BTreeMap<NodeId, Box<Client<SDO_BUFFER>>>,
     nodes: BTreeMap<NodeId, Watch>,
+    guards: BTreeMap<NodeId, guard::Guard>,
     sync: Option<SyncProducer>,
     /// The SYNC counter's overflow value (0x1019), when SYNCs carry a counter.
     sync_overflow: Option<u8>,
@@ -156,6 +166,7 @@ impl<B: Bus> Master<B> {
             timeout: DEFAULT_TIMEOUT,
             clients: BTreeMap::new(),
             nodes: BTreeMap::new(),
+            guards: BTreeMap::new(),
             sync: None,
             sync_overflow: None,
             sync_counter: 1,

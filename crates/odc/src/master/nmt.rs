@@ -119,6 +119,7 @@ impl<B: Bus> Master<B> {
                 let Some(state) = f.bytes().first().and_then(|b| NmtState::from_u8(*b)) else {
                     return Some(Event::Other(*f));
                 };
+                self.guard_answer(node, f, now);
                 let w = self.nodes.entry(node).or_default();
                 w.last_seen = now;
                 w.lost = false;
@@ -158,15 +159,22 @@ impl<B: Bus> Master<B> {
             if let Some(node) = self.lost_node(now) {
                 return Ok(Some(Event::HeartbeatLost { node }));
             }
+            if let Some(event) = self.guard_due(now)? {
+                return Ok(Some(event));
+            }
             self.sync_due(now)?;
             if now >= deadline {
                 return Ok(None);
             }
             // Wake for the next SYNC or heartbeat deadline, whichever is first.
-            let wake = [self.sync.map(|s| s.next), self.next_heartbeat_deadline()]
-                .into_iter()
-                .flatten()
-                .fold(deadline, Instant::min);
+            let wake = [
+                self.sync.map(|s| s.next),
+                self.next_heartbeat_deadline(),
+                self.next_guard_deadline(),
+            ]
+            .into_iter()
+            .flatten()
+            .fold(deadline, Instant::min);
             if let Some(f) = self.link.receive(wake.max(now)).map_err(Error::Bus)? {
                 self.link.pending.push_back(f);
             }
