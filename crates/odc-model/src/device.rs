@@ -320,19 +320,33 @@ pub struct SubRare {
     pub upload_file: Option<Spanned<String>>,
     /// `DownloadFile` (DOMAIN).
     pub download_file: Option<Spanned<String>>,
+    /// The names the file gives values (XDD `allowedValues/value` with a `label`), in file
+    /// order: what a monitor or a data sheet shows beside a raw value.
+    pub value_names: Vec<ValueName>,
     /// Keys not interpreted.
     pub extra: Vec<RawEntry>,
+}
+
+/// A value the file names, such as `1` = `Profile position` (XDD `allowedValues/value`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ValueName {
+    /// The value, of the sub-object's type.
+    pub value: Spanned<Value>,
+    /// Its name (the label).
+    pub name: String,
 }
 
 impl SubRare {
     /// Whether all are absent (field by field: comparing with an empty one compared every
     /// field through `PartialEq`, and the EDS reader asks this of every sub-object).
     pub fn is_empty(&self) -> bool {
-        let SubRare { denotation, obj_flags, upload_file, download_file, extra } = self;
+        let SubRare { denotation, obj_flags, upload_file, download_file, value_names, extra } =
+            self;
         denotation.is_none()
             && obj_flags.is_none()
             && upload_file.is_none()
             && download_file.is_none()
+            && value_names.is_empty()
             && extra.is_empty()
     }
 }
@@ -366,9 +380,16 @@ impl SubObject {
             obj_flags: None,
             upload_file: None,
             download_file: None,
+            value_names: Vec::new(),
             extra: Vec::new(),
         };
         self.rare.as_deref().unwrap_or(&EMPTY)
+    }
+
+    /// The name the file gives `value` (XDD `allowedValues`), if any.
+    pub fn value_name(&self, value: &Value) -> Option<&str> {
+        let names = &self.rare.as_deref()?.value_names;
+        names.iter().find(|n| n.value.value == *value).map(|n| n.name.as_str())
     }
 
     /// [`SubObject::rare`], to set: makes the box on first use.

@@ -29,7 +29,7 @@ pub mod wire;
 
 pub use device::{
     Commissioning, Device, DeviceInfo, FileInfo, Format, Module, Modules, Object, ObjectList,
-    ObjectLists, Origin, RawEntry, RawSection, SubExtend, SubObject, SubRare, XmlExtra,
+    ObjectLists, Origin, RawEntry, RawSection, SubExtend, SubObject, SubRare, ValueName, XmlExtra,
 };
 pub use diag::{Capped, Diagnostic, Label, RuleInfo, Severity, Sources};
 pub use pdo::{Pdo, PdoEntry};

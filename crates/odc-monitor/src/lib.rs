@@ -18,7 +18,7 @@ use std::collections::BTreeMap;
 use std::fmt;
 
 use odc::can::CanFrame;
-use odc_model::{DataType, Device, Value};
+use odc_model::{Device, SubObject, Value};
 use serde::Serialize;
 
 /// One named, typed value of a frame (a PDO field, an SDO transfer's value).
@@ -277,27 +277,24 @@ impl Decoder {
         }
     }
 
-    fn data_type(&self, node: u8, index: u16, sub: u8) -> Option<DataType> {
-        self.nodes.get(&node)?.device.objects.get(&index)?.sub(sub).map(|s| s.data_type)
+    fn sub(&self, node: u8, index: u16, sub: u8) -> Option<&SubObject> {
+        self.nodes.get(&node)?.device.objects.get(&index)?.sub(sub)
     }
 
     /// A value by its type in the device file; hex bytes when unknown or not of the type.
     fn value(&self, node: u8, index: u16, sub: u8, bytes: &[u8]) -> String {
         let raw = || bytes.iter().map(|b| format!("{b:02X}")).collect::<Vec<_>>().join(" ");
-        let Some(dt) = self.data_type(node, index, sub) else { return raw() };
+        let Some(entry) = self.sub(node, index, sub) else { return raw() };
+        let dt = entry.data_type;
         // An expedited answer without size may carry 4 bytes for a narrower type.
         let bits = dt.bit_size().map(|b| (b as usize).div_ceil(8));
         let bytes = match bits {
             Some(n) if bytes.len() > n && bytes.len() == 4 => bytes.get(..n).unwrap_or(bytes),
             _ => bytes,
         };
-        let shown = odc_model::wire::decode(bytes, dt).map_or_else(raw, |v| show(&v));
-        match (index, bytes) {
-            (0x6040 | 0x6041, [lo, hi]) => {
-                format!("{shown}{}", cia402(index, u16::from_le_bytes([*lo, *hi])))
-            }
-            (0x6060 | 0x6061, [v]) => format!("{shown} ({})", mode_name(i8::from_le_bytes([*v]))),
-            _ => shown,
+        match odc_model::wire::decode(bytes, dt) {
+            Some(v) => format!("{}{}", show(&v), meaning(index, entry, &v, bytes)),
+            None => raw(),
         }
     }
 
@@ -329,6 +326,22 @@ impl Decoder {
                 return;
             }
         }
+    }
+}
+
+/// What a value means, as a suffix of it: the name the device file gives it (XDD
+/// `allowedValues`), else for a CiA 402 controlword, statusword or mode of operation what the
+/// profile says (` (shutdown)`, ` (Profile position mode (pp))`); empty when nothing names it.
+/// `bytes` is the value on the wire (little-endian), so a mode typed UNSIGNED8 by its file is
+/// still read as CiA 402's INTEGER8.
+pub(crate) fn meaning(index: u16, entry: &SubObject, value: &Value, bytes: &[u8]) -> String {
+    if let Some(name) = entry.value_name(value) {
+        return format!(" ({name})");
+    }
+    match (index, bytes) {
+        (0x6040 | 0x6041, [lo, hi]) => cia402(index, u16::from_le_bytes([*lo, *hi])),
+        (0x6060 | 0x6061, [v]) => format!(" ({})", mode_name(i8::from_le_bytes([*v]))),
+        _ => String::new(),
     }
 }
 

@@ -49,16 +49,13 @@ impl Mapping {
             };
             let value = match extract(bytes, from, n) {
                 None => "(beyond the frame)".to_owned(),
-                Some(raw) => match s.map(|s| s.data_type) {
-                    Some(dt) => {
-                        let v = show(&typed(raw, n, dt.class()));
-                        match (u16::try_from(raw), u8::try_from(raw)) {
-                            (Ok(w), _) if n == 16 => format!("{v}{}", crate::cia402(index, w)),
-                            (_, Ok(b)) if n == 8 && matches!(index, 0x6060 | 0x6061) => {
-                                format!("{v} ({})", crate::mode_name(i8::from_le_bytes([b])))
-                            }
-                            _ => v,
-                        }
+                Some(raw) => match s {
+                    Some(s) => {
+                        let v = typed(raw, n, s.data_type.class());
+                        // The field's own bytes, for the CiA 402 words and modes (8 or 16 bits).
+                        let wire = raw.to_le_bytes();
+                        let bytes = wire.get(..n.div_ceil(8) as usize).unwrap_or(&wire);
+                        format!("{}{}", show(&v), crate::meaning(index, s, &v, bytes))
                     }
                     None => format!("0x{raw:X}"),
                 },

@@ -100,3 +100,23 @@ fn a_remap_on_the_bus_changes_how_a_pdo_reads() {
     let u = d.decode(&frame(0x7F0, &[1, 2]), None);
     assert_eq!((u.kind.as_str(), u.data.as_str()), ("unknown", "01 02"));
 }
+
+/// CiA 311 `allowedValues/value` labels name values: the monitor shows the file's name beside
+/// the value, in SDO answers and in PDOs; where the file names nothing, CiA 402's names stay.
+#[test]
+fn values_show_the_names_the_file_gives_them() {
+    let file = root().join("crates/odc-monitor/tests/data/value-names.xdd");
+    let loaded = odc_pipeline::load(&file, &odc_pipeline::Options::new()).unwrap();
+    let mut d = Decoder::new(vec![(1, loaded.devices[0].clone())]);
+    let mut line = |id, data: &[u8]| d.decode(&frame(id, data), None).to_string();
+    // SDO upload answers (CiA 301 7.2.4.3.3: 4F = expedited, 1 byte), node 1.
+    let brake = line(0x581, &[0x4F, 0x00, 0x20, 0x00, 0x01, 0, 0, 0]);
+    assert!(brake.contains("Brake mode = 1 (0x1) (Engaged)"), "{brake}");
+    let mode = line(0x581, &[0x4F, 0x60, 0x60, 0x00, 0x01, 0, 0, 0]);
+    assert!(mode.contains("Modes of operation = 1 (Point to point)"), "{mode}");
+    let display = line(0x581, &[0x4F, 0x61, 0x60, 0x00, 0x03, 0, 0, 0]);
+    assert!(display.contains("Modes of operation display = 3 (Profile velocity"), "{display}");
+    // TPDO1 (0x180 + 1) maps 0x2000 (8 bits) by the file's default.
+    let pdo = line(0x181, &[0x00]);
+    assert!(pdo.contains("Brake mode = 0 (0x0) (Released)"), "{pdo}");
+}

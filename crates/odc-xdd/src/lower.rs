@@ -7,7 +7,8 @@ use rustc_hash::{FxHashMap, FxHashSet};
 use odc_esi::xml::{Attr, Document, Element};
 use odc_model::{
     Access, Capped, Commissioning, DataType, Device, Diagnostic, FileId, Format, Object,
-    ObjectKind, PdoMapping, RawEntry, Span, Spanned, SubObject, Value, ValueClass, XmlExtra,
+    ObjectKind, PdoMapping, RawEntry, Span, Spanned, SubObject, Value, ValueClass, ValueName,
+    XmlExtra,
 };
 
 use crate::codes;

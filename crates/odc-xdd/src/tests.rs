@@ -194,3 +194,28 @@ fn untyped_array_elements_take_cia_301_types() {
     assert_eq!(d.sub(0x1016, 1).unwrap().data_type, DataType::Unsigned32);
     assert_eq!(d.sub(0x2100, 1).unwrap().data_type, DataType::Domain);
 }
+
+#[test]
+fn allowed_values_with_labels_name_the_values() {
+    // CiA 311 `t_allowedValues`: `value` elements (with `g_labels`) beside ranges.
+    let param = r#"<parameter uniqueID="P6060" access="readWrite"><label lang="en">Modes of operation</label><SINT/><allowedValues><value value="1"><label lang="en">Profile position</label><label lang="de">Profillage</label></value><value value="3"><label lang="en"> Profile velocity </label></value><value value="6"/></allowedValues></parameter>
+        </parameterList>"#;
+    let object = r#"<CANopenObject index="6060" name="Modes of operation" objectType="7" PDOmapping="RPDO" uniqueIDRef="P6060"/>
+        </CANopenObjectList>"#;
+    let src =
+        SMALL.replacen("</parameterList>", param, 1).replacen("</CANopenObjectList>", object, 1);
+    let p = parse(&mut Sources::new(), "modes.xdd", src.as_bytes());
+    assert!(p.diagnostics.is_empty(), "{:?}", p.diagnostics);
+    let d = p.device.unwrap();
+    let s = d.sub(0x6060, 0).unwrap();
+    assert_eq!(s.value_name(&Value::Signed(1)), Some("Profile position"));
+    assert_eq!(s.value_name(&Value::Signed(3)), Some("Profile velocity"));
+    // A value without a label allows it and names nothing.
+    assert_eq!(s.value_name(&Value::Signed(6)), None);
+    assert_eq!(s.rare().value_names.len(), 2);
+    // The writer keeps the element as read, so the names come back.
+    let w = write(&d, Format::Xdc);
+    assert!(w.text.contains(r#"<value value="3"><label lang="en"> Profile velocity </label>"#));
+    let again = parse(&mut Sources::new(), "again.xdc", w.text.as_bytes()).device.unwrap();
+    assert_eq!(again.sub(0x6060, 0).unwrap().rare().value_names.len(), 2);
+}

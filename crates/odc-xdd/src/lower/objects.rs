@@ -388,6 +388,10 @@ impl<'d> L<'d> {
             self.xdc_values = true;
             sub.rare_mut().denotation = denotation;
         }
+        let value_names = self.value_names(param, dt);
+        if !value_names.is_empty() {
+            sub.rare_mut().value_names = value_names;
+        }
         // A VAR's objFlags are the object's (as in an EDS).
         if e.is("CANopenSubObject")
             && let Some(f) = self.hex_opt(ea.obj_flags, "objFlags")
@@ -395,6 +399,24 @@ impl<'d> L<'d> {
             sub.rare_mut().obj_flags = Some(f);
         }
         sub
+    }
+
+    /// The names `allowedValues` gives values (`<value value="1"><label>Profile position`),
+    /// in file order. A `value` without a label only allows a value: it names nothing. The
+    /// element itself stays in `extra` (the XDD writer writes it back as read).
+    fn value_names(&mut self, param: Option<Element<'_>>, dt: DataType) -> Vec<ValueName> {
+        let Some(allowed) = param.and_then(|p| p.child("allowedValues")) else {
+            return Vec::new();
+        };
+        allowed
+            .children()
+            .filter(|v| v.is("value"))
+            .filter_map(|v| {
+                let name = label(v)?.trim();
+                let value = self.value(v.attr("value")?, dt)?;
+                Some(ValueName { value, name: name.to_owned() })
+            })
+            .collect()
     }
 
     fn value(&mut self, a: Attr<'_>, dt: DataType) -> Option<Spanned<Value>> {
