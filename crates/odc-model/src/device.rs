@@ -328,7 +328,7 @@ pub struct SubRare {
 }
 
 /// A value the file names, such as `1` = `Profile position` (XDD `allowedValues/value`).
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct ValueName {
     /// The value, of the sub-object's type.
     pub value: Spanned<Value>,
@@ -466,7 +466,7 @@ impl Serialize for SubObject {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
         use serde::ser::SerializeStruct;
         let r = self.rare();
-        let mut st = s.serialize_struct("SubObject", 17)?;
+        let mut st = s.serialize_struct("SubObject", 18)?;
         st.serialize_field("sub_index", &format_args!("0x{:02X}", self.sub_index))?;
         st.serialize_field("name", &self.name)?;
         st.serialize_field("kind", &self.kind)?;
@@ -481,6 +481,11 @@ impl Serialize for SubObject {
         st.serialize_field("obj_flags", &r.obj_flags)?;
         st.serialize_field("upload_file", &r.upload_file)?;
         st.serialize_field("download_file", &r.download_file)?;
+        if r.value_names.is_empty() {
+            st.skip_field("value_names")?;
+        } else {
+            st.serialize_field("value_names", &r.value_names)?;
+        }
         st.serialize_field("bit_size", &self.bit_size)?;
         st.serialize_field("extra", &r.extra)?;
         st.serialize_field("span", &self.span)?;

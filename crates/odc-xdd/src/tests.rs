@@ -213,6 +213,10 @@ fn allowed_values_with_labels_name_the_values() {
     // A value without a label allows it and names nothing.
     assert_eq!(s.value_name(&Value::Signed(6)), None);
     assert_eq!(s.rare().value_names.len(), 2);
+    // A JSON dump carries them (and a sub-object without names has no such field).
+    let json = serde_json::to_string(s).unwrap();
+    assert!(json.contains(r#""value_names":[{"value":"#), "{json}");
+    assert!(!serde_json::to_string(d.sub(0x1000, 0).unwrap()).unwrap().contains("value_names"));
     // The writer keeps the element as read, so the names come back.
     let w = write(&d, Format::Xdc);
     assert!(w.text.contains(r#"<value value="3"><label lang="en"> Profile velocity </label>"#));
