@@ -14,9 +14,11 @@ use std::time::{Duration, Instant};
 use odc::can::CanFrame;
 use odc::transport::socketcand::{Element, parse};
 
-/// How long after its `< ok >` to `< rawmode >` a client starts receiving frames: python-can
-/// reads that `< ok >` with one `recv` and compares the whole read with it, so a frame sent
-/// right behind it would fail the client's handshake. Frames of that time are held, then sent.
+/// How long after its `< ok >` to `< rawmode >` a client that sends nothing starts receiving
+/// frames: python-can reads that `< ok >` with one `recv` and compares the whole read with it,
+/// so a frame sent right behind it would fail the client's handshake. Frames of that time are
+/// held, then sent; a client that sends an element has read its `< ok >`, and takes frames
+/// from then on (a master's first request is answered at once).
 pub const RAW_HOLD: Duration = Duration::from_millis(50);
 
 /// The socketcand state of a client.
@@ -27,8 +29,9 @@ enum Mode {
     /// A bus opened (broadcast manager mode, socketcand's default): it may send, receives
     /// nothing.
     Bcm,
-    /// Raw mode: every frame on the bus, from this instant on.
-    Raw(Instant),
+    /// Raw mode: every frame on the bus, from this instant on; `true` once the client sent an
+    /// element in raw mode (so it has read the `< ok >`).
+    Raw(Instant, bool),
 }
 
 /// What to do after a client's element.
@@ -65,7 +68,7 @@ impl Session {
     /// raw mode but within the hold (hold them), `None`: not in raw mode (drop them).
     pub fn takes_frames(&self, now: Instant) -> Option<bool> {
         match self.mode {
-            Mode::Raw(since) => Some(now >= since + RAW_HOLD),
+            Mode::Raw(since, spoke) => Some(spoke || now >= since + RAW_HOLD),
             Mode::NoBus | Mode::Bcm => None,
         }
     }
@@ -73,6 +76,9 @@ impl Session {
     /// The client's element `text`, on a server of bus `channel`.
     pub fn on_element(&mut self, text: &str, channel: &str, now: Instant) -> Action {
         const UNKNOWN: &str = "< error unknown command >";
+        if let Mode::Raw(since, _) = self.mode {
+            self.mode = Mode::Raw(since, true);
+        }
         let element = match parse(text) {
             Ok(e) => e,
             Err(e) => return Action::Log(format!("`{text}`: {e}")),
@@ -89,10 +95,10 @@ impl Session {
             (Mode::NoBus, _) => Action::Reply(UNKNOWN),
             (_, Element::Send(frame)) => Action::Frame(frame),
             (Mode::Bcm, Element::RawMode) => {
-                self.mode = Mode::Raw(now);
+                self.mode = Mode::Raw(now, false);
                 Action::Reply("< ok >")
             }
-            (Mode::Raw(_), Element::BcmMode) => {
+            (Mode::Raw(..), Element::BcmMode) => {
                 self.mode = Mode::Bcm;
                 Action::Reply("< ok >")
             }
@@ -130,6 +136,7 @@ mod tests {
         assert_eq!(s.takes_frames(t0), Some(false));
         assert_eq!(s.takes_frames(t0 + RAW_HOLD), Some(true));
         assert_eq!(s.on_element("< echo >", "can0", t0), Action::Reply("< echo >"));
+        assert_eq!(s.takes_frames(t0), Some(true), "a client that spoke has read its ok");
         assert_eq!(
             s.on_element("< subscribe 0 0 123 >", "can0", t0),
             Action::Reply("< error unknown command >")
