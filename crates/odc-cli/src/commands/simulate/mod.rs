@@ -77,7 +77,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let pairs = pair_node_ids(&args.files, &args.node_id)?;
     // 255 (no node-ID) may be several: LSS tells them apart by their identities.
     for (k, (file, id)) in pairs.iter().enumerate() {
-        if let Some((other, _)) = pairs[..k].iter().find(|(_, n)| n == id && *id != 255) {
+        if let Some((other, _)) = pairs.iter().take(k).find(|(_, n)| n == id && *id != 255) {
             bail!(
                 "node-ID {id} is given to both {other} and {file}: each node on a bus has its own"
             );
