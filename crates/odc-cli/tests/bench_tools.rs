@@ -259,3 +259,51 @@ fn simulate_without_node_id_is_found_by_lss_fastscan() {
     drop(sim.stdin.take());
     assert!(sim.wait().unwrap().success());
 }
+
+/// The bench commands on a socketcand server (`odc simulate --socketcand`): NMT, LSS,
+/// monitor and conformance (the identity checks) connect with `--socketcand HOST:PORT` as
+/// they do with `--tcp`.
+#[test]
+fn bench_tools_over_socketcand() {
+    let file = repo("eds/lexium-mdrive.eds");
+    let mut sim = Command::new(env!("CARGO_BIN_EXE_odc"))
+        .args(["simulate", &format!("{}@5", file.display())])
+        .args(["--socketcand", "127.0.0.1:0", "--stop-on-eof"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut first = String::new();
+    BufReader::new(sim.stdout.take().unwrap()).read_line(&mut first).unwrap();
+    let addr = first.trim().strip_prefix("listening on ").unwrap().to_owned();
+    let node = format!("5={}", file.display());
+    let mut monitor = Command::new(env!("CARGO_BIN_EXE_odc"))
+        .args(["monitor", "--socketcand", &addr, "--node", &node])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    let out = odc(&["nmt", "start", "5", "--socketcand", &addr]);
+    assert_eq!(text(&out.stdout), "000  01 05  NMT Start to node 5\n", "{}", text(&out.stderr));
+    // The Lexium MDrive's file says LSS_Supported=1: the file's 0x1018 defaults.
+    assert_eq!(odc(&["lss", "all", "--socketcand", &addr]).status.code(), Some(0));
+    let out = odc(&["lss", "inquire", "--socketcand", &addr]);
+    assert_eq!(text(&out.stdout), "0x0000021B:0x00000000:0x00000507:0x00000000 node-ID 5\n");
+    assert_eq!(odc(&["lss", "done", "--socketcand", &addr]).status.code(), Some(0));
+    let eds = file.to_str().unwrap();
+    let out =
+        odc(&["conformance", eds, "--node-id", "5", "--socketcand", &addr, "--group", "identity"]);
+    let summary = text(&out.stdout);
+    assert!(summary.lines().any(|l| l.starts_with("pass  identity.device-type ")), "{summary}");
+    assert!(!summary.contains("FAIL"), "{summary}");
+    std::thread::sleep(std::time::Duration::from_millis(300));
+    monitor.kill().unwrap();
+    let seen = std::io::read_to_string(monitor.stdout.take().unwrap()).unwrap();
+    let _ = monitor.wait();
+    assert!(seen.contains("NMT node 5: Start"), "{seen}");
+    assert!(seen.contains("SDO request node 5: read 0x1000:00 Device type"), "{seen}");
+    drop(sim.stdin.take());
+    assert!(sim.wait().unwrap().success());
+}

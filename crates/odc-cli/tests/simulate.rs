@@ -228,6 +228,151 @@ fn interface_down_is_a_clear_error() {
     assert!(err.contains(&format!("ip link set {name} up")), "{err}");
 }
 
+/// Starts `odc simulate ARGS --stop-on-eof` and reads its `listening on HOST:PORT` line.
+fn spawn_simulate(args: &[&str]) -> (std::process::Child, String) {
+    let mut sim = Command::new(env!("CARGO_BIN_EXE_odc"))
+        .arg("simulate")
+        .args(args)
+        .arg("--stop-on-eof")
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .unwrap();
+    let mut first = String::new();
+    BufReader::new(sim.stdout.take().unwrap()).read_line(&mut first).unwrap();
+    let addr = first.trim().strip_prefix("listening on ").unwrap_or_else(|| panic!("{first:?}"));
+    (sim, addr.to_owned())
+}
+
+/// Ends a simulation started by [`spawn_simulate`] (end of its standard input) and checks
+/// that it exits 0.
+fn stop_simulate(mut sim: std::process::Child) {
+    drop(sim.stdin.take());
+    let status = sim.wait().unwrap();
+    assert!(status.success(), "odc simulate exited with {status}");
+}
+
+/// Three drives of different shipped files on one bus (`FILE@ID`), driven by python-canopen
+/// (tests/interop/python/multinode.py) over the records wire (`--tcp`, socketbus.py) and over
+/// python-can's own `socketcand` interface (`--socketcand`): NMT to all and every boot-up,
+/// SDO to each against its file, heartbeats of all three in operational and stopped, and a
+/// TPDO of each after one SYNC against an SDO upload of the mapped object.
+fn python_canopen_drives_three_nodes_on_one_bus() {
+    let python = odc_tests_support::python();
+    let nodes = [(5, "eds/lxm23a.eds"), (9, "eds/lexium-mdrive.eds"), (12, "eds/servoone.eds")];
+    let files: Vec<String> =
+        nodes.iter().map(|(id, f)| format!("{}@{id}", repo(f).display())).collect();
+    for wire in ["tcp", "socketcand"] {
+        let mut args: Vec<&str> = files.iter().map(String::as_str).collect();
+        let flag = format!("--{wire}");
+        args.extend([flag.as_str(), "127.0.0.1:0"]);
+        let (sim, addr) = spawn_simulate(&args);
+        let mut master = Command::new(&python);
+        master
+            .arg(repo("tests/interop/python/multinode.py"))
+            .args(["--connect", &addr, "--bus", wire])
+            .env("PYTHONDONTWRITEBYTECODE", "1");
+        for (id, f) in nodes {
+            master.args(["--node", &format!("{id}={}", repo(f).display())]);
+        }
+        let out = master.output().unwrap();
+        stop_simulate(sim);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{wire}: multinode.py failed:\n{}\n{stdout}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let r = odc_tests_interop::last_json(&stdout);
+        assert_eq!(r["errors"], serde_json::json!([]), "{wire}: {r}");
+        for (id, file) in nodes {
+            let n = &r["nodes"][id.to_string()];
+            println!(
+                "{wire}: node {id} ({file}): boot-up {}, heartbeats in 1.05 s operational {}, \
+                 TPDO {} of {} (SDO {}), stopped {}",
+                n["boot_up"],
+                n["heartbeats_operational"],
+                n["tpdo"],
+                n["tpdo_object"],
+                n["tpdo_sdo"],
+                n["stopped"]
+            );
+            assert_eq!(n["boot_up"], true, "{wire} node {id}: {n}");
+            assert_eq!(n["device_type"], n["device_type_in_file"], "{wire} node {id}: {n}");
+            assert_eq!(n["vendor_id"], n["vendor_id_in_file"], "{wire} node {id}: {n}");
+            assert_eq!(n["heartbeat_ms"], 100, "{wire} node {id}: {n}");
+            // 100 ms heartbeats for 1.05 s: 10 or 11 (one at the change to operational), a
+            // little more or less where the machine is busy and the window runs long or short.
+            let beats = n["heartbeats_operational"].as_u64().unwrap();
+            assert!((9..=13).contains(&beats), "{wire} node {id}: {beats} heartbeats");
+            assert!(n["tpdo"].is_string(), "{wire} node {id}: no TPDO after SYNC: {n}");
+            assert_eq!(n["tpdo"], n["tpdo_sdo"], "{wire} node {id}: {n}");
+            assert_eq!(n["stopped"], true, "{wire} node {id}: {n}");
+        }
+    }
+}
+
+/// `odc sdo --socketcand` reads the devices of `odc simulate --socketcand` (bus `can0` by
+/// default, or named: `/CHANNEL`); a bus the server does not serve is a clear error.
+fn sdo_reads_over_socketcand() {
+    let lxm = repo("eds/lxm23a.eds");
+    let lenze = repo("eds/lenze-e94aycca.eds");
+    let args = [lxm.to_str().unwrap(), "--node-id", "5", lenze.to_str().unwrap(), "--node-id", "9"];
+    let (sim, addr) = spawn_simulate(&[&args[..], &["--socketcand", "127.0.0.1:0/vcan3"]].concat());
+    let sdo = |node: &str, bus: &str| {
+        Command::new(env!("CARGO_BIN_EXE_odc"))
+            .args(["sdo", "read", "--node", node, "--socketcand", bus, "0x1000"])
+            .output()
+            .unwrap()
+    };
+    let read = sdo(&format!("5={}", lxm.display()), &format!("{addr}/vcan3"));
+    assert_eq!(
+        String::from_utf8_lossy(&read.stdout),
+        "0x1000:00 Device type = 67240338 (0x4020192)\n",
+        "{}",
+        String::from_utf8_lossy(&read.stderr)
+    );
+    let read = sdo(&format!("9={}", lenze.display()), &format!("{addr}/vcan3"));
+    // 0x1000 of eds/lenze-e94aycca.eds: 0 (the file's DefaultValue).
+    assert_eq!(
+        String::from_utf8_lossy(&read.stdout),
+        "0x1000:00 Device type = 0 (0x0)\n",
+        "{}",
+        String::from_utf8_lossy(&read.stderr)
+    );
+    // No channel: can0, which this server does not serve.
+    let refused = sdo(&format!("5={}", lxm.display()), &addr);
+    let err = String::from_utf8_lossy(&refused.stderr);
+    assert_ne!(refused.status.code(), Some(0), "{err}");
+    assert!(err.contains("cannot open bus can0"), "{err}");
+    assert!(err.contains("< error could not open bus >"), "{err}");
+    stop_simulate(sim);
+}
+
+/// Two files on one node-ID, and a file without a node-ID, are usage errors that name them.
+fn node_ids_of_several_files() {
+    let lxm = repo("eds/lxm23a.eds");
+    let lenze = repo("eds/lenze-e94aycca.eds");
+    let run = |args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_odc"))
+            .arg("simulate")
+            .args(args)
+            .args(["--tcp", "127.0.0.1:0"])
+            .stdin(Stdio::null())
+            .output()
+            .unwrap();
+        (out.status.code(), String::from_utf8_lossy(&out.stderr).into_owned())
+    };
+    let a = format!("{}@7", lxm.display());
+    let (code, err) = run(&[&a, lenze.to_str().unwrap(), "--node-id", "7"]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("node-ID 7 is given to both"), "{err}");
+    let (code, err) = run(&[lxm.to_str().unwrap(), "--node-id", "7", lenze.to_str().unwrap()]);
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("lenze-e94aycca.eds: no node-ID"), "{err}");
+}
+
 /// The tests, with what each needs of the machine (odc_tests_support: ignored with the reason
 /// where a need is missing).
 fn main() -> std::process::ExitCode {
@@ -250,6 +395,13 @@ fn main() -> std::process::ExitCode {
             needs: &[],
         },
         Test { name: "node_id_must_be_1_to_127", run: node_id_must_be_1_to_127, needs: &[] },
+        Test {
+            name: "python_canopen_drives_three_nodes_on_one_bus",
+            run: python_canopen_drives_three_nodes_on_one_bus,
+            needs: &[Need::Python(&["canopen", "can"])],
+        },
+        Test { name: "sdo_reads_over_socketcand", run: sdo_reads_over_socketcand, needs: &[] },
+        Test { name: "node_ids_of_several_files", run: node_ids_of_several_files, needs: &[] },
         Test {
             name: "simulate_serves_until_sigterm_without_stdin_or_output",
             run: simulate_serves_until_sigterm_without_stdin_or_output,

@@ -156,12 +156,28 @@ pub fn run_on_bus<B: odc::sdo::Bus>(
     bus: &mut B,
     device: &mut SimDevice,
     tick_ms: u64,
+    stop: impl FnMut() -> bool,
+) -> Result<(), B::Error> {
+    run_all_on_bus(bus, std::slice::from_mut(device), tick_ms, stop)
+}
+
+/// Runs `devices` on any [`Bus`](odc::sdo::Bus) as [`run_on_bus`] runs one: the bus carries
+/// their frames out, and each device also receives the frames of the others
+/// ([`crate::nodes`]), which one interface does not hand back to the process that sent them.
+///
+/// # Errors
+///
+/// The bus's, on a send or receive.
+pub fn run_all_on_bus<B: odc::sdo::Bus>(
+    bus: &mut B,
+    devices: &mut [SimDevice],
+    tick_ms: u64,
     mut stop: impl FnMut() -> bool,
 ) -> Result<(), B::Error> {
     let mut out = Vec::new();
     // The device's tick counts in ms; the bus's clock is an `Instant`.
     let now_ms = |bus: &mut B| bus.now().as_millis();
-    device.start(now_ms(bus), &mut |f| out.push(f));
+    crate::nodes::start_all(devices, now_ms(bus), &mut |f| out.push(f));
     let mut next_tick = now_ms(bus) + tick_ms;
     while !stop() {
         for f in out.drain(..) {
@@ -169,11 +185,11 @@ pub fn run_on_bus<B: odc::sdo::Bus>(
         }
         if let Some(frame) = bus.recv(odc::time::Instant::from_millis(next_tick))? {
             let now = now_ms(bus);
-            device.handle(&frame, now, &mut |f| out.push(f));
+            crate::nodes::handle_all(devices, &frame, now, &mut |f| out.push(f));
         }
         let now = now_ms(bus);
         if now >= next_tick {
-            device.poll(now, &mut |f| out.push(f));
+            crate::nodes::poll_all(devices, now, &mut |f| out.push(f));
             next_tick = now + tick_ms;
         }
     }

@@ -5,8 +5,9 @@
 //!   to be served);
 //! - [`SimDevice`]: the dictionary as a node (boot-up, NMT, SDO server); CiA 402 drives run
 //!   [`odc::cia402::Drive`] over it (the state machine and a simple axis);
-//! - [`VirtualBus`]: a CAN bus over TCP on which every client is a node, with the device on it
-//!   (`odc simulate --tcp`).
+//! - [`VirtualBus`]: a CAN bus over TCP on which every client is a node, with the devices on
+//!   it (`odc simulate --tcp`, and `--socketcand` for socketcand's protocol, [`socketcand`]);
+//!   [`nodes`]: several devices on one bus.
 //!
 //! - [`ethercat`]: an emulated EtherCAT SubDevice (ESC, SII, AL state machine, CoE, process
 //!   data) built from an ESI device, and a [`Chain`](ethercat::Chain) of them that a master's
@@ -22,10 +23,12 @@ mod dictionary;
 pub mod ethercat;
 #[cfg(target_os = "linux")]
 mod ethernet;
+pub mod nodes;
+pub mod socketcand;
 mod value;
 
 pub use bus::{StopHandle, TICK, VirtualBus};
-pub use device::{SDO_BUFFER, SimDevice, run_on_bus};
+pub use device::{SDO_BUFFER, SimDevice, run_all_on_bus, run_on_bus};
 pub use dictionary::ModelDictionary;
 #[cfg(target_os = "linux")]
 pub use ethernet::{ETHERTYPE_ETHERCAT, EthernetEndpoint, Served};

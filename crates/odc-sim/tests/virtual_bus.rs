@@ -148,3 +148,68 @@ fn resets_restore_their_areas() {
     assert_eq!((read(&device, 0x1017), read(&device, 0x607A)), (heartbeat, target));
     assert_ne!(heartbeat, 500);
 }
+
+/// Two devices on one bus served as socketcand (`VirtualBus::bind_socketcand`, `run_all`),
+/// with odc's socketcand client: NMT reset of all nodes gives both boot-ups, each answers
+/// SDO on its own node-ID only; the server greets, refuses another bus and answers unknown
+/// commands as socketcand does.
+#[test]
+fn socketcand_bus_with_two_devices() {
+    use odc::transport::socketcand::Socketcand;
+    use std::io::{Read, Write};
+
+    let load = |file: &str, id: u8| {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(file);
+        let loaded = odc_pipeline::load(&path, &odc_pipeline::Options::new()).unwrap();
+        SimDevice::new(loaded.device().unwrap(), odc::cob::NodeId::new(id))
+    };
+    let mut devices = vec![load("eds/lxm23a.eds", 5), load("eds/lenze-e94aycca.eds", 9)];
+    let bus = VirtualBus::bind_socketcand("127.0.0.1:0", "can0").unwrap();
+    assert_eq!(bus.channel(), Some("can0"));
+    let addr = bus.local_addr();
+    let stop = bus.stop_handle();
+    let runner = thread::spawn(move || {
+        bus.run_all(&mut devices, &mut |_| {});
+        devices
+    });
+
+    // The handshake as text: the greeting alone, another bus refused and the connection closed.
+    let mut raw = std::net::TcpStream::connect(addr).unwrap();
+    raw.set_read_timeout(Some(std::time::Duration::from_secs(5))).unwrap();
+    let mut buf = [0u8; 256];
+    let n = raw.read(&mut buf).unwrap();
+    assert_eq!(&buf[..n], b"< hi >");
+    raw.write_all(b"< rawmode >").unwrap();
+    let n = raw.read(&mut buf).unwrap();
+    assert_eq!(&buf[..n], b"< error unknown command >");
+    raw.write_all(b"< open vcan7 >").unwrap();
+    let n = raw.read(&mut buf).unwrap();
+    assert_eq!(&buf[..n], b"< error could not open bus >");
+    assert_eq!(raw.read(&mut buf).unwrap(), 0, "the server closes after refusing a bus");
+
+    let mut a = Socketcand::connect(addr, "can0").unwrap();
+    let next = |bus: &mut Socketcand| {
+        let deadline = bus.now() + odc::time::Duration::from_millis(5000);
+        bus.recv(deadline).unwrap()
+    };
+    a.send(&CanFrame::from_slice(0x000, &[0x81, 0]).unwrap()).unwrap();
+    let mut boot_ups = [next(&mut a), next(&mut a)].map(|f| f.map(|f| (f.id(), f.data()[0])));
+    boot_ups.sort();
+    assert_eq!(boot_ups, [Some((0x705, 0)), Some((0x709, 0))]);
+    for node in [5u32, 9] {
+        a.send(&CanFrame::new(0x600 + node, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]).unwrap())
+            .unwrap();
+        let answer = next(&mut a).unwrap();
+        assert_eq!((answer.id(), answer.data()[0]), (0x580 + node, 0x43), "{answer:02X?}");
+    }
+    // A 29-bit frame crosses the bus to another socketcand client.
+    let mut b = Socketcand::connect(addr, "can0").unwrap();
+    std::thread::sleep(odc_sim::socketcand::RAW_HOLD * 2);
+    let ext = CanFrame::extended(0x18FF_0001, &[1, 2]).unwrap();
+    a.send(&ext).unwrap();
+    assert_eq!(next(&mut b), Some(ext));
+
+    stop.stop();
+    let devices = runner.join().unwrap();
+    assert_eq!(devices.len(), 2);
+}

@@ -82,7 +82,7 @@
 //!   transfer in the SDO server), `guarding` (node and life guarding), `sync-producer`;
 //! - `cia402`: the drive state machines ([`cia402`]'s `Driver`, `Drive`, `Axis`; the words and
 //!   the traits generated code implements are always there);
-//! - with `std`: `master` (`odc::master`), `transport-mem` and `transport-tcp`.
+//! - with `std`: `master` (`odc::master`), `transport-mem`, `transport-tcp` and `transport-socketcand`.
 //!
 //! Off by default: `std` links std; `embedded-can` and `socketcan` add those transports;
 //! `serde` and `defmt` add derives on the plain data types; `ethercrab`, above.

@@ -1,12 +1,13 @@
 //! What the bench tools (`odc sdo`, `nmt`, `lss`, `monitor`) share: the bus they talk on
-//! (`--tcp` as `odc simulate` serves it, `--can` on Linux) and the devices they know
-//! (`--node ID=FILE`).
+//! (`--tcp` as `odc simulate` serves it, `--can` on Linux, `--socketcand` for a socketcand
+//! server) and the devices they know (`--node ID=FILE`).
 
 use std::path::PathBuf;
 
 use anyhow::{Context, bail};
 use odc::can::CanFrame;
 use odc::transport::Bus;
+use odc::transport::socketcand::Socketcand;
 use odc::transport::tcp::TcpCan;
 use odc_model::Device;
 
@@ -14,7 +15,7 @@ use crate::input;
 
 /// The bus to use.
 #[derive(clap::Args, Clone, Debug)]
-#[command(group(clap::ArgGroup::new("bus").required(true).args(["tcp", "can"])))]
+#[command(group(clap::ArgGroup::new("bus").required(true).args(["tcp", "can", "socketcand"])))]
 pub struct BusArgs {
     /// A virtual CAN bus over TCP, as `odc simulate --tcp` serves it (`localhost:PORT`,
     /// `127.0.0.1:PORT`, any host name).
@@ -23,6 +24,21 @@ pub struct BusArgs {
     /// A SocketCAN interface (Linux), such as `can0` or `vcan0`.
     #[arg(long, value_name = "IFACE")]
     pub can: Option<String>,
+    /// A socketcand server (`HOST:PORT`, `/CHANNEL` for a bus other than `can0`), such as
+    /// `odc simulate --socketcand` or socketcand on a Linux machine with the adapter.
+    #[arg(long, value_name = "HOST:PORT[/CHANNEL]")]
+    pub socketcand: Option<String>,
+}
+
+/// The bus socketcand serves when `--socketcand` names none.
+pub const DEFAULT_CHANNEL: &str = "can0";
+
+/// `HOST:PORT[/CHANNEL]`: the address and the bus name (`can0` when none).
+pub fn split_channel(text: &str) -> (&str, &str) {
+    match text.rsplit_once('/') {
+        Some((addr, channel)) => (addr, channel),
+        None => (text, DEFAULT_CHANNEL),
+    }
 }
 
 /// A connected bus.
@@ -32,18 +48,26 @@ pub enum Link {
     /// SocketCAN.
     #[cfg(all(feature = "socketcan", target_os = "linux"))]
     Can(odc::transport::socketcan::SocketCan),
+    /// A socketcand server.
+    Socketcand(Socketcand),
 }
 
 impl BusArgs {
     /// Connects.
     pub fn open(&self) -> anyhow::Result<Link> {
+        if let Some(text) = &self.socketcand {
+            let (addr, channel) = split_channel(text);
+            let link = Socketcand::connect(addr, channel)
+                .with_context(|| format!("--socketcand {text}: cannot open bus {channel}"))?;
+            return Ok(Link::Socketcand(link));
+        }
         match (&self.tcp, &self.can) {
             (Some(addr), _) => Ok(Link::Tcp(
                 TcpCan::connect(addr.as_str())
                     .with_context(|| format!("--tcp {addr}: cannot connect"))?,
             )),
             (None, Some(iface)) => can(iface),
-            (None, None) => bail!("give --tcp HOST:PORT or --can IFACE"),
+            (None, None) => bail!("give --tcp HOST:PORT, --can IFACE or --socketcand HOST:PORT"),
         }
     }
 }
@@ -69,6 +93,7 @@ impl Bus for Link {
             Link::Tcp(b) => b.send(frame),
             #[cfg(all(feature = "socketcan", target_os = "linux"))]
             Link::Can(b) => b.send(frame),
+            Link::Socketcand(b) => b.send(frame),
         }
     }
 
@@ -77,6 +102,7 @@ impl Bus for Link {
             Link::Tcp(b) => b.recv(deadline),
             #[cfg(all(feature = "socketcan", target_os = "linux"))]
             Link::Can(b) => b.recv(deadline),
+            Link::Socketcand(b) => b.recv(deadline),
         }
     }
 
@@ -85,6 +111,7 @@ impl Bus for Link {
             Link::Tcp(b) => b.now(),
             #[cfg(all(feature = "socketcan", target_os = "linux"))]
             Link::Can(b) => b.now(),
+            Link::Socketcand(b) => b.now(),
         }
     }
 }

@@ -5,7 +5,8 @@
 //! - `embedded_can` (`embedded-can`): any MCU HAL that implements the `embedded_can`
 //!   traits, with the conversions between [`CanFrame`] and `embedded_can::Frame` types;
 //! - `socketcan` (`socketcan`, Linux): a SocketCAN interface (`can0`, `vcan0`);
-//! - `tcp` (`std`): the 16-byte SocketCAN-layout records over TCP of `tests/interop`.
+//! - `tcp` (`std`): the 16-byte SocketCAN-layout records over TCP of `tests/interop`;
+//! - `socketcand` (`std`): the ASCII protocol of a socketcand server, in raw mode.
 
 use crate::can::CanFrame;
 use crate::time::Instant;
@@ -16,6 +17,8 @@ pub mod embedded_can;
 pub mod mem;
 #[cfg(all(feature = "socketcan", target_os = "linux"))]
 pub mod socketcan;
+#[cfg(all(feature = "std", feature = "transport-socketcand"))]
+pub mod socketcand;
 #[cfg(all(feature = "std", feature = "transport-tcp"))]
 pub mod tcp;
 

@@ -1,5 +1,6 @@
-//! `odc simulate`: a device file as a live device, to test a master against: a CANopen device
-//! on a CAN bus (`--tcp`, `--can`), or EtherCAT devices on a network interface (`--interface`).
+//! `odc simulate`: device files as live devices, to test a master against: CANopen devices on
+//! one CAN bus (`--tcp`, `--socketcand`, `--can`), or EtherCAT devices on a network interface
+//! (`--interface`).
 
 use std::path::Path;
 use std::process::ExitCode;
@@ -7,20 +8,26 @@ use std::process::ExitCode;
 use anyhow::{Context, bail};
 use odc_sim::{SimDevice, VirtualBus};
 
+use super::link::split_channel;
+
 use crate::input;
 
 mod ethercat;
 mod stop;
 
-/// Run a device file as a CANopen device: its object dictionary (from the model, with the
+/// Run device files as CANopen devices: each one's object dictionary (from the model, with the
 /// file's defaults, limits and access rights) served by odc's node (NMT and boot-up,
 /// heartbeat, guarding, SYNC, PDOs, EMCY, SDO, LSS), and for a CiA 402 drive the state
-/// machine and a simple axis (profile position, profile velocity).
+/// machine and a simple axis (profile position, profile velocity). Several files are several
+/// nodes on one bus: `A.eds --node-id 1 B.eds --node-id 2`, or `A.eds@1 B.eds@2`; each
+/// hears the others' frames as on a real bus.
 ///
 /// `--tcp` listens and is a virtual CAN bus: every connected client is a node on it, frames
-/// from one client go to the device and to every other client (16-byte SocketCAN-layout
-/// records, see tests/interop/README.md). The first line on standard output is
-/// `listening on HOST:PORT`.
+/// from one client go to the devices and to every other client (16-byte SocketCAN-layout
+/// records, see tests/interop/README.md). `--socketcand` is the same bus served with
+/// socketcand's protocol (raw mode; bus `can0` unless `HOST:PORT/CHANNEL` names another), for
+/// python-can's `socketcand` interface and the bench commands' `--socketcand`. The first line
+/// on standard output is `listening on HOST:PORT`.
 ///
 /// It runs until SIGINT (Ctrl-C) or SIGTERM, so it serves as well under `nohup`, systemd or CI
 /// (standard input /dev/null) as in a terminal; `--stop-on-eof` also stops it at the end of
@@ -32,18 +39,23 @@ mod stop;
 /// the order of the files, first next to the master. `FILE@DEVICE` picks a device of a file
 /// with several.
 #[derive(clap::Args)]
-#[command(group(clap::ArgGroup::new("bus").required(true).args(["tcp", "can", "interface"])))]
+#[command(group(clap::ArgGroup::new("bus").required(true).args(["tcp", "can", "socketcand", "interface"])))]
 pub struct Args {
-    /// EDS or DCF file; with --interface, ESI files (`FILE@DEVICE` for one of several).
+    /// EDS or DCF files (`FILE@ID` gives the node-ID); with --interface, ESI files
+    /// (`FILE@DEVICE` for one of several).
     #[arg(required = true, value_name = "FILE")]
     files: Vec<String>,
-    /// The node-ID of the CANopen device: 1–127, or 255 for none (CiA 305: the device waits
-    /// for an LSS master to find it with fastscan and give it one).
+    /// The node-ID of a CANopen device: 1–127, or 255 for none (CiA 305: the device waits
+    /// for an LSS master to find it with fastscan and give it one). One per file without
+    /// `@ID`, in the order of the files.
     #[arg(long, value_parser = parse_node_id)]
-    node_id: Option<u8>,
+    node_id: Vec<u8>,
     /// Listen on HOST:PORT as a virtual bus (port 0: a free port).
     #[arg(long, value_name = "HOST:PORT")]
     tcp: Option<String>,
+    /// Listen on HOST:PORT as a socketcand server of bus CHANNEL (default `can0`).
+    #[arg(long, value_name = "HOST:PORT[/CHANNEL]")]
+    socketcand: Option<String>,
     /// A SocketCAN interface (can0, vcan0).
     #[arg(long, value_name = "IFACE")]
     can: Option<String>,
@@ -61,36 +73,79 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if let Some(iface) = &args.interface {
         return ethercat::run(&args.files, &args.levels, iface, args.stop_on_eof);
     }
-    let [file] = &args.files[..] else {
-        bail!("a CANopen device is one file; several files make an EtherCAT line (--interface)")
-    };
-    let Some(node_id) = args.node_id else {
-        bail!("--node-id N: the CANopen device's node-ID (1..=127, or 255 for none)")
-    };
-    let loaded = input::load(Path::new(file), &args.levels)?;
-    super::gate_bus(&loaded)?;
-    let model = loaded.device()?;
-    if model.ethercat.is_some() {
+    let mut devices = Vec::new();
+    let pairs = pair_node_ids(&args.files, &args.node_id)?;
+    // 255 (no node-ID) may be several: LSS tells them apart by their identities.
+    for (k, (file, id)) in pairs.iter().enumerate() {
+        if let Some((other, _)) = pairs.iter().take(k).find(|(_, n)| n == id && *id != 255) {
+            bail!(
+                "node-ID {id} is given to both {other} and {file}: each node on a bus has its own"
+            );
+        }
+    }
+    for (file, node_id) in pairs {
+        let loaded = input::load(Path::new(&file), &args.levels)?;
+        super::gate_bus(&loaded)?;
+        let model = loaded.device()?;
+        if model.ethercat.is_some() {
+            bail!(
+                "{}: an EtherCAT device runs on a network interface (--interface IFACE)",
+                loaded.file_name()
+            );
+        }
+        // 255: no node-ID (CiA 305), `None` here.
+        let node_id = odc::cob::NodeId::from_lss(node_id).context("--node-id: 1..=127 or 255")?;
+        let device = SimDevice::new(model, node_id);
+        let what = if device.is_drive() { ", a CiA 402 drive" } else { "" };
+        let node = node_id.map_or_else(
+            || "without node-ID (waiting for LSS)".to_owned(),
+            |id| format!("as node {id}"),
+        );
+        elog!("simulating {} {node}{what}: {} entries", model.name(), device.dictionary().len());
+        devices.push(device);
+    }
+    if let Some(addr) = args.socketcand {
+        return socketcand(&addr, &mut devices, args.stop_on_eof);
+    }
+    match (args.tcp, args.can) {
+        (Some(addr), _) => tcp(addr, &mut devices, args.stop_on_eof),
+        (None, Some(iface)) => can(&iface, &mut devices, args.stop_on_eof),
+        // clap's group requires one of them.
+        (None, None) => bail!("give --tcp HOST:PORT, --socketcand HOST:PORT or --can IFACE"),
+    }
+}
+
+/// Each file with its node-ID: `FILE@ID`, or the next `--node-id` in order.
+fn pair_node_ids(files: &[String], node_ids: &[u8]) -> anyhow::Result<Vec<(String, u8)>> {
+    let mut given = node_ids.iter();
+    let mut pairs = Vec::new();
+    for text in files {
+        let at = text.rsplit_once('@').filter(|_| !Path::new(text).exists());
+        let (file, id) = match at {
+            Some((file, id)) => {
+                let id = parse_node_id(id).map_err(|e| anyhow::anyhow!("{text}: {e}"))?;
+                (file.to_owned(), id)
+            }
+            None => {
+                let Some(&id) = given.next() else {
+                    bail!(
+                        "{text}: no node-ID: give --node-id N (1..=127, or 255 for none) for it, \
+                         or write {text}@N"
+                    )
+                };
+                (text.clone(), id)
+            }
+        };
+        pairs.push((file, id));
+    }
+    if given.next().is_some() {
         bail!(
-            "{}: an EtherCAT device runs on a network interface (--interface IFACE)",
-            loaded.file_name()
+            "{} --node-id values for {} files without @ID: one each, in the order of the files",
+            node_ids.len(),
+            node_ids.len() - given.len() - 1
         );
     }
-    // 255: no node-ID (CiA 305), `None` here.
-    let node_id = odc::cob::NodeId::from_lss(node_id).context("--node-id: 1..=127 or 255")?;
-    let mut device = SimDevice::new(model, node_id);
-    let what = if device.is_drive() { ", a CiA 402 drive" } else { "" };
-    let node = node_id.map_or_else(
-        || "without node-ID (waiting for LSS)".to_owned(),
-        |id| format!("as node {id}"),
-    );
-    elog!("simulating {} {node}{what}: {} entries", model.name(), device.dictionary().len());
-    match (args.tcp, args.can) {
-        (Some(addr), _) => tcp(addr, &mut device, args.stop_on_eof),
-        (None, Some(iface)) => can(&iface, &mut device, args.stop_on_eof),
-        // clap's group requires one of the two.
-        (None, None) => bail!("give --tcp HOST:PORT or --can IFACE"),
-    }
+    Ok(pairs)
 }
 
 /// `--node-id`: 1–127, or 255 (none).
@@ -101,32 +156,53 @@ fn parse_node_id(text: &str) -> Result<u8, String> {
     }
 }
 
-fn tcp(addr: String, device: &mut SimDevice, stop_on_eof: bool) -> anyhow::Result<ExitCode> {
+fn tcp(addr: String, devices: &mut [SimDevice], stop_on_eof: bool) -> anyhow::Result<ExitCode> {
     let bus =
         VirtualBus::bind(addr.as_str()).with_context(|| format!("cannot listen on {addr}"))?;
+    serve(bus, devices, stop_on_eof)
+}
+
+/// The bus as a socketcand server.
+fn socketcand(
+    text: &str,
+    devices: &mut [SimDevice],
+    stop_on_eof: bool,
+) -> anyhow::Result<ExitCode> {
+    let (addr, channel) = split_channel(text);
+    let bus = VirtualBus::bind_socketcand(addr, channel)
+        .with_context(|| format!("--socketcand {text}: cannot listen on {addr}"))?;
+    elog!("serving bus {channel} as socketcand (raw mode)");
+    serve(bus, devices, stop_on_eof)
+}
+
+fn serve(
+    bus: VirtualBus,
+    devices: &mut [SimDevice],
+    stop_on_eof: bool,
+) -> anyhow::Result<ExitCode> {
     super::out_flushed(&format!("listening on {}\n", bus.local_addr()))?;
     let stop = bus.stop_handle();
     stop::on_stop(stop_on_eof, move || stop.stop())?;
-    bus.run(device, &mut |event| elog!("{event}"));
+    bus.run_all(devices, &mut |event| elog!("{event}"));
     Ok(ExitCode::SUCCESS)
 }
 
 #[cfg(not(all(feature = "socketcan", target_os = "linux")))]
-fn can(iface: &str, _device: &mut SimDevice, _stop_on_eof: bool) -> anyhow::Result<ExitCode> {
+fn can(iface: &str, _devices: &mut [SimDevice], _stop_on_eof: bool) -> anyhow::Result<ExitCode> {
     bail!("--can {iface}: this odc was built without SocketCAN (Linux, cargo feature `socketcan`)")
 }
 
-/// The device on a SocketCAN interface until a signal (or the end of standard input, when
+/// The devices on a SocketCAN interface until a signal (or the end of standard input, when
 /// asked).
 #[cfg(all(feature = "socketcan", target_os = "linux"))]
-fn can(iface: &str, device: &mut SimDevice, stop_on_eof: bool) -> anyhow::Result<ExitCode> {
+fn can(iface: &str, devices: &mut [SimDevice], stop_on_eof: bool) -> anyhow::Result<ExitCode> {
     use std::sync::atomic::Ordering;
     let mut bus = odc::transport::socketcan::SocketCan::open(iface)
         .with_context(|| format!("--can {iface}: cannot open the SocketCAN interface"))?;
     elog!("on {iface}");
     let stop = stop::flag(stop_on_eof)?;
     let tick_ms = u64::try_from(odc_sim::TICK.as_millis()).unwrap_or(10);
-    odc_sim::run_on_bus(&mut bus, device, tick_ms, || stop.load(Ordering::Relaxed))
+    odc_sim::run_all_on_bus(&mut bus, devices, tick_ms, || stop.load(Ordering::Relaxed))
         .with_context(|| format!("--can {iface}"))?;
     Ok(ExitCode::SUCCESS)
 }
