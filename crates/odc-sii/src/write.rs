@@ -123,8 +123,10 @@ fn build(device: &Device, ec: &EtherCat, options: &Options) -> Result<(Vec<u8>, 
             finish(&mut image, byte_size as usize);
         }
     }
+    // The size word is for `ByteSize` only where the image was not grown.
     if let Some(byte_size) = byte_size
         && byte_size % 128 != 0
+        && image.len() == byte_size as usize
     {
         notes.push(Note::SizeNotWholeKibit(byte_size));
     }
