@@ -29,11 +29,13 @@ pub(crate) fn general(
     strings: &mut Strings,
 ) -> Vec<u8> {
     let mut g = vec![0u8; 32];
-    g[0] = strings.index(ec.group.as_ref().map(|g| g.type_name.as_str()));
-    g[1] = strings.index(extras.image.as_deref().filter(|_| names.others));
+    // The order code is string 1: SOEM names a device by string 1, ethercrab by the order
+    // index.
     g[2] = strings.index(device.device_info.order_code.as_deref().map(String::as_str));
     let name = ec.names.iter().find(|n| n.lc_id == Some(1033)).or_else(|| ec.names.first());
     g[3] = strings.index(name.map(|n| n.text.as_str()));
+    g[0] = strings.index(ec.group.as_ref().map(|g| g.type_name.as_str()));
+    g[1] = strings.index(extras.image.as_deref().filter(|_| names.others));
     if let Some(mb) = &ec.mailbox {
         if let Some(coe) = &mb.coe {
             g[5] = 0x01

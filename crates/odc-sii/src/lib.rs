@@ -28,8 +28,9 @@
 //! - **Strings (10)**: a count byte, then each string as a length byte and its bytes (UTF-8, as
 //!   the ESI text; ASCII in practice). Index 0 means "no string". At most 255 strings of at most
 //!   255 bytes: a name past the 255th gets index 0 and a longer text is cut, each with a
-//!   [`Note`]. Strings are added in this order, each text once: group, image, order code, device
-//!   name, then PDO and entry names, then DC op-mode names and descriptions. Written when it
+//!   [`Note`]. Strings are added in this order, each text once: order code (string 1, which
+//!   SOEM shows as the device's name; ethercrab takes the order index), device name, group,
+//!   image, then PDO and entry names, then DC op-mode names and descriptions. Written when it
 //!   has a text.
 //! - **General (30)**, 32 bytes: group index (`GroupType`, also in byte 14), image index
 //!   (`Image16x14`), order index (`Type` text), name index (`Name`, English if given), CoE
@@ -63,7 +64,8 @@
 //!   word, its data verbatim (an odd length padded with 0). One of a type odc writes (strings,
 //!   General, FMMU, SyncManager, TxPDO, RxPDO, DC) takes the place of the generated one, at its
 //!   place in the order above, with a [`Note::EsiCategory`] (saying where its data does not
-//!   follow ETG.2010's layout for that type); when the ESI gives its own strings, the generated
+//!   follow ETG.2010's layout for that type; the order code stays string 1 when the ESI gives
+//!   its own General category); when the ESI gives its own strings, the generated
 //!   categories name no string (index 0), since their indexes would point into the ESI's
 //!   table. The others (vendor categories 1–9, 0x0800 and up, and types odc does not write)
 //!   come last, in the ESI's order. `CatNo` 0xFFFF (the end marker) is an [`Error::Input`].
@@ -107,10 +109,14 @@
 //! 7. **The SyncManager category**: the mailbox SMs are still in the info area (words
 //!    0x18–0x1B); the process-data SMs' addresses then come from the ESI.
 //!
+//! 8. **The end marker**, in an EEPROM of exactly 128 bytes (1 KiBit): it holds the info area
+//!    alone, as those Beckhoff devices declare. A master reading on from word 0x40 reads what
+//!    the EEPROM answers there (a real 1 KiBit EEPROM wraps to word 0; siitool reads zeros
+//!    past the file's end and skips them as unknown categories); the note says so.
+//!
 //! A step that leaves nothing out (a device without DC) is not named. When the info area and
 //! the ESI's categories do not fit either, or `ByteSize` is below the info area's 128 bytes,
-//! the result is [`Error::DoesNotFit`]. An EEPROM of exactly 128 bytes holds the info area
-//! without the end marker; a reader finds the end of the EEPROM there.
+//! the result is [`Error::DoesNotFit`].
 
 mod categories;
 mod info;

@@ -93,11 +93,14 @@ pub enum Omission {
     General,
     /// The SyncManager category.
     SyncManagers,
+    /// The end marker of the category list: an EEPROM of 128 bytes (1 KiBit) holds the info
+    /// area alone, and a master reading on from word 0x40 reads what the EEPROM answers there.
+    EndMarker,
 }
 
 impl Omission {
     /// Every omission, in the order they are made.
-    pub const ORDER: [Omission; 7] = [
+    pub const ORDER: [Omission; 8] = [
         Omission::EntryNames,
         Omission::OtherNames,
         Omission::Dc,
@@ -105,6 +108,7 @@ impl Omission {
         Omission::Pdos,
         Omission::General,
         Omission::SyncManagers,
+        Omission::EndMarker,
     ];
 
     /// What was left out, for `count` items.
@@ -125,6 +129,10 @@ impl Omission {
             Omission::SyncManagers => {
                 format!("the SyncManager category ({count} sync manager{})", s(count))
             }
+            Omission::EndMarker => "the end marker of the category list (a 128-byte EEPROM holds \
+                                    the info area alone; a master reading on from word 0x40 \
+                                    reads what the EEPROM answers there)"
+                .to_string(),
         }
     }
 }

@@ -42,7 +42,7 @@ pub static RULES: &[RuleInfo] = &[
                       optional parts were left out, in this order, until it fit: the names of \
                       PDO entries; the names of PDOs and DC op modes and the image name; the DC \
                       category; the FMMU category; the TxPDO and RxPDO categories; the General \
-                      category with the strings; the SyncManager category. The message names \
+                      category with the strings; the SyncManager category; in a 128-byte EEPROM, the end marker. The message names \
                       what was left out. A master that reads the device's description from the \
                       ESI (TwinCAT, an ENI) needs none of it; one that configures from the SII \
                       alone (SOEM, ethercrab) falls back to CoE or its defaults for what is \

@@ -105,7 +105,8 @@ fn build(device: &Device, ec: &EtherCat, options: &Options) -> Result<(Vec<u8>, 
         }
         Some(byte_size) => {
             let mut omitted = Vec::new();
-            for step in Omission::ORDER {
+            // The end marker is not a part `assemble` leaves out: `fits` and `finish` cut it.
+            for step in Omission::ORDER.into_iter().filter(|&o| o != Omission::EndMarker) {
                 left_out.insert(step);
                 let (smaller, smaller_notes) = assemble(device, ec, &left_out)?;
                 if smaller.len() < image.len() {
@@ -118,6 +119,9 @@ fn build(device: &Device, ec: &EtherCat, options: &Options) -> Result<(Vec<u8>, 
             }
             if !fits(&image, byte_size) {
                 return Err(Error::DoesNotFit { needed: image.len(), full, byte_size, span });
+            }
+            if image.len() > byte_size as usize {
+                omitted.push((Omission::EndMarker, 1));
             }
             notes.push(Note::LeftOut { full, byte_size, omitted });
             finish(&mut image, byte_size as usize);
@@ -171,6 +175,7 @@ fn count(device: &Device, ec: &EtherCat, step: Omission) -> usize {
         Omission::Pdos => device.pdos.len(),
         Omission::General => 1,
         Omission::SyncManagers => ec.sync_managers.len(),
+        Omission::EndMarker => 1,
     }
 }
 
@@ -198,6 +203,10 @@ fn assemble(
     // Device strings first: they matter most when the table fills up.
     let general = (keep(Omission::General) && !gives(category::GENERAL))
         .then(|| general(device, ec, &info_values(ec), names, &mut strings));
+    if gives(category::GENERAL) {
+        // Still string 1, which SOEM shows as the device's name.
+        strings.index(device.device_info.order_code.as_deref().map(String::as_str));
+    }
     let mut pdos = |dir: Direction, kind: u16, notes: &mut Vec<Note>| {
         if keep(Omission::Pdos) && !gives(kind) {
             pdo_category(device, dir, names, &mut strings, notes)

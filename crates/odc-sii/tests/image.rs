@@ -183,7 +183,7 @@ fn bad_parts() {
 
 // Sizes of the fixture's image, counted by hand from ETG.2010's layouts (category header 4
 // bytes, data padded to a word):
-//   info area 128; strings: 11 texts (Drives, SV1-A, Servo drive, Inputs, Statusword,
+//   info area 128; strings: 11 texts (SV1-A, Servo drive, Drives, Inputs, Statusword,
 //   Position, Spare, Outputs, Controlword, DC, DC-Synchron), 1 + 93 = 94 bytes -> 98;
 //   General 4 + 32 = 36; FMMU 3 + 1 pad -> 8; SyncManager 4 x 8 -> 36; TxPDO 0x1A00 8 + 2 x 8,
 //   0x1A01 8 -> 36; RxPDO 8 + 2 x 8 -> 28; DC 24 -> 28; vendor category 1: 5 + 1 pad -> 10;
@@ -207,12 +207,12 @@ fn what_does_not_fit_is_left_out_in_order() {
             omitted: vec![(EntryNames, 3), (OtherNames, 5), (Dc, 1), (Fmmu, 3), (Pdos, 3)]
         }]
     );
-    // Strings: 3 texts, 1 + 7 + 6 + 12 = 26 bytes = 13 words.
-    let mut strings = vec![10, 0, 13, 0, 3, 6];
-    strings.extend_from_slice(b"Drives\x05SV1-A\x0bServo drive");
+    // Strings: 3 texts, 1 + 6 + 12 + 7 = 26 bytes = 13 words; the order code first.
+    let mut strings = vec![10, 0, 13, 0, 3, 5];
+    strings.extend_from_slice(b"SV1-A\x0bServo drive\x06Drives");
     assert_eq!(&image[128..158], &strings[..]);
-    // General: 16 words; group 1, image 0, order 2, name 3.
-    assert_eq!(&image[158..166], [30, 0, 16, 0, 1, 0, 2, 3]);
+    // General: 16 words; group 3, image 0, order 1, name 2.
+    assert_eq!(&image[158..166], [30, 0, 16, 0, 3, 0, 1, 2]);
     // SyncManager: 16 words, SM0 as in `categories`.
     assert_eq!(&image[194..206], [41, 0, 16, 0, 0x00, 0x10, 128, 0, 0x26, 0, 0x01, 1]);
     // The ESI's category 1 (3 words), the end marker, then erased bytes.
@@ -287,8 +287,8 @@ fn the_esis_own_standard_categories_replace_the_generated_ones() {
     let sii = odc_sii::read(&image).unwrap();
     let kinds: Vec<u16> = sii.categories.iter().map(|c| c.kind).collect();
     assert_eq!(kinds, [10, 30, 40, 41, 50, 51, 60, 1], "in the General category's place");
-    // The generated General's strings are not made: the first string is a PDO's name.
-    assert_eq!(sii.strings.first().map(String::as_str), Some("Inputs"));
+    // Of the generated General's strings only the order code is made, string 1 (SOEM's name).
+    assert_eq!(sii.strings[..2], ["SV1-A", "Inputs"]);
     assert!(matches!(
         &notes[..],
         [odc_sii::Note::EsiCategory { cat_no: 30, bytes: 7, odd: Some(_) }]
