@@ -311,10 +311,18 @@ impl Config {
             let module = input.module.clone().unwrap_or_else(|| module_name(&input.path));
             #[cfg(feature = "sii")]
             let sii = match input.sii {
-                true => Some(odc_sii::write(device).map_err(|e| Error::Sii {
-                    path: input.path.clone(),
-                    message: e.to_string(),
-                })?),
+                true => {
+                    let (image, notes) = odc_sii::write_with_notes(device).map_err(|e| {
+                        Error::Sii { path: input.path.clone(), message: e.to_string() }
+                    })?;
+                    // What was left out to fit `Eeprom/ByteSize`: a warning, as `odc sii` says.
+                    let left_out =
+                        notes.iter().filter(|n| matches!(n, odc_sii::Note::LeftOut { .. }));
+                    out.warnings.extend(left_out.map(|n| {
+                        format!("{}: warning[{}]: {n}", loaded.name, odc_sii::codes::LEFT_OUT)
+                    }));
+                    Some(image)
+                }
                 false => None,
             };
             #[cfg(not(feature = "sii"))]
@@ -557,6 +565,16 @@ mod tests {
         // ETG.2010: a 2048-byte EEPROM (ByteSize) with version 1 at word 0x3F.
         assert_eq!(image.len(), 2048);
         assert_eq!(image.get(0x7E..0x80), Some(&[1u8, 0][..]));
+        // A smaller EEPROM: parts left out, with warning S702 (esi/servoone.xml's DC op
+        // modes and PDOs do not fit 256 bytes).
+        let esi = std::fs::read_to_string(root.join("esi/servoone.xml")).unwrap_or_default();
+        let small = dir.join("small.xml");
+        let _ = std::fs::write(&small, esi.replace("<ByteSize>2048<", "<ByteSize>256<"));
+        let _ = std::fs::copy(root.join("esi/servoone.odc.toml"), dir.join("small.odc.toml"));
+        let out = Config::new().device(&small).sii_image().generate().unwrap_or_default();
+        assert!(out.warnings.iter().any(|w| w.contains("warning[S702]")), "{:?}", out.warnings);
+        let image = out.generated.first().and_then(|g| g.sii.as_ref()).map(Vec::len);
+        assert_eq!(image, Some(256));
         // Not an ESI device: refused, naming the file.
         let e = Config::new().device(root.join("eds/lxm23a.eds")).sii_image().generate().err();
         assert!(matches!(e, Some(Error::Sii { .. })), "{e:?}");

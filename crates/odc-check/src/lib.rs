@@ -15,7 +15,9 @@
 //! | `T6xx` | `etg` | EtherCAT (ESI devices): PDO entries, sync managers, PDO assignment, `Exclude`, mailbox, DC |
 //!
 //! The front-ends have their own rules (`odc_eds::RULES`, `odc_esi::RULES`, group `format`), as
-//! has the code generator (`odc_codegen::RULES`); this crate knows none of them. A [`Config`]
+//! have the code generator (`odc_codegen::RULES`, `G6xx`) and the SII writer (`odc_sii::RULES`,
+//! `S7xx`, group `sii`: what `odc sii` leaves out or refuses to fit `Eeprom/ByteSize`); this
+//! crate knows none of them. A [`Config`]
 //! made in the registry of every code (`odc_pipeline::registry`) applies levels to their
 //! diagnostics too ([`Config::apply`]).
 //!

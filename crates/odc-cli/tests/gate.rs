@@ -149,13 +149,13 @@ fn a_level_for_an_unknown_rule_is_a_usage_error() {
 
 #[test]
 fn explain_and_lints_know_every_code_of_every_stage() {
-    for code in ["F108", "F201", "C301", "D502", "T601", "G604"] {
+    for code in ["F108", "F201", "C301", "D502", "T601", "G604", "S701"] {
         let out = odc(&["explain", code]);
         assert_eq!(out.status.code(), Some(0), "{code}: {}", stderr(&out));
         assert!(String::from_utf8_lossy(&out.stdout).starts_with(code), "{code}");
     }
     let lints = String::from_utf8_lossy(&odc(&["lints"]).stdout).into_owned();
-    for code in ["F101", "F201", "C101", "D501", "T601", "G601", "G605"] {
+    for code in ["F101", "F201", "C101", "D501", "T601", "G601", "G605", "S702"] {
         assert!(lints.lines().any(|l| l.starts_with(code)), "{code} not listed");
     }
     // A front-end code's level is set like a checker rule's.

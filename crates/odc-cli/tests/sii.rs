@@ -43,23 +43,78 @@ fn sii_writes_the_image_and_info_reads_it_back() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-#[test]
-fn an_image_larger_than_the_eeprom_is_refused_at_byte_size() {
-    let dir = temp_dir("small");
+/// servoone.xml with another `Eeprom/ByteSize`, and its overlay beside it (the copy's gate
+/// stays the original's).
+fn servoone_with_byte_size(dir: &Path, name: &str, byte_size: u32) -> PathBuf {
     let esi = std::fs::read_to_string(repo_file("esi/servoone.xml")).unwrap();
-    let small = dir.join("small.xml");
-    std::fs::write(&small, esi.replace("<ByteSize>2048</ByteSize>", "<ByteSize>256</ByteSize>"))
-        .unwrap();
-    // The overlay beside the original file allows its quirks; keep the copy's gate the same.
-    let overlay = repo_file("esi/servoone.odc.toml");
-    let _ = std::fs::copy(overlay, dir.join("small.odc.toml"));
+    let path = dir.join(format!("{name}.xml"));
+    let replaced =
+        esi.replace("<ByteSize>2048</ByteSize>", &format!("<ByteSize>{byte_size}</ByteSize>"));
+    std::fs::write(&path, replaced).unwrap();
+    let _ = std::fs::copy(repo_file("esi/servoone.odc.toml"), dir.join(format!("{name}.odc.toml")));
+    path
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+#[test]
+fn what_does_not_fit_byte_size_is_left_out_with_a_warning_that_can_be_denied() {
+    let dir = temp_dir("small");
+    let small = servoone_with_byte_size(&dir, "small", 256);
     let bin = dir.join("small.bin");
-    std::fs::write(&bin, b"previous").unwrap();
     let out = odc(&["sii", small.to_str().unwrap(), "-o", bin.to_str().unwrap()]);
-    let text = String::from_utf8_lossy(&out.stderr).into_owned();
+    let text = stderr(&out);
+    assert_eq!(out.status.code(), Some(0), "{text}");
+    assert_eq!(std::fs::read(&bin).unwrap().len(), 256, "the ESI's ByteSize");
+    assert!(text.contains("warning[S702]"), "{text}");
+    // servoone.xml has DC op modes and PDOs; 256 bytes leave room for neither.
+    assert!(text.contains("left out: the DC category (2 op modes)"), "{text}");
+    assert!(text.contains("left out: the TxPDO and RxPDO categories"), "{text}");
+    // Denied, the omission refuses the image and leaves the old file.
+    std::fs::write(&bin, b"previous").unwrap();
+    let out = odc(&["sii", small.to_str().unwrap(), "-o", bin.to_str().unwrap(), "-D", "S702"]);
+    let text = stderr(&out);
     assert_eq!(out.status.code(), Some(1), "{text}");
-    assert!(text.contains("but `Eeprom/ByteSize` is 256"), "{text}");
+    assert!(text.contains("error[S702]") && text.contains("-A S702"), "{text}");
+    assert_eq!(std::fs::read(&bin).unwrap(), b"previous");
+    // `--grow`: nothing left out, a larger EEPROM.
+    let out = odc(&["sii", small.to_str().unwrap(), "-o", bin.to_str().unwrap(), "--grow"]);
+    let text = stderr(&out);
+    assert_eq!(out.status.code(), Some(0), "{text}");
+    assert!(!text.contains("S702") && text.contains("note[S703]"), "{text}");
+    let grown = std::fs::read(&bin).unwrap();
+    assert!(grown.len() > 256 && grown.len().is_power_of_two(), "{}", grown.len());
+    let out = odc(&["info", bin.to_str().unwrap()]);
+    let info = String::from_utf8_lossy(&out.stdout).into_owned();
+    let n = grown.len();
+    assert!(info.starts_with(&format!("SII image, {n} bytes (size word: {n} bytes)")), "{info}");
+    assert!(info.contains("TxPDO 0x1A00"), "{info}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn an_eeprom_smaller_than_the_info_area_is_refused_unless_s701_is_allowed() {
+    let dir = temp_dir("tiny");
+    let tiny = servoone_with_byte_size(&dir, "tiny", 100);
+    let bin = dir.join("tiny.bin");
+    std::fs::write(&bin, b"previous").unwrap();
+    let out = odc(&["sii", tiny.to_str().unwrap(), "-o", bin.to_str().unwrap()]);
+    let text = stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "{text}");
+    assert!(text.contains("error[S701]") && text.contains("`Eeprom/ByteSize` is 100"), "{text}");
+    assert!(text.contains("(on the command line `-A S701`)"), "{text}");
     assert_eq!(std::fs::read(&bin).unwrap(), b"previous", "the old file stays");
+    for level in [["-W", "S701"], ["-A", "sii-does-not-fit"]] {
+        let out =
+            odc(&["sii", tiny.to_str().unwrap(), "-o", bin.to_str().unwrap(), level[0], level[1]]);
+        let text = stderr(&out);
+        assert_eq!(out.status.code(), Some(0), "{level:?}: {text}");
+        assert_eq!(text.contains("warning[S701]"), level[0] == "-W", "{text}");
+        let image = std::fs::read(&bin).unwrap();
+        assert!(image.len() >= 256 && image.len().is_power_of_two(), "{}", image.len());
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 

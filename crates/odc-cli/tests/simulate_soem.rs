@@ -97,6 +97,11 @@ fn map(assign: u16, pdo: u16, entries: &[(u16, u8, u8)]) -> Vec<Value> {
 /// each device, in line order) on the other end; returns SOEM's report and what odc
 /// simulate printed.
 fn soem(tag: char, specs: &[String], devices: Value) -> (Value, String) {
+    soem_script(tag, "soem_master.py", specs, json!({ "cycles": 1000, "devices": devices }))
+}
+
+/// [`soem`] with another script of tests/interop/python and its plan (`iface` added).
+fn soem_script(tag: char, script: &str, specs: &[String], mut plan: Value) -> (Value, String) {
     let python = PathBuf::from(std::env::var_os("ODC_INTEROP_PYTHON").unwrap_or("python3".into()));
     let wire = Wire::new(tag);
     let mut sim = realtime(env!("CARGO_BIN_EXE_odc"))
@@ -111,11 +116,11 @@ fn soem(tag: char, specs: &[String], devices: Value) -> (Value, String) {
     let mut first = String::new();
     BufReader::new(sim.stdout.take().unwrap()).read_line(&mut first).unwrap();
     assert_eq!(first.trim(), format!("serving {} devices on {}", specs.len(), wire.devices));
-    let plan = json!({ "iface": wire.master, "cycles": 1000, "devices": devices });
+    plan["iface"] = json!(wire.master);
     let mut master = Command::new("ip")
         .args(["netns", "exec", &wire.netns])
         .arg(&python)
-        .arg(repo("tests/interop/python/soem_master.py"))
+        .arg(repo("tests/interop/python").join(script))
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -128,7 +133,7 @@ fn soem(tag: char, specs: &[String], devices: Value) -> (Value, String) {
         if Instant::now() > deadline {
             let _ = master.kill();
             let _ = sim.kill();
-            panic!("soem_master.py did not finish in 120 s");
+            panic!("{script} did not finish in 120 s");
         }
         std::thread::sleep(Duration::from_millis(50));
     }
@@ -297,6 +302,57 @@ fn soem_runs_a_line_of_three() {
     assert!(sim_err.contains("device 3:"), "{sim_err}");
 }
 
+/// SOEM reads the SII of devices whose content did not fit their `Eeprom/ByteSize`, as the
+/// simulated EEPROM holds it: odc_sii leaves out optional parts (names; names, DC, FMMU and
+/// PDOs; everything but the info area in a 128-byte EEPROM), or writes the ESI's own General
+/// and SyncManager categories in place of its own (Elmo). SOEM's config_init must find each
+/// device with the ESI's identity and take its name from string 1 where there are strings
+/// (SOEM's fallback `? M:… I:…` where there are none), and the EEPROM read
+/// over the ESC's interface must be odc's image byte for byte.
+fn soem_reads_sii_images_fitted_to_byte_size() {
+    let devices = [
+        // Left out: the names of PDO entries.
+        corpus_device("beckhoff__Beckhoff_EJ2xxx.xml", Some("EJ2521-0224")),
+        // Left out: names, the DC, FMMU and PDO categories.
+        corpus_device("beckhoff__etc-Beckhoff_EL1xxx.xml", Some("EL1258")),
+        // ByteSize 128: the info area alone.
+        corpus_device("beckhoff__Beckhoff_EL67xx.xml", Some("EL6720")),
+        // The ESI's own General (names all index 0) and SyncManager categories.
+        corpus_device("elmo__Elmo_ECAT_00010420_V11.rev_10420_only.xml", Some("0x00030924")),
+    ];
+    let mut plan = Vec::new();
+    let mut images = Vec::new();
+    for (_, device, _, _) in &devices {
+        let (image, notes) = odc_sii::write_with_notes(device).unwrap();
+        let left_out = notes.iter().any(|n| matches!(n, odc_sii::Note::LeftOut { .. }));
+        let esi_own = notes.iter().any(|n| matches!(n, odc_sii::Note::EsiCategory { .. }));
+        assert!(left_out || esi_own, "{}: {notes:?}", device.name());
+        plan.push(json!({ "bytes": image.len() }));
+        images.push(image);
+    }
+    let specs: Vec<String> = devices.iter().map(|(spec, ..)| spec.clone()).collect();
+    let (report, _) = soem_script('c', "soem_sii.py", &specs, json!({ "devices": plan }));
+    assert_eq!(report["found"], devices.len(), "{report}");
+    for (k, ((_, device, _, _), image)) in devices.iter().zip(&images).enumerate() {
+        let dev = &report["devices"][k];
+        assert_eq!(dev["identity"], identity(device), "{dev}");
+        assert_eq!(hex_bytes(dev["eeprom"].as_str().unwrap()), *image, "{}", device.name());
+        let sii = odc_sii::read(image).unwrap();
+        // SOEM's name: string 1 (SOEM keeps 40 bytes of it; odc puts the order code there),
+        // or `? M:vendor I:product` without a strings category.
+        let ecat = device.ethercat.as_deref().unwrap();
+        let want = match sii.string(1) {
+            Some(name) => name.chars().take(40).collect::<String>(),
+            None => format!(
+                "? M:{:08x} I:{:08x}",
+                ecat.vendor_id.unwrap_or(0),
+                ecat.product_code.unwrap_or(0)
+            ),
+        };
+        assert_eq!(dev["name"], json!(want), "{dev}");
+    }
+}
+
 fn hex_bytes(s: &str) -> Vec<u8> {
     (0..s.len()).step_by(2).map(|i| u8::from_str_radix(&s[i..i + 2], 16).unwrap()).collect()
 }
@@ -315,6 +371,11 @@ fn main() -> std::process::ExitCode {
         Test {
             name: "soem_runs_a_line_of_three",
             run: soem_runs_a_line_of_three,
+            needs: &[Need::Python(&["pysoem"]), Need::Netdevs, Need::Corpus],
+        },
+        Test {
+            name: "soem_reads_sii_images_fitted_to_byte_size",
+            run: soem_reads_sii_images_fitted_to_byte_size,
             needs: &[Need::Python(&["pysoem"]), Need::Netdevs, Need::Corpus],
         },
     ])

@@ -466,8 +466,8 @@ pub fn load_bytes(path: &Path, bytes: Vec<u8>, options: &Options) -> Result<Load
 }
 
 /// Every diagnostic code odc can emit: the front-ends' (`F1xx` EDS/DCF, `F2xx` ESI, `F3xx`
-/// XDD/XDC), the
-/// checker's (`C`, `D`, `T`) and the code generator's (`G6xx`). `odc explain`, `odc lints`,
+/// XDD/XDC), the checker's (`C`, `D`, `T`), the code generator's (`G6xx`) and the SII
+/// writer's (`S7xx`). `odc explain`, `odc lints`,
 /// overlays and `-A/-W/-D` name rules in it.
 pub fn registry() -> Registry {
     static REGISTRY: OnceLock<Registry> = OnceLock::new();
@@ -478,7 +478,8 @@ pub fn registry() -> Registry {
                     .chain(odc_eds::RULES)
                     .chain(odc_esi::RULES)
                     .chain(odc_xdd::RULES)
-                    .chain(odc_codegen::RULES),
+                    .chain(odc_codegen::RULES)
+                    .chain(odc_sii::RULES),
             )
         })
         .clone()

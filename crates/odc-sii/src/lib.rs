@@ -28,8 +28,10 @@
 //! - **Strings (10)**: a count byte, then each string as a length byte and its bytes (UTF-8, as
 //!   the ESI text; ASCII in practice). Index 0 means "no string". At most 255 strings of at most
 //!   255 bytes: a name past the 255th gets index 0 and a longer text is cut, each with a
-//!   [`Note`]. Strings are added in this order, each text once: group, image, order code, device
-//!   name, then PDO and entry names, then DC op-mode names and descriptions.
+//!   [`Note`]. Strings are added in this order, each text once: order code (string 1, which
+//!   SOEM shows as the device's name; ethercrab takes the order index), device name, group,
+//!   image, then PDO and entry names, then DC op-mode names and descriptions. Written when it
+//!   has a text.
 //! - **General (30)**, 32 bytes: group index (`GroupType`, also in byte 14), image index
 //!   (`Image16x14`), order index (`Type` text), name index (`Name`, English if given), CoE
 //!   details (bit 0 SDO = the device has `Mailbox/CoE`, then `@SdoInfo` bit 1, `@PdoAssign` 2,
@@ -58,21 +60,80 @@
 //!   (u16), `CycleTimeSync0@Factor` (i16), name and description (`Desc`) indexes, 4 reserved
 //!   bytes 0. ETG.2010 has no field for `CycleTimeSync1`'s own value (siitool adds one, which
 //!   the standard does not have): a non-zero one is left out with a [`Note`].
-//! - **Vendor categories**: every `Eeprom/Category` as written: `CatNo` as the type word, its
-//!   data verbatim (an odd length padded with 0).
+//! - **The ESI's own categories**: every `Eeprom/Category` as written, `CatNo` as the type
+//!   word, its data verbatim (an odd length padded with 0). One of a type odc writes (strings,
+//!   General, FMMU, SyncManager, TxPDO, RxPDO, DC) takes the place of the generated one, at its
+//!   place in the order above, with a [`Note::EsiCategory`] (saying where its data does not
+//!   follow ETG.2010's layout for that type; the order code stays string 1 when the ESI gives
+//!   its own General category); when the ESI gives its own strings, the generated
+//!   categories name no string (index 0), since their indexes would point into the ESI's
+//!   table. The others (vendor categories 1–9, 0x0800 and up, and types odc does not write)
+//!   come last, in the ESI's order. `CatNo` 0xFFFF (the end marker) is an [`Error::Input`].
 //!
-//! The image is padded with 0xFF (an erased EEPROM) to `ByteSize`; an image larger than
-//! `ByteSize` is an [`Error::DoesNotFit`]. A device whose ESI gives only `Eeprom/Data` (a whole
-//! image) gets that image, checked to be at least the info area.
+//! The image is padded with 0xFF (an erased EEPROM) to `ByteSize`. A device whose ESI gives
+//! only `Eeprom/Data` (a whole image) gets that image, checked to be at least the info area.
+//!
+//! # Fitting `ByteSize`
+//!
+//! Where the content is larger than `Eeprom/ByteSize`, [`Fit::Omit`] (the default) leaves out
+//! optional parts, one step at a time, until the image fits, and says what in
+//! [`Note::LeftOut`]; [`Fit::Grow`] leaves nothing out and writes the image for the smallest
+//! power-of-two EEPROM that holds it ([`Note::Grown`]; EEPROMs come in powers of two).
+//!
+//! What is never left out: the info area, which the ESC itself loads (words 0–7) and every
+//! master reads for the identity and the mailbox (ETG.2010 words 0x08–0x1C), and the ESI's
+//! own categories, which the device maker wants in the EEPROM as given. Everything after the
+//! info area is a category, and ETG.2010 lets a master find categories by type in a list that
+//! may lack any of them: SOEM's `ecx_siifind` and ethercrab's category search answer "not
+//! found" and the master goes on with CoE or its defaults; Beckhoff's own ESIs declare
+//! 128-byte (1 KiBit) EEPROMs, the info area alone, for 62 corpus devices. The steps, from
+//! what a master uses least to what it uses most ([`Omission::ORDER`]):
+//!
+//! 1. **PDO entry names**: text for people, reached only through string indexes, where
+//!    ETG.2010 makes index 0 "no string"; no master configures with them. They are most of
+//!    the strings of a large device.
+//! 2. **The other names**: PDO names, DC op-mode names and descriptions, the device image's
+//!    name (`Image16x14`, obsolete in ETG.2000). Also text only; the device's own name, order
+//!    code and group stay, as a configuration tool shows them when it scans a bus.
+//! 3. **The DC category**: a master takes the DC op modes from the ESI or the ENI; SOEM and
+//!    ethercrab read no DC category.
+//! 4. **The FMMU category**: without it a master uses its defaults (SOEM: FMMU 0 outputs,
+//!    1 inputs, 2 mailbox state; ethercrab: the FMMU of the SM's index), which is what the
+//!    category says for nearly every device.
+//! 5. **The TxPDO and RxPDO categories**: a master that configures from the SII uses them only
+//!    where it cannot read the mapping over CoE (0x1C12/0x1C13 and the mapping objects); an
+//!    ESI-less master loses the process-data layout of a device without CoE here, which is
+//!    why this comes this late.
+//! 6. **The General category and the strings**: CoE details, the E-bus current, the port
+//!    types, the device's name; a master without them assumes plain SDO access.
+//! 7. **The SyncManager category**: the mailbox SMs are still in the info area (words
+//!    0x18–0x1B); the process-data SMs' addresses then come from the ESI.
+//!
+//! 8. **The end marker**, in an EEPROM of exactly 128 bytes (1 KiBit): it holds the info area
+//!    alone, as those Beckhoff devices declare. A master reading on from word 0x40 reads what
+//!    the EEPROM answers there (a real 1 KiBit EEPROM wraps to word 0; siitool reads zeros
+//!    past the file's end and skips them as unknown categories); the note says so.
+//!
+//! A step that leaves nothing out (a device without DC) is not named. When the info area and
+//! the ESI's categories do not fit either, or `ByteSize` is below the info area's 128 bytes,
+//! the result is [`Error::DoesNotFit`].
 
+mod categories;
 mod info;
+mod info_area;
+mod layout;
+mod notes;
 mod read;
+mod rules;
+mod strings;
 mod write;
 
+pub use notes::{Note, Omission};
 pub use read::{
     Category, DcOpMode, General, InfoArea, MailboxArea, Sii, SiiPdo, SiiPdoEntry, SyncManager, read,
 };
-pub use write::{Note, write, write_from_description, write_with_notes};
+pub use rules::{RULES, codes};
+pub use write::{Fit, Options, write, write_from_description, write_with, write_with_notes};
 
 use odc_model::Span;
 
@@ -131,11 +192,17 @@ pub enum Error {
         /// Where it is written, when known.
         span: Option<Span>,
     },
-    /// The image is larger than the EEPROM the ESI declares.
-    #[error("the SII image needs {needed} bytes, but `Eeprom/ByteSize` is {byte_size}")]
+    /// The image is larger than the EEPROM the ESI declares, even with every optional part
+    /// left out.
+    #[error(
+        "the SII image needs {needed} bytes with every optional part left out ({full} with \
+         everything), but `Eeprom/ByteSize` is {byte_size}"
+    )]
     DoesNotFit {
-        /// Bytes the image needs (with its end marker).
+        /// Bytes the image needs with every optional part left out (with its end marker).
         needed: usize,
+        /// Bytes it needs with everything.
+        full: usize,
         /// `ByteSize`.
         byte_size: u32,
         /// Span of `ByteSize`.

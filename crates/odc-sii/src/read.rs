@@ -1,5 +1,9 @@
 //! Decoding an SII image: the info area and the categories, as [`crate::write`] lays them out
 //! (ETG.2010), for `odc info eeprom.bin` and for checking written images.
+//!
+//! Lenient where masters are: a sync manager or DC category whose length is not whole records
+//! (an ESI's own category, written as given) yields its whole records, as SOEM counts them;
+//! an image of exactly the 128-byte info area (a 1 KiBit EEPROM) has no categories.
 
 use crate::{Error, INFO_AREA, category, crc8};
 
@@ -226,10 +230,10 @@ fn malformed(offset: usize, message: impl Into<String>) -> Error {
 
 /// Decodes an SII image.
 pub fn read(bytes: &[u8]) -> Result<Sii, Error> {
-    if bytes.len() < INFO_AREA + 2 {
+    if bytes.len() < INFO_AREA {
         return Err(malformed(
             bytes.len(),
-            format!("{} bytes: an SII image has a 128-byte info area and categories", bytes.len()),
+            format!("{} bytes: an SII image has a 128-byte info area", bytes.len()),
         ));
     }
     let b = bytes;
@@ -260,7 +264,8 @@ pub fn read(bytes: &[u8]) -> Result<Sii, Error> {
     };
     let mut sii = Sii { info, ..Sii::default() };
     let mut at = INFO_AREA;
-    loop {
+    // A 1 KiBit EEPROM: the info area alone, no room for the end marker.
+    while bytes.len() > INFO_AREA {
         if at + 2 > bytes.len() {
             return Err(malformed(at, "the category list has no end marker (0xFFFF)"));
         }
@@ -286,7 +291,8 @@ pub fn read(bytes: &[u8]) -> Result<Sii, Error> {
                 }
             }
             category::SYNC_MANAGER => {
-                sii.sync_managers = records(data, 8, body, "sync manager")?
+                sii.sync_managers = data
+                    .chunks_exact(8)
                     .map(|r| SyncManager {
                         start_address: u16_at(r, 0),
                         length: u16_at(r, 2),
@@ -300,7 +306,8 @@ pub fn read(bytes: &[u8]) -> Result<Sii, Error> {
             category::TX_PDO => sii.tx_pdos = pdos(data, body)?,
             category::RX_PDO => sii.rx_pdos = pdos(data, body)?,
             category::DC => {
-                sii.dc = records(data, 24, body, "DC op mode")?
+                sii.dc = data
+                    .chunks_exact(24)
                     .map(|r| DcOpMode {
                         cycle_time0: u32_at(r, 0),
                         shift_time0: u32_at(r, 4),
@@ -319,21 +326,6 @@ pub fn read(bytes: &[u8]) -> Result<Sii, Error> {
         at = body + 2 * words;
     }
     Ok(sii)
-}
-
-fn records<'a>(
-    data: &'a [u8],
-    size: usize,
-    at: usize,
-    what: &str,
-) -> Result<std::slice::ChunksExact<'a, u8>, Error> {
-    if !data.len().is_multiple_of(size) {
-        return Err(malformed(
-            at,
-            format!("{} bytes are not whole {size}-byte {what} records", data.len()),
-        ));
-    }
-    Ok(data.chunks_exact(size))
 }
 
 fn strings(data: &[u8], at: usize) -> Result<Vec<String>, Error> {

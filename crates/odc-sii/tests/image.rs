@@ -170,17 +170,138 @@ fn read_back() {
 }
 
 #[test]
-fn too_small_eeprom_and_bad_parts() {
-    let small = ESI.replace("<ByteSize>2048", "<ByteSize>256");
-    let err = odc_sii::write(&device(&small)).unwrap_err();
-    assert!(matches!(err, odc_sii::Error::DoesNotFit { byte_size: 256, .. }), "{err}");
+fn bad_parts() {
     let long = ESI.replace("080C0E0C8813", "080C0E0C88130000000000000000000000");
     assert!(matches!(odc_sii::write(&device(&long)), Err(odc_sii::Error::Input { .. })));
     let boot = ESI.replace("0010F400F410F400", "0010F400");
     let err = odc_sii::write(&device(&boot)).unwrap_err();
     assert!(err.to_string().contains("BootStrap"), "{err}");
-    let std_cat = ESI.replace("<CatNo>1</CatNo>", "<CatNo>30</CatNo>");
-    assert!(odc_sii::write(&device(&std_cat)).is_err());
+    // 0xFFFF is the end marker, not a category.
+    let end = ESI.replace("<CatNo>1</CatNo>", "<CatNo>65535</CatNo>");
+    assert!(matches!(odc_sii::write(&device(&end)), Err(odc_sii::Error::Input { .. })));
+}
+
+// Sizes of the fixture's image, counted by hand from ETG.2010's layouts (category header 4
+// bytes, data padded to a word):
+//   info area 128; strings: 11 texts (SV1-A, Servo drive, Drives, Inputs, Statusword,
+//   Position, Spare, Outputs, Controlword, DC, DC-Synchron), 1 + 93 = 94 bytes -> 98;
+//   General 4 + 32 = 36; FMMU 3 + 1 pad -> 8; SyncManager 4 x 8 -> 36; TxPDO 0x1A00 8 + 2 x 8,
+//   0x1A01 8 -> 36; RxPDO 8 + 2 x 8 -> 28; DC 24 -> 28; vendor category 1: 5 + 1 pad -> 10;
+//   end marker 2. Total 410.
+const FULL: usize = 410;
+
+#[test]
+fn what_does_not_fit_is_left_out_in_order() {
+    // 256 bytes: entry names (Statusword, Position, Controlword: -32 -> 378), other names
+    // (Inputs, Spare, Outputs, DC, DC-Synchron: -36 -> 342), DC (-28 -> 314), FMMU (-8 -> 306),
+    // PDOs (-64 -> 242) go; General and SyncManager stay.
+    let small = ESI.replace("<ByteSize>2048", "<ByteSize>256");
+    let (image, notes) = odc_sii::write_with_notes(&device(&small)).unwrap();
+    assert_eq!(image.len(), 256);
+    use odc_sii::Omission::*;
+    assert_eq!(
+        notes,
+        [odc_sii::Note::LeftOut {
+            full: FULL,
+            byte_size: 256,
+            omitted: vec![(EntryNames, 3), (OtherNames, 5), (Dc, 1), (Fmmu, 3), (Pdos, 3)]
+        }]
+    );
+    // Strings: 3 texts, 1 + 6 + 12 + 7 = 26 bytes = 13 words; the order code first.
+    let mut strings = vec![10, 0, 13, 0, 3, 5];
+    strings.extend_from_slice(b"SV1-A\x0bServo drive\x06Drives");
+    assert_eq!(&image[128..158], &strings[..]);
+    // General: 16 words; group 3, image 0, order 1, name 2.
+    assert_eq!(&image[158..166], [30, 0, 16, 0, 3, 0, 1, 2]);
+    // SyncManager: 16 words, SM0 as in `categories`.
+    assert_eq!(&image[194..206], [41, 0, 16, 0, 0x00, 0x10, 128, 0, 0x26, 0, 0x01, 1]);
+    // The ESI's category 1 (3 words), the end marker, then erased bytes.
+    assert_eq!(&image[230..242], [1, 0, 3, 0, 0x5C, 0x12, 0x05, 0x00, 0xFF, 0x00, 0xFF, 0xFF]);
+    assert!(image[242..].iter().all(|&b| b == 0xFF));
+    assert_eq!(word(&image, 0x3E), 1, "256 bytes = 2 KiBit");
+    let text = notes[0].to_string();
+    assert!(
+        text.contains("needs 410 bytes") && text.contains("the names of 3 PDO entries"),
+        "{text}"
+    );
+}
+
+#[test]
+fn what_is_left_must_fit_or_the_image_is_refused() {
+    // 128 bytes: General (-36, strings -30) and SyncManager (-36) go too, down to 140 bytes:
+    // the info area, the ESI's own category (10) and the end marker do not fit.
+    let tiny = ESI.replace("<ByteSize>2048", "<ByteSize>128");
+    let err = odc_sii::write(&device(&tiny)).unwrap_err();
+    assert!(
+        matches!(err, odc_sii::Error::DoesNotFit { needed: 140, full: FULL, byte_size: 128, .. }),
+        "{err:?}"
+    );
+    assert!(err.span().is_some(), "points at ByteSize");
+    // Without the vendor category: the info area alone, as a 1 KiBit EEPROM holds it (no
+    // room for the end marker).
+    let start = tiny.find("<Category>").unwrap();
+    let end = tiny.find("</Category>").unwrap() + "</Category>".len();
+    let bare = format!("{}{}", &tiny[..start], &tiny[end..]);
+    let (image, notes) = odc_sii::write_with_notes(&device(&bare)).unwrap();
+    assert_eq!(image.len(), 128);
+    assert_eq!(word(&image, 0x3E), 0, "1 KiBit");
+    assert_eq!(dword(&image, 0xA), 0x1234_5678, "identity kept");
+    let odc_sii::Note::LeftOut { omitted, .. } = &notes[0] else { panic!("{notes:?}") };
+    let steps: Vec<_> = omitted.iter().map(|(o, _)| *o).collect();
+    assert_eq!(steps, odc_sii::Omission::ORDER);
+    let sii = odc_sii::read(&image).unwrap();
+    assert!(sii.categories.is_empty());
+    // Below the info area: refused.
+    let below = ESI.replace("<ByteSize>2048", "<ByteSize>64");
+    assert!(matches!(odc_sii::write(&device(&below)), Err(odc_sii::Error::DoesNotFit { .. })));
+}
+
+#[test]
+fn grow_leaves_nothing_out() {
+    let small = ESI.replace("<ByteSize>2048", "<ByteSize>256");
+    let options = odc_sii::Options::default().fit(odc_sii::Fit::Grow);
+    let (image, notes) = odc_sii::write_with(&device(&small), &options).unwrap();
+    // 410 bytes: the next power of two is 512 = 4 KiBit.
+    assert_eq!(image.len(), 512);
+    assert_eq!(word(&image, 0x3E), 3);
+    assert_eq!(notes, [odc_sii::Note::Grown { byte_size: 256, size: 512 }]);
+    assert_eq!(image[FULL - 2..FULL], [0xFF, 0xFF], "end marker right after the content");
+    let kinds: Vec<u16> =
+        odc_sii::read(&image).unwrap().categories.iter().map(|c| c.kind).collect();
+    assert_eq!(kinds, [10, 30, 40, 41, 50, 51, 60, 1]);
+    // Content that fits is written at ByteSize, grow or not.
+    let (image, notes) = odc_sii::write_with(&device(ESI), &options).unwrap();
+    assert_eq!((image.len(), notes.len()), (2048, 0));
+}
+
+#[test]
+fn the_esis_own_standard_categories_replace_the_generated_ones() {
+    // kickcat's test ESI gives a General category of the text "BootCfg" (7 bytes).
+    let general = ESI.replace(
+        "<Category><CatNo>1</CatNo><Data>5C120500FF</Data></Category>",
+        "<Category><CatNo>30</CatNo><DataString>BootCfg</DataString></Category>\
+         <Category><CatNo>1</CatNo><Data>5C120500FF</Data></Category>",
+    );
+    let (image, notes) = odc_sii::write_with_notes(&device(&general)).unwrap();
+    assert_eq!(category(&image, 30).unwrap(), b"BootCfg\0", "as given, padded to a word");
+    let sii = odc_sii::read(&image).unwrap();
+    let kinds: Vec<u16> = sii.categories.iter().map(|c| c.kind).collect();
+    assert_eq!(kinds, [10, 30, 40, 41, 50, 51, 60, 1], "in the General category's place");
+    // Of the generated General's strings only the order code is made, string 1 (SOEM's name).
+    assert_eq!(sii.strings[..2], ["SV1-A", "Inputs"]);
+    assert!(matches!(
+        &notes[..],
+        [odc_sii::Note::EsiCategory { cat_no: 30, bytes: 7, odd: Some(_) }]
+    ));
+    // The ESI's own strings: generated categories name none (index 0).
+    let strings =
+        ESI.replace("<CatNo>1</CatNo><Data>5C120500FF", "<CatNo>10</CatNo><Data>0101410000");
+    let (image, notes) = odc_sii::write_with_notes(&device(&strings)).unwrap();
+    assert_eq!(category(&image, 10).unwrap(), [0x01, 0x01, 0x41, 0x00, 0x00, 0x00]);
+    let g = category(&image, 30).unwrap();
+    assert_eq!(&g[..4], [0, 0, 0, 0]);
+    assert_eq!(category(&image, 51).unwrap()[5], 0, "no PDO name index");
+    assert!(matches!(&notes[..], [odc_sii::Note::EsiCategory { cat_no: 10, odd: None, .. }]));
 }
 
 #[test]

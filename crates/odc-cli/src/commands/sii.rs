@@ -5,14 +5,17 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use odc_model::Diagnostic;
-use odc_sii::Sii;
+use odc_model::{Diagnostic, Severity, Span};
+use odc_sii::{Fit, Note, Options, Sii, codes};
 
+use super::{Color, DiagFormat, HasErrors};
 use crate::input;
 
 /// Write the SII EEPROM image (ETG.2010) of an ESI device: info area from `Eeprom/ConfigData`,
 /// identity, mailboxes, and the categories strings, general, FMMU, SyncManager, PDOs, DC and the
-/// ESI's vendor categories. `odc info IMAGE.bin` reads one back.
+/// ESI's own categories. Where the content does not fit `Eeprom/ByteSize`, optional parts are
+/// left out (warning S702, in the order `odc explain S702` gives); where even the rest does
+/// not, the image is refused (S701). `odc info IMAGE.bin` reads one back.
 #[derive(clap::Args)]
 pub struct Args {
     /// ESI file.
@@ -20,6 +23,12 @@ pub struct Args {
     /// Output file (the binary image).
     #[arg(short, long)]
     output: PathBuf,
+    /// Where the content does not fit `Eeprom/ByteSize`, leave nothing out and write the image
+    /// for a larger EEPROM (the smallest power of two that holds it). Setting S701 to `warn` or
+    /// `allow` does the same for an image that does not fit even with the optional parts left
+    /// out.
+    #[arg(long)]
+    grow: bool,
     #[command(flatten)]
     levels: input::Levels,
 }
@@ -28,20 +37,43 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let loaded = input::load(&args.file, &args.levels)?;
     super::gate(&loaded)?;
     let device = loaded.device()?;
-    let (image, notes) = match odc_sii::write_with_notes(device) {
+    let fit = if args.grow { Fit::Grow } else { Fit::Omit };
+    let byte_size_span = device
+        .ethercat
+        .as_deref()
+        .and_then(|ec| ec.eeprom.as_ref())
+        .and_then(|ee| ee.spans.byte_size);
+    let mut diags = Vec::new();
+    let written = match odc_sii::write_with(device, &Options::default().fit(fit)) {
+        Err(err @ odc_sii::Error::DoesNotFit { .. }) => {
+            let d = Diagnostic::error(codes::DOES_NOT_FIT, err.to_string()).with_note(
+                "`--grow` writes the image for a larger EEPROM; `-W S701` does so with this \
+                 warning",
+            );
+            let applied = loaded.config.apply(device, vec![labelled(d, err.span())]);
+            if applied.iter().any(Diagnostic::is_error) {
+                return refuse(&loaded, &applied);
+            }
+            // The refusal is allowed: everything, for a larger EEPROM.
+            diags = applied;
+            odc_sii::write_with(device, &Options::default().fit(Fit::Grow))
+        }
+        other => other,
+    };
+    let (image, notes) = match written {
         Ok(written) => written,
         Err(err) => {
-            let mut d = Diagnostic::error("SII", err.to_string());
-            if let Some(span) = err.span() {
-                d = d.with_label(span, "here");
-            }
+            let d = labelled(Diagnostic::error("SII", err.to_string()), err.span());
             eprint!("{}", odc_model::diag::render_human(&loaded.sources, &[d], false));
             return Ok(ExitCode::from(1));
         }
     };
-    for note in &notes {
-        eprintln!("note: {note}");
+    let from_notes = notes.iter().map(|note| note_diagnostic(note, byte_size_span)).collect();
+    diags.extend(loaded.config.apply(device, from_notes));
+    if diags.iter().any(Diagnostic::is_error) {
+        return refuse(&loaded, &diags);
     }
+    super::print_diagnostics(&loaded.sources, &diags, DiagFormat::Human, Color::Auto)?;
     input::write_atomic(&args.output, &image)?;
     eprintln!(
         "wrote {}: {} bytes of SII for {}",
@@ -50,6 +82,41 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         device.name()
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// The diagnostics, then the refusal (exit 1, naming the codes and how to allow them).
+fn refuse(loaded: &odc_pipeline::Loaded, diags: &[Diagnostic]) -> anyhow::Result<ExitCode> {
+    super::print_diagnostics(&loaded.sources, diags, DiagFormat::Human, Color::Auto)?;
+    match loaded.refuse(diags) {
+        Err(refused) => Err(HasErrors(refused).into()),
+        Ok(()) => Ok(ExitCode::from(1)),
+    }
+}
+
+fn labelled(d: Diagnostic, span: Option<Span>) -> Diagnostic {
+    match span {
+        Some(span) => d.with_label(span, "here"),
+        None => d,
+    }
+}
+
+/// A writer's note as a diagnostic: what was left out is S702 (a warning, at `ByteSize`),
+/// the rest S703 (a note).
+fn note_diagnostic(note: &Note, byte_size: Option<Span>) -> Diagnostic {
+    match note {
+        Note::LeftOut { full, byte_size: size, omitted } => {
+            let message = format!(
+                "the SII image needs {full} bytes with everything, more than `Eeprom/ByteSize` \
+                 {size}: optional parts left out"
+            );
+            let d = Diagnostic::new(Severity::Warning, codes::LEFT_OUT, message);
+            let d = omitted
+                .iter()
+                .fold(d, |d, (what, n)| d.with_note(format!("left out: {}", what.describe(*n))));
+            labelled(d.with_note("`--grow` writes everything for a larger EEPROM"), byte_size)
+        }
+        _ => Diagnostic::new(Severity::Note, codes::ADJUSTED, note.to_string()),
+    }
 }
 
 /// Whether `odc info` should read `path` as an SII image: a `.bin`/`.sii` file, or content that
@@ -61,7 +128,8 @@ pub fn is_image(path: &Path, bytes: &[u8]) -> bool {
     }
     let first = bytes.iter().find(|b| !b.is_ascii_whitespace());
     let text_start = matches!(first, Some(b'<' | b'[' | b';' | 0xEF | 0xFE | 0xFF));
-    !text_start && odc_sii::read(bytes).is_ok()
+    // The info area alone reads as an image whatever it holds: ask for categories too.
+    !text_start && bytes.len() > odc_sii::INFO_AREA && odc_sii::read(bytes).is_ok()
 }
 
 /// `odc info` of an SII image.
