@@ -5,7 +5,9 @@
 //! - `embedded_can` (`embedded-can`): any MCU HAL that implements the `embedded_can`
 //!   traits, with the conversions between [`CanFrame`] and `embedded_can::Frame` types;
 //! - `socketcan` (`socketcan`, Linux): a SocketCAN interface (`can0`, `vcan0`);
-//! - `tcp` (`std`): the 16-byte SocketCAN-layout records over TCP of `tests/interop`.
+//! - `tcp` (`std`): the 16-byte SocketCAN-layout records over TCP of `tests/interop`;
+//! - `slcan` (`slcan`): the Lawicel serial protocol's codec, and with `slcan-serial` a bus
+//!   over an slcan adapter (CANable, CANUSB) on a serial port.
 
 use crate::can::CanFrame;
 use crate::time::Instant;
@@ -14,6 +16,8 @@ use crate::time::Instant;
 pub mod embedded_can;
 #[cfg(all(feature = "std", feature = "transport-mem"))]
 pub mod mem;
+#[cfg(feature = "slcan")]
+pub mod slcan;
 #[cfg(all(feature = "socketcan", target_os = "linux"))]
 pub mod socketcan;
 #[cfg(all(feature = "std", feature = "transport-tcp"))]
