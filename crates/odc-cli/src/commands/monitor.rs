@@ -26,7 +26,7 @@ pub enum MonitorFormat {
 /// its meaning, SYNC, LSS; unknown frames raw. Live (`--tcp`, `--can`, until the bus closes)
 /// or from a candump log (`--log`: `(1700000000.000000) can0 185#4006`).
 #[derive(clap::Args)]
-#[command(group(clap::ArgGroup::new("source").required(true).args(["tcp", "can", "log"])))]
+#[command(group(clap::ArgGroup::new("source").required(true).args(["tcp", "can", "slcan", "log"])))]
 pub struct Args {
     /// A virtual CAN bus over TCP, as `odc simulate --tcp` serves it.
     #[arg(long, value_name = "HOST:PORT")]
@@ -34,6 +34,9 @@ pub struct Args {
     /// A SocketCAN interface (Linux).
     #[arg(long, value_name = "IFACE")]
     can: Option<String>,
+    /// An slcan adapter on a serial port: `DEVICE[@BITRATE]`.
+    #[arg(long, value_name = "DEVICE[@BITRATE]")]
+    slcan: Option<String>,
     /// A candump log file (`candump -l` / `-L`).
     #[arg(long, value_name = "FILE")]
     log: Option<PathBuf>,
@@ -84,7 +87,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         }
         return Ok(if bad == 0 { ExitCode::SUCCESS } else { ExitCode::from(1) });
     }
-    let bus = BusArgs { tcp: args.tcp.clone(), can: args.can.clone() };
+    let bus = BusArgs { tcp: args.tcp.clone(), can: args.can.clone(), slcan: args.slcan.clone() };
     let mut link = bus.open()?;
     let start = std::time::Instant::now();
     loop {

@@ -1,5 +1,5 @@
 //! `odc simulate`: a device file as a live device, to test a master against: a CANopen device
-//! on a CAN bus (`--tcp`, `--can`), or EtherCAT devices on a network interface (`--interface`).
+//! on a CAN bus (`--tcp`, `--can`, behind an slcan adapter with `--slcan`), or EtherCAT devices on a network interface (`--interface`).
 
 use std::path::Path;
 use std::process::ExitCode;
@@ -10,6 +10,7 @@ use odc_sim::{SimDevice, VirtualBus};
 use crate::input;
 
 mod ethercat;
+mod slcan;
 mod stop;
 
 /// Run a device file as a CANopen device: its object dictionary (from the model, with the
@@ -26,13 +27,17 @@ mod stop;
 /// (standard input /dev/null) as in a terminal; `--stop-on-eof` also stops it at the end of
 /// standard input, for a script that holds a pipe to it.
 ///
+/// `--slcan` is the device behind an slcan (Lawicel) adapter: `pty` makes a pseudo-terminal
+/// and prints `listening on /dev/pts/N` first, the path for the host (python-can's `slcan`
+/// interface, `odc sdo --slcan`); a serial device's path serves on that port.
+///
 /// `--interface` runs ESI devices as EtherCAT SubDevices on a network interface (such as one
 /// end of a veth pair; root or CAP_NET_RAW): an emulated slave controller each (registers,
 /// SII EEPROM from the ESI, AL states, mailbox with CoE, process data through the FMMUs), in
 /// the order of the files, first next to the master. `FILE@DEVICE` picks a device of a file
 /// with several.
 #[derive(clap::Args)]
-#[command(group(clap::ArgGroup::new("bus").required(true).args(["tcp", "can", "interface"])))]
+#[command(group(clap::ArgGroup::new("bus").required(true).args(["tcp", "can", "slcan", "interface"])))]
 pub struct Args {
     /// EDS or DCF file; with --interface, ESI files (`FILE@DEVICE` for one of several).
     #[arg(required = true, value_name = "FILE")]
@@ -47,6 +52,10 @@ pub struct Args {
     /// A SocketCAN interface (can0, vcan0).
     #[arg(long, value_name = "IFACE")]
     can: Option<String>,
+    /// Behind an slcan adapter: `pty` (a new pseudo-terminal, its path printed) or a serial
+    /// device.
+    #[arg(long, value_name = "pty|DEVICE")]
+    slcan: Option<String>,
     /// A network interface for EtherCAT (Linux): the devices answer a master on its wire.
     #[arg(long, value_name = "IFACE")]
     interface: Option<String>,
@@ -85,6 +94,9 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         |id| format!("as node {id}"),
     );
     elog!("simulating {} {node}{what}: {} entries", model.name(), device.dictionary().len());
+    if let Some(spec) = &args.slcan {
+        return slcan::run(spec, &mut device, args.stop_on_eof);
+    }
     match (args.tcp, args.can) {
         (Some(addr), _) => tcp(addr, &mut device, args.stop_on_eof),
         (None, Some(iface)) => can(&iface, &mut device, args.stop_on_eof),

@@ -55,6 +55,8 @@ pub struct Slcan {
     pub errors: usize,
     /// Frames sent and received.
     pub frames: usize,
+    /// Lines the adapter dropped because nobody read the port (a full pseudo-terminal).
+    pub dropped: usize,
 }
 
 impl core::fmt::Debug for Slcan {
@@ -77,26 +79,29 @@ impl Slcan {
     /// # Errors
     ///
     /// The port's, on opening or on the first writes.
-    pub fn open(path: &str, bitrate: Bitrate) -> io::Result<Self> {
+    pub fn open(path: &str, bitrate: Option<Bitrate>) -> io::Result<Self> {
         let port = serialport::new(path, TTY_BAUD).timeout(Duration::from_millis(100)).open()?;
         Self::host(port, bitrate)
     }
 
     /// Drives the adapter on `port`: drops what is waiting in its input, closes its channel
-    /// (an adapter left open refuses a new bit rate), sets `bitrate`, and opens it. The
+    /// (an adapter left open refuses a new bit rate), sets `bitrate` (without one the adapter
+    /// keeps the rate it has, as python-can does), and opens it. The
     /// answers are read with the frames and counted in [`Slcan::errors`] when they are BEL
     /// (the first, to a `C` on a closed channel, usually is).
     ///
     /// # Errors
     ///
     /// The port's.
-    pub fn host(port: Box<dyn SerialPort>, bitrate: Bitrate) -> io::Result<Self> {
+    pub fn host(port: Box<dyn SerialPort>, bitrate: Option<Bitrate>) -> io::Result<Self> {
         let mut this = Self::new(port, Role::Host);
         this.port.clear(serialport::ClearBuffer::Input)?;
         this.write(Message::Close)?;
-        this.write(Message::Bitrate(bitrate))?;
+        if let Some(b) = bitrate {
+            this.write(Message::Bitrate(b))?;
+        }
         this.write(Message::Open)?;
-        this.bitrate = Some(bitrate);
+        this.bitrate = bitrate;
         Ok(this)
     }
 
@@ -119,6 +124,7 @@ impl Slcan {
             bitrate: None,
             errors: 0,
             frames: 0,
+            dropped: 0,
         }
     }
 
@@ -141,9 +147,22 @@ impl Slcan {
         self.write(Message::Close)
     }
 
+    /// Writes one line. An adapter whose host does not read (nobody holds the other end
+    /// of a pseudo-terminal, its buffer is full) drops the line, as a real adapter drops
+    /// frames on an overrun, instead of stopping the bus.
     fn write(&mut self, message: Message) -> io::Result<()> {
-        self.port.write_all(message.encode().as_bytes())?;
-        self.port.flush()
+        let written =
+            self.port.write_all(message.encode().as_bytes()).and_then(|()| self.port.flush());
+        match written {
+            Err(e)
+                if self.role == Role::Adapter
+                    && matches!(e.kind(), io::ErrorKind::TimedOut | io::ErrorKind::WouldBlock) =>
+            {
+                self.dropped += 1;
+                Ok(())
+            }
+            other => other,
+        }
     }
 
     /// Milliseconds within the minute, for a time stamp.
@@ -213,6 +232,17 @@ impl Slcan {
     }
 }
 
+/// A host closes the adapter's channel when it lets the port go, so the adapter stops
+/// sending frames nobody reads.
+impl Drop for Slcan {
+    fn drop(&mut self) {
+        if self.role == Role::Host {
+            // Best effort: the port may be gone (an unplugged adapter).
+            let _ = self.close();
+        }
+    }
+}
+
 impl Bus for Slcan {
     type Error = io::Error;
 
@@ -279,7 +309,7 @@ mod tests {
     fn pair() -> (Slcan, Slcan) {
         let (master, slave) = TTYPort::pair().unwrap();
         let adapter = Slcan::adapter(Box::new(master));
-        let host = Slcan::host(Box::new(slave), Bitrate::K500).unwrap();
+        let host = Slcan::host(Box::new(slave), Some(Bitrate::K500)).unwrap();
         (host, adapter)
     }
 
