@@ -10,6 +10,7 @@ use std::time::Duration;
 
 use pcap_file::DataLink;
 use pcap_file::pcap::PcapReader;
+use pcap_file::pcapng::blocks::interface_description::InterfaceDescriptionOption;
 use pcap_file::pcapng::{Block, PcapNgReader};
 
 use super::{Entry, Location, Log, Problem, classic, fd};
@@ -60,11 +61,36 @@ fn pcapng(bytes: &[u8], log: &mut Log) {
             Err(e) => return problem(log, n + 1, format!("block cut short: {e}")),
         };
         n += 1;
-        let link = reader.interfaces().get(interface as usize).map(|i| i.linktype);
-        match link {
-            Some(DataLink::CAN_SOCKETCAN) => push(log, n, timestamp, &data),
-            other => problem(log, n, format!("link type {other:?}: SocketCAN captures are 227")),
+        let idb = reader.interfaces().get(interface as usize);
+        match idb.map(|i| (i.linktype, resolution(&i.options))) {
+            Some((DataLink::CAN_SOCKETCAN, ticks)) => {
+                // pcap-file gives the raw count as nanoseconds; the interface says its unit.
+                let seconds = timestamp.as_nanos() as f64 * ticks;
+                push(log, n, Duration::try_from_secs_f64(seconds).unwrap_or_default(), &data);
+            }
+            other => problem(
+                log,
+                n,
+                format!(
+                    "link type {:?}: SocketCAN captures are 227",
+                    other.map(|(link, _)| u32::from(link))
+                ),
+            ),
         }
+    }
+}
+
+/// Seconds per timestamp tick of an interface (`if_tsresol`: 10^-n, or 2^-n with the top
+/// bit set; 10^-6 without the option).
+fn resolution(options: &[InterfaceDescriptionOption<'_>]) -> f64 {
+    let resol = options.iter().find_map(|o| match o {
+        InterfaceDescriptionOption::IfTsResol(r) => Some(*r),
+        _ => None,
+    });
+    match resol {
+        Some(r) if r & 0x80 != 0 => 2f64.powi(-i32::from(r & 0x7F)),
+        Some(r) => 10f64.powi(-i32::from(r)),
+        None => 1e-6,
     }
 }
 

@@ -38,12 +38,19 @@ pub fn candump(text: &str, log: &mut Log) {
 
 fn candump_line(line: &str) -> Result<Entry, String> {
     let tokens: Vec<&str> = line.split_whitespace().collect();
-    match tokens[..] {
-        [time, _, frame] if time.starts_with('(') && frame.contains("##") => {
-            compact_fd(time, frame)
+    // A compact line may end with the direction, ` R` or ` T` (python-can's
+    // CanutilsLogWriter, newer candump).
+    let compact = match tokens[..] {
+        [time, iface, frame] | [time, iface, frame, "R" | "T"] if time.starts_with('(') => {
+            Some((time, iface, frame))
         }
-        [time, _, frame] if time.starts_with('(') && frame.contains('#') => {
-            let f = candump::parse_line(line)?.ok_or("an empty line")?;
+        _ => None,
+    };
+    match compact {
+        Some((time, _, frame)) if frame.contains("##") => compact_fd(time, frame),
+        Some((time, iface, frame)) if frame.contains('#') => {
+            let f =
+                candump::parse_line(&format!("{time} {iface} {frame}"))?.ok_or("an empty line")?;
             Ok(Entry { time: Some(f.time), frame: super::Frame::Can(f.frame) })
         }
         _ => screen(&tokens),
@@ -69,7 +76,7 @@ fn hex_id(id: &str) -> Result<(u32, bool), String> {
 }
 
 fn hex_bytes(digits: &str) -> Result<Vec<u8>, String> {
-    if digits.len() % 2 != 0 || !digits.bytes().all(|b| b.is_ascii_hexdigit()) {
+    if !digits.len().is_multiple_of(2) || !digits.bytes().all(|b| b.is_ascii_hexdigit()) {
         return Err(format!("`{digits}` is not bytes in hex"));
     }
     (0..digits.len())
