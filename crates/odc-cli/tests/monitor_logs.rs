@@ -87,11 +87,46 @@ fn a_recorded_cia402_session_decodes_as_the_live_monitor() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The format is told from the content, whatever the file's name; `--log-format` names it;
+/// a file no reader knows is a usage error that says how to name the format.
+fn the_log_format_is_detected_or_named() {
+    let dir = std::env::temp_dir().join(format!("odc-log-format-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let asc = dir.join("session.log");
+    std::fs::write(&asc, "date Tue Nov 14 22:13:20 2023\nbase hex  timestamps absolute\n   0.500000 1  185             Rx   d 2 40 06\n").unwrap();
+    let odc = |args: &[&str]| Command::new(env!("CARGO_BIN_EXE_odc")).args(args).output().unwrap();
+    let path = asc.to_str().unwrap();
+    let out = odc(&["monitor", "--log", path]);
+    assert_eq!(
+        String::from_utf8_lossy(&out.stdout).split_whitespace().collect::<Vec<_>>(),
+        ["0.500000", "185", "40", "06", "TPDO1", "node", "5"]
+    );
+    let out = odc(&["monitor", "--log", path, "--log-format", "asc"]);
+    assert!(out.status.success());
+    // Read as candump, the ASC lines are errors with their line numbers.
+    let out = odc(&["monitor", "--log", path, "--log-format", "candump"]);
+    assert_eq!(out.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("session.log:3: error:"), "{out:?}");
+    let junk = dir.join("junk.bin");
+    std::fs::write(&junk, [0x13u8, 0x37, 0, 1, 2]).unwrap();
+    let out = odc(&["monitor", "--log", junk.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--log-format"), "{out:?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 fn main() -> std::process::ExitCode {
     use odc_tests_support::{Need, Test};
-    odc_tests_support::main(&[Test {
-        name: "a_recorded_cia402_session_decodes_as_the_live_monitor",
-        run: a_recorded_cia402_session_decodes_as_the_live_monitor,
-        needs: &[Need::Python(&["canopen", "can"])],
-    }])
+    odc_tests_support::main(&[
+        Test {
+            name: "a_recorded_cia402_session_decodes_as_the_live_monitor",
+            run: a_recorded_cia402_session_decodes_as_the_live_monitor,
+            needs: &[Need::Python(&["canopen", "can"])],
+        },
+        Test {
+            name: "the_log_format_is_detected_or_named",
+            run: the_log_format_is_detected_or_named,
+            needs: &[],
+        },
+    ])
 }

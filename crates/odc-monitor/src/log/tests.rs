@@ -117,3 +117,155 @@ fn bad_records_are_problems_not_panics() {
         let _ = read(&blf[..n], Format::Blf);
     }
 }
+
+/// A pcap file written from the format's description (tcpdump.org, pcap(5)): the global
+/// header (magic 0xA1B2C3D4 little-endian, version 2.4, snap length, link type 227), then per
+/// packet seconds, microseconds, captured and original length, and the SocketCAN bytes.
+fn pcap_by_hand() -> Vec<u8> {
+    let mut f = Vec::new();
+    for word in [0xA1B2_C3D4u32] {
+        f.extend_from_slice(&word.to_le_bytes());
+    }
+    f.extend_from_slice(&2u16.to_le_bytes());
+    f.extend_from_slice(&4u16.to_le_bytes());
+    for word in [0u32, 0, 65_535, 227] {
+        f.extend_from_slice(&word.to_le_bytes());
+    }
+    let packets: [(u32, &[u8]); 3] = [
+        // 0x185, 2 bytes (ID in network byte order).
+        (0x185, &[0x40, 0x06]),
+        // 0x701 remote (bit 30), asking for 1 byte.
+        (0x4000_0701, &[]),
+        // 0x12345678 extended (bit 31).
+        (0x9234_5678, &[1, 2]),
+    ];
+    for (i, (word, data)) in packets.iter().enumerate() {
+        let mut p = word.to_be_bytes().to_vec();
+        p.push(if *word == 0x4000_0701 { 1 } else { data.len() as u8 });
+        p.extend_from_slice(&[0, 0, 0]);
+        p.extend_from_slice(data);
+        p.resize(16, 0);
+        for v in [1_700_000_000u32, 100_000 * i as u32, p.len() as u32, p.len() as u32] {
+            f.extend_from_slice(&v.to_le_bytes());
+        }
+        f.extend_from_slice(&p);
+    }
+    f
+}
+
+/// A pcapng file written from its specification (section header, interface description
+/// with link type 227 and no `if_tsresol`: microseconds, one enhanced packet block).
+fn pcapng_by_hand() -> Vec<u8> {
+    let block = |kind: u32, body: &[u8]| {
+        let len = (12 + body.len()) as u32;
+        let mut b = kind.to_le_bytes().to_vec();
+        b.extend_from_slice(&len.to_le_bytes());
+        b.extend_from_slice(body);
+        b.extend_from_slice(&len.to_le_bytes());
+        b
+    };
+    let mut shb = 0x1A2B_3C4Du32.to_le_bytes().to_vec();
+    shb.extend_from_slice(&1u16.to_le_bytes());
+    shb.extend_from_slice(&0u16.to_le_bytes());
+    shb.extend_from_slice(&(-1i64).to_le_bytes());
+    let mut idb = 227u16.to_le_bytes().to_vec();
+    idb.extend_from_slice(&0u16.to_le_bytes());
+    idb.extend_from_slice(&0u32.to_le_bytes());
+    let mut packet = 0x185u32.to_be_bytes().to_vec();
+    packet.extend_from_slice(&[2, 0, 0, 0, 0x40, 0x06, 0, 0, 0, 0, 0, 0]);
+    let micros: u64 = 1_700_000_000_500_000;
+    let mut epb = 0u32.to_le_bytes().to_vec();
+    epb.extend_from_slice(&((micros >> 32) as u32).to_le_bytes());
+    epb.extend_from_slice(&(micros as u32).to_le_bytes());
+    epb.extend_from_slice(&(packet.len() as u32).to_le_bytes());
+    epb.extend_from_slice(&(packet.len() as u32).to_le_bytes());
+    epb.extend_from_slice(&packet);
+    [block(0x0A0D_0D0A, &shb), block(1, &idb), block(6, &epb)].concat()
+}
+
+/// A BLF file after python-can's blf.py: the 144-byte header, one uncompressed container
+/// holding one CAN_MESSAGE with a header of version 1 and a time in nanoseconds.
+fn blf_by_hand() -> Vec<u8> {
+    let mut f = b"LOGG".to_vec();
+    f.extend_from_slice(&144u32.to_le_bytes());
+    f.resize(40, 0);
+    // Start: 2023-11-14 22:13:20.000 UTC (1 700 000 000 s), a SYSTEMTIME.
+    for v in [2023u16, 11, 2, 14, 22, 13, 20, 0] {
+        f.extend_from_slice(&v.to_le_bytes());
+    }
+    f.resize(144, 0);
+    let mut inner = b"LOBJ".to_vec();
+    inner.extend_from_slice(&32u16.to_le_bytes());
+    inner.extend_from_slice(&1u16.to_le_bytes());
+    inner.extend_from_slice(&48u32.to_le_bytes());
+    inner.extend_from_slice(&1u32.to_le_bytes());
+    inner.extend_from_slice(&2u32.to_le_bytes()); // times in ns
+    inner.extend_from_slice(&[0, 0, 0, 0]);
+    inner.extend_from_slice(&250_000_000u64.to_le_bytes());
+    inner.extend_from_slice(&1u16.to_le_bytes()); // channel 1
+    inner.extend_from_slice(&[0, 2]); // flags, DLC
+    inner.extend_from_slice(&0x185u32.to_le_bytes());
+    inner.extend_from_slice(&[0x40, 0x06, 0, 0, 0, 0, 0, 0]);
+    let mut container = b"LOBJ".to_vec();
+    container.extend_from_slice(&16u16.to_le_bytes());
+    container.extend_from_slice(&1u16.to_le_bytes());
+    container.extend_from_slice(&((32 + inner.len()) as u32).to_le_bytes());
+    container.extend_from_slice(&10u32.to_le_bytes());
+    container.extend_from_slice(&[0; 8]); // method 0, 6 bytes
+    container.extend_from_slice(&(inner.len() as u32).to_le_bytes());
+    container.extend_from_slice(&[0; 4]);
+    container.extend_from_slice(&inner);
+    f.extend_from_slice(&container);
+    f
+}
+
+#[test]
+fn binary_files_written_by_hand_from_their_specifications() {
+    let pcap = read(&pcap_by_hand(), Format::Pcap);
+    assert_eq!(pcap.problems, []);
+    let got: Vec<_> = pcap.entries.iter().map(|e| (e.time.unwrap(), e.frame.clone())).collect();
+    assert_eq!(
+        got,
+        [
+            (1_700_000_000.0, can(0x185, &[0x40, 0x06])),
+            (1_700_000_000.1, Frame::Can(CanFrame::remote(0x701, 1).unwrap())),
+            (1_700_000_000.2, Frame::Can(CanFrame::extended(0x1234_5678, &[1, 2]).unwrap())),
+        ]
+    );
+    let ng = read(&pcapng_by_hand(), Format::Pcap);
+    assert_eq!(ng.problems, []);
+    assert_eq!(
+        ng.entries,
+        [Entry { time: Some(1_700_000_000.5), frame: can(0x185, &[0x40, 0x06]) }]
+    );
+    let blf = read(&blf_by_hand(), Format::Blf);
+    assert_eq!(blf.problems, []);
+    assert_eq!(
+        blf.entries,
+        [Entry { time: Some(1_700_000_000.25), frame: can(0x185, &[0x40, 0x06]) }]
+    );
+    assert_eq!(detect(&blf_by_hand()), Some(Format::Blf));
+    assert_eq!(detect(&pcapng_by_hand()), Some(Format::Pcap));
+}
+
+/// Every prefix of each file, and each file with any one byte changed to 0x00, 0xFF or 0x80,
+/// reads without a panic (what a damaged download or a cut capture gives).
+#[test]
+fn damaged_binary_files_are_problems_not_panics() {
+    for (file, format) in [
+        (pcap_by_hand(), Format::Pcap),
+        (pcapng_by_hand(), Format::Pcap),
+        (blf_by_hand(), Format::Blf),
+    ] {
+        for n in 0..file.len() {
+            let _ = read(&file[..n], format);
+        }
+        for i in 0..file.len() {
+            for b in [0x00, 0xFF, 0x80] {
+                let mut bad = file.clone();
+                bad[i] = b;
+                let _ = read(&bad, format);
+            }
+        }
+    }
+}
