@@ -123,9 +123,7 @@ fn bad_records_are_problems_not_panics() {
 /// packet seconds, microseconds, captured and original length, and the SocketCAN bytes.
 fn pcap_by_hand() -> Vec<u8> {
     let mut f = Vec::new();
-    for word in [0xA1B2_C3D4u32] {
-        f.extend_from_slice(&word.to_le_bytes());
-    }
+    f.extend_from_slice(&0xA1B2_C3D4u32.to_le_bytes());
     f.extend_from_slice(&2u16.to_le_bytes());
     f.extend_from_slice(&4u16.to_le_bytes());
     for word in [0u32, 0, 65_535, 227] {
