@@ -6,7 +6,7 @@
 //! The same [`Message`] serves the host (it sends commands and frames, it receives frames and
 //! answers) and the adapter (the other way round), so a firmware that *is* an slcan adapter
 //! uses this codec as `odc simulate --slcan` does. The serial-port [`Bus`](super::Bus) is
-//! [`serial`] (feature `slcan-serial`).
+//! `serial` (feature `slcan-serial`).
 //!
 //! What is read and written, after the LAWICEL CANUSB manual's "ASCII Command Set" (the
 //! protocol's origin), which compatible adapters repeat (EasySYNC USB2-F-7x01 user guide §4.1,
