@@ -32,7 +32,7 @@
 //!
 //! let sdo = CanFrame::new(0x605, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]).unwrap();
 //! let line = Message::Frame { frame: sdo, timestamp: None }.encode();
-//! assert_eq!(line.as_bytes(), b"t605840001000000000000\r");
+//! assert_eq!(line.as_bytes(), b"t60584000100000000000\r");
 //! let mut decoder = Decoder::new();
 //! let got: Vec<_> = line.as_bytes().iter().filter_map(|&b| decoder.push(b)).collect();
 //! assert_eq!(got, [Ok(Message::Frame { frame: sdo, timestamp: None })]);
