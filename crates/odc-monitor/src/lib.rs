@@ -11,6 +11,7 @@
 #![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used, clippy::panic))]
 
 pub mod candump;
+pub mod log;
 mod pdo;
 mod sdo;
 

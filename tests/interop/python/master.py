@@ -404,7 +404,8 @@ def cia301_refusal(var, current, new, code):
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--connect", required=True, help="HOST:PORT of the Rust test")
+    ap.add_argument("--connect", required=True,
+                    help="HOST:PORT of the Rust test, or slcan:PATH (socketbus.open_bus)")
     ap.add_argument("--eds", required=True)
     ap.add_argument("--node", type=int, default=5)
     ap.add_argument("--device", default="")

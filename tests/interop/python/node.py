@@ -21,7 +21,7 @@ from canopen import objectdictionary as odm
 from canopen.objectdictionary import datatypes as dt
 from canopen.sdo.exceptions import SdoAbortedError, SdoCommunicationError
 
-from socketbus import SocketBus
+from socketbus import open_bus
 
 INT_TYPES = {
     dt.INTEGER8: 1, dt.INTEGER16: 2, dt.INTEGER32: 4,
@@ -374,13 +374,14 @@ class Run:
 
 def main():
     ap = argparse.ArgumentParser()
-    ap.add_argument("--connect", required=True, help="HOST:PORT of the Rust test")
+    ap.add_argument("--connect", required=True,
+                    help="HOST:PORT of the Rust test, or slcan:PATH (socketbus.open_bus)")
     ap.add_argument("--eds", required=True)
     ap.add_argument("--node", type=int, default=5)
     ap.add_argument("--device", default="")
     args = ap.parse_args()
     logging.basicConfig(level=logging.ERROR, stream=sys.stderr)
-    bus = SocketBus(args.connect)
+    bus = open_bus(args.connect)
     network = canopen.Network(bus)
     network.connect()
     node = network.add_node(args.node, args.eds)

@@ -92,6 +92,16 @@ class SocketBus(can.BusABC):
             pass
 
 
+def open_bus(address):
+    """The python-can bus at `address`: "HOST:PORT" of the Rust test's listener, or
+    "slcan:PATH", python-can's own `slcan` interface on a serial port or pseudo-terminal
+    (`odc simulate --slcan pty` prints the path)."""
+    if address.startswith("slcan:"):
+        return can.Bus(interface="slcan", channel=address[len("slcan:"):], bitrate=500000,
+                       sleep_after_open=0)
+    return SocketBus(address)
+
+
 def open_network(address, max_seconds):
     """A python-canopen network on the bus at `address`, connected, under a watchdog that ends
     the process (exit 3) after `max_seconds`, should the Rust side vanish without closing
@@ -103,6 +113,6 @@ def open_network(address, max_seconds):
     watchdog = threading.Timer(max_seconds, lambda: os._exit(3))
     watchdog.daemon = True
     watchdog.start()
-    network = canopen.Network(SocketBus(address))
+    network = canopen.Network(open_bus(address))
     network.connect()
     return network

@@ -1,12 +1,14 @@
 //! What the bench tools (`odc sdo`, `nmt`, `lss`, `monitor`) share: the bus they talk on
 //! (`--tcp` as `odc simulate` serves it, `--can` on Linux, `--socketcand` for a socketcand
-//! server) and the devices they know (`--node ID=FILE`).
+//! server, `--slcan` for a serial adapter) and the devices they know (`--node ID=FILE`).
 
 use std::path::PathBuf;
 
 use anyhow::{Context, bail};
 use odc::can::CanFrame;
 use odc::transport::Bus;
+use odc::transport::slcan::Bitrate;
+use odc::transport::slcan::serial::Slcan;
 use odc::transport::socketcand::Socketcand;
 use odc::transport::tcp::TcpCan;
 use odc_model::Device;
@@ -15,7 +17,7 @@ use crate::input;
 
 /// The bus to use.
 #[derive(clap::Args, Clone, Debug)]
-#[command(group(clap::ArgGroup::new("bus").required(true).args(["tcp", "can", "socketcand"])))]
+#[command(group(clap::ArgGroup::new("bus").required(true).args(["tcp", "can", "socketcand", "slcan"])))]
 pub struct BusArgs {
     /// A virtual CAN bus over TCP, as `odc simulate --tcp` serves it (`localhost:PORT`,
     /// `127.0.0.1:PORT`, any host name).
@@ -28,6 +30,10 @@ pub struct BusArgs {
     /// `odc simulate --socketcand` or socketcand on a Linux machine with the adapter.
     #[arg(long, value_name = "HOST:PORT[/CHANNEL]")]
     pub socketcand: Option<String>,
+    /// An slcan (Lawicel) adapter on a serial port: `DEVICE[@BITRATE]`, such as
+    /// `/dev/ttyACM0@500000` or `COM3@125k`; without a bit rate the adapter keeps its own.
+    #[arg(long, value_name = "DEVICE[@BITRATE]")]
+    pub slcan: Option<String>,
 }
 
 /// The bus socketcand serves when `--socketcand` names none.
@@ -50,6 +56,8 @@ pub enum Link {
     Can(odc::transport::socketcan::SocketCan),
     /// A socketcand server.
     Socketcand(Socketcand),
+    /// An slcan adapter.
+    Slcan(Box<Slcan>),
 }
 
 impl BusArgs {
@@ -67,9 +75,42 @@ impl BusArgs {
                     .with_context(|| format!("--tcp {addr}: cannot connect"))?,
             )),
             (None, Some(iface)) => can(iface),
-            (None, None) => bail!("give --tcp HOST:PORT, --can IFACE or --socketcand HOST:PORT"),
+            (None, None) => match &self.slcan {
+                Some(spec) => slcan(spec),
+                None => bail!(
+                    "give --tcp HOST:PORT, --can IFACE, --socketcand HOST:PORT or --slcan DEVICE"
+                ),
+            },
         }
     }
+}
+
+/// `--slcan DEVICE[@BITRATE]`: the adapter opened as its host.
+fn slcan(spec: &str) -> anyhow::Result<Link> {
+    let (device, bitrate) = parse_slcan(spec)?;
+    let bus = Slcan::open(device, bitrate)
+        .with_context(|| format!("--slcan {device}: cannot open the serial port"))?;
+    Ok(Link::Slcan(Box::new(bus)))
+}
+
+/// `DEVICE[@BITRATE]`: the port and the bit rate (`500000`, `500k`, `1M`) of an `Sn` command.
+pub fn parse_slcan(spec: &str) -> anyhow::Result<(&str, Option<Bitrate>)> {
+    let Some((device, rate)) = spec.rsplit_once('@') else {
+        return Ok((spec, None));
+    };
+    let lower = rate.to_ascii_lowercase();
+    let bps = match (lower.strip_suffix('k'), lower.strip_suffix('m')) {
+        (Some(k), _) => k.parse::<u32>().ok().and_then(|k| k.checked_mul(1000)),
+        (_, Some(m)) => m.parse::<u32>().ok().and_then(|m| m.checked_mul(1_000_000)),
+        _ => lower.parse().ok(),
+    };
+    let bitrate = bps.and_then(Bitrate::from_bits_per_second).with_context(|| {
+        format!(
+            "--slcan {spec}: `{rate}` is no slcan bit rate (S0-S8: 10k, 20k, 50k, 100k, 125k, \
+             250k, 500k, 800k, 1M)"
+        )
+    })?;
+    Ok((device, Some(bitrate)))
 }
 
 #[cfg(all(feature = "socketcan", target_os = "linux"))]
@@ -94,6 +135,7 @@ impl Bus for Link {
             #[cfg(all(feature = "socketcan", target_os = "linux"))]
             Link::Can(b) => b.send(frame),
             Link::Socketcand(b) => b.send(frame),
+            Link::Slcan(b) => b.send(frame),
         }
     }
 
@@ -103,6 +145,7 @@ impl Bus for Link {
             #[cfg(all(feature = "socketcan", target_os = "linux"))]
             Link::Can(b) => b.recv(deadline),
             Link::Socketcand(b) => b.recv(deadline),
+            Link::Slcan(b) => b.recv(deadline),
         }
     }
 
@@ -112,6 +155,7 @@ impl Bus for Link {
             #[cfg(all(feature = "socketcan", target_os = "linux"))]
             Link::Can(b) => b.now(),
             Link::Socketcand(b) => b.now(),
+            Link::Slcan(b) => b.now(),
         }
     }
 }

@@ -1,12 +1,11 @@
-//! `odc monitor`: a bus, live or from a candump log, decoded with the device files.
+//! `odc monitor`: a bus, live or from a log file, decoded with the device files.
 
-use std::io::{BufRead, BufReader};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use anyhow::Context;
 use odc::transport::Bus;
-use odc_monitor::{Decoder, Record, candump};
+use odc_monitor::{Decoder, Record, log};
 
 use super::link::{BusArgs, NodeSpec, load_with_process_data};
 
@@ -20,13 +19,32 @@ pub enum MonitorFormat {
     Json,
 }
 
+/// A log file's format.
+#[derive(Clone, Copy, Debug, Default, clap::ValueEnum)]
+pub enum LogFormat {
+    /// Told from the content.
+    #[default]
+    Auto,
+    /// candump: `-l` lines or its screen lines.
+    Candump,
+    /// Vector ASC.
+    Asc,
+    /// Vector BLF.
+    Blf,
+    /// pcap or pcapng, link type 227 (SocketCAN).
+    Pcap,
+}
+
 /// Print every frame of a bus decoded with the device files: NMT and heartbeat states, SDO
 /// requests and answers with the object's name and typed value (segmented and block transfers
 /// put together), PDOs split into named fields (following remaps seen on the bus), EMCY with
-/// its meaning, SYNC, LSS; unknown frames raw. Live (`--tcp`, `--can`, `--socketcand`, until the bus closes)
-/// or from a candump log (`--log`: `(1700000000.000000) can0 185#4006`).
+/// its meaning, SYNC, LSS; unknown frames raw. Live (`--tcp`, `--can`, `--socketcand`,
+/// `--slcan`, until the bus closes) or from a log file (`--log`): candump's `-l` and screen
+/// formats (CAN FD lines too), Vector ASC and BLF (as python-can writes them), pcap and pcapng
+/// SocketCAN captures (Wireshark, tcpdump); the format is told from the file's content, or
+/// named with `--log-format`. CAN FD frames are printed raw.
 #[derive(clap::Args)]
-#[command(group(clap::ArgGroup::new("source").required(true).args(["tcp", "can", "socketcand", "log"])))]
+#[command(group(clap::ArgGroup::new("source").required(true).args(["tcp", "can", "socketcand", "slcan", "log"])))]
 pub struct Args {
     /// A virtual CAN bus over TCP, as `odc simulate --tcp` serves it.
     #[arg(long, value_name = "HOST:PORT")]
@@ -37,9 +55,15 @@ pub struct Args {
     /// A socketcand server (`HOST:PORT`, `/CHANNEL` for a bus other than `can0`).
     #[arg(long, value_name = "HOST:PORT[/CHANNEL]")]
     socketcand: Option<String>,
-    /// A candump log file (`candump -l` / `-L`).
+    /// An slcan adapter on a serial port: `DEVICE[@BITRATE]`.
+    #[arg(long, value_name = "DEVICE[@BITRATE]")]
+    slcan: Option<String>,
+    /// A log file: candump, ASC, BLF, pcap or pcapng.
     #[arg(long, value_name = "FILE")]
     log: Option<PathBuf>,
+    /// The log's format, when its content does not tell.
+    #[arg(long, value_enum, default_value_t, requires = "log")]
+    log_format: LogFormat,
     /// `ID=FILE`: a node and its device file (repeatable).
     #[arg(long, value_name = "ID=FILE")]
     node: Vec<NodeSpec>,
@@ -71,26 +95,38 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         super::out(&format!("{line}\n"))
     };
     if let Some(path) = &args.log {
-        let file =
-            std::fs::File::open(path).with_context(|| format!("cannot read {}", path.display()))?;
-        let mut bad = 0;
-        for (n, line) in BufReader::new(file).lines().enumerate() {
-            let line = line.with_context(|| format!("cannot read {}", path.display()))?;
-            match candump::parse_line(&line) {
-                Ok(Some(f)) => print(&decoder.decode(&f.frame, Some(f.time)))?,
-                Ok(None) => {}
-                Err(e) => {
-                    bad += 1;
-                    eprintln!("{}:{}: error: {e}", path.display(), n + 1);
-                }
+        let bytes =
+            std::fs::read(path).with_context(|| format!("cannot read {}", path.display()))?;
+        let format = match args.log_format {
+            LogFormat::Auto => log::detect(&bytes).with_context(|| {
+                format!(
+                    "{}: not a log format odc reads; name it with --log-format (candump, asc, \
+                     blf, pcap)",
+                    path.display()
+                )
+            })?,
+            LogFormat::Candump => log::Format::Candump,
+            LogFormat::Asc => log::Format::Asc,
+            LogFormat::Blf => log::Format::Blf,
+            LogFormat::Pcap => log::Format::Pcap,
+        };
+        let read = log::read(&bytes, format);
+        for entry in &read.entries {
+            match &entry.frame {
+                log::Frame::Can(frame) => print(&decoder.decode(frame, entry.time))?,
+                log::Frame::Fd(frame) => print(&log::fd_record(frame, entry.time))?,
             }
         }
-        return Ok(if bad == 0 { ExitCode::SUCCESS } else { ExitCode::from(1) });
+        for problem in &read.problems {
+            eprintln!("{}:{}: error: {}", path.display(), problem.at, problem.message);
+        }
+        return Ok(if read.problems.is_empty() { ExitCode::SUCCESS } else { ExitCode::from(1) });
     }
     let bus = BusArgs {
         tcp: args.tcp.clone(),
         can: args.can.clone(),
         socketcand: args.socketcand.clone(),
+        slcan: args.slcan.clone(),
     };
     let mut link = bus.open()?;
     let start = std::time::Instant::now();

@@ -7,6 +7,8 @@
 //! - `socketcan` (`socketcan`, Linux): a SocketCAN interface (`can0`, `vcan0`);
 //! - `tcp` (`std`): the 16-byte SocketCAN-layout records over TCP of `tests/interop`;
 //! - `socketcand` (`std`): the ASCII protocol of a socketcand server, in raw mode.
+//! - `slcan` (`slcan`): the Lawicel serial protocol's codec, and with `slcan-serial` a bus
+//!   over an slcan adapter (CANable, CANUSB) on a serial port.
 
 use crate::can::CanFrame;
 use crate::time::Instant;
@@ -15,6 +17,8 @@ use crate::time::Instant;
 pub mod embedded_can;
 #[cfg(all(feature = "std", feature = "transport-mem"))]
 pub mod mem;
+#[cfg(feature = "slcan")]
+pub mod slcan;
 #[cfg(all(feature = "socketcan", target_os = "linux"))]
 pub mod socketcan;
 #[cfg(all(feature = "std", feature = "transport-socketcand"))]

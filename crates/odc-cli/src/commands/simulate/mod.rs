@@ -1,6 +1,6 @@
 //! `odc simulate`: device files as live devices, to test a master against: CANopen devices on
-//! one CAN bus (`--tcp`, `--socketcand`, `--can`), or EtherCAT devices on a network interface
-//! (`--interface`).
+//! one CAN bus (`--tcp`, `--socketcand`, `--can`, behind an slcan adapter with `--slcan`), or
+//! EtherCAT devices on a network interface (`--interface`).
 
 use std::path::Path;
 use std::process::ExitCode;
@@ -13,6 +13,7 @@ use super::link::split_channel;
 use crate::input;
 
 mod ethercat;
+mod slcan;
 mod stop;
 
 /// Run device files as CANopen devices: each one's object dictionary (from the model, with the
@@ -33,13 +34,17 @@ mod stop;
 /// (standard input /dev/null) as in a terminal; `--stop-on-eof` also stops it at the end of
 /// standard input, for a script that holds a pipe to it.
 ///
+/// `--slcan` is the device behind an slcan (Lawicel) adapter: `pty` makes a pseudo-terminal
+/// and prints `listening on /dev/pts/N` first, the path for the host (python-can's `slcan`
+/// interface, `odc sdo --slcan`); a serial device's path serves on that port.
+///
 /// `--interface` runs ESI devices as EtherCAT SubDevices on a network interface (such as one
 /// end of a veth pair; root or CAP_NET_RAW): an emulated slave controller each (registers,
 /// SII EEPROM from the ESI, AL states, mailbox with CoE, process data through the FMMUs), in
 /// the order of the files, first next to the master. `FILE@DEVICE` picks a device of a file
 /// with several.
 #[derive(clap::Args)]
-#[command(group(clap::ArgGroup::new("bus").required(true).args(["tcp", "can", "socketcand", "interface"])))]
+#[command(group(clap::ArgGroup::new("bus").required(true).args(["tcp", "can", "socketcand", "slcan", "interface"])))]
 pub struct Args {
     /// EDS or DCF files (`FILE@ID` gives the node-ID); with --interface, ESI files
     /// (`FILE@DEVICE` for one of several).
@@ -59,6 +64,10 @@ pub struct Args {
     /// A SocketCAN interface (can0, vcan0).
     #[arg(long, value_name = "IFACE")]
     can: Option<String>,
+    /// Behind an slcan adapter: `pty` (a new pseudo-terminal, its path printed) or a serial
+    /// device.
+    #[arg(long, value_name = "pty|DEVICE")]
+    slcan: Option<String>,
     /// A network interface for EtherCAT (Linux): the devices answer a master on its wire.
     #[arg(long, value_name = "IFACE")]
     interface: Option<String>,
@@ -107,11 +116,16 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     if let Some(addr) = args.socketcand {
         return socketcand(&addr, &mut devices, args.stop_on_eof);
     }
+    if let Some(spec) = &args.slcan {
+        return slcan::run(spec, &mut devices, args.stop_on_eof);
+    }
     match (args.tcp, args.can) {
         (Some(addr), _) => tcp(addr, &mut devices, args.stop_on_eof),
         (None, Some(iface)) => can(&iface, &mut devices, args.stop_on_eof),
         // clap's group requires one of them.
-        (None, None) => bail!("give --tcp HOST:PORT, --socketcand HOST:PORT or --can IFACE"),
+        (None, None) => {
+            bail!("give --tcp HOST:PORT, --socketcand HOST:PORT, --can IFACE or --slcan pty|DEVICE")
+        }
     }
 }
 
