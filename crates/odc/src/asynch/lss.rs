@@ -1,0 +1,1 @@
+//! LSS master (CiA 305) on the async master.
