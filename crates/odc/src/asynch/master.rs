@@ -593,8 +593,15 @@ pub struct Cycle<'m, C: Clock> {
 
 impl<C: Clock> Cycle<'_, C> {
     /// Waits for the next grid point and returns it (the time the cycle was due).
+    ///
+    /// On a clock of coarse [`Clock::resolution`] R it asks to wake 3/4 R early: the timer
+    /// rounds that up to its one step within [due - 3/4 R, due + 1/4 R), the same phase every
+    /// period, instead of the step after `due` (up to R late, and late by more than a period
+    /// whenever scheduling adds to it).
     pub async fn tick(&mut self) -> Instant {
-        self.clock.sleep_until(self.next).await;
+        let r = self.clock.resolution().as_micros();
+        let early = Duration::from_micros(r * 3 / 4).min(self.period);
+        self.clock.sleep_until(self.next.saturating_sub(early)).await;
         let due = self.next;
         let now = self.clock.now();
         // Grid points that passed while this one was late: those cycles are lost.

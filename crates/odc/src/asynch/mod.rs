@@ -38,7 +38,7 @@ use core::future::Future;
 use crate::can::CanFrame;
 use crate::time::Instant;
 
-pub use master::{Master, Priority};
+pub use master::{Cycle, Master, Priority};
 
 /// The error of an operation whose frames can no longer go out or come in: [`Master::run`]
 /// ended (the bus failed, or it was dropped).
@@ -95,8 +95,16 @@ pub trait Clock {
     /// Now.
     fn now(&self) -> Instant;
 
-    /// Completes when [`Clock::now`] reaches `deadline` (at once when it has).
+    /// Completes when [`Clock::now`] reaches `deadline` (at once when it has); a timer of
+    /// coarse [`Clock::resolution`] may complete up to one step later.
     fn sleep_until(&self, deadline: Instant) -> impl Future<Output = ()>;
+
+    /// The step of the timer behind [`Clock::sleep_until`]: it wakes on multiples of it
+    /// (tokio: 1 ms). A [`Cycle`](master::Cycle) asks to wake that much early, so it lands on
+    /// the timer step nearest its grid point rather than the one after.
+    fn resolution(&self) -> crate::time::Duration {
+        crate::time::Duration::MICROSECOND
+    }
 }
 
 impl<C: Clock + ?Sized> Clock for &C {
@@ -106,5 +114,9 @@ impl<C: Clock + ?Sized> Clock for &C {
 
     fn sleep_until(&self, deadline: Instant) -> impl Future<Output = ()> {
         (**self).sleep_until(deadline)
+    }
+
+    fn resolution(&self) -> crate::time::Duration {
+        (**self).resolution()
     }
 }
