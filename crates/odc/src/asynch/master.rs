@@ -76,6 +76,8 @@ pub(super) struct Inner {
     event_waiters: Waiters,
     pub(super) lss: VecDeque<CanFrame>,
     pub(super) lss_waiters: Waiters,
+    /// Whether an [`LssMaster`](super::lss::LssMaster) exists.
+    pub(super) lss_active: bool,
     sync_overflow: Option<u8>,
     sync_counter: u8,
 }
@@ -163,7 +165,7 @@ impl Inner {
                 }
             }
             0x701..=0x77F => self.error_control(f, now),
-            id if id == crate::lss::RESPONSE_ID.raw() => {
+            id if id == crate::lss::RESPONSE_ID.raw() && self.lss_active => {
                 self.lss.push_back(*f);
                 self.lss_waiters.wake();
             }
