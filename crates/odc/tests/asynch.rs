@@ -7,6 +7,8 @@
 //! after [`RESPONSE_DELAY`] (a device's processing time). All times are whole milliseconds,
 //! the resolution of tokio's timer.
 
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
+
 use std::sync::{Arc, Mutex};
 
 use odc::SdoAbort;

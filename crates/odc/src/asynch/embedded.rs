@@ -31,13 +31,10 @@
 //! assert_eq!(tx.0.0, [sync]);
 //! ```
 
-#[cfg(feature = "embedded-can")]
 use super::{CanRx, CanTx};
-#[cfg(feature = "embedded-can")]
 use crate::can::CanFrame;
 
 /// The transmit half of an async CAN driver.
-#[cfg(feature = "embedded-can")]
 #[allow(async_fn_in_trait)]
 pub trait Transmit {
     /// The driver's frame type.
@@ -54,7 +51,6 @@ pub trait Transmit {
 }
 
 /// The receive half of an async CAN driver.
-#[cfg(feature = "embedded-can")]
 #[allow(async_fn_in_trait)]
 pub trait Receive {
     /// The driver's frame type.
@@ -83,7 +79,6 @@ pub enum HalError<E> {
     Frame,
 }
 
-#[cfg(feature = "embedded-can")]
 impl<T: Transmit> CanTx for Hal<T> {
     type Error = HalError<T::Error>;
 
@@ -93,7 +88,6 @@ impl<T: Transmit> CanTx for Hal<T> {
     }
 }
 
-#[cfg(feature = "embedded-can")]
 impl<T: Receive> CanRx for Hal<T> {
     type Error = HalError<T::Error>;
 

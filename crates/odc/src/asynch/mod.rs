@@ -3,9 +3,9 @@
 //! nodes), on `core::future` with no runtime inside.
 //!
 //! The bus comes as two halves, [`CanTx`] and [`CanRx`], and time as a [`Clock`]; adapters:
-//! [`tokio`](self::tokio) (feature `tokio`: the TCP virtual bus of `odc simulate --tcp`,
-//! SocketCAN) and [`embedded`] (an `embedded-can`-style async interface an embassy HAL
-//! implements). One [`Master`] is shared by reference between the tasks that use it; it owns
+//! `tokio` (feature `tokio`: the TCP virtual bus of `odc simulate --tcp`, SocketCAN, a
+//! timerfd clock) and `embedded` (feature `embedded-can`: an `embedded-can`-style async
+//! interface an embassy HAL implements). One [`Master`] is shared by reference between the tasks that use it; it owns
 //! no thread and no timer. Its [`Master::run`] future carries the frames (received frames to
 //! the tasks waiting for them, queued frames to the bus, SYNC and PDOs before SDO, NMT and
 //! LSS) and must be polled alongside the rest (`tokio::join!`, `tokio::spawn`, an embassy
@@ -20,11 +20,40 @@
 //! - PDO exchange with the generated structs ([`Master::send_pdo`], [`Master::latest_pdo`]);
 //! - LSS ([`lss`]) and the CiA 402 [`Axis`](axis::Axis).
 //!
+//! ```no_run
+//! use odc::asynch::{Master, tokio::{TimerfdClock, tcp}};
+//! use odc::nmt::NmtCommand;
+//! use odc::time::Duration;
+//!
+//! # async fn program() -> Result<(), Box<dyn std::error::Error>> {
+//! // `odc simulate eds/lxm23a.eds --node-id 1 --tcp 127.0.0.1:5000` on the other end.
+//! let (tx, rx) = tcp::connect("127.0.0.1:5000").await?;
+//! let master = Master::new(TimerfdClock::new());
+//! let node = odc::node_id!(1);
+//! let work = async {
+//!     let device_type = master.upload(node, 0x1000, 0).await?;
+//!     master.nmt(NmtCommand::Start, node)?;
+//!     // A 1 kHz SYNC while the SDO transfers of other tasks go on.
+//!     let mut cycle = master.cycle(Duration::from_millis(1));
+//!     for _ in 0..1000 {
+//!         cycle.tick().await;
+//!         master.sync()?;
+//!     }
+//!     Ok::<_, odc::asynch::Error>(device_type)
+//! };
+//! tokio::select! {
+//!     r = master.run(tx, rx) => r?,
+//!     r = work => println!("device type {:02X?}", r?),
+//! }
+//! # Ok(()) }
+//! ```
+//!
 //! Errors are the blocking master's [`Error`](crate::master::Error); the bus error itself is
 //! what [`Master::run`] returns, and every operation waiting when it ends fails with
 //! [`Stopped`].
 
 pub mod axis;
+#[cfg(feature = "embedded-can")]
 pub mod embedded;
 pub mod lss;
 mod master;
@@ -38,7 +67,7 @@ use core::future::Future;
 use crate::can::CanFrame;
 use crate::time::Instant;
 
-pub use master::{Cycle, Master, Priority};
+pub use master::{Cycle, EVENT_QUEUE, Master, Priority};
 
 /// The error of an operation whose frames can no longer go out or come in: [`Master::run`]
 /// ended (the bus failed, or it was dropped).
@@ -100,7 +129,7 @@ pub trait Clock {
     fn sleep_until(&self, deadline: Instant) -> impl Future<Output = ()>;
 
     /// The step of the timer behind [`Clock::sleep_until`]: it wakes on multiples of it
-    /// (tokio: 1 ms). A [`Cycle`](master::Cycle) asks to wake that much early, so it lands on
+    /// (tokio: 1 ms). A [`Cycle`] asks to wake that much early, so it lands on
     /// the timer step nearest its grid point rather than the one after.
     fn resolution(&self) -> crate::time::Duration {
         crate::time::Duration::MICROSECOND

@@ -70,8 +70,10 @@ impl TimerfdClock {
     }
 
     /// The `CLOCK_MONOTONIC` time of `t`.
+    // `tv_nsec` is `i64` here, narrower on some targets: the conversion is not useless there.
+    #[allow(clippy::useless_conversion)]
     fn timespec(&self, t: Instant) -> rustix::time::Timespec {
-        let ns = self.epoch.tv_nsec as i64 + (t.as_micros() % 1_000_000) as i64 * 1000;
+        let ns = i64::from(self.epoch.tv_nsec) + (t.as_micros() % 1_000_000) as i64 * 1000;
         rustix::time::Timespec {
             tv_sec: self.epoch.tv_sec + (t.as_micros() / 1_000_000) as i64 + ns / 1_000_000_000,
             tv_nsec: (ns % 1_000_000_000) as _,
@@ -107,10 +109,12 @@ impl Default for TimerfdClock {
 
 #[cfg(target_os = "linux")]
 impl Clock for TimerfdClock {
+    // As in `timespec`.
+    #[allow(clippy::useless_conversion)]
     fn now(&self) -> Instant {
         let t = rustix::time::clock_gettime(rustix::time::ClockId::Monotonic);
-        let ns = (t.tv_sec - self.epoch.tv_sec) as i128 * 1_000_000_000
-            + (t.tv_nsec as i128 - self.epoch.tv_nsec as i128);
+        let ns = i128::from(t.tv_sec - self.epoch.tv_sec) * 1_000_000_000
+            + (i128::from(t.tv_nsec) - i128::from(self.epoch.tv_nsec));
         Instant::from_micros(u64::try_from(ns / 1000).unwrap_or(0))
     }
 
