@@ -74,14 +74,15 @@ impl<T: CanTx, C: Clock> CanTx for Recording<T, C> {
 
 /// What one drive did.
 #[derive(Debug, Default)]
-struct Report {
-    moves: u32,
+pub struct Report {
+    /// Profile-position moves made.
+    pub moves: u32,
     /// SDO reads of 0x6064 between the moves.
-    sdo: u32,
+    pub sdo: u32,
     /// 0x6064 read over SDO after the last move.
-    position: i32,
+    pub position: i32,
     /// The position the last TPDO carried.
-    tpdo_position: Option<i32>,
+    pub tpdo_position: Option<i32>,
 }
 
 /// Runs the simulated drive of `file` at `node` on the bus at `addr` until `stop`.
@@ -152,13 +153,29 @@ fn stats(v: &mut [u64]) -> Option<(u64, f64, u64, u64)> {
     Some((min, mean, max, p99))
 }
 
-#[tokio::main(flavor = "current_thread")]
-async fn main() -> Result<(), Error> {
+/// `[SECONDS [HOST:PORT]]`; `ODC_TOKIO_TIMER=1` runs the cycle on tokio's own timer (whole
+/// milliseconds, rounded up) instead of a timerfd, for comparison.
+pub fn main() -> Result<(), Error> {
     let mut args = std::env::args().skip(1);
     let seconds: u64 = args.next().map(|s| s.parse()).transpose()?.unwrap_or(10);
     let external = args.next();
-    // tokio's own timer (whole milliseconds, rounded up) on request, for comparison.
-    if std::env::var_os("ODC_TOKIO_TIMER").is_some() {
+    program(seconds, external, std::env::var_os("ODC_TOKIO_TIMER").is_some())?;
+    Ok(())
+}
+
+/// The program for `seconds` of moves, on the in-process bus or the one at `external`; what
+/// each drive did.
+///
+/// # Errors
+///
+/// A device file that does not load, a bus that fails, an SDO or drive error.
+#[tokio::main(flavor = "current_thread")]
+pub async fn program(
+    seconds: u64,
+    external: Option<String>,
+    tokio_timer: bool,
+) -> Result<Vec<Report>, Error> {
+    if tokio_timer {
         println!("clock: tokio's timer (ODC_TOKIO_TIMER)");
         return run(TokioClock::new(), seconds, external).await;
     }
@@ -171,7 +188,7 @@ async fn run<C: Clock + Copy>(
     clock: C,
     seconds: u64,
     external: Option<String>,
-) -> Result<(), Error> {
+) -> Result<Vec<Report>, Error> {
     // The bus and its three drives, unless one was given.
     let stop = Arc::new(AtomicBool::new(false));
     let (addr, hub, devices) = match &external {
@@ -265,14 +282,14 @@ async fn run<C: Clock + Copy>(
         finished.store(true, Ordering::Relaxed);
         r
     };
-    let ((cycle, drives), bus) = tokio::select! {
-        r = async { tokio::join!(cycle, drives) } => (r, Ok(())),
-        r = m.run(tx, rx) => (((Err("the bus ended".into()), (Err("".into()), Err("".into()), Err("".into())))), r),
+    let ran = tokio::select! {
+        r = async { tokio::join!(cycle, drives) } => Ok(r),
+        r = m.run(tx, rx) => Err(r.map_or_else(Error::from, |()| "the bus task ended".into())),
     };
-    bus?;
-    let (ticks, missed) = cycle?;
     let elapsed = m.now() - start;
     stop.store(true, Ordering::Relaxed);
+    let (cycle, drives) = ran?;
+    let (ticks, missed) = cycle?;
     for d in devices {
         d.join().map_err(|_| "a device thread panicked")??;
     }
@@ -284,12 +301,14 @@ async fn run<C: Clock + Copy>(
         "three drives on one bus ({}), {elapsed} of a {PERIOD} SYNC cycle:",
         if external.is_some() { "external" } else { "odc-sim VirtualBus in process, TCP" }
     );
+    let mut reports = Vec::new();
     for ((file, node), r) in DRIVES.iter().zip([drives.0, drives.1, drives.2]) {
         let r = r?;
         println!(
             "  node {node} {file}: {} profile-position moves, {} SDO reads between them; last position {} (SDO), {:?} (TPDO)",
             r.moves, r.sdo, r.position, r.tpdo_position
         );
+        reports.push(r);
     }
     let syncs = syncs.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
     let mut intervals: Vec<u64> = syncs.windows(2).map(|w| (w[1] - w[0]).as_micros()).collect();
@@ -302,5 +321,5 @@ async fn run<C: Clock + Copy>(
     println!(
         "missed cycles: {missed} (grid points the cycle woke too late for); intervals of 1.5 periods or more: {late}"
     );
-    Ok(())
+    Ok(reports)
 }
