@@ -137,9 +137,8 @@ impl<R: Pdo, T: Pdo> Axis<R, T> {
         let inputs = s.inputs;
         let out = s.driver.cycle(&inputs, now);
         s.cycles += 1;
-        if s.driver.status() != DriverStatus::Busy {
-            s.waiters.wake();
-        }
+        // Job futures check the driver's status, cycle waiters the count: wake both.
+        s.waiters.wake();
         drop(s);
         master.send_pdo(self.pdos.rpdo, &(self.pdos.command)(&out))?;
         Ok(inputs)
@@ -165,6 +164,53 @@ impl<R: Pdo, T: Pdo> Axis<R, T> {
             }
         })
         .await
+    }
+
+    /// Waits until the cycle task has run one more cycle (its RPDO is queued).
+    ///
+    /// # Errors
+    ///
+    /// None yet: a `Result` so that a stopped cycle can say so later without an API change.
+    pub async fn next_cycle(&self) -> Result<(), Error> {
+        let after = self.lock().cycles;
+        poll_fn(|cx| {
+            let mut s = self.lock();
+            if s.cycles > after {
+                return Poll::Ready(Ok(()));
+            }
+            s.waiters.register(cx.waker());
+            Poll::Pending
+        })
+        .await
+    }
+
+    /// Homing in mode hm (method and speeds as the drive's 0x6098/0x6099 say), until
+    /// "homing attained".
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Drive`] when hm is not the mode set, or the job fails.
+    pub async fn home(&self) -> Result<(), Error> {
+        self.lock().driver.home().map_err(|error| Error::Drive { node: self.node, error })?;
+        self.done().await
+    }
+
+    /// The next cyclic synchronous position set-point (mode csp): completes once the cycle
+    /// has sent it.
+    ///
+    /// # Errors
+    ///
+    /// [`Error::Drive`] when csp is not the mode set, or the drive faulted.
+    pub async fn stream_position(&self, position: i32) -> Result<(), Error> {
+        self.lock()
+            .driver
+            .stream_position(position)
+            .map_err(|error| Error::Drive { node: self.node, error })?;
+        self.next_cycle().await?;
+        match self.status() {
+            DriverStatus::Failed(error) => Err(Error::Drive { node: self.node, error }),
+            _ => Ok(()),
+        }
     }
 
     /// To "operation enabled".
