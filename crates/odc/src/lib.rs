@@ -98,6 +98,8 @@
 extern crate std;
 
 mod abort;
+#[cfg(all(feature = "std", feature = "async"))]
+pub mod asynch;
 pub mod bits;
 pub mod can;
 pub mod cia402;

@@ -575,6 +575,12 @@ impl<const N: usize> Client<N> {
         entry: &Entry<T>,
     ) -> Result<T, SdoError<B::Error>> {
         self.upload(bus, entry.addr.index, entry.addr.sub)?;
+        self.decode().map_err(SdoError::widen)
+    }
+
+    /// The last upload's value decoded as `T` (what [`Client::read`] returns, for the drivers
+    /// that run the transfer themselves: the async master).
+    pub(crate) fn decode<T: ObjValue>(&self) -> Result<T, SdoError> {
         let data = self.data();
         let data = if self.sized { data } else { data.get(..T::MAX_LEN.min(4)).unwrap_or(data) };
         T::decode(data).map_err(|e| SdoError::Local(e.into()))

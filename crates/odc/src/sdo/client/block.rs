@@ -96,7 +96,7 @@ impl<const N: usize> Client<N> {
     }
 
     /// The next segment of a block download's sub-block, if one is due.
-    pub(super) fn next_block_segment(&mut self) -> Option<CanFrame> {
+    pub(crate) fn next_block_segment(&mut self) -> Option<CanFrame> {
         let State::BlockDownload { addr, crc, blksize, acked, sent, sending: true, deadline } =
             self.state
         else {
