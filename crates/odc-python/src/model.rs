@@ -7,7 +7,7 @@
 //! objects, from `odc.canopen`, are the editable ones). Indexes are keys of plain dicts, so
 //! `device.objects[0x1018].subs[1]` reads as the standard writes it.
 //!
-//! Values are Python's own: `int`, `float` (REAL32 widened), `bool`, `str` (VISIBLE_STRING and
+//! Values are Python's own: `int`, `float` (a REAL32 as its shortest decimal), `bool`, `str` (VISIBLE_STRING and
 //! UNICODE_STRING), `bytes` (OCTET_STRING, DOMAIN), `(ms, days)` for TIME_OF_DAY and
 //! TIME_DIFFERENCE; `$NODEID+n` stays symbolic as [`NodeIdPlus`] (odc's policy: resolved once a
 //! node-ID is known), and text that is not a value of its type (allowed F107/F108) is
@@ -277,9 +277,7 @@ fn value(py: Python<'_>, v: &Value) -> PyResult<Py<PyAny>> {
         Value::Bool(b) => b.into_pyobject(py)?.to_owned().into_any().unbind(),
         Value::Unsigned(u) => u.into_pyobject(py)?.into_any().unbind(),
         Value::Signed(i) => i.into_pyobject(py)?.into_any().unbind(),
-        Value::Real32(bits) => {
-            f64::from(f32::from_bits(*bits)).into_pyobject(py)?.into_any().unbind()
-        }
+        Value::Real32(bits) => real32(f32::from_bits(*bits)).into_pyobject(py)?.into_any().unbind(),
         Value::Real64(bits) => f64::from_bits(*bits).into_pyobject(py)?.into_any().unbind(),
         Value::Text(t) => t.as_ref().into_pyobject(py)?.into_any().unbind(),
         Value::Bytes(b) => PyBytes::new(py, b).into_any().unbind(),
@@ -292,6 +290,15 @@ fn value(py: Python<'_>, v: &Value) -> PyResult<Py<PyAny>> {
         Value::NodeIdPlus(n) => Py::new(py, NodeIdPlus { offset: *n })?.into_any(),
         Value::Invalid(t) => Py::new(py, Invalid { text: t.to_string() })?.into_any(),
     })
+}
+
+/// A REAL32 as the Python float of its shortest decimal (`1.2`, not `1.2000000476837158`):
+/// the float a Python user would write for it, and the same REAL32 when packed back.
+fn real32(x: f32) -> f64 {
+    // Rust's `Display` of an f32 is the shortest decimal that reads back as the same f32;
+    // `inf`, `-inf` and `NaN` parse as f64 too. A failure cannot happen; the widened value
+    // stands in for it.
+    x.to_string().parse().unwrap_or(f64::from(x))
 }
 
 fn opt_value(py: Python<'_>, v: Option<&Spanned<Value>>) -> PyResult<Py<PyAny>> {
