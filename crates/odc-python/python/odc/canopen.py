@@ -19,6 +19,7 @@ file writes ``$NODEID`` (``relative`` set, ``None`` without a node-ID), ``defaul
 their wire form.
 """
 
+import logging
 import os
 
 import canopen.objectdictionary as _cod
@@ -26,10 +27,12 @@ from canopen.objectdictionary import ODArray, ODRecord, ODVariable, ObjectDictio
 
 from . import Invalid, NodeIdPlus, load
 
-__all__ = ["import_od"]
+__all__ = ["import_od", "build"]
+
+logger = logging.getLogger(__name__)
 
 # Only the front-end's rules decide whether a file can be read: a python-canopen user loads
-# files that break CiA 301 or 402 (they are reported in od.odc_diagnostics).
+# files that break CiA 301 or 402; those rules warn (od.odc_diagnostics, and the log).
 _NOT_GATING = ("cia301", "cia402", "etg")
 # A value that does not read as its type (F107), does not fit it (F108), an unknown AccessType
 # (F115): python-canopen reads such a file and drops the value (logged); so does this importer,
@@ -74,9 +77,13 @@ def import_od(source, node_id=None, *, allow=(), warn=(), deny=(), strict=False)
             f"Cannot import from the {suffix[1:]!r} format; "
             f"supported formats: eds, dcf, xdd, xdc, epf")
     named = set(allow) | set(deny)
-    warn = [code for code in _WARN_ONLY if code not in named] + list(warn)
-    device = load(name, allow=list(_NOT_GATING) + list(allow), warn=warn,
-                  deny=list(deny), strict=strict, data=data)
+    warn = [code for code in _NOT_GATING + _WARN_ONLY if code not in named] + list(warn)
+    device = load(name, allow=list(allow), warn=warn, deny=list(deny), strict=strict, data=data)
+    for d in device.diagnostics:
+        # Logged as python-canopen logs what it skips in a file.
+        level = logging.WARNING if d["severity"] in ("error", "warning") else logging.INFO
+        place = f"{d['file']}:{d['line']}:{d['column']}: " if d["line"] is not None else ""
+        logger.log(level, "%s%s[%s] %s", place, d["severity"], d["code"], d["message"])
     return build(device, node_id)
 
 
