@@ -52,6 +52,11 @@ pub struct Invalid {
 
 #[pymethods]
 impl Invalid {
+    #[new]
+    fn new(text: String) -> Self {
+        Invalid { text }
+    }
+
     fn __repr__(&self) -> String {
         format!("Invalid({:?})", self.text)
     }
@@ -329,13 +334,19 @@ fn extra<'py>(py: Python<'py>, entries: &[odc_model::RawEntry]) -> PyResult<Boun
     Ok(dict)
 }
 
+/// `object_extra`: the keys of a VAR's section, which are its one sub-object's.
 fn sub(
     py: Python<'_>,
     index: u16,
     s: &odc_model::SubObject,
     sources: &Sources,
+    object_extra: &[odc_model::RawEntry],
 ) -> PyResult<SubObject> {
     let rare = s.rare();
+    let extra = extra(py, &rare.extra)?;
+    for e in object_extra {
+        extra.set_item(&e.key, &e.value)?;
+    }
     Ok(SubObject {
         index,
         sub_index: s.sub_index,
@@ -352,14 +363,15 @@ fn sub(
         parameter_value_raw: raw(sources, s.parameter_value.as_ref()),
         bit_size: s.bit_size.or_else(|| s.data_type.bit_size()),
         denotation: rare.denotation.as_ref().map(|d| d.value.clone()),
-        extra: extra(py, &rare.extra)?.unbind(),
+        extra: extra.unbind(),
     })
 }
 
 fn object(py: Python<'_>, o: &odc_model::Object, sources: &Sources) -> PyResult<Object> {
     let subs = PyDict::new(py);
+    let var_extra: &[odc_model::RawEntry] = if o.kind.has_subs() { &[] } else { &o.extra };
     for (i, s) in o.subs.iter() {
-        subs.set_item(i, Py::new(py, sub(py, o.index, s, sources)?)?)?;
+        subs.set_item(i, Py::new(py, sub(py, o.index, s, sources, var_extra)?)?)?;
     }
     Ok(Object {
         index: o.index,
