@@ -5,11 +5,11 @@ Fetches the canopen sdist of the installed version with pip (`pip download --no-
 tests are not in the wheel, and are not copied into this repository), writes a conftest.py
 into its `test/` that replaces `canopen.import_od` (and the names `canopen.objectdictionary`
 and `canopen.node.base` import it under) with `odc.canopen.import_od`, and runs the suite under
-pytest. Prints pytest's summary and the failing tests; `--expect-fail FILE` names the tests
-expected to fail (one node ID a line, `#` comments: tests/interop/README.md says why each
-does), and the exit status is 0 when exactly those fail.
+pytest; a failed test is run once more (its timing tests miss on a loaded machine), and
+counts when it fails again. Prints pytest's summary, the number of imports that went through
+odc, and writes the failing tests to WORK/failed.txt; the exit status is pytest's.
 
-Usage: canopen_suite.py [--work DIR] [--expect-fail FILE] [pytest args...]
+Usage: canopen_suite.py [--work DIR] [pytest args...]
 """
 
 import argparse
@@ -68,34 +68,32 @@ def fetch(work):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--work", default=os.path.join("target", "canopen-suite"))
-    ap.add_argument("--expect-fail", help="file of the test IDs expected to fail")
     args, pytest_args = ap.parse_known_args()
     tests = fetch(os.path.abspath(args.work))
-    # The package's own directory first, so that `from .util import ...` and `test.*` resolve
-    # as they do in its repository; `canopen` itself is the installed one.
+    # Run from the sdist's root, so that `test` is a package as in its repository (`from .util
+    # import ...`); `canopen` is the installed one.
     report = os.path.join(os.path.abspath(args.work), "failed.txt")
-    cmd = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-rf",
-           "--rootdir", os.path.dirname(tests), tests] + pytest_args
-    run = subprocess.run(cmd, capture_output=True, text=True, cwd=os.path.dirname(tests))
-    print(run.stdout[-6000:])
-    failed = sorted({line.split()[1].split(" - ")[0] for line in run.stdout.splitlines()
-                     if line.startswith("FAILED ")})
+
+    def pytest(extra):
+        cmd = [sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-rf",
+               "--rootdir", os.path.dirname(tests)] + extra
+        run = subprocess.run(cmd, capture_output=True, text=True, cwd=os.path.dirname(tests))
+        print(run.stdout[-6000:])
+        failed = sorted({line.split()[1] for line in run.stdout.splitlines()
+                         if line.startswith("FAILED ")})
+        return run, failed
+
+    run, failed = pytest([tests] + pytest_args)
+    if failed and run.returncode == 1:
+        # The suite has timing tests (heartbeats, periodic frames within 10 ms) that read no
+        # file; on a loaded machine they can miss. A failure counts when it repeats.
+        print(f"rerunning the {len(failed)} failed test(s) once: {' '.join(failed)}")
+        rerun, failed = pytest(failed)
+        if not failed:
+            run = rerun
     with open(report, "w") as f:
         f.write("\n".join(failed) + "\n")
-    if args.expect_fail is None:
-        sys.exit(run.returncode)
-    with open(args.expect_fail) as f:
-        expected = sorted({line.split("#")[0].strip() for line in f} - {""})
-    unexpected = [t for t in failed if t not in expected]
-    now_pass = [t for t in expected if t not in failed]
-    for t in unexpected:
-        print(f"unexpected failure: {t}")
-    for t in now_pass:
-        print(f"expected to fail, passes: {t} (remove it from {args.expect_fail})")
-    if run.returncode not in (0, 1):
-        sys.exit(run.returncode)
-    sys.exit(1 if unexpected or now_pass else 0)
-
+    sys.exit(run.returncode)
 
 if __name__ == "__main__":
     main()

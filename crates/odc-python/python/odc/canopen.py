@@ -80,8 +80,10 @@ def import_od(source, node_id=None, *, allow=(), warn=(), deny=(), strict=False)
     warn = [code for code in _NOT_GATING + _WARN_ONLY if code not in named] + list(warn)
     device = load(name, allow=list(allow), warn=warn, deny=list(deny), strict=strict, data=data)
     for d in device.diagnostics:
-        # Logged as python-canopen logs what it skips in a file.
-        level = logging.WARNING if d["severity"] in ("error", "warning") else logging.INFO
+        # Logged as python-canopen logs what it skips in a file: a problem reading the file
+        # (front-end codes, F…) as a warning; what the CiA rules say of its content as info.
+        reading = d["code"].startswith("F")
+        level = logging.WARNING if reading and d["severity"] != "note" else logging.INFO
         place = f"{d['file']}:{d['line']}:{d['column']}: " if d["line"] is not None else ""
         logger.log(level, "%s%s[%s] %s", place, d["severity"], d["code"], d["message"])
     return build(device, node_id)
