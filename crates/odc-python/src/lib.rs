@@ -1,7 +1,7 @@
 //! The native half of the `odc` Python package (`odc._odc`): device files loaded, checked,
 //! converted, compared and documented through the same library calls the `odc` commands make
 //! (`odc-pipeline`, `odc-eds`, `odc-xdd`, `odc-diff`, `odc-doc`), and the checked model handed
-//! to Python as read-only classes ([`model`]).
+//! to Python as read-only classes (`model.rs`).
 //!
 //! The Python half (`python/odc`) re-exports these functions with their documentation, turns
 //! `diff`'s JSON into dicts and builds python-canopen objects (`odc.canopen`).
