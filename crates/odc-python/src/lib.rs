@@ -10,6 +10,7 @@
 // The functions take Python's keyword arguments, one parameter each.
 #![allow(clippy::too_many_arguments)]
 
+mod canopen;
 mod model;
 
 use std::path::{Path, PathBuf};
@@ -22,7 +23,7 @@ use pyo3::types::{PyDict, PyList};
 
 /// The rule levels and device selection every function takes, as `odc`'s command line has them
 /// (`-A`, `-W`, `-D`, `--strict`, `--config`, `--device`).
-struct Rules {
+pub(crate) struct Rules {
     allow: Vec<String>,
     warn: Vec<String>,
     deny: Vec<String>,
@@ -50,7 +51,7 @@ impl Rules {
 }
 
 /// Reads and checks a file; `bytes` when the caller read it already (a file-like object).
-fn load_file(
+pub(crate) fn load_file(
     path: &Path,
     bytes: Option<Vec<u8>>,
     rules: &Rules,
@@ -76,7 +77,7 @@ fn load_file(
 }
 
 /// The error gate: `odc.Refused` (a `ValueError`) with the error-level diagnostics.
-fn gate(py: Python<'_>, loaded: &Loaded) -> PyResult<()> {
+pub(crate) fn gate(py: Python<'_>, loaded: &Loaded) -> PyResult<()> {
     match loaded.gate() {
         Ok(()) => Ok(()),
         Err(refused) => {
@@ -90,7 +91,7 @@ fn gate(py: Python<'_>, loaded: &Loaded) -> PyResult<()> {
 }
 
 /// The one device the function works on (`device=` picks one of an ESI's).
-fn one_device(loaded: &Loaded) -> PyResult<&odc_model::Device> {
+pub(crate) fn one_device(loaded: &Loaded) -> PyResult<&odc_model::Device> {
     loaded.device().map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
@@ -122,7 +123,7 @@ fn diagnostics_list<'py>(
     Ok(list)
 }
 
-fn rules(
+pub(crate) fn rules(
     allow: Vec<String>,
     warn: Vec<String>,
     deny: Vec<String>,
@@ -154,7 +155,7 @@ fn load(
     let loaded = py.detach(|| load_file(&path, data, &rules, base))?;
     gate(py, &loaded)?;
     let device = one_device(&loaded)?;
-    model::device(py, device, &loaded.sources, &loaded.diagnostics)
+    model::device(py, device, &loaded.sources, &loaded.diagnostics, true)
 }
 
 /// The diagnostics of a device file as dicts (every device of an ESI, unless `device=`).
@@ -300,6 +301,7 @@ fn _odc(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(convert, m)?)?;
     m.add_function(wrap_pyfunction!(diff_json, m)?)?;
     m.add_function(wrap_pyfunction!(doc, m)?)?;
+    m.add_function(wrap_pyfunction!(canopen::load_canopen, m)?)?;
     model::register(m)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())

@@ -277,7 +277,7 @@ impl Device {
 }
 
 /// A value as Python's own.
-fn value(py: Python<'_>, v: &Value) -> PyResult<Py<PyAny>> {
+pub(crate) fn value(py: Python<'_>, v: &Value) -> PyResult<Py<PyAny>> {
     Ok(match v {
         Value::Bool(b) => b.into_pyobject(py)?.to_owned().into_any().unbind(),
         Value::Unsigned(u) => u.into_pyobject(py)?.into_any().unbind(),
@@ -315,7 +315,7 @@ fn opt_value(py: Python<'_>, v: Option<&Spanned<Value>>) -> PyResult<Py<PyAny>> 
 
 /// The text a value was read from, when it has a place of its own in the file (not a value a
 /// `CompactSubObj` or `[xxxxName]` section implied, whose span is the line that implied it).
-fn raw(sources: &Sources, v: Option<&Spanned<Value>>) -> Option<String> {
+pub(crate) fn raw(sources: &Sources, v: Option<&Spanned<Value>>) -> Option<String> {
     let span = v?.span;
     if span.is_dummy() {
         return None;
@@ -435,15 +435,17 @@ fn identity(info: &odc_model::DeviceInfo) -> Identity {
 }
 
 /// The Python model of a loaded device; `diagnostics` are the file's (below error level, as
-/// it passed the gate).
+/// it passed the gate). Without `with_objects` its `objects` are left empty (`odc.canopen`
+/// makes its own from the model, see `canopen.rs`).
 pub fn device(
     py: Python<'_>,
     d: &odc_model::Device,
     sources: &Sources,
     diagnostics: &[Diagnostic],
+    with_objects: bool,
 ) -> PyResult<Py<Device>> {
     let objects = PyDict::new(py);
-    for (i, o) in &d.objects {
+    for (i, o) in d.objects.iter().filter(|_| with_objects) {
         objects.set_item(i, Py::new(py, object(py, o, sources)?)?)?;
     }
     let pdos = PyList::empty(py);

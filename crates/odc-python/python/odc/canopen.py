@@ -25,9 +25,9 @@ import os
 import canopen.objectdictionary as _cod
 from canopen.objectdictionary import ODArray, ODRecord, ODVariable, ObjectDictionary
 
-from . import Invalid, NodeIdPlus, load
+from ._odc import load_canopen
 
-__all__ = ["import_od", "build"]
+__all__ = ["import_od"]
 
 logger = logging.getLogger(__name__)
 
@@ -40,9 +40,6 @@ _NOT_GATING = ("cia301", "cia402", "etg")
 _WARN_ONLY = ("F107", "F108", "F115")
 
 _SUFFIXES = (".eds", ".dcf", ".xdd", ".xdc")
-
-# Data types whose values are integers on python-canopen's side.
-_TIME_TYPES = (0x0C, 0x0D)
 
 
 def import_od(source, node_id=None, *, allow=(), warn=(), deny=(), strict=False):
@@ -78,7 +75,8 @@ def import_od(source, node_id=None, *, allow=(), warn=(), deny=(), strict=False)
             f"supported formats: eds, dcf, xdd, xdc, epf")
     named = set(allow) | set(deny)
     warn = [code for code in _NOT_GATING + _WARN_ONLY if code not in named] + list(warn)
-    device = load(name, allow=list(allow), warn=warn, deny=list(deny), strict=strict, data=data)
+    device, objects, node_id = load_canopen(name, node_id=node_id, allow=list(allow), warn=warn,
+                                            deny=list(deny), strict=strict, data=data)
     for d in device.diagnostics:
         # Logged as python-canopen logs what it skips in a file: a problem reading the file
         # (front-end codes, F…) as a warning; what the CiA rules say of its content as info.
@@ -86,18 +84,16 @@ def import_od(source, node_id=None, *, allow=(), warn=(), deny=(), strict=False)
         level = logging.WARNING if reading and d["severity"] != "note" else logging.INFO
         place = f"{d['file']}:{d['line']}:{d['column']}: " if d["line"] is not None else ""
         logger.log(level, "%s%s[%s] %s", place, d["severity"], d["code"], d["message"])
-    return build(device, node_id)
+    return _build(device, objects, node_id)
 
 
-def build(device, node_id=None):
-    """The ``ObjectDictionary`` of an ``odc.Device`` (from :func:`odc.load`)."""
+def _build(device, objects, node_id):
+    """The ``ObjectDictionary`` of what ``load_canopen`` read."""
     od = ObjectDictionary()
     od.odc_diagnostics = device.diagnostics
     od.comments = "\n".join(device.comments)
     if device.baud_rate is not None:
         od.bitrate = device.baud_rate * 1000
-    if node_id is None:
-        node_id = device.node_id
     od.node_id = node_id
     _identity(od.device_information, device.identity)
     for i in device.dummy_usage:
@@ -108,23 +104,18 @@ def build(device, node_id=None):
             var.data_type = i
             var.access_type = "const"
             od.add_object(var)
-    for index, obj in device.objects.items():
-        kind = obj.kind
+    for index, kind, name, storage_location, members in objects:
         if kind == "ARRAY":
-            entry = ODArray(obj.name, index)
+            entry = ODArray(name, index)
         elif kind in ("RECORD", "DEFSTRUCT"):
-            entry = ODRecord(obj.name, index)
+            entry = ODRecord(name, index)
         else:
-            sub = obj.subs.get(0)
-            if sub is None:
-                continue
-            var = _variable(obj.name, index, 0, sub, node_id)
-            var.storage_location = obj.extra.get("StorageLocation")
-            od.add_object(var)
+            if members:
+                od.add_object(_variable(members[0][1]))
             continue
-        entry.storage_location = obj.extra.get("StorageLocation")
-        for sub_index, sub in obj.subs.items():
-            entry.add_member(_variable(sub.name, index, sub_index, sub, node_id))
+        entry.storage_location = storage_location
+        for _, attrs in members:
+            entry.add_member(_variable(attrs))
         od.add_object(entry)
     return od
 
@@ -148,87 +139,21 @@ def _identity(info, identity):
 
 
 # The attributes a fresh ODVariable has, as this python-canopen sets them in __init__: a
-# variable is made by copying them and setting the file's, which takes a third of the time
-# __init__ does (it dominated the import). Containers (value_descriptions, bit_definitions, any
-# a later python-canopen adds) are made anew for each variable.
+# variable is made from a copy of them and the file's (a dict odc made, src/canopen.rs), not
+# through __init__ and one attribute at a time, which was most of the import's time.
+# Containers (value_descriptions, bit_definitions, any a later python-canopen adds) are made
+# anew for each variable.
 _FRESH = ODVariable("", 0, 0).__dict__
 _SCALARS = {k: v for k, v in _FRESH.items() if not isinstance(v, (dict, list, set))}
 _CONTAINERS = tuple((k, type(v)) for k, v in _FRESH.items() if isinstance(v, (dict, list, set)))
 _new = object.__new__
 
 
-def _value(v, data_type, node_id):
-    """A model value as python-canopen holds it."""
-    if v is None:
-        return None
-    if isinstance(v, (NodeIdPlus, Invalid)):
-        if isinstance(v, Invalid) or node_id is None:
-            return None
-        return v.resolve(node_id)
-    if data_type in _TIME_TYPES and isinstance(v, tuple):
-        ms, days = v
-        return ms | (days << 32)
-    return v
-
-
-def _variable(name, index, sub_index, sub, node_id):
-    data_type = sub.data_type
-    extra = sub.extra
-    low, high = sub.low_limit, sub.high_limit
+def _variable(attrs):
     d = dict(_SCALARS)
     for key, kind in _CONTAINERS:
         d[key] = kind()
-    d["name"] = name
-    d["index"] = index
-    d["subindex"] = sub_index
-    d["data_type"] = data_type
-    d["access_type"] = sub.access
-    d["pdo_mappable"] = sub.pdo_mapping
-    d["storage_location"] = extra.get("StorageLocation")
-    if low is not None:
-        d["min"] = _value(low, data_type, node_id)
-    if high is not None:
-        d["max"] = _value(high, data_type, node_id)
-    default = sub.default
-    if default is not None:
-        raw = sub.default_raw
-        d["default_raw"] = raw if raw is not None else _raw(default)
-        d["relative"] = isinstance(default, NodeIdPlus)
-        d["default"] = _value(default, data_type, node_id)
-    value = sub.parameter_value
-    if value is not None:
-        raw = sub.parameter_value_raw
-        d["value_raw"] = raw if raw is not None else _raw(value)
-        d["value"] = _value(value, data_type, node_id)
-    if extra:
-        factor = extra.get("Factor")
-        if factor is not None:
-            try:
-                d["factor"] = float(factor)
-            except ValueError:
-                pass
-        description = extra.get("Description")
-        if description is not None:
-            d["description"] = description
-        unit = extra.get("Unit")
-        if unit is not None:
-            d["unit"] = unit
+    d.update(attrs)
     var = _new(ODVariable)
     var.__dict__ = d
     return var
-
-
-def _raw(v):
-    """The text of a value the file implies without writing it (CompactSubObj members)."""
-    if isinstance(v, NodeIdPlus):
-        return f"$NODEID+0x{v.offset:X}"
-    if isinstance(v, Invalid):
-        return v.text
-    if isinstance(v, bytes):
-        return v.hex().upper()
-    if isinstance(v, bool):
-        return str(int(v))
-    if isinstance(v, int):
-        return f"0x{v:X}" if v >= 0 else str(v)
-    return str(v)
-

@@ -1,0 +1,160 @@
+//! What `odc.canopen.import_od` needs to make python-canopen's objects: per object its index,
+//! kind, name and storage location, and per variable the attributes python-canopen's
+//! `ODVariable` holds, as a dict the Python side puts in place as the variable's `__dict__`.
+//!
+//! Made here rather than from `odc.load`'s classes in Python: one dict per variable instead of a
+//! `SubObject`, then an `ODVariable`, attribute by attribute, which was most of the import's
+//! time (BENCHMARKS.md, "In Python").
+
+use std::path::PathBuf;
+
+use odc_model::{Sources, Spanned, Value};
+use odc_pipeline::Options;
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList, PyTuple};
+
+use crate::model;
+
+/// A value as python-canopen holds it: `$NODEID+n` resolved with the node-ID (`None` without
+/// one), a value that did not read `None`, TIME_OF_DAY and TIME_DIFFERENCE as the 48-bit integer
+/// of their wire form (milliseconds, then days above bit 32).
+fn value(py: Python<'_>, v: &Value, node_id: Option<i64>) -> PyResult<Py<PyAny>> {
+    match v {
+        Value::NodeIdPlus(n) => match node_id {
+            Some(id) => Ok(n.saturating_add(id).into_pyobject(py)?.into_any().unbind()),
+            None => Ok(py.None()),
+        },
+        Value::Invalid(_) => Ok(py.None()),
+        Value::Time { ms, days } => {
+            let wire = u64::from(*ms) | (u64::from(*days) << 32);
+            Ok(wire.into_pyobject(py)?.into_any().unbind())
+        }
+        other => model::value(py, other),
+    }
+}
+
+/// The text of a value the file implies without writing it (a `CompactSubObj` member's), as
+/// python-canopen would write it back.
+fn implied_raw(v: &Value) -> String {
+    match v {
+        Value::NodeIdPlus(n) => format!("$NODEID+0x{n:X}"),
+        Value::Invalid(t) | Value::Text(t) => t.to_string(),
+        Value::Bytes(b) => b.iter().map(|x| format!("{x:02X}")).collect(),
+        Value::Bool(b) => u8::from(*b).to_string(),
+        Value::Unsigned(u) => format!("0x{u:X}"),
+        Value::Signed(i) if *i >= 0 => format!("0x{i:X}"),
+        Value::Signed(i) => i.to_string(),
+        Value::Real32(bits) => format!("{:?}", f32::from_bits(*bits)),
+        Value::Real64(bits) => format!("{:?}", f64::from_bits(*bits)),
+        Value::Unicode(units) => String::from_utf16_lossy(units),
+        Value::Time { ms, days } => (u64::from(*ms) | (u64::from(*days) << 32)).to_string(),
+    }
+}
+
+/// The key's value among a section's uninterpreted keys (CiA 306 keys are case-insensitive).
+fn key<'e>(extra: &'e [odc_model::RawEntry], name: &str) -> Option<&'e str> {
+    extra.iter().rev().find(|e| e.key.eq_ignore_ascii_case(name)).map(|e| e.value.as_str())
+}
+
+/// The attributes of one `ODVariable`.
+#[allow(clippy::too_many_arguments)] // the parts of a variable, each from its own place
+fn variable<'py>(
+    py: Python<'py>,
+    name: &str,
+    index: u16,
+    s: &odc_model::SubObject,
+    extra: &[odc_model::RawEntry],
+    sources: &Sources,
+    node_id: Option<i64>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("name", name)?;
+    d.set_item("index", index)?;
+    d.set_item("subindex", s.sub_index)?;
+    d.set_item("data_type", s.data_type.code())?;
+    d.set_item("access_type", s.access.as_str())?;
+    d.set_item("pdo_mappable", s.pdo_mapping.is_mappable())?;
+    d.set_item("storage_location", key(extra, "StorageLocation"))?;
+    if let Some(low) = s.low_limit.as_deref() {
+        d.set_item("min", value(py, &low.value, node_id)?)?;
+    }
+    if let Some(high) = s.high_limit.as_deref() {
+        d.set_item("max", value(py, &high.value, node_id)?)?;
+    }
+    let put = |v: &Spanned<Value>, raw_key: &str, key: &str| -> PyResult<()> {
+        let raw = model::raw(sources, Some(v)).unwrap_or_else(|| implied_raw(&v.value));
+        d.set_item(raw_key, raw)?;
+        d.set_item(key, value(py, &v.value, node_id)?)
+    };
+    if let Some(default) = &s.default {
+        put(default, "default_raw", "default")?;
+        d.set_item("relative", default.value.is_node_relative())?;
+    }
+    if let Some(parameter) = &s.parameter_value {
+        put(parameter, "value_raw", "value")?;
+    }
+    if let Some(factor) = key(extra, "Factor").and_then(|f| f.trim().parse::<f64>().ok()) {
+        d.set_item("factor", factor)?;
+    }
+    if let Some(description) = key(extra, "Description") {
+        d.set_item("description", description)?;
+    }
+    if let Some(unit) = key(extra, "Unit") {
+        d.set_item("unit", unit)?;
+    }
+    Ok(d)
+}
+
+/// Reads and checks a device file for `odc.canopen`: `(device, objects, node_id)`, where
+/// `device` is an `odc.Device` without objects, `objects` a list of `(index, kind, name,
+/// storage_location, [(sub_index, attributes)])` and `node_id` the one values were resolved
+/// with (the argument, else a DCF's commissioning NodeID, else `None`).
+#[pyfunction]
+#[pyo3(signature = (path, *, node_id=None, allow=Vec::new(), warn=Vec::new(), deny=Vec::new(), strict=false, data=None))]
+pub fn load_canopen<'py>(
+    py: Python<'py>,
+    path: PathBuf,
+    node_id: Option<i64>,
+    allow: Vec<String>,
+    warn: Vec<String>,
+    deny: Vec<String>,
+    strict: bool,
+    data: Option<Vec<u8>>,
+) -> PyResult<Bound<'py, PyTuple>> {
+    let rules = crate::rules(allow, warn, deny, strict, None, None);
+    let mut base = Options::new();
+    base.source_hash = false;
+    let loaded = py.detach(|| crate::load_file(&path, data, &rules, base))?;
+    crate::gate(py, &loaded)?;
+    let dev = crate::one_device(&loaded)?;
+    let sources = &loaded.sources;
+    let node_id = node_id.or_else(|| {
+        dev.commissioning.as_ref().and_then(|c| c.node_id.as_ref()).map(|n| i64::from(n.value))
+    });
+    let objects = PyList::empty(py);
+    for (index, o) in &dev.objects {
+        let members = PyList::empty(py);
+        if o.kind.has_subs() {
+            for (sub_index, s) in o.subs.iter() {
+                let rare = s.rare();
+                let attrs = variable(py, &s.name, *index, s, &rare.extra, sources, node_id)?;
+                members.append((sub_index, attrs))?;
+            }
+        } else if let Some(s) = o.subs.get(&0) {
+            // A VAR's keys are in its object's section.
+            let attrs = variable(py, &o.name, *index, s, &o.extra, sources, node_id)?;
+            members.append((0u8, attrs))?;
+        }
+        let storage = key(&o.extra, "StorageLocation");
+        objects.append((*index, o.kind.name(), &o.name, storage, members))?;
+    }
+    let device = model::device(py, dev, sources, &loaded.diagnostics, false)?;
+    PyTuple::new(
+        py,
+        [
+            device.into_any(),
+            objects.into_any().unbind(),
+            node_id.into_pyobject(py)?.into_any().unbind(),
+        ],
+    )
+}
