@@ -10,6 +10,7 @@ use std::path::PathBuf;
 
 use odc_model::{Sources, Spanned, Value};
 use odc_pipeline::Options;
+use pyo3::intern;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList, PyTuple};
 
@@ -56,7 +57,7 @@ fn key<'e>(extra: &'e [odc_model::RawEntry], name: &str) -> Option<&'e str> {
     extra.iter().rev().find(|e| e.key.eq_ignore_ascii_case(name)).map(|e| e.value.as_str())
 }
 
-/// The attributes of one `ODVariable`.
+/// The attributes of one `ODVariable` (keys interned: made once, not once a variable).
 #[allow(clippy::too_many_arguments)] // the parts of a variable, each from its own place
 fn variable<'py>(
     py: Python<'py>,
@@ -66,41 +67,45 @@ fn variable<'py>(
     extra: &[odc_model::RawEntry],
     sources: &Sources,
     node_id: Option<i64>,
+    template: Option<&Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let d = PyDict::new(py);
-    d.set_item("name", name)?;
-    d.set_item("index", index)?;
-    d.set_item("subindex", s.sub_index)?;
-    d.set_item("data_type", s.data_type.code())?;
-    d.set_item("access_type", s.access.as_str())?;
-    d.set_item("pdo_mappable", s.pdo_mapping.is_mappable())?;
-    d.set_item("storage_location", key(extra, "StorageLocation"))?;
+    let d = match template {
+        Some(t) => t.copy()?,
+        None => PyDict::new(py),
+    };
+    d.set_item(intern!(py, "name"), name)?;
+    d.set_item(intern!(py, "index"), index)?;
+    d.set_item(intern!(py, "subindex"), s.sub_index)?;
+    d.set_item(intern!(py, "data_type"), s.data_type.code())?;
+    d.set_item(intern!(py, "access_type"), s.access.as_str())?;
+    d.set_item(intern!(py, "pdo_mappable"), s.pdo_mapping.is_mappable())?;
+    d.set_item(intern!(py, "storage_location"), key(extra, "StorageLocation"))?;
     if let Some(low) = s.low_limit.as_deref() {
-        d.set_item("min", value(py, &low.value, node_id)?)?;
+        d.set_item(intern!(py, "min"), value(py, &low.value, node_id)?)?;
     }
     if let Some(high) = s.high_limit.as_deref() {
-        d.set_item("max", value(py, &high.value, node_id)?)?;
+        d.set_item(intern!(py, "max"), value(py, &high.value, node_id)?)?;
     }
-    let put = |v: &Spanned<Value>, raw_key: &str, key: &str| -> PyResult<()> {
+    let put = |v: &Spanned<Value>, raw_key, key| -> PyResult<()> {
         let raw = model::raw(sources, Some(v)).unwrap_or_else(|| implied_raw(&v.value));
         d.set_item(raw_key, raw)?;
         d.set_item(key, value(py, &v.value, node_id)?)
     };
     if let Some(default) = &s.default {
-        put(default, "default_raw", "default")?;
-        d.set_item("relative", default.value.is_node_relative())?;
+        put(default, intern!(py, "default_raw"), intern!(py, "default"))?;
+        d.set_item(intern!(py, "relative"), default.value.is_node_relative())?;
     }
     if let Some(parameter) = &s.parameter_value {
-        put(parameter, "value_raw", "value")?;
+        put(parameter, intern!(py, "value_raw"), intern!(py, "value"))?;
     }
     if let Some(factor) = key(extra, "Factor").and_then(|f| f.trim().parse::<f64>().ok()) {
-        d.set_item("factor", factor)?;
+        d.set_item(intern!(py, "factor"), factor)?;
     }
     if let Some(description) = key(extra, "Description") {
-        d.set_item("description", description)?;
+        d.set_item(intern!(py, "description"), description)?;
     }
     if let Some(unit) = key(extra, "Unit") {
-        d.set_item("unit", unit)?;
+        d.set_item(intern!(py, "unit"), unit)?;
     }
     Ok(d)
 }
@@ -108,9 +113,10 @@ fn variable<'py>(
 /// Reads and checks a device file for `odc.canopen`: `(device, objects, node_id)`, where
 /// `device` is an `odc.Device` without objects, `objects` a list of `(index, kind, name,
 /// storage_location, [(sub_index, attributes)])` and `node_id` the one values were resolved
-/// with (the argument, else a DCF's commissioning NodeID, else `None`).
+/// with (the argument, else a DCF's commissioning NodeID, else `None`). Each attribute dict
+/// starts as a copy of `template` (a fresh `ODVariable`'s attributes).
 #[pyfunction]
-#[pyo3(signature = (path, *, node_id=None, allow=Vec::new(), warn=Vec::new(), deny=Vec::new(), strict=false, data=None))]
+#[pyo3(signature = (path, *, node_id=None, allow=Vec::new(), warn=Vec::new(), deny=Vec::new(), strict=false, data=None, template=None))]
 pub fn load_canopen<'py>(
     py: Python<'py>,
     path: PathBuf,
@@ -120,6 +126,7 @@ pub fn load_canopen<'py>(
     deny: Vec<String>,
     strict: bool,
     data: Option<Vec<u8>>,
+    template: Option<Bound<'py, PyDict>>,
 ) -> PyResult<Bound<'py, PyTuple>> {
     let rules = crate::rules(allow, warn, deny, strict, None, None);
     let mut base = Options::new();
@@ -137,12 +144,22 @@ pub fn load_canopen<'py>(
         if o.kind.has_subs() {
             for (sub_index, s) in o.subs.iter() {
                 let rare = s.rare();
-                let attrs = variable(py, &s.name, *index, s, &rare.extra, sources, node_id)?;
+                let attrs = variable(
+                    py,
+                    &s.name,
+                    *index,
+                    s,
+                    &rare.extra,
+                    sources,
+                    node_id,
+                    template.as_ref(),
+                )?;
                 members.append((sub_index, attrs))?;
             }
         } else if let Some(s) = o.subs.get(&0) {
             // A VAR's keys are in its object's section.
-            let attrs = variable(py, &o.name, *index, s, &o.extra, sources, node_id)?;
+            let attrs =
+                variable(py, &o.name, *index, s, &o.extra, sources, node_id, template.as_ref())?;
             members.append((0u8, attrs))?;
         }
         let storage = key(&o.extra, "StorageLocation");

@@ -76,7 +76,8 @@ def import_od(source, node_id=None, *, allow=(), warn=(), deny=(), strict=False)
     named = set(allow) | set(deny)
     warn = [code for code in _NOT_GATING + _WARN_ONLY if code not in named] + list(warn)
     device, objects, node_id = load_canopen(name, node_id=node_id, allow=list(allow), warn=warn,
-                                            deny=list(deny), strict=strict, data=data)
+                                            deny=list(deny), strict=strict, data=data,
+                                            template=_SCALARS)
     for d in device.diagnostics:
         # Logged as python-canopen logs what it skips in a file: a problem reading the file
         # (front-end codes, F…) as a warning; what the CiA rules say of its content as info.
@@ -150,10 +151,9 @@ _new = object.__new__
 
 
 def _variable(attrs):
-    d = dict(_SCALARS)
+    """An ODVariable with `attrs` (a copy of _SCALARS with the file's values) as attributes."""
     for key, kind in _CONTAINERS:
-        d[key] = kind()
-    d.update(attrs)
+        attrs[key] = kind()
     var = _new(ODVariable)
-    var.__dict__ = d
+    var.__dict__ = attrs
     return var
