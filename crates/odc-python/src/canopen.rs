@@ -57,6 +57,28 @@ fn key<'e>(extra: &'e [odc_model::RawEntry], name: &str) -> Option<&'e str> {
     extra.iter().rev().find(|e| e.key.eq_ignore_ascii_case(name)).map(|e| e.value.as_str())
 }
 
+/// How a python-canopen `ODVariable` is made without its `__init__`: `object.__new__(cls)`,
+/// then as `__dict__` a copy of `template` (a fresh variable's scalar attributes) with a new
+/// empty container for each of `containers` (`value_descriptions`, `bit_definitions`, …) and
+/// the file's values.
+struct Maker<'py> {
+    template: Bound<'py, PyDict>,
+    containers: Vec<(Bound<'py, PyAny>, Bound<'py, PyAny>)>,
+    cls: Bound<'py, PyAny>,
+    new: Bound<'py, PyAny>,
+}
+
+impl<'py> Maker<'py> {
+    fn make(&self, attrs: Bound<'py, PyDict>) -> PyResult<Bound<'py, PyAny>> {
+        for (key, kind) in &self.containers {
+            attrs.set_item(key, kind.call0()?)?;
+        }
+        let var = self.new.call1((&self.cls,))?;
+        var.setattr(intern!(attrs.py(), "__dict__"), attrs)?;
+        Ok(var)
+    }
+}
+
 /// The attributes of one `ODVariable` (keys interned: made once, not once a variable).
 #[allow(clippy::too_many_arguments)] // the parts of a variable, each from its own place
 fn variable<'py>(
@@ -67,12 +89,9 @@ fn variable<'py>(
     extra: &[odc_model::RawEntry],
     sources: &Sources,
     node_id: Option<i64>,
-    template: Option<&Bound<'py, PyDict>>,
+    template: &Bound<'py, PyDict>,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let d = match template {
-        Some(t) => t.copy()?,
-        None => PyDict::new(py),
-    };
+    let d = template.copy()?;
     d.set_item(intern!(py, "name"), name)?;
     d.set_item(intern!(py, "index"), index)?;
     d.set_item(intern!(py, "subindex"), s.sub_index)?;
@@ -112,11 +131,12 @@ fn variable<'py>(
 
 /// Reads and checks a device file for `odc.canopen`: `(device, objects, node_id)`, where
 /// `device` is an `odc.Device` without objects, `objects` a list of `(index, kind, name,
-/// storage_location, [(sub_index, attributes)])` and `node_id` the one values were resolved
-/// with (the argument, else a DCF's commissioning NodeID, else `None`). Each attribute dict
-/// starts as a copy of `template` (a fresh `ODVariable`'s attributes).
+/// storage_location, [variable])` and `node_id` the one values were resolved with (the
+/// argument, else a DCF's commissioning NodeID, else `None`). The variables are `cls`
+/// (python-canopen's `ODVariable`) made by `new` (`object.__new__`) with a copy of `template`
+/// and new `containers` (`(name, type)` pairs) as their attributes, then the file's.
 #[pyfunction]
-#[pyo3(signature = (path, *, node_id=None, allow=Vec::new(), warn=Vec::new(), deny=Vec::new(), strict=false, data=None, template=None))]
+#[pyo3(signature = (path, *, node_id=None, allow=Vec::new(), warn=Vec::new(), deny=Vec::new(), strict=false, data=None, template, containers, cls, new))]
 pub fn load_canopen<'py>(
     py: Python<'py>,
     path: PathBuf,
@@ -126,8 +146,12 @@ pub fn load_canopen<'py>(
     deny: Vec<String>,
     strict: bool,
     data: Option<Vec<u8>>,
-    template: Option<Bound<'py, PyDict>>,
+    template: Bound<'py, PyDict>,
+    containers: Vec<(Bound<'py, PyAny>, Bound<'py, PyAny>)>,
+    cls: Bound<'py, PyAny>,
+    new: Bound<'py, PyAny>,
 ) -> PyResult<Bound<'py, PyTuple>> {
+    let maker = Maker { template, containers, cls, new };
     let rules = crate::rules(allow, warn, deny, strict, None, None);
     let mut base = Options::new();
     base.source_hash = false;
@@ -142,7 +166,7 @@ pub fn load_canopen<'py>(
     for (index, o) in &dev.objects {
         let members = PyList::empty(py);
         if o.kind.has_subs() {
-            for (sub_index, s) in o.subs.iter() {
+            for (_, s) in o.subs.iter() {
                 let rare = s.rare();
                 let attrs = variable(
                     py,
@@ -152,15 +176,15 @@ pub fn load_canopen<'py>(
                     &rare.extra,
                     sources,
                     node_id,
-                    template.as_ref(),
+                    &maker.template,
                 )?;
-                members.append((sub_index, attrs))?;
+                members.append(maker.make(attrs)?)?;
             }
         } else if let Some(s) = o.subs.get(&0) {
             // A VAR's keys are in its object's section.
             let attrs =
-                variable(py, &o.name, *index, s, &o.extra, sources, node_id, template.as_ref())?;
-            members.append((0u8, attrs))?;
+                variable(py, &o.name, *index, s, &o.extra, sources, node_id, &maker.template)?;
+            members.append(maker.make(attrs)?)?;
         }
         let storage = key(&o.extra, "StorageLocation");
         objects.append((*index, o.kind.name(), &o.name, storage, members))?;

@@ -77,7 +77,8 @@ def import_od(source, node_id=None, *, allow=(), warn=(), deny=(), strict=False)
     warn = [code for code in _NOT_GATING + _WARN_ONLY if code not in named] + list(warn)
     device, objects, node_id = load_canopen(name, node_id=node_id, allow=list(allow), warn=warn,
                                             deny=list(deny), strict=strict, data=data,
-                                            template=_SCALARS)
+                                            template=_SCALARS, containers=_CONTAINERS,
+                                            cls=ODVariable, new=object.__new__)
     for d in device.diagnostics:
         # Logged as python-canopen logs what it skips in a file: a problem reading the file
         # (front-end codes, F…) as a warning; what the CiA rules say of its content as info.
@@ -112,11 +113,11 @@ def _build(device, objects, node_id):
             entry = ODRecord(name, index)
         else:
             if members:
-                od.add_object(_variable(members[0][1]))
+                od.add_object(members[0])
             continue
         entry.storage_location = storage_location
-        for _, attrs in members:
-            entry.add_member(_variable(attrs))
+        for var in members:
+            entry.add_member(var)
         od.add_object(entry)
     return od
 
@@ -147,13 +148,3 @@ def _identity(info, identity):
 _FRESH = ODVariable("", 0, 0).__dict__
 _SCALARS = {k: v for k, v in _FRESH.items() if not isinstance(v, (dict, list, set))}
 _CONTAINERS = tuple((k, type(v)) for k, v in _FRESH.items() if isinstance(v, (dict, list, set)))
-_new = object.__new__
-
-
-def _variable(attrs):
-    """An ODVariable with `attrs` (a copy of _SCALARS with the file's values) as attributes."""
-    for key, kind in _CONTAINERS:
-        attrs[key] = kind()
-    var = _new(ODVariable)
-    var.__dict__ = attrs
-    return var
