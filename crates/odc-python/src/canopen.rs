@@ -1,10 +1,10 @@
 //! What `odc.canopen.import_od` needs to make python-canopen's objects: per object its index,
-//! kind, name and storage location, and per variable the attributes python-canopen's
-//! `ODVariable` holds, as a dict the Python side puts in place as the variable's `__dict__`.
+//! kind, name and storage location, and its python-canopen `ODVariable`s, made here with the
+//! attributes python-canopen's importer gives them.
 //!
-//! Made here rather than from `odc.load`'s classes in Python: one dict per variable instead of a
-//! `SubObject`, then an `ODVariable`, attribute by attribute, which was most of the import's
-//! time (BENCHMARKS.md, "In Python").
+//! Made here rather than from `odc.load`'s classes in Python: a `SubObject` and then an
+//! `ODVariable` set attribute by attribute in Python was most of the import's time
+//! (BENCHMARKS.md, "In Python").
 
 use std::path::PathBuf;
 
@@ -38,6 +38,7 @@ fn value(py: Python<'_>, v: &Value, node_id: Option<i64>) -> PyResult<Py<PyAny>>
 /// python-canopen would write it back.
 fn implied_raw(v: &Value) -> String {
     match v {
+        Value::NodeIdPlus(n) if *n < 0 => format!("$NODEID-0x{:X}", n.unsigned_abs()),
         Value::NodeIdPlus(n) => format!("$NODEID+0x{n:X}"),
         Value::Invalid(t) | Value::Text(t) => t.to_string(),
         Value::Bytes(b) => b.iter().map(|x| format!("{x:02X}")).collect(),
@@ -52,7 +53,8 @@ fn implied_raw(v: &Value) -> String {
     }
 }
 
-/// The key's value among a section's uninterpreted keys (CiA 306 keys are case-insensitive).
+/// The key's value among a section's uninterpreted keys, its last if repeated (keys read
+/// case-insensitively, odc's policy).
 fn key<'e>(extra: &'e [odc_model::RawEntry], name: &str) -> Option<&'e str> {
     extra.iter().rev().find(|e| e.key.eq_ignore_ascii_case(name)).map(|e| e.value.as_str())
 }

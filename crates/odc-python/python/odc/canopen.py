@@ -10,7 +10,7 @@ swaps one import::
 
 The objects come from odc's model, which reads every corpus file python-canopen reads and more
 (duplicate keys and sections, octal and hex-REAL literals, XDD/XDC files); where the two read a
-file differently, odc follows CiA 306 (tests/interop/README.md lists each class). What odc has
+file differently, tests/interop/README.md gives each class and why odc reads it so. What odc has
 to say about the file is in ``od.odc_diagnostics`` (dicts, as :func:`odc.check` gives them).
 
 Values as python-canopen has them: ``default`` and ``value`` resolved with ``node_id`` when the
