@@ -87,3 +87,17 @@ def test_remote_node_takes_the_dictionary(eds):
     node = canopen.RemoteNode(5, od)
     assert node.sdo[0x2000].od is od[0x2000]
     assert node.sdo[0x2000].od.encode_raw(-1) == b"\xff\xff"
+
+
+def test_xdd_reads_as_its_eds(eds, tmp_path):
+    # python-canopen reads no XDD; odc's importer gives the same dictionary for the same device.
+    xdd = tmp_path / "t.xdd"
+    xdd.write_text(odc.convert(eds, "xdd"))
+    a, b = odc.canopen.import_od(eds, node_id=5), odc.canopen.import_od(str(xdd), node_id=5)
+    assert sorted(a.indices) == sorted(b.indices)
+    for index in (0x1400, 0x2000, 0x2001):
+        va = a[index][1] if index == 0x1400 else a[index]
+        vb = b[index][1] if index == 0x1400 else b[index]
+        for attr in ("name", "data_type", "access_type", "default", "min", "max", "relative"):
+            assert getattr(va, attr) == getattr(vb, attr), (hex(index), attr)
+    assert b[0x1400][1].default == 0x205
