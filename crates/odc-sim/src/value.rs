@@ -19,6 +19,10 @@ pub trait Slot: Send + Sync {
     fn len(&self) -> usize;
     /// The CiA 301 data type.
     fn data_type(&self) -> DataType;
+    /// A DOMAIN's initial data (the file's default), kept apart from the fixed-size values.
+    fn domain_default(&self) -> Option<&[u8]> {
+        None
+    }
 }
 
 /// A model value as a value of a runtime type, by the generator's rules.
@@ -320,7 +324,9 @@ pub fn slot(sub: &SubObject, ty: RustTy) -> Box<dyn Slot> {
             };
             Box::new(Unicode { cap, default })
         }
-        RustTy::Domain => Box::new(DomainSlot),
+        RustTy::Domain => Box::new(DomainSlot {
+            default: default.and_then(|v| odc_model::wire::encode(v, odc_model::DataType::Domain)),
+        }),
         RustTy::Bytes(len) => {
             let limit = |v: Option<&odc_model::Spanned<Value>>| octet_value(&v?.value, len);
             Box::new(Octets {
@@ -372,8 +378,11 @@ impl Slot for Unicode {
     }
 }
 
-/// DOMAIN: any bytes; the dictionary keeps them apart from the fixed-size values.
-struct DomainSlot;
+/// DOMAIN: any bytes; the dictionary keeps them apart from the fixed-size values, the file's
+/// default (CiA 306 hex bytes) as the data after a reset.
+struct DomainSlot {
+    default: Option<Vec<u8>>,
+}
 
 impl Slot for DomainSlot {
     fn check(&self, _: &[u8]) -> Result<(), SdoAbort> {
@@ -388,6 +397,10 @@ impl Slot for DomainSlot {
 
     fn data_type(&self) -> DataType {
         DataType::Domain
+    }
+
+    fn domain_default(&self) -> Option<&[u8]> {
+        self.default.as_deref()
     }
 }
 
