@@ -131,6 +131,18 @@ where
                     ));
                 }
             }
+            // The consumer entry (node << 16 | 100 ms) within the file's limits of 0x1016:01.
+            let entry = u32::from(heartbeat_producer(s.node.get())) << 16 | 100;
+            let high = s
+                .sub(0x1016, 1)
+                .and_then(|so| so.high_limit.as_ref())
+                .and_then(|l| l.value.as_i128(s.node.get()));
+            if high.is_some_and(|h| i128::from(entry) > h) {
+                return Outcome::na(format!(
+                    "the file's HighLimit of 0x1016:01 refuses the consumer entry 0x{entry:08X} \
+                     (node-ID in bits 16-23, CiA 301 7.5.2.33): no heartbeat to lose"
+                ));
+            }
             let old: Vec<_> = [(0x6007u16, 0u8), (0x1016, 1), (0x6040, 0)]
                 .into_iter()
                 .filter_map(|(i, sub)| Some((i, sub, s.read(i, sub).ok()?)))
