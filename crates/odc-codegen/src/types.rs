@@ -180,10 +180,11 @@ fn value_expr(this: RustTy, value: &Value, rt: &TokenStream) -> Option<ValueExpr
             ValueExpr::Plain(quote!(f64::from_bits(#lit)))
         }
         (RustTy::Text(n), Value::Text(s)) => {
-            if s.len() > n || !s.bytes().all(|b| (0x20..=0x7E).contains(&b)) {
+            // As `VisibleString::from_default`: the file's text kept, tabs and UTF-8 too.
+            if s.len() > n || s.bytes().any(|b| b == 0) {
                 return None;
             }
-            ValueExpr::Checked(quote!(#ty::new(#s)))
+            ValueExpr::Checked(quote!(#ty::from_default(#s)))
         }
         (RustTy::Bytes(n), Value::Bytes(b)) => {
             if b.len() != n {

@@ -65,7 +65,7 @@ where
             const SO: &[&str] = &["switched on"];
             const OE: &[&str] = &["operation enabled"];
             // Every transition the controlword makes (CiA 402-2 Table 31), 2 to 12; 13 and 14
-            // are the drive's own (a fault), 15 only from a fault.
+            // are the drive's own (a fault) and 15 leaves it: cia402.fault; 16: quick-stop.
             let steps: [(&str, u16, &[&str]); 24] = [
                 ("15 fault reset", 0x80, &["switch on disabled", "not ready to switch on"]),
                 ("disable voltage", 0x00, SOD),
@@ -112,6 +112,87 @@ where
                 let _ = s.write(0x6040, 0, &old);
             }
             outcome.unwrap_or_else(|| Outcome::pass(seen.join(", ")))
+        },
+    );
+    s.check(
+        "cia402.fault",
+        Group::Cia402,
+        "CiA 402-2 6.2.1 (Table 31: 13, 14, 15), 6.5.1 (0x6007); CiA 301 7.5.2.33 (0x1016)",
+        "with 0x6007 = 1, a heartbeat the drive consumes that stops is a fault (13, 14 from \
+         operation enabled to fault); a fault reset takes it to switch on disabled (15)",
+        |s| {
+            if !drive {
+                return Outcome::na("not a CiA 402 drive (0x1000, 0x6040/0x6041)");
+            }
+            for (i, sub) in [(0x6007, 0), (0x1016, 1), (0x6040, 0)] {
+                if !s.sub(i, sub).is_some_and(|so| so.access.writable()) {
+                    return Outcome::na(format!(
+                        "no writable 0x{i:04X}:{sub:02X} in the file: no fault to provoke"
+                    ));
+                }
+            }
+            // The consumer entry (node << 16 | 100 ms) within the file's limits of 0x1016:01.
+            let entry = u32::from(heartbeat_producer(s.node.get())) << 16 | 100;
+            let high = s
+                .sub(0x1016, 1)
+                .and_then(|so| so.high_limit.as_ref())
+                .and_then(|l| l.value.as_i128(s.node.get()));
+            if high.is_some_and(|h| i128::from(entry) > h) {
+                return Outcome::na(format!(
+                    "the file's HighLimit of 0x1016:01 refuses the consumer entry 0x{entry:08X} \
+                     (node-ID in bits 16-23, CiA 301 7.5.2.33): no heartbeat to lose"
+                ));
+            }
+            let old: Vec<_> = [(0x6007u16, 0u8), (0x1016, 1), (0x6040, 0)]
+                .into_iter()
+                .filter_map(|(i, sub)| Some((i, sub, s.read(i, sub).ok()?)))
+                .collect();
+            let outcome = fault_path(s);
+            let _ = s.write(0x6040, 0, &[0, 0]);
+            for (i, sub, v) in old {
+                let _ = s.write(i, sub, &v);
+            }
+            outcome
+        },
+    );
+    s.check(
+        "cia402.quick-stop",
+        Group::Cia402,
+        "CiA 402-2 6.2.1 (Table 31: 11, 16), 6.5.2 (0x605A)",
+        "with quick stop option code 6 the drive stays in quick stop active after a quick \
+         stop, and enable operation takes it back to operation enabled (16)",
+        |s| {
+            if !drive {
+                return Outcome::na("not a CiA 402 drive (0x1000, 0x6040/0x6041)");
+            }
+            for i in [0x605A, 0x6040] {
+                if !s.sub(i, 0).is_some_and(|so| so.access.writable()) {
+                    return Outcome::na(format!("no writable 0x{i:04X} in the file"));
+                }
+            }
+            let (Ok(old_option), Ok(old_cw)) = (s.read(0x605A, 0), s.read(0x6040, 0)) else {
+                return Outcome::fail("0x605A or 0x6040 does not read");
+            };
+            if let Err(e) = s.write(0x605A, 0, &6i16.to_le_bytes()) {
+                // CiA 402 leaves the supported codes to the device: 6 may be refused.
+                return match e {
+                    SdoFail::Abort(c) => Outcome::na(format!("0x605A = 6 refused (0x{c:08X})")),
+                    e => Outcome::fail(format!("0x605A = 6: {e}")),
+                };
+            }
+            let steps: [(&str, u16, &[&str]); 6] = [
+                ("disable voltage", 0x00, &["switch on disabled"]),
+                ("2 shutdown", 0x06, &["ready to switch on"]),
+                ("3 switch on", 0x07, &["switched on"]),
+                ("4 enable operation", 0x0F, &["operation enabled"]),
+                ("11 quick stop", 0x02, &["quick stop active"]),
+                ("16 enable operation", 0x0F, &["operation enabled"]),
+            ];
+            let outcome = walk(s, &steps);
+            let _ = s.write(0x6040, 0, &[0, 0]);
+            let _ = s.write(0x605A, 0, &old_option);
+            let _ = s.write(0x6040, 0, &old_cw);
+            outcome
         },
     );
     s.check(
@@ -169,4 +250,70 @@ where
             }
         },
     );
+}
+
+/// Each step's controlword, then the statusword until it shows one of the step's states.
+fn walk<B: Bus>(s: &mut Session<'_, B>, steps: &[(&str, u16, &[&str])]) -> Outcome
+where
+    B::Error: Display,
+{
+    let mut seen = Vec::new();
+    for &(what, cw, want) in steps {
+        if let Err(e) = s.write(0x6040, 0, &cw.to_le_bytes()) {
+            return Outcome::fail(format!("{what} (0x{cw:04X}): {e}"));
+        }
+        match wait_state(s, want) {
+            Ok(sw) => seen.push(format!("{what}: 0x{sw:04X}")),
+            Err(e) => return Outcome::fail(format!("{what} (0x{cw:04X}): {e}")),
+        }
+    }
+    Outcome::pass(seen.join(", "))
+}
+
+/// The node-ID whose heartbeat the drive is told to consume: one that is not the device's.
+fn heartbeat_producer(node: u8) -> u8 {
+    if node == 0x7E { 0x7D } else { 0x7E }
+}
+
+/// Operation enabled, 0x6007 = 1, a consumed heartbeat (100 ms) that comes once and stops:
+/// the drive must reach "fault" (13, 14), stay there, and leave it by a fault reset (15).
+fn fault_path<B: Bus>(s: &mut Session<'_, B>) -> Outcome
+where
+    B::Error: Display,
+{
+    let enable: [(&str, u16, &[&str]); 4] = [
+        ("disable voltage", 0x00, &["switch on disabled"]),
+        ("2 shutdown", 0x06, &["ready to switch on"]),
+        ("3 switch on", 0x07, &["switched on"]),
+        ("4 enable operation", 0x0F, &["operation enabled"]),
+    ];
+    if let o @ Outcome::Fail { .. } = walk(s, &enable) {
+        return o;
+    }
+    let producer = heartbeat_producer(s.node.get());
+    let entry = u32::from(producer) << 16 | 100;
+    for (i, sub, v) in
+        [(0x6007u16, 0u8, 1i16.to_le_bytes().to_vec()), (0x1016, 1, entry.to_le_bytes().to_vec())]
+    {
+        if let Err(e) = s.write(i, sub, &v) {
+            return Outcome::fail(format!("0x{i:04X}:{sub:02X}: {e}"));
+        }
+    }
+    // One heartbeat (pre-operational) starts the watch; none after it.
+    if let Err(e) = s.send(0x700 + u32::from(producer), &[0x7F]) {
+        return Outcome::fail(e);
+    }
+    s.listen(400);
+    let faulted = match wait_state(s, &["fault"]) {
+        Ok(sw) => format!("13, 14: 0x{sw:04X} 400 ms after the last heartbeat of node {producer}"),
+        Err(e) => return Outcome::fail(format!("heartbeat of node {producer} lost: {e}")),
+    };
+    // The consumer stops watching; a fault reset is a rising edge of bit 7.
+    let _ = s.write(0x1016, 1, &0u32.to_le_bytes());
+    let reset: [(&str, u16, &[&str]); 2] =
+        [("disable voltage", 0x00, &["fault"]), ("15 fault reset", 0x80, &["switch on disabled"])];
+    match walk(s, &reset) {
+        Outcome::Pass { detail } => Outcome::pass(format!("{faulted}, {detail}")),
+        o => o,
+    }
 }

@@ -264,11 +264,14 @@ where
         {
             let Some(bytes) = limit.and_then(|l| int_bytes(so, l + step)) else { continue };
             checked += 1;
-            // A PDO mapping's count past its limit may also be "too long" (CiA 301 7.5.2.36).
+            // A PDO mapping's count past its limit may also be "too long", and a valid PDO's
+            // mapping is locked before its value is looked at (0x06010000; CiA 301 7.5.2.36).
             let mapping = matches!(index, 0x1600..=0x17FF | 0x1A00..=0x1BFF) && *sub == 0;
             match s.write(*index, *sub, &bytes) {
                 Err(SdoFail::Abort(c))
-                    if c == want || c == 0x0609_0030 || (mapping && c == 0x0604_0042) => {}
+                    if c == want
+                        || c == 0x0609_0030
+                        || (mapping && matches!(c, 0x0604_0042 | 0x0601_0000)) => {}
                 Err(e) => problems.push(format!("{} {what}: {e}", name(*index, *sub))),
                 Ok(()) => {
                     problems.push(format!("{} {what}: accepted", name(*index, *sub)));

@@ -182,8 +182,17 @@ where
         "a write of the mapping count while the PDO is valid (COB-ID bit 31 clear) is refused",
         |s| {
             let Some(t) = &tpdo else { return Outcome::na(none) };
-            if t.cob & 0x8000_0000 != 0 {
-                return Outcome::na(format!("0x{:04X}:01 is not valid on the device", t.comm));
+            // Read again: the restore of pdo.mapping-rules fails where the device refuses the
+            // COB-ID it had (a file's COB-ID 0, NMT's CAN-ID), leaving the PDO invalid.
+            let cob = match s.read_u32(t.comm, 1) {
+                Ok(c) => c,
+                Err(e) => return Outcome::fail(format!("0x{:04X}:01: {e}", t.comm)),
+            };
+            if cob & 0x8000_0000 != 0 {
+                return Outcome::na(format!(
+                    "0x{:04X}:01 is not valid on the device (0x{cob:08X})",
+                    t.comm
+                ));
             }
             match s.write(t.map, 0, &[t.count]) {
                 Err(SdoFail::Abort(c)) => Outcome::pass(format!("refused with 0x{c:08X}")),

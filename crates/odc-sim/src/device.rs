@@ -140,6 +140,20 @@ impl SimDevice {
             self.node.start(&mut self.od, odc::time::Instant::from_millis(now_ms), out);
         }
         if let Some(drive) = &mut self.drive {
+            if events.sdo_written || events.rpdo != 0 {
+                // The quick stop option code (0x605A) as the dictionary holds it now: a
+                // master may change it at any time (CiA 402-2 6.5.2).
+                let option = self.od.get::<i16>(0x605A, 0).unwrap_or(2);
+                *drive = drive.with_control(drive.control().with_quick_stop_option(option));
+            }
+            // A lost heartbeat (0x1016) or life guarding: the abort connection option code
+            // (0x6007, CiA 402-2 6.5.1) 1 is a fault (transitions 13, then 14 at the next
+            // step). Codes 2 and 3 (disable voltage, quick stop) are not simulated.
+            if (events.heartbeat_lost != 0 || events.life_guarding_lost)
+                && self.od.get::<i16>(0x6007, 0) == Ok(1)
+            {
+                drive.fault(&mut self.od);
+            }
             drive.update(&mut self.od);
         }
     }

@@ -119,6 +119,9 @@ impl ModelDictionary {
     fn reset_where(&mut self, node_id: Option<NodeId>, which: impl Fn(u16) -> bool) {
         self.domains.retain(|addr, _| !which(addr.index));
         for row in self.rows.iter().filter(|r| which(r.addr.index)) {
+            if let Some(d) = row.slot.domain_default() {
+                self.domains.insert(row.addr, d.to_vec());
+            }
             if let Some(stored) = self.values.get_mut(row.at..row.at + row.slot.len()) {
                 stored.fill(0);
                 row.slot.init(stored, node_id);

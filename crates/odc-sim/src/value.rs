@@ -19,6 +19,10 @@ pub trait Slot: Send + Sync {
     fn len(&self) -> usize;
     /// The CiA 301 data type.
     fn data_type(&self) -> DataType;
+    /// A DOMAIN's initial data (the file's default), kept apart from the fixed-size values.
+    fn domain_default(&self) -> Option<&[u8]> {
+        None
+    }
 }
 
 /// A model value as a value of a runtime type, by the generator's rules.
@@ -178,10 +182,11 @@ struct Text {
     high: Option<Vec<u8>>,
 }
 
-/// `s` as a value of `VisibleString<cap>` (at most `cap` bytes of visible ASCII), padded.
+/// `s` as a value of `VisibleString<cap>`, padded: at most `cap` bytes without NUL, the file's
+/// text kept as `VisibleString::from_default` keeps it (tabs and UTF-8 too).
 fn text_value(v: &Value, cap: usize) -> Option<Vec<u8>> {
     match v {
-        Value::Text(s) if s.len() <= cap && s.bytes().all(|b| (0x20..=0x7E).contains(&b)) => {
+        Value::Text(s) if s.len() <= cap && !s.bytes().any(|b| b == 0) => {
             let mut padded = s.as_bytes().to_vec();
             padded.resize(cap, 0);
             Some(padded)
@@ -319,7 +324,9 @@ pub fn slot(sub: &SubObject, ty: RustTy) -> Box<dyn Slot> {
             };
             Box::new(Unicode { cap, default })
         }
-        RustTy::Domain => Box::new(DomainSlot),
+        RustTy::Domain => Box::new(DomainSlot {
+            default: default.and_then(|v| odc_model::wire::encode(v, odc_model::DataType::Domain)),
+        }),
         RustTy::Bytes(len) => {
             let limit = |v: Option<&odc_model::Spanned<Value>>| octet_value(&v?.value, len);
             Box::new(Octets {
@@ -371,8 +378,11 @@ impl Slot for Unicode {
     }
 }
 
-/// DOMAIN: any bytes; the dictionary keeps them apart from the fixed-size values.
-struct DomainSlot;
+/// DOMAIN: any bytes; the dictionary keeps them apart from the fixed-size values, the file's
+/// default (CiA 306 hex bytes) as the data after a reset.
+struct DomainSlot {
+    default: Option<Vec<u8>>,
+}
 
 impl Slot for DomainSlot {
     fn check(&self, _: &[u8]) -> Result<(), SdoAbort> {
@@ -388,6 +398,10 @@ impl Slot for DomainSlot {
     fn data_type(&self) -> DataType {
         DataType::Domain
     }
+
+    fn domain_default(&self) -> Option<&[u8]> {
+        self.default.as_deref()
+    }
 }
 
 #[cfg(test)]
@@ -398,6 +412,29 @@ mod tests {
 
     fn spanned(v: Value) -> Option<Box<Spanned<Value>>> {
         Some(Box::new(Spanned::new(v, Span::DUMMY)))
+    }
+
+    /// A VISIBLE_STRING default with a tab and '€' (as canopensocket's basicDevice.eds
+    /// 0x2120:07 has) is the dictionary's value after reset, byte for byte, as
+    /// `VisibleString::from_default` keeps it in generated code; a master's write of the same
+    /// text is refused, as `VisibleString::decode` refuses it.
+    #[test]
+    fn a_string_default_with_a_tab_and_utf8_is_kept() {
+        let text = "tab '\t', euro '\u{20AC}'";
+        let mut sub = SubObject::new(0, "String", DataType::VisibleString, Access::Rw);
+        sub.default = Some(Spanned::new(Value::Text(text.into()), Span::DUMMY));
+        let ours = slot(&sub, RustTy::Text(32));
+        let mut stored = [0u8; 32];
+        ours.init(&mut stored, None);
+        assert_eq!(&stored[..text.len()], text.as_bytes());
+        assert!(stored[text.len()..].iter().all(|&b| b == 0));
+        let theirs = odc::VisibleString::<32>::from_default(text).unwrap();
+        let mut buf = [0u8; 32];
+        assert_eq!(theirs.encode(&mut buf), Ok(text.len()));
+        assert_eq!(buf, stored);
+        let want = VisibleString::<32>::decode(text.as_bytes()).map(|_| ());
+        assert_eq!(ours.check(text.as_bytes()), want.map_err(SdoAbort::from));
+        assert!(want.is_err());
     }
 
     /// String and octet limits behave as the runtime's `VisibleString<N>`/`OctetString<N>`

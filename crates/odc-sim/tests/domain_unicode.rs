@@ -46,3 +46,31 @@ fn the_simulated_node_takes_a_program_download() {
     assert_eq!(out, [CanFrame::new(0x585, [0x60, 0x50, 0x1F, 0x01, 0, 0, 0, 0]).unwrap()]);
     assert_eq!(dev.dictionary().domain(0x1F50, 1), Some(&[0xDE, 0xAD, 0xBE, 0xEF][..]));
 }
+
+/// A DOMAIN with a default in its file (CANopenNode's IO.eds 0x2120:05 and gocanopen's
+/// 0x200F have `DefaultValue=0`) holds it after reset node, as the other entries hold theirs:
+/// the conformance sweep read it empty.
+#[test]
+fn a_domain_default_is_its_data_after_reset() {
+    let eds = "[DeviceInfo]\nVendorName=t\nProductName=t\n\n\
+        [MandatoryObjects]\nSupportedObjects=2\n1=0x1000\n2=0x1001\n\n\
+        [OptionalObjects]\nSupportedObjects=0\n\n\
+        [ManufacturerObjects]\nSupportedObjects=1\n1=0x2120\n\n\
+        [1000]\nParameterName=Device type\nObjectType=0x7\nDataType=0x0007\nAccessType=ro\nDefaultValue=0\nPDOMapping=0\n\n\
+        [1001]\nParameterName=Error register\nObjectType=0x7\nDataType=0x0005\nAccessType=ro\nDefaultValue=0\nPDOMapping=0\n\n\
+        [2120]\nParameterName=domain\nObjectType=0x7\nDataType=0x000F\nAccessType=rw\nDefaultValue=0\nPDOMapping=0\n";
+    let dir = std::env::temp_dir().join(format!("odc-sim-domain-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("domain.eds");
+    std::fs::write(&path, eds).unwrap();
+    let loaded = odc_pipeline::load(&path, &odc_pipeline::Options::new()).unwrap();
+    let device = loaded.device().unwrap().clone();
+    std::fs::remove_dir_all(&dir).unwrap();
+    let mut od = ModelDictionary::new(&device, odc::node_id!(5));
+    assert_eq!(od.domain(0x2120, 0), Some(&[0u8][..]));
+    od.write(0x2120, 0, &[1, 2, 3]).unwrap();
+    od.reset(odc::node_id!(5).into());
+    let mut buf = [0u8; 8];
+    assert_eq!(od.read(0x2120, 0, &mut buf), Ok(1));
+    assert_eq!(buf[0], 0);
+}

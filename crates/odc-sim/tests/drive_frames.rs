@@ -125,3 +125,70 @@ fn the_simulated_drive_refuses_unlisted_modes_and_completes_homing() {
     assert_eq!(od.get::<i32>(0x6064, 0), Ok(1500));
     assert_eq!(od.get::<i8>(0x6061, 0), Ok(6));
 }
+
+/// The statusword's state coding (mask 0x6F) of the simulated drive.
+fn state(sim: &mut SimDevice, now: u64) -> u16 {
+    let mut out = Vec::new();
+    sim.handle(&upload_sw(), now, &mut |f| out.push(f));
+    statusword(&out[0]) & 0x6F
+}
+
+/// The simulated MDrive, with the abort connection option code 0x6007 = 1 (CiA 402-2
+/// 6.5.1): a heartbeat it consumes (0x1016) that stops is a fault, transitions 13 and 14 to
+/// "fault" (0x08); a fault reset (controlword bit 7 rising) is transition 15 to "switch on
+/// disabled". With 0x6007 = 0 (its default) the same loss leaves it enabled.
+#[test]
+fn a_lost_heartbeat_faults_the_drive_as_0x6007_says() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../eds/lexium-mdrive.eds");
+    let loaded = odc_pipeline::load(&path, &odc_pipeline::Options::new()).unwrap();
+    for option in [1i16, 0] {
+        let mut sim = SimDevice::new(loaded.device().unwrap(), NODE);
+        sim.start(0, &mut |_| {});
+        assert_eq!(download(&mut sim, 0, 0x6007, 0, &option.to_le_bytes()).data()[0], 0x60);
+        // Consume node 0x7E's heartbeat, 100 ms (CiA 301 0x1016: node << 16 | time).
+        let entry = 0x007E_0064u32.to_le_bytes();
+        assert_eq!(download(&mut sim, 0, 0x1016, 1, &entry).data()[0], 0x60);
+        for cw in [0x06u16, 0x07, 0x0F] {
+            download(&mut sim, 0, 0x6040, 0, &cw.to_le_bytes());
+        }
+        assert_eq!(state(&mut sim, 0), 0x27, "operation enabled");
+        sim.handle(&CanFrame::from_slice(0x77E, &[0x05]).unwrap(), 10, &mut |_| {});
+        for t in (20..=300).step_by(10) {
+            sim.poll(t, &mut |_| {});
+        }
+        if option == 0 {
+            assert_eq!(state(&mut sim, 300), 0x27, "0x6007 = 0: no action");
+            continue;
+        }
+        assert_eq!(state(&mut sim, 300) & 0x4F, 0x08, "fault");
+        download(&mut sim, 300, 0x6040, 0, &0x00u16.to_le_bytes());
+        assert_eq!(state(&mut sim, 300) & 0x4F, 0x08, "still fault without the reset");
+        download(&mut sim, 300, 0x6040, 0, &0x80u16.to_le_bytes());
+        assert_eq!(state(&mut sim, 300) & 0x4F, 0x40, "15: switch on disabled");
+    }
+}
+
+/// Transition 16 (quick stop active to operation enabled) with quick stop option code 6
+/// written over SDO while the drive runs (0x605A, CiA 402-2 6.5.2): the drive stays in
+/// "quick stop active" (0x07) and enable operation takes it back. With the default 2 the
+/// quick stop ends in "switch on disabled" (12).
+#[test]
+fn quick_stop_option_written_over_sdo_allows_transition_16() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../eds/lexium-mdrive.eds");
+    let loaded = odc_pipeline::load(&path, &odc_pipeline::Options::new()).unwrap();
+    let mut sim = SimDevice::new(loaded.device().unwrap(), NODE);
+    sim.start(0, &mut |_| {});
+    for cw in [0x06u16, 0x07, 0x0F, 0x02] {
+        download(&mut sim, 0, 0x6040, 0, &cw.to_le_bytes());
+    }
+    sim.poll(10, &mut |_| {});
+    assert_eq!(state(&mut sim, 10) & 0x4F, 0x40, "option 2: 12 to switch on disabled");
+    assert_eq!(download(&mut sim, 10, 0x605A, 0, &6i16.to_le_bytes()).data()[0], 0x60);
+    for cw in [0x06u16, 0x07, 0x0F, 0x02] {
+        download(&mut sim, 10, 0x6040, 0, &cw.to_le_bytes());
+    }
+    sim.poll(20, &mut |_| {});
+    assert_eq!(state(&mut sim, 20), 0x07, "option 6: quick stop active");
+    download(&mut sim, 20, 0x6040, 0, &0x0Fu16.to_le_bytes());
+    assert_eq!(state(&mut sim, 20), 0x27, "16: operation enabled");
+}

@@ -282,9 +282,30 @@ impl<const N: usize> VisibleString<N> {
         Some(Self { bytes, len: src.len() })
     }
 
+    /// A device file's default, kept as written: any text of at most `N` bytes without NUL
+    /// (which pads). Real files put tabs and UTF-8 ('€') in VISIBLE_STRING defaults, where
+    /// CiA 301 allows visible ASCII only; the device holds the file's text rather than
+    /// losing it. What a master writes is still checked by [`VisibleString::new`].
+    pub const fn from_default(s: &str) -> Option<Self> {
+        let src = s.as_bytes();
+        if src.len() > N {
+            return None;
+        }
+        let mut bytes = [0u8; N];
+        let mut i = 0;
+        while i < src.len() {
+            if src[i] == 0 {
+                return None;
+            }
+            bytes[i] = src[i];
+            i += 1;
+        }
+        Some(Self { bytes, len: src.len() })
+    }
+
     /// The text.
     pub fn as_str(&self) -> &str {
-        // Only visible ASCII gets in, which is always UTF-8.
+        // Only UTF-8 gets in (a `&str`, or checked by `decode`).
         self.bytes.get(..self.len).and_then(|b| core::str::from_utf8(b).ok()).unwrap_or("")
     }
 
@@ -512,6 +533,14 @@ mod tests {
         assert_eq!(s.as_str(), "abc");
         assert!(VisibleString::<2>::new("abc").is_none());
         assert!(VisibleString::<8>::new("a\nb").is_none());
+        // A file's default is kept as written: a tab and '€' (3 bytes), not a NUL.
+        let d = VisibleString::<8>::from_default("a\t\u{20AC}").unwrap();
+        assert_eq!(d.as_str(), "a\t\u{20AC}");
+        let mut buf = [0u8; 8];
+        assert_eq!(d.encode(&mut buf), Ok(5));
+        assert_eq!(buf[..5], [b'a', 0x09, 0xE2, 0x82, 0xAC]);
+        assert!(VisibleString::<8>::from_default("a\0b").is_none());
+        assert!(VisibleString::<4>::from_default("ab\u{20AC}").is_none());
         assert_eq!(VisibleString::<8>::decode(b"ab\0\0").map(|s| s.len()), Ok(2));
         assert_eq!(VisibleString::<2>::decode(b"abc"), Err(ValueError::TooLong));
         let o = OctetString([1u8, 2, 3]);

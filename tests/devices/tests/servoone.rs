@@ -186,23 +186,11 @@ fn emcy_acknowledgement() {
     rec.compare("13.3, Table 13.2", &wire[2..], &[printed("81 / 00 00 00 00 00 00 00 00")]);
 }
 
-/// The bits a table row prints, most significant first ("X" irrelevant; the print has "4" for
-/// some "X" of Table 10.1, an OCR slip the transcription keeps): the mask of the defined bits
-/// and their value.
-fn row(bits: &str, numbers: &[u32]) -> (u16, u16) {
-    let cells: Vec<&str> = bits.split_whitespace().collect();
-    assert_eq!(cells.len(), numbers.len(), "{bits}");
-    cells.iter().zip(numbers).fold((0, 0), |(mask, value), (cell, &n)| match *cell {
-        "0" => (mask | 1 << n, value),
-        "1" => (mask | 1 << n, value | 1 << n),
-        _ => (mask, value),
-    })
-}
-
-/// 10.1.4, Table 10.1: "Bit combinations in the device states", bits 6..0 of 6041h.
+/// 10.1.4, Table 10.1: "Bit combinations in the device states", bits 6..0 of 6041h (the
+/// print has "4" for some "X", an OCR slip the transcription keeps).
 #[test]
 fn statusword_bit_table() {
-    use odc::cia402::{State, Statusword};
+    use odc::cia402::State;
     let table = [
         (State::NotReadyToSwitchOn, "0 4 X 0 0 0 0"),
         (State::SwitchOnDisabled, "1 4 X 0 0 0 0"),
@@ -213,31 +201,13 @@ fn statusword_bit_table() {
         (State::FaultReactionActive, "0 4 X 1 1 1 1"),
         (State::Fault, "0 4 X 1 0 0 0"),
     ];
-    for (state, bits) in table {
-        let (mask, value) = row(bits, &[6, 5, 4, 3, 2, 1, 0]);
-        // odc's statusword of the state has the printed bits, and a statusword with them
-        // decodes to the state whatever the irrelevant bits are.
-        assert_eq!(state.statusword().bits() & mask, value, "{state:?}");
-        assert_eq!(Statusword(value).state(), Some(state), "{bits}");
-        assert_eq!(Statusword(value | (!mask & 0x7F)).state(), Some(state), "{bits}");
-    }
+    common::statusword_table(&table, &[6, 5, 4, 3, 2, 1, 0]);
 }
 
 /// 10.1.5, Table 10.2: "Bit combinations for state transitions", bits 7, 3, 2, 1, 0 of 6040h
 /// and the transitions each command makes.
 #[test]
 fn controlword_bit_table() {
-    use odc::cia402::{Controlword, State, transition};
-    let states = [
-        State::NotReadyToSwitchOn,
-        State::SwitchOnDisabled,
-        State::ReadyToSwitchOn,
-        State::SwitchedOn,
-        State::OperationEnabled,
-        State::QuickStopActive,
-        State::FaultReactionActive,
-        State::Fault,
-    ];
     let table: [(&str, &str, &[u8]); 7] = [
         ("Stop", "0 X 1 1 0", &[2, 6, 8]),
         ("Switch on", "0 X 1 1 1", &[3]),
@@ -247,27 +217,10 @@ fn controlword_bit_table() {
         ("Enable operation", "0 1 1 1 1", &[4, 16]),
         ("Reset fault", "1 X X X X", &[15]),
     ];
-    for (name, bits, transitions) in table {
-        let (mask, value) = row(bits, &[7, 3, 2, 1, 0]);
-        // The irrelevant bits all clear, then all set. "Switch on" with bit 3 set is "enable
-        // operation" to odc (transitions 3 and 4 at once, which CiA 402 allows); the table
-        // calls bit 3 irrelevant there, so only its clear form is compared.
-        let forms: &[u16] = if name == "Switch on" { &[0] } else { &[0, 0x8F] };
-        for x in forms {
-            let cw = Controlword(value | (x & !mask));
-            for &n in transitions {
-                let pairs: Vec<(State, State)> = states
-                    .iter()
-                    .flat_map(|&a| states.iter().map(move |&b| (a, b)))
-                    .filter(|&(a, b)| transition(a, b) == Some(n))
-                    .collect();
-                assert!(!pairs.is_empty(), "transition {n}");
-                for (from, to) in pairs {
-                    assert_eq!(from.after(cw, true), to, "{name} ({cw:?}): transition {n}");
-                }
-            }
-        }
-    }
+    // "Switch on" with bit 3 set is "enable operation" to odc (transitions 3 and 4 at once,
+    // which CiA 402 allows); the table calls bit 3 irrelevant there, so only its clear form
+    // is compared.
+    common::controlword_table(&table, &["Switch on"]);
 }
 
 /// 8.3.1, "Example: usage of the masks".

@@ -277,11 +277,17 @@ class Run:
             return None
         v = candidates[0]
         entry = (v.index << 16 | v.subindex << 8 | INT_TYPES[v.data_type] * 8).to_bytes(4, "little")
+        # CiA 301 7.5.2.36/38: the PDO invalid (COB-ID bit 31) and its mapping disabled first.
+        comm = mapping - 0x200
+        cob = int.from_bytes(self.node.sdo.upload(comm, 1), "little")
         try:
+            self.node.sdo.download(comm, 1, (cob | 0x80000000).to_bytes(4, "little"))
             self.node.sdo.download(mapping, 0, b"\0")
             self.node.sdo.download(mapping, 1, entry)
         except SdoAbortedError as e:
             return e.code == 0x06040041
+        finally:
+            self.node.sdo.download(comm, 1, cob.to_bytes(4, "little"))
         return False
 
     def rpdo_and_emcy(self):

@@ -35,6 +35,8 @@ const EXPECTED: &[(&str, &[&str])] = &[
             "emcy.history",
             "lss.inquire",
             "cia402.state-machine",
+            "cia402.fault",
+            "cia402.quick-stop",
             "cia402.modes",
         ],
     ),

@@ -399,14 +399,10 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         dict: &'a mut D,
         emcy: &'a mut emcy::Emcy,
         dirty: &'a mut Dirty,
-        pdo: &pdo::PdoEngine<R, T>,
         state: Option<NmtState>,
     ) -> View<'a, D> {
-        // Mappings of valid PDOs are locked in operational only: in pre-operational no PDO
-        // runs, so a remap cannot put a half-written mapping on the bus, and devices whose
-        // file makes the COB-ID read-only (the LinMot E1200's) can still be remapped.
-        let locked = if state == Some(NmtState::Operational) { pdo.valid() } else { [0; 2] };
-        View { dict, emcy, dirty, written: false, storage: None, locked }
+        let operational = state == Some(NmtState::Operational);
+        View { dict, emcy, dirty, written: false, storage: None, operational }
     }
 
     /// [`Node::handle`] once its sender keeps the frames it refuses.
@@ -458,7 +454,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
             return ev;
         }
         if frame.is_data(self.sdo.request_id().raw()) {
-            let mut view = Self::view(dict, &mut self.emcy, &mut self.dirty, &self.pdo, self.state);
+            let mut view = Self::view(dict, &mut self.emcy, &mut self.dirty, self.state);
             // A block upload's whole sub-block goes out at once.
             self.sdo.handle_into(&mut view, frame, now, out);
             ev.sdo_written = view.written;
@@ -469,7 +465,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
             return ev;
         }
         if state == NmtState::Operational {
-            let mut view = Self::view(dict, &mut self.emcy, &mut self.dirty, &self.pdo, self.state);
+            let mut view = Self::view(dict, &mut self.emcy, &mut self.dirty, self.state);
             if let Some(o) = self.pdo.receive(&mut view, frame, now, out) {
                 ev.merge(o);
                 if let Some(code) = o.length_emcy {
@@ -516,7 +512,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
     ) {
         ev.sync = Some(counter);
         if self.state == Some(NmtState::Operational) {
-            let mut view = Self::view(dict, &mut self.emcy, &mut self.dirty, &self.pdo, self.state);
+            let mut view = Self::view(dict, &mut self.emcy, &mut self.dirty, self.state);
             let o = self.pdo.sync(&mut view, counter, now, out);
             ev.merge(o);
         }
@@ -574,7 +570,7 @@ impl<const N: usize, const R: usize, const T: usize> Node<N, R, T> {
         }
         self.emcy.poll(now, out);
         if state == NmtState::Operational {
-            let view = Self::view(dict, &mut self.emcy, &mut self.dirty, &self.pdo, self.state);
+            let view = Self::view(dict, &mut self.emcy, &mut self.dirty, self.state);
             let o = self.pdo.poll(&view, now, out);
             ev.merge(o);
         }

@@ -218,9 +218,11 @@ pub(super) struct View<'a, D: ?Sized> {
     /// A store (0x1010) or restore (0x1011) command with its signature, for the
     /// application.
     pub(super) storage: Option<super::Storage>,
-    /// The mappings of these PDOs may not change (CiA 301 7.5.2.36: only while the PDO is
-    /// invalid): bit n of word 0 for TPDO n+1, of word 1 for RPDO n+1.
-    pub(super) locked: [u64; 2],
+    /// In operational the mapping of every valid PDO (COB-ID bit 31 clear) is locked;
+    /// before, only of those whose file lets the COB-ID be written (a read-only COB-ID, as
+    /// LinMot E1200's file has, leaves no way to invalidate the PDO, so its mapping stays
+    /// writable in pre-operational, where no PDO runs).
+    pub(super) operational: bool,
 }
 
 impl<D: ObjectDictionary + ?Sized> ObjectDictionary for View<'_, D> {
@@ -247,17 +249,18 @@ impl<D: ObjectDictionary + ?Sized> ObjectDictionary for View<'_, D> {
             return self.storage_command(index, sub, data);
         }
         self.check_parameter(index, sub, data)?;
-        if let Some((word, n)) = match index {
-            0x1600..=0x17FF => Some((1, index - 0x1600)),
-            0x1A00..=0x1BFF => Some((0, index - 0x1A00)),
-            _ => None,
-        } && n < 64
-            && self.locked[word] >> n & 1 == 1
-        {
-            // CiA 301: a mapping may only change while its PDO is invalid (COB-ID bit 31).
-            return Err(SdoAbort::UnsupportedAccess);
-        }
         if matches!(index, 0x1600..=0x17FF | 0x1A00..=0x1BFF) {
+            // CiA 301 7.5.2.36/38: a mapping changes only while its PDO is invalid (COB-ID
+            // bit 31 of 0x1400/0x1800 + n, 0x200 below the mapping), and its entries only
+            // while sub 0 is 0 (the mapping disabled), as CANopenNode and lely refuse too.
+            let comm = index - 0x200;
+            let valid = get_u32(&*self.dict, comm, 1).is_some_and(|c| c & 0x8000_0000 == 0);
+            let cob_writable = || self.dict.access(comm, 1).is_some_and(|a| a.writable());
+            if valid && (self.operational || cob_writable())
+                || sub > 0 && get_u8(&*self.dict, index, 0).is_some_and(|c| c != 0)
+            {
+                return Err(SdoAbort::UnsupportedAccess);
+            }
             self.check_mapping(index, sub, data)?;
         }
         self.dict.write(index, sub, data)?;

@@ -298,16 +298,6 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
         }
     }
 
-    /// Which PDOs are valid: bit n of word 0 for TPDO n+1, of word 1 for RPDO n+1. Not
-    /// inlined: its 64-bit shifts were copied into every place the node makes a `View`.
-    #[inline(never)]
-    pub(super) fn valid(&self) -> [u64; 2] {
-        let bits = |it: &mut dyn Iterator<Item = bool>| {
-            it.take(64).enumerate().fold(0u64, |acc, (i, v)| acc | u64::from(v) << i)
-        };
-        [bits(&mut self.tx.iter().map(|t| t.valid)), bits(&mut self.rx.iter().map(|r| r.valid))]
-    }
-
     /// Entering operational: event-driven TPDOs send their data once, synchronous ones count
     /// SYNCs from zero.
     pub(super) fn restart(&mut self) {

@@ -561,6 +561,7 @@ fn remap_over_sdo_changes_the_tpdo() {
     assert_eq!(b.take(), [data(0x185, &[0xCC, 0xAA, 0xBB])]);
     // More than 64 bits: 0x06040042.
     b.sdo_write(0x1800, 1, &0x8000_0185u32.to_le_bytes());
+    b.sdo_write(0x1A00, 0, &[0]);
     for s in 1..=3 {
         b.sdo_write(0x1A00, s, &0x2002_0020u32.to_le_bytes());
     }
@@ -590,6 +591,7 @@ fn mapping_entries_are_checked_when_written() {
     assert_eq!(entry(&mut b, 0x1A00, 0x1000_0020), 0x0604_0041, "0x1000 not mappable");
     assert_eq!(entry(&mut b, 0x1A00, 0x2000_0020), 0x0604_0041, "32 bits of a 16-bit object");
     assert_eq!(entry(&mut b, 0x1A00, 0x2000_0000), 0x0604_0041, "no bits");
+    b.sdo_write(0x1400, 1, &0x8000_0205u32.to_le_bytes());
     assert_eq!(b.sdo_write(0x1600, 0, &[0])[0], 0x60);
     assert_eq!(entry(&mut b, 0x1600, 0x1001_0008), 0x0604_0041, "read-only into an RPDO");
     // Refused writes leave the entries as they were.
@@ -664,10 +666,35 @@ fn event_timer_keeps_its_period_when_polls_are_late() {
     assert_eq!(&times[..3], [7, 63, 112]);
 }
 
+/// CiA 301 §7.5.2.36/38: a mapping changes only while its PDO is invalid (COB-ID bit 31),
+/// in every NMT state, and its entries only while sub 0 is 0: 0x06010000 otherwise.
 #[test]
-fn a_valid_pdo_can_be_remapped_in_pre_operational() {
+fn a_mapping_changes_only_while_its_pdo_is_invalid_and_disabled() {
     let mut b = Bench::new();
-    // TPDO 1 is valid; in pre-operational no PDO runs, so its mapping may change.
+    b.take();
+    // Pre-operational, TPDO 1 and RPDO 1 valid: neither sub 0 nor an entry may change.
+    assert_eq!(abort_code(b.sdo_write(0x1A00, 0, &[1])), 0x0601_0000);
+    assert_eq!(abort_code(b.sdo_write(0x1A00, 0, &[0])), 0x0601_0000);
+    assert_eq!(abort_code(b.sdo_write(0x1600, 1, &0x2001_0008u32.to_le_bytes())), 0x0601_0000);
+    // Valid by its COB-ID though its mapping is empty (as ServoOne's file has TPDO 1): locked.
+    b.dict.set(0x1A01, 0, &[0]);
+    assert_eq!(abort_code(b.sdo_write(0x1A01, 0, &[0])), 0x0601_0000);
+    // Invalid, but the mapping still enabled (sub 0 = 1): entries are refused, sub 0 is not.
+    b.sdo_write(0x1800, 1, &0x8000_0185u32.to_le_bytes());
+    assert_eq!(abort_code(b.sdo_write(0x1A00, 1, &0x2001_0008u32.to_le_bytes())), 0x0601_0000);
+    assert_eq!(b.dict.get(0x1A00, 1), 0x2000_0010u32.to_le_bytes());
+    assert_eq!(b.sdo_write(0x1A00, 0, &[0])[0], 0x60);
+    assert_eq!(b.sdo_write(0x1A00, 1, &0x2001_0008u32.to_le_bytes())[0], 0x60);
+    assert_eq!(b.sdo_write(0x1A00, 0, &[1])[0], 0x60);
+}
+
+#[test]
+fn a_valid_pdo_with_a_read_only_cob_id_can_be_remapped_in_pre_operational() {
+    let mut b = Bench::new();
+    // TPDO 1 is valid and its file makes the COB-ID read-only (as LinMot E1200's): no way
+    // to invalidate it, so in pre-operational, where no PDO runs, its mapping may change.
+    let p = b.dict.find(0x1800, 1).unwrap();
+    b.dict.objs[p].writable = false;
     assert_eq!(b.sdo_write(0x1A00, 0, &[0])[0], 0x60);
     assert_eq!(b.sdo_write(0x1A00, 1, &0x2001_0008u32.to_le_bytes())[0], 0x60);
     assert_eq!(b.sdo_write(0x1A00, 0, &[1])[0], 0x60);
@@ -831,7 +858,11 @@ fn tpdo_without_mapped_objects_is_not_sent() {
     b.take();
     b.run_to(10);
     assert!(b.take().iter().all(|f| f.id != 0x185), "an empty TPDO 1 went out");
+    // Valid by its COB-ID, so mapped the CiA 301 way: invalid, enabled, valid again.
+    assert_eq!(abort_code(b.sdo_write(0x1A00, 0, &[1])), 0x0601_0000);
+    b.sdo_write(0x1800, 1, &0x8000_0185u32.to_le_bytes());
     b.sdo_write(0x1A00, 0, &[1]);
+    b.sdo_write(0x1800, 1, &0x0000_0185u32.to_le_bytes());
     b.run_to(20);
     assert!(b.take().iter().any(|f| f.id == 0x185 && f.len == 2), "TPDO 1 with 0x2000");
 }

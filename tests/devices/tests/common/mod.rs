@@ -295,3 +295,67 @@ impl<D: ObjectDictionary> Bench<D> {
 pub fn status(state: State, flags: &[u32]) -> Statusword {
     flags.iter().fold(state.statusword(), |sw, &bit| sw.with_bit(bit, true))
 }
+
+/// The bits a manual's table row prints, most significant first, for bit `numbers` ("0" and
+/// "1" defined, anything else irrelevant: "X", and the "4" OCR slips of ServoOne's Table
+/// 10.1): the mask of the defined bits and their value.
+pub fn bit_row(bits: &str, numbers: &[u32]) -> (u16, u16) {
+    let cells: Vec<&str> = bits.split_whitespace().collect();
+    assert_eq!(cells.len(), numbers.len(), "{bits}");
+    cells.iter().zip(numbers).fold((0, 0), |(mask, value), (cell, &n)| match *cell {
+        "0" => (mask | 1 << n, value),
+        "1" => (mask | 1 << n, value | 1 << n),
+        _ => (mask, value),
+    })
+}
+
+/// A manual's statusword table (state, the row's bits of 6041h for bit `numbers`) against
+/// odc's CiA 402 state decode: odc's statusword of the state has the printed bits, and a
+/// statusword with them decodes to the state whatever the irrelevant ones among `numbers`
+/// are. A bit table, not frames: not counted.
+pub fn statusword_table(table: &[(State, &str)], numbers: &[u32]) {
+    let listed = numbers.iter().fold(0u16, |m, &n| m | 1 << n);
+    for &(state, bits) in table {
+        let (mask, value) = bit_row(bits, numbers);
+        assert_eq!(state.statusword().bits() & mask, value, "{state:?}");
+        assert_eq!(Statusword(value).state(), Some(state), "{bits}");
+        assert_eq!(Statusword(value | (!mask & listed)).state(), Some(state), "{bits}");
+    }
+}
+
+/// A manual's controlword command table (name, the row's bits 7, 3, 2, 1, 0 of 6040h, the
+/// transitions CiA 402 gives the command) against odc's CiA 402 state machine: the command,
+/// its irrelevant bits all clear and then all set, takes every one of those transitions.
+/// The commands named in `clear_only` are compared with their irrelevant bits clear only.
+/// A bit table, not frames: not counted.
+pub fn controlword_table(table: &[(&str, &str, &[u8])], clear_only: &[&str]) {
+    use odc::cia402::{Controlword, transition};
+    let states = [
+        State::NotReadyToSwitchOn,
+        State::SwitchOnDisabled,
+        State::ReadyToSwitchOn,
+        State::SwitchedOn,
+        State::OperationEnabled,
+        State::QuickStopActive,
+        State::FaultReactionActive,
+        State::Fault,
+    ];
+    for &(name, bits, transitions) in table {
+        let (mask, value) = bit_row(bits, &[7, 3, 2, 1, 0]);
+        let forms: &[u16] = if clear_only.contains(&name) { &[0] } else { &[0, 0x8F] };
+        for x in forms {
+            let cw = Controlword(value | (x & !mask));
+            for &n in transitions {
+                let pairs: Vec<(State, State)> = states
+                    .iter()
+                    .flat_map(|&a| states.iter().map(move |&b| (a, b)))
+                    .filter(|&(a, b)| transition(a, b) == Some(n))
+                    .collect();
+                assert!(!pairs.is_empty(), "transition {n}");
+                for (from, to) in pairs {
+                    assert_eq!(from.after(cw, true), to, "{name} ({cw:?}): transition {n}");
+                }
+            }
+        }
+    }
+}
