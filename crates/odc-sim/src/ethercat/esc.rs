@@ -8,23 +8,13 @@
 //! managers refuse (a full write mailbox, an empty read mailbox) does nothing and adds 0.
 //!
 //! What the application (the device's firmware) does with what was written is not here: the
-//! ESC reports [`Events`] and the [`SubDevice`](super::SubDevice) acts on them.
+//! ESC raises the AL event request register (0x0220) as a real one does, and the firmware
+//! stack reads it and the rest through [`Pdi`], the application side of the ESC.
 
 use super::dc::Clock;
 use super::frame::{Command, Datagram};
 use super::registers::{self as reg, MEMORY, ecat_writable};
 use super::sii::SiiPort;
-
-/// What a datagram asked of the application.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Events {
-    /// AL control was written.
-    pub al_control: bool,
-    /// A write mailbox became full (its last byte was written).
-    pub mailbox_received: bool,
-    /// A read mailbox was read to its last byte (now empty).
-    pub mailbox_read: bool,
-}
 
 /// A sync manager's registers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -71,7 +61,6 @@ pub struct Esc {
     mem: Vec<u8>,
     pub(super) sii: SiiPort,
     pub(super) clock: Clock,
-    events: Events,
 }
 
 /// Where the frame meets this device: the times its ports see it (the simulation's ns).
@@ -91,7 +80,6 @@ impl Esc {
             mem: vec![0; MEMORY],
             sii: SiiPort::new(image),
             clock: Clock::new(clock_base_ns),
-            events: Events::default(),
         };
         esc.power_on(downstream);
         esc
@@ -192,9 +180,20 @@ impl Esc {
         self.set_u8(reg::SM + 8 * u16::from(n) + 7, v);
     }
 
-    /// The events of the datagrams executed since the last call.
-    pub fn take_events(&mut self) -> Events {
-        core::mem::take(&mut self.events)
+    /// The AL event request register (0x0220): bit 0 AL control written, bit 8 + n an event
+    /// of sync manager n.
+    pub fn al_event(&self) -> u32 {
+        self.u32(reg::AL_EVENT)
+    }
+
+    fn raise(&mut self, bit: u32) {
+        let ev = self.u32(reg::AL_EVENT) | 1 << bit;
+        self.set_bytes(reg::AL_EVENT, &ev.to_le_bytes());
+    }
+
+    fn clear(&mut self, bit: u32) {
+        let ev = self.u32(reg::AL_EVENT) & !(1 << bit);
+        self.set_bytes(reg::AL_EVENT, &ev.to_le_bytes());
     }
 
     /// Executes `d` as this device (the frame passing it `at`), and updates its working
@@ -297,7 +296,7 @@ impl Esc {
         if let Some(n) = completes {
             let status = self.sm(n).status & !SM_FULL;
             self.set_sm_status(n, status);
-            self.events.mailbox_read = true;
+            self.raise(8 + u32::from(n));
         }
         1
     }
@@ -319,7 +318,7 @@ impl Esc {
             range.start < a + len && a < range.end
         };
         if touches(reg::AL_CONTROL, 2) {
-            self.events.al_control = true;
+            self.raise(0);
         }
         if touches(reg::SII_CONTROL, 2) {
             self.sii.command(&mut self.mem);
@@ -350,7 +349,7 @@ impl Esc {
         if let Some(n) = completes {
             let status = self.sm(n).status | SM_FULL;
             self.set_sm_status(n, status);
-            self.events.mailbox_received = true;
+            self.raise(8 + u32::from(n));
         }
         1
     }
@@ -404,5 +403,69 @@ impl Esc {
             Command::Lrw => u16::from(read) + 2 * u16::from(written),
             _ => u16::from(read || written),
         }
+    }
+}
+
+/// The ESC as the device's firmware sees it through its PDI: no write protection, and the
+/// side effects a real ESC has on the application's accesses (ESC datasheets section II,
+/// sync manager and AL event request): reading the last byte of a mailbox the master writes
+/// empties it, writing the last byte of one the master reads fills it, reading AL control
+/// clears its event, reading a sync manager's status or buffer clears that sync manager's.
+#[derive(Debug)]
+pub struct Pdi<'a>(pub &'a mut Esc);
+
+impl Pdi<'_> {
+    fn touched(&mut self, addr: u16, len: usize, write: bool) {
+        let range = usize::from(addr)..usize::from(addr) + len;
+        let covers = |a: u16| range.contains(&usize::from(a));
+        if !write && covers(reg::AL_CONTROL) {
+            self.0.clear(0);
+        }
+        for n in 0..reg::SMS {
+            let sm = self.0.sm(n);
+            let area = sm.range();
+            let status = reg::SM + 8 * u16::from(n) + 5;
+            if !write && covers(status) {
+                self.0.clear(8 + u32::from(n));
+            }
+            if area.is_empty() || sm.activate & 1 == 0 {
+                continue;
+            }
+            if range.start < area.end && area.start < range.end {
+                self.0.clear(8 + u32::from(n));
+            }
+            if !sm.is_mailbox() || !range.contains(&(area.end - 1)) {
+                continue;
+            }
+            if !write && sm.master_writes() {
+                self.0.set_sm_status(n, sm.status & !SM_FULL);
+            } else if write && !sm.master_writes() {
+                self.0.set_sm_status(n, sm.status | SM_FULL);
+            }
+        }
+    }
+}
+
+impl odc::ethercat::subdevice::Esc for Pdi<'_> {
+    type Error = core::convert::Infallible;
+
+    fn read(&mut self, addr: u16, buf: &mut [u8]) -> Result<(), Self::Error> {
+        let at = usize::from(addr);
+        match self.0.mem.get(at..at + buf.len()) {
+            Some(src) => buf.copy_from_slice(src),
+            None => buf.fill(0),
+        }
+        self.touched(addr, buf.len(), false);
+        Ok(())
+    }
+
+    fn write(&mut self, addr: u16, data: &[u8]) -> Result<(), Self::Error> {
+        self.0.set_bytes(addr, data);
+        self.touched(addr, data.len(), true);
+        Ok(())
+    }
+
+    fn al_event(&mut self) -> Result<u32, Self::Error> {
+        Ok(self.0.al_event())
     }
 }
