@@ -664,6 +664,3 @@ impl<const MBX: usize, const BUF: usize, const PD: usize> SubDevice<MBX, BUF, PD
         }
     }
 }
-
-#[cfg(test)]
-mod tests;
