@@ -15,8 +15,8 @@ use super::registers as reg;
 use crate::ModelDictionary;
 
 /// The firmware stack's sizes in the simulator: mailboxes up to 2 KiB served whole, SDO values
-/// and process images up to [`crate::SDO_BUFFER`] bytes, 1024 mapped entries.
-type Stack = stack::SubDevice<2048, { crate::SDO_BUFFER }, 1024>;
+/// up to [`crate::SDO_BUFFER`] bytes, 1024 mapped entries, process images of the whole RAM.
+type Stack = stack::SubDevice<2048, { crate::SDO_BUFFER }, 1024, { reg::RAM_KIB as usize * 1024 }>;
 
 /// A simulated EtherCAT SubDevice built from an ESI device.
 #[derive(Debug)]
@@ -69,6 +69,35 @@ fn fixed_mapping(device: &Device, sm: u8) -> impl Iterator<Item = (u8, u32)> + '
             (sm, index << 16 | u32::from(e.sub) << 8 | u32::from(e.bits))
         })
     })
+}
+
+/// A device whose dictionary has an assignment object (0x1C10 + n) with an empty default
+/// starts with the assignment its ESI gives (the `Sm` attributes of its PDOs, and its SII's
+/// PDO categories say the same to a master): SOEM's default bring-up reads the assignment
+/// over CoE and would otherwise map nothing and meet 0x001D at SAFE-OP (#31). Written as the
+/// firmware sets its own values (no access check); an object without room for the PDOs keeps
+/// its default.
+fn esi_assignment(device: &Device, od: &mut ModelDictionary) {
+    for (sm, pdos) in odc_analysis::image::default_assignment(device) {
+        let object = 0x1C10 + u16::from(sm);
+        let empty = od.raw(object, 0).is_some_and(|c| c.first() == Some(&0));
+        let Ok(count) = u8::try_from(pdos.len()) else { continue };
+        let room = (1..=count).all(|k| od.raw(object, k).is_some_and(|b| b.len() >= 2));
+        if !empty || count == 0 || !room {
+            continue;
+        }
+        for (k, pdo) in (1..=count).zip(&pdos) {
+            if let Some(b) = od.raw_mut(object, k) {
+                b.fill(0);
+                if let Some(lo) = b.get_mut(..2) {
+                    lo.copy_from_slice(&pdo.to_le_bytes());
+                }
+            }
+        }
+        if let Some(c) = od.raw_mut(object, 0).and_then(|b| b.first_mut()) {
+            *c = count;
+        }
+    }
 }
 
 fn kind(usage: &SmUsage) -> u8 {
@@ -133,7 +162,8 @@ impl SubDevice {
             })
             .collect();
         let with_types = sm_types(device, &ecat.sync_managers);
-        let od = ModelDictionary::new(with_types.as_ref().unwrap_or(device), None);
+        let mut od = ModelDictionary::new(with_types.as_ref().unwrap_or(device), None);
+        esi_assignment(device, &mut od);
         let fixed =
             ecat.sync_managers.iter().flat_map(|sm| fixed_mapping(device, sm.number)).collect();
         let coe = ecat.mailbox.as_ref().and_then(|m| m.coe.clone());

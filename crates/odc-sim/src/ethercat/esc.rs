@@ -354,8 +354,11 @@ impl Esc {
         1
     }
 
-    /// A logical command through the FMMUs (ETG.1000.4 §6.6; byte-granular: the start and
-    /// stop bits of the FMMUs ethercrab configures are 0 and 7).
+    /// A logical command through the FMMUs (ETG.1000.4 §6.6), at bit granularity: an FMMU
+    /// maps the logical bits from its start bit of its first byte to its stop bit of its last
+    /// onto the physical bits from its physical start bit, so that a master may pack devices
+    /// with fewer than 8 bits into shared bytes (SOEM does); the bits of a shared byte that
+    /// the FMMU does not map are neither read nor written.
     fn logical(&mut self, cmd: Command, addr: u32, data: &mut [u8]) -> u16 {
         let (mut read, mut written) = (false, false);
         let end = u64::from(addr) + data.len() as u64;
@@ -365,37 +368,63 @@ impl Esc {
                 continue;
             }
             let l_start = u64::from(self.u32(f));
-            let l_end = l_start + u64::from(self.u16(f + 4));
-            let (lo, hi) = (l_start.max(u64::from(addr)), l_end.min(end));
+            let l_len = u64::from(self.u16(f + 4));
+            let (start_bit, stop_bit) = (self.u8(f + 6) & 7, self.u8(f + 7) & 7);
+            let phys_bit = self.u8(f + 10) & 7;
+            let kind = self.u8(f + 11);
+            let write = kind & 0x02 != 0 && matches!(cmd, Command::Lwr | Command::Lrw);
+            let read_it = kind & 0x01 != 0 && matches!(cmd, Command::Lrd | Command::Lrw);
+            if l_len == 0 || !(write || read_it) {
+                continue;
+            }
+            // The mapped logical bits [first, last] and the datagram's bits, overlapped.
+            let first = l_start * 8 + u64::from(start_bit);
+            let last = (l_start + l_len - 1) * 8 + u64::from(stop_bit);
+            let (lo, hi) = (first.max(u64::from(addr) * 8), (last + 1).min(end * 8));
             if lo >= hi {
                 continue;
             }
-            let phys = u64::from(self.u16(f + 8)) + (lo - l_start);
-            let (Ok(phys), Ok(in_data), Ok(len)) = (
-                usize::try_from(phys),
-                usize::try_from(lo - u64::from(addr)),
-                usize::try_from(hi - lo),
-            ) else {
+            let p_first = u64::from(self.u16(f + 8)) * 8 + u64::from(phys_bit) + (lo - first);
+            let p_last = p_first + (hi - lo) - 1;
+            let (Ok(p_lo), Ok(p_hi)) = (usize::try_from(p_first / 8), usize::try_from(p_last / 8))
+            else {
                 continue;
             };
-            let kind = self.u8(f + 11);
-            let range = phys..phys + len;
-            if kind & 0x02 != 0
-                && matches!(cmd, Command::Lwr | Command::Lrw)
-                && self.sm_check(range.clone(), true).is_some()
-                && let (Some(dst), Some(src)) =
-                    (self.mem.get_mut(range.clone()), data.get(in_data..in_data + len))
-            {
-                dst.copy_from_slice(src);
+            let range = p_lo..p_hi + 1;
+            if p_hi >= self.mem.len() {
+                continue;
+            }
+            let whole = lo % 8 == 0 && hi % 8 == 0 && p_first % 8 == 0;
+            let d0 = lo - u64::from(addr) * 8;
+            if write && self.sm_check(range.clone(), true).is_some() {
+                if whole {
+                    let (from, n) = ((d0 / 8) as usize, range.len());
+                    if let (Some(dst), Some(src)) =
+                        (self.mem.get_mut(range.clone()), data.get(from..from + n))
+                    {
+                        dst.copy_from_slice(src);
+                    }
+                } else {
+                    for i in 0..hi - lo {
+                        let v = bit(data, d0 + i);
+                        set_bit(&mut self.mem, p_first + i, v);
+                    }
+                }
                 written = true;
             }
-            if kind & 0x01 != 0
-                && matches!(cmd, Command::Lrd | Command::Lrw)
-                && self.sm_check(range.clone(), false).is_some()
-                && let (Some(src), Some(dst)) =
-                    (self.mem.get(range), data.get_mut(in_data..in_data + len))
-            {
-                dst.copy_from_slice(src);
+            if read_it && self.sm_check(range.clone(), false).is_some() {
+                if whole {
+                    let (to, n) = ((d0 / 8) as usize, range.len());
+                    if let (Some(src), Some(dst)) = (self.mem.get(range), data.get_mut(to..to + n))
+                    {
+                        dst.copy_from_slice(src);
+                    }
+                } else {
+                    for i in 0..hi - lo {
+                        let v = bit(&self.mem, p_first + i);
+                        set_bit(data, d0 + i, v);
+                    }
+                }
                 read = true;
             }
         }
@@ -403,6 +432,22 @@ impl Esc {
             Command::Lrw => u16::from(read) + 2 * u16::from(written),
             _ => u16::from(read || written),
         }
+    }
+}
+
+fn overlap(a: &core::ops::Range<usize>, b: &core::ops::Range<usize>) -> bool {
+    a.start < b.end && b.start < a.end
+}
+
+/// Bit `i` of `b` (LSB first), false outside it.
+fn bit(b: &[u8], i: u64) -> bool {
+    usize::try_from(i / 8).ok().and_then(|k| b.get(k)).is_some_and(|x| x >> (i % 8) & 1 != 0)
+}
+
+fn set_bit(b: &mut [u8], i: u64, v: bool) {
+    if let Some(x) = usize::try_from(i / 8).ok().and_then(|k| b.get_mut(k)) {
+        let m = 1u8 << (i % 8);
+        *x = if v { *x | m } else { *x & !m };
     }
 }
 
@@ -417,6 +462,12 @@ pub struct Pdi<'a>(pub &'a mut Esc);
 impl Pdi<'_> {
     fn touched(&mut self, addr: u16, len: usize, write: bool) {
         let range = usize::from(addr)..usize::from(addr) + len;
+        // Registers other than AL control and the sync managers' have no side effect.
+        let sms = usize::from(reg::SM)..usize::from(reg::SM) + 8 * usize::from(reg::SMS);
+        let registers = range.end <= usize::from(reg::PROCESS_RAM);
+        if registers && !range.contains(&usize::from(reg::AL_CONTROL)) && !overlap(&range, &sms) {
+            return;
+        }
         let covers = |a: u16| range.contains(&usize::from(a));
         if !write && covers(reg::AL_CONTROL) {
             self.0.clear(0);

@@ -19,9 +19,10 @@
 //!   a chain to an ethercrab master in the same process.
 //!
 //! Simplifications, each visible to a master only in timing: an ESC answers at once (the
-//! SII is never busy, a mailbox reply is ready when the request is written), FMMUs are byte
-//! granular, process data sync managers have one buffer, and a DC clock takes the
-//! reference's time at the first comparison instead of through a control loop. Not
+//! SII is never busy, a mailbox reply is ready when the request is written), process data
+//! sync managers have one buffer, and a DC clock takes the reference's time at the first
+//! comparison instead of through a control loop. FMMUs map bits (a master may pack devices
+//! of fewer than 8 bits into shared bytes). Not
 //! emulated: the mailbox repeat request (SM activate bit 1), the watchdogs' expiry, SYNC
 //! pulses and latches, EoE/FoE/SoE (answered with the mailbox error "unsupported protocol").
 

@@ -176,9 +176,14 @@ pub mod mailbox_error {
 }
 
 /// The device side of one EtherCAT device: `MBX` bytes of mailbox (the largest mailbox sync
-/// manager served whole), `BUF` bytes for an SDO value and for one process data image, `PD`
-/// mapped entries.
-pub struct SubDevice<const MBX: usize = 128, const BUF: usize = 256, const PD: usize = 64> {
+/// manager served whole), `BUF` bytes for an SDO value, `PD` mapped entries, `IMG` bytes for
+/// the largest process data image.
+pub struct SubDevice<
+    const MBX: usize = 128,
+    const BUF: usize = 256,
+    const PD: usize = 64,
+    const IMG: usize = 64,
+> {
     state: u8,
     error: bool,
     counter: u8,
@@ -190,16 +195,20 @@ pub struct SubDevice<const MBX: usize = 128, const BUF: usize = 256, const PD: u
     mapped: [Mapped; PD],
     used: usize,
     emergency: Option<[u8; 8]>,
+    /// One process data image on its way between the ESC and the dictionary.
+    image: [u8; IMG],
 }
 
-impl<const MBX: usize, const BUF: usize, const PD: usize> Default for SubDevice<MBX, BUF, PD> {
+impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize> Default
+    for SubDevice<MBX, BUF, PD, IMG>
+{
     fn default() -> Self {
         Self::new()
     }
 }
 
-impl<const MBX: usize, const BUF: usize, const PD: usize> core::fmt::Debug
-    for SubDevice<MBX, BUF, PD>
+impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize> core::fmt::Debug
+    for SubDevice<MBX, BUF, PD, IMG>
 {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.debug_struct("SubDevice")
@@ -220,7 +229,9 @@ fn is_process_data(s: &SmSpec) -> bool {
     matches!(s.kind, al::OUTPUTS | al::INPUTS)
 }
 
-impl<const MBX: usize, const BUF: usize, const PD: usize> SubDevice<MBX, BUF, PD> {
+impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
+    SubDevice<MBX, BUF, PD, IMG>
+{
     /// A device at power-on: INIT.
     pub const fn new() -> Self {
         Self {
@@ -235,6 +246,7 @@ impl<const MBX: usize, const BUF: usize, const PD: usize> SubDevice<MBX, BUF, PD
             mapped: [Mapped { sm: 0, index: 0, sub: 0, bits: 0, bit: 0 }; PD],
             used: 0,
             emergency: None,
+            image: [0; IMG],
         }
     }
 
@@ -318,9 +330,8 @@ impl<const MBX: usize, const BUF: usize, const PD: usize> SubDevice<MBX, BUF, PD
         if self.state == state::OP {
             for spec in cfg.sync_managers.iter().filter(|s| s.kind == al::OUTPUTS) {
                 let regs = SmRegs::read(esc, spec.number)?;
-                let n = usize::from(regs.len).min(BUF);
-                let mut image = [0u8; BUF];
-                if let Some(image) = image.get_mut(..n) {
+                let n = usize::from(regs.len).min(IMG);
+                if let Some(image) = self.image.get_mut(..n) {
                     esc.read(regs.start, image)?;
                     let mapped = self.mapped.get(..self.used).unwrap_or(&[]);
                     pdo::image_to_dictionary(mapped, spec.number, image, od);
@@ -339,9 +350,10 @@ impl<const MBX: usize, const BUF: usize, const PD: usize> SubDevice<MBX, BUF, PD
     ) -> Result<(), E::Error> {
         for spec in cfg.sync_managers.iter().filter(|s| s.kind == al::INPUTS) {
             let regs = SmRegs::read(esc, spec.number)?;
-            let n = usize::from(regs.len).min(BUF);
-            let mut image = [0u8; BUF];
-            if let Some(image) = image.get_mut(..n) {
+            let n = usize::from(regs.len).min(IMG);
+            if let Some(image) = self.image.get_mut(..n) {
+                // Gaps and unmapped bits go out as zeros.
+                image.fill(0);
                 let mapped = self.mapped.get(..self.used).unwrap_or(&[]);
                 pdo::dictionary_to_image(mapped, spec.number, od, image);
                 esc.write(regs.start, image)?;
@@ -458,8 +470,7 @@ impl<const MBX: usize, const BUF: usize, const PD: usize> SubDevice<MBX, BUF, PD
                         },
                         Err(_) => return Ok(Err(err)),
                     };
-                    let image = n.div_ceil(8);
-                    if image > BUF as u32 {
+                    if n.div_ceil(8) > IMG as u32 {
                         return Ok(Err(err));
                     }
                     if let Some(b) = bits.get_mut(usize::from(spec.number)) {
