@@ -4,7 +4,8 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use odc::ethercat::subdevice::{
-    Config, Describe, EntryDescription, Esc, ObjectDescription, SmSpec, SubDevice, al,
+    Application, Config, Describe, EntryDescription, Esc, ObjectDescription, SmSpec, SubDevice, al,
+    foe,
 };
 
 mod servoone {
@@ -146,17 +147,61 @@ impl Describe for Two {
     }
 }
 
+/// An application with one file, "fw", to write and read over FoE.
+#[derive(Default)]
+struct Files {
+    file: Vec<u8>,
+    closed: Vec<bool>,
+}
+
+impl Application<servoone::slave::Dictionary> for Files {
+    fn foe_open_write(&mut self, name: &[u8], password: u32) -> Result<(), u32> {
+        match (name, password) {
+            (b"fw", 0x1234) => {
+                self.file.clear();
+                Ok(())
+            }
+            (b"fw", _) => Err(foe::error::ACCESS_DENIED),
+            _ => Err(foe::error::NOT_FOUND),
+        }
+    }
+    fn foe_write(&mut self, offset: u32, data: &[u8]) -> Result<(), u32> {
+        assert_eq!(offset as usize, self.file.len());
+        self.file.extend_from_slice(data);
+        Ok(())
+    }
+    fn foe_open_read(&mut self, name: &[u8], _: u32) -> Result<(), u32> {
+        if name == b"fw" { Ok(()) } else { Err(foe::error::NOT_FOUND) }
+    }
+    fn foe_read(&mut self, offset: u32, buf: &mut [u8]) -> Result<usize, u32> {
+        let rest = self.file.get(offset as usize..).unwrap_or(&[]);
+        let n = rest.len().min(buf.len());
+        buf[..n].copy_from_slice(&rest[..n]);
+        Ok(n)
+    }
+    fn foe_close(&mut self, write: bool) -> Result<(), u32> {
+        self.closed.push(write);
+        Ok(())
+    }
+}
+
 struct Device {
     esc: TestEsc,
     stack: SubDevice<128, 256, 16>,
     od: servoone::slave::Dictionary,
+    app: Files,
 }
 
 impl Device {
     fn new() -> Self {
         let mut esc = TestEsc::new();
         esc.mailboxes();
-        Self { esc, stack: SubDevice::new(), od: servoone::slave::Dictionary::new(None) }
+        Self {
+            esc,
+            stack: SubDevice::new(),
+            od: servoone::slave::Dictionary::new(None),
+            app: Files::default(),
+        }
     }
     fn poll(&mut self) {
         let cfg = Config {
@@ -165,9 +210,10 @@ impl Device {
             coe: true,
             complete_access: true,
             boot: false,
+            foe: true,
             describe: Some(&Two),
         };
-        let Ok(()) = self.stack.poll(&cfg, &mut self.esc, &mut self.od, &mut ());
+        let Ok(()) = self.stack.poll(&cfg, &mut self.esc, &mut self.od, &mut self.app);
     }
     fn cycle(&mut self) {
         let cfg = Config {
@@ -176,9 +222,10 @@ impl Device {
             coe: true,
             complete_access: true,
             boot: false,
+            foe: false,
             describe: None,
         };
-        let Ok(()) = self.stack.cycle(&cfg, &mut self.esc, &mut self.od, &mut ());
+        let Ok(()) = self.stack.cycle(&cfg, &mut self.esc, &mut self.od, &mut self.app);
     }
     fn go(&mut self, state: u8) -> (u16, u16) {
         self.esc.request(state);
@@ -385,4 +432,67 @@ fn sdo_information_in_fragments_and_emergencies() {
     let (kind, r) = d.esc.receive().unwrap();
     assert_eq!(kind, 3);
     assert_eq!(r, [0x00, 0x10, 0x30, 0x81, 0x11, 1, 2, 3, 4, 5]);
+}
+
+/// One FoE mailbox and its reply: (opcode, u32, data).
+fn foe_exchange(d: &mut Device, request: &[u8]) -> (u8, u32, Vec<u8>) {
+    d.esc.send(4, request);
+    d.poll();
+    let (kind, r) = d.esc.receive().expect("an FoE reply");
+    assert_eq!(kind, 4);
+    d.poll();
+    (r[0], u32::from_le_bytes(r[2..6].try_into().unwrap()), r[6..].to_vec())
+}
+
+#[test]
+fn foe_writes_and_reads_a_file_in_packets() {
+    let mut d = Device::new();
+    d.go(2);
+    // A write request with the wrong password: error 0x8002 (access denied).
+    let mut wrq = vec![2, 0];
+    wrq.extend(0x9999u32.to_le_bytes());
+    wrq.extend(b"fw");
+    let (op, code, _) = foe_exchange(&mut d, &wrq);
+    assert_eq!((op, code), (5, 0x8002));
+    // The right one: ack 0, then 250 bytes in packets of 116 (128-byte mailbox less the
+    // mailbox and FoE headers): 116, 116, 18, each acknowledged with its number.
+    wrq[2..6].copy_from_slice(&0x1234u32.to_le_bytes());
+    let (op, n, _) = foe_exchange(&mut d, &wrq);
+    assert_eq!((op, n), (4, 0));
+    let file: Vec<u8> = (0..250u32).map(|i| (i * 7) as u8).collect();
+    for (k, chunk) in file.chunks(116).enumerate() {
+        let mut data = vec![3, 0];
+        data.extend((k as u32 + 1).to_le_bytes());
+        data.extend(chunk);
+        let (op, n, _) = foe_exchange(&mut d, &data);
+        assert_eq!((op, n), (4, k as u32 + 1));
+    }
+    assert_eq!(d.app.file, file);
+    assert_eq!(d.app.closed, [true]);
+    // Read it back: data packets 1, 2, 3 of 116, 116, 18 bytes, each after the ack of the
+    // one before; the ack of the short last one ends the transfer (no reply).
+    let mut rrq = vec![1, 0, 0, 0, 0, 0];
+    rrq.extend(b"fw");
+    let (mut op, mut n, mut data) = foe_exchange(&mut d, &rrq);
+    let mut got = Vec::new();
+    loop {
+        assert_eq!(op, 3);
+        got.extend_from_slice(&data);
+        let mut ack = vec![4, 0];
+        ack.extend(n.to_le_bytes());
+        if data.len() < 116 {
+            d.esc.send(4, &ack);
+            d.poll();
+            assert_eq!(d.esc.receive(), None);
+            break;
+        }
+        (op, n, data) = foe_exchange(&mut d, &ack);
+    }
+    assert_eq!(got, file);
+    assert_eq!(d.app.closed, [true, false]);
+    // A file that is not there: 0x8001.
+    let mut rrq = vec![1, 0, 0, 0, 0, 0];
+    rrq.extend(b"boot.bin");
+    let (op, code, _) = foe_exchange(&mut d, &rrq);
+    assert_eq!((op, code), (5, 0x8001));
 }

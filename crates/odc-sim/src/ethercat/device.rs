@@ -256,6 +256,7 @@ impl SubDevice {
                 coe: self.coe.is_some(),
                 complete_access: self.coe.as_ref().is_some_and(|c| c.complete_access),
                 boot: false,
+                foe: false,
                 describe: self.info.as_ref().map(|i| i as &dyn stack::Describe),
             };
             let Ok(()) =
@@ -285,6 +286,7 @@ impl SubDevice {
             coe: self.coe.is_some(),
             complete_access: self.coe.as_ref().is_some_and(|c| c.complete_access),
             boot: false,
+            foe: false,
             describe: None,
         };
         let Ok(()) = self.stack.cycle(&cfg, &mut Pdi(&mut self.esc), &mut self.od, &mut self.app);

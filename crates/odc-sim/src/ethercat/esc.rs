@@ -159,14 +159,18 @@ impl Esc {
 
     /// The registers of sync manager `n`.
     pub fn sm(&self, n: u8) -> SmRegs {
-        let at = reg::SM + 8 * u16::from(n);
+        let at = usize::from(reg::SM) + 8 * usize::from(n);
+        let r = match self.mem.get(at..at + 8) {
+            Some(&[a, b, c, d, e, f, g, h]) => [a, b, c, d, e, f, g, h],
+            _ => [0; 8],
+        };
         SmRegs {
-            start: self.u16(at),
-            len: self.u16(at + 2),
-            control: self.u8(at + 4),
-            status: self.u8(at + 5),
-            activate: self.u8(at + 6),
-            pdi_control: self.u8(at + 7),
+            start: u16::from_le_bytes([r[0], r[1]]),
+            len: u16::from_le_bytes([r[2], r[3]]),
+            control: r[4],
+            status: r[5],
+            activate: r[6],
+            pdi_control: r[7],
         }
     }
 
@@ -472,20 +476,27 @@ impl Pdi<'_> {
         if !write && covers(reg::AL_CONTROL) {
             self.0.clear(0);
         }
+        // Events are raised for mailboxes only; a buffered sync manager's access has no side
+        // effect once no event is pending (the cyclic path).
+        let pending = self.0.al_event() != 0;
         for n in 0..reg::SMS {
-            let sm = self.0.sm(n);
-            let area = sm.range();
-            let status = reg::SM + 8 * u16::from(n) + 5;
-            if !write && covers(status) {
+            let at = reg::SM + 8 * u16::from(n);
+            let mailbox = self.0.u8(at + 4) & 0x03 == 0x02;
+            if !mailbox && !pending {
+                continue;
+            }
+            if !write && covers(at + 5) {
                 self.0.clear(8 + u32::from(n));
             }
+            let sm = self.0.sm(n);
+            let area = sm.range();
             if area.is_empty() || sm.activate & 1 == 0 {
                 continue;
             }
-            if range.start < area.end && area.start < range.end {
+            if overlap(&range, &area) {
                 self.0.clear(8 + u32::from(n));
             }
-            if !sm.is_mailbox() || !range.contains(&(area.end - 1)) {
+            if !mailbox || !range.contains(&(area.end - 1)) {
                 continue;
             }
             if !write && sm.master_writes() {

@@ -18,6 +18,7 @@
 
 pub mod al;
 mod coe;
+pub mod foe;
 pub mod info;
 pub mod pdo;
 
@@ -114,6 +115,8 @@ pub struct Config<'a> {
     pub complete_access: bool,
     /// The device has a bootstrap state.
     pub boot: bool,
+    /// The device serves FoE (`Mailbox/FoE`), through the application's `foe_*` methods.
+    pub foe: bool,
     /// SDO Information (`CoE@SdoInfo`): the descriptions it serves.
     pub describe: Option<&'a dyn Describe>,
 }
@@ -126,6 +129,7 @@ impl core::fmt::Debug for Config<'_> {
             .field("coe", &self.coe)
             .field("complete_access", &self.complete_access)
             .field("boot", &self.boot)
+            .field("foe", &self.foe)
             .field("sdo_info", &self.describe.is_some())
             .finish()
     }
@@ -152,6 +156,54 @@ pub trait Application<D: ?Sized> {
         let _ = (od, from, to);
         Ok(())
     }
+    /// FoE: a master asks to write the file `name` (a firmware image in BOOT); an error is the
+    /// FoE error code to refuse with ([`foe::error`]; by default "not defined").
+    ///
+    /// # Errors
+    ///
+    /// The FoE error code.
+    fn foe_open_write(&mut self, name: &[u8], password: u32) -> Result<(), u32> {
+        let _ = (name, password);
+        Err(foe::error::NOT_DEFINED)
+    }
+    /// FoE: the next `data` of the file being written, at `offset`.
+    ///
+    /// # Errors
+    ///
+    /// The FoE error code.
+    fn foe_write(&mut self, offset: u32, data: &[u8]) -> Result<(), u32> {
+        let _ = (offset, data);
+        Err(foe::error::NOT_DEFINED)
+    }
+    /// FoE: a master asks to read the file `name`.
+    ///
+    /// # Errors
+    ///
+    /// The FoE error code ([`foe::error::NOT_FOUND`] by default).
+    fn foe_open_read(&mut self, name: &[u8], password: u32) -> Result<(), u32> {
+        let _ = (name, password);
+        Err(foe::error::NOT_FOUND)
+    }
+    /// FoE: the file being read from `offset` into `buf`; returns the bytes (fewer than
+    /// `buf` holds at the end of the file).
+    ///
+    /// # Errors
+    ///
+    /// The FoE error code.
+    fn foe_read(&mut self, offset: u32, buf: &mut [u8]) -> Result<usize, u32> {
+        let _ = (offset, buf);
+        Err(foe::error::NOT_DEFINED)
+    }
+    /// FoE: the transfer ended (`write`: a file was written, else one was read), or was
+    /// aborted by the master.
+    ///
+    /// # Errors
+    ///
+    /// The FoE error code for the last packet of a write.
+    fn foe_close(&mut self, write: bool) -> Result<(), u32> {
+        let _ = write;
+        Ok(())
+    }
 }
 
 /// The application that does nothing.
@@ -160,6 +212,7 @@ impl<D: ?Sized> Application<D> for () {}
 /// Mailbox types (ETG.1000.4 Table 29).
 const TYPE_ERROR: u8 = 0x00;
 const TYPE_COE: u8 = 0x03;
+const TYPE_FOE: u8 = 0x04;
 /// Bytes of the mailbox header.
 const HEADER: usize = 6;
 
@@ -188,6 +241,7 @@ pub struct SubDevice<
     error: bool,
     counter: u8,
     transfer: Transfer,
+    foe: foe::Transfer,
     buf: [u8; BUF],
     info: Option<info::Pending>,
     reply: [u8; MBX],
@@ -239,6 +293,7 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
             error: false,
             counter: 0,
             transfer: Transfer::None,
+            foe: foe::Transfer::None,
             buf: [0; BUF],
             info: None,
             reply: [0; MBX],
@@ -435,6 +490,7 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
         match to {
             state::INIT => {
                 self.transfer = Transfer::None;
+                self.foe = foe::Transfer::None;
                 self.info = None;
                 self.reply_len = 0;
                 self.counter = 0;
@@ -541,7 +597,7 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
         }
         let room = usize::from(tx.len).min(MBX);
         self.info = None;
-        self.reply_len = self.handle(cfg, request, room, od);
+        self.reply_len = self.handle(cfg, request, room, od, app);
         self.send_pending(cfg, esc, od)?;
         app.mailbox_served(od);
         Ok(())
@@ -549,12 +605,13 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
 
     /// The reply (header included) to mailbox `request` in `self.reply`, at most `room`
     /// bytes; returns its length (0: none).
-    fn handle<D: Storage + ?Sized>(
+    fn handle<D: Storage + ?Sized, A: Application<D> + ?Sized>(
         &mut self,
         cfg: &Config<'_>,
         request: &[u8],
         room: usize,
         od: &mut D,
+        app: &mut A,
     ) -> usize {
         let (len, kind) = match request.get(..HEADER) {
             Some(&[l0, l1, _, _, _, t]) => (usize::from(u16::from_le_bytes([l0, l1])), t & 0x0F),
@@ -563,7 +620,17 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
         let Some(data) = request.get(HEADER..HEADER + len) else {
             return self.error(mailbox_error::INVALID_SIZE, room);
         };
-        if kind != TYPE_COE || !cfg.coe {
+        if kind == TYPE_FOE && cfg.foe {
+            // Packets from the master carry its mailbox less the mailbox and FoE headers.
+            let max_in = request.len().saturating_sub(HEADER + 6);
+            let area = self.reply.get_mut(HEADER..room).unwrap_or(&mut []);
+            let mut out = Out { buf: area, len: 0 };
+            foe::handle(&mut self.foe, data, max_in, app, &mut out);
+            let n = out.len;
+            return if n == 0 { 0 } else { self.frame(TYPE_FOE, n) };
+        }
+        // In BOOT only FoE is served (ETG.1000.6 §6.4.1).
+        if kind != TYPE_COE || !cfg.coe || self.state == state::BOOT {
             return self.error(mailbox_error::UNSUPPORTED_PROTOCOL, room);
         }
         let Some((&[_, service], sdo)) = data.split_first_chunk::<2>() else {
