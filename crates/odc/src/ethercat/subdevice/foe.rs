@@ -1,5 +1,5 @@
 //! File access over EtherCAT (FoE, ETG.1000.6 §5.8), handed to the application's
-//! [`Application`](super::Application) `foe_*` methods: a master writes a file (a firmware
+//! [`Application`] `foe_*` methods: a master writes a file (a firmware
 //! image in BOOT, as the ServoOne's manual has it) or reads one, in packets as long as the
 //! mailbox allows, each acknowledged.
 //!
