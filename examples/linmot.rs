@@ -258,8 +258,8 @@ pub fn main() -> Result<(), Error> {
         step(&format!("{what}: Control Word {control_word:04X}h"));
         send(&mut m, RxPdo1::cob_id(NODE), &RxPdo1 { control_word, ..RxPdo1::default() }.pack())?;
         m.sync()?;
-        let s = tx1(m.recv_frame(TxPdo1::cob_id(NODE))?)?;
-        let _ = m.recv_pdo::<TxPdo4>(0x480 + node)?;
+        let s = tx1(m.recv_frame(odc::cob::CobId(TxPdo1::cob_id(NODE)))?)?;
+        let _ = m.recv_pdo::<TxPdo4>(odc::cob::CobId(0x480 + node))?;
         println!("   status word {:04X}h, actual position {}", s.status_word, s.actual_position);
     }
     step("VAI 16Bit Go To Pos (0901h): 50 mm at 1 m/s, 10 m/s² up and down");
@@ -279,8 +279,8 @@ pub fn main() -> Result<(), Error> {
     loop {
         m.sync()?;
         syncs += 1;
-        let s = tx1(m.recv_frame(TxPdo1::cob_id(NODE))?)?;
-        let t4 = m.recv_pdo::<TxPdo4>(0x480 + node)?;
+        let s = tx1(m.recv_frame(odc::cob::CobId(TxPdo1::cob_id(NODE)))?)?;
+        let t4 = m.recv_pdo::<TxPdo4>(odc::cob::CobId(0x480 + node))?;
         println!(
             "   actual position {} (0.1 mm), analog voltage {}, diff {}",
             s.actual_position, t4.analog_voltage, t4.diff_analog_voltage

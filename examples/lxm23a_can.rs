@@ -15,8 +15,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut m = Master::new(SocketCan::open("can0")?);
     m.nmt(NmtCommand::ResetNode, NODE)?;
     m.wait_boot_up(NODE)?;
-    m.execute(NODE, &lxm23a::master::rpdo2(NODE))?; // controlword + target position
-    m.execute(NODE, &lxm23a::master::tpdo2(NODE))?; // statusword + position actual value
+    m.execute(NODE, &lxm23a::cia402::plan(NODE))?; // the PDOs cia402::Pdos names
     m.write(NODE, &od::PROFILE_VELOCITY, 1_000_000)?;
     m.nmt(NmtCommand::Start, NODE)?;
     let modes = SupportedModes(u32::from_le_bytes(

@@ -3,16 +3,16 @@
 //! Both ends run code generated from `eds/servoone.eds`. The ServoOne has no factory PDO
 //! mapping ("the PDOs do not contain any mapping with the factory setting", manual 8.3), so
 //! the generated plan, run first, leaves them empty; the master then maps R_PDO1 (controlword,
-//! target position) and T_PDO1 (statusword, actual position) with a plan built from its own
-//! PDO structs, checked against the generated descriptors. Then it walks the drive to
-//! "operation enabled", makes one profile-position move and reads the statusword until the
-//! target is reached. Every frame is printed.
+//! target position) and T_PDO1 (statusword, actual position) with the plan generated for the
+//! CiA 402 driver (`cia402::plan`, whose PDOs `cia402::Pdos` names: the README's recipe for
+//! any CiA 402 drive). Then it walks the drive to "operation enabled", makes one
+//! profile-position move and reads the statusword until the target is reached. Every frame
+//! is printed.
 
 use std::thread;
 
-use odc::cia402::{Controlword, Driver, Inputs, ModeOfOperation, Outputs, Statusword};
-use odc::master::axis::{Axis, ProcessData};
-use odc::master::mapping_plan;
+use odc::cia402::{Driver, ModeOfOperation};
+use odc::master::axis::Axis;
 use odc::nmt::NmtCommand;
 use odc_examples::drive::Drive;
 use odc_examples::{Error, bus, step};
@@ -22,37 +22,9 @@ use odc_examples::{Error, bus, step};
 mod servoone {
     odc::include_od!("servoone");
 }
-use servoone::{od, pdo, slave};
+use servoone::{cia402, od, slave};
 
 const NODE: odc::cob::NodeId = odc::node_id!(1);
-
-/// R_PDO1 as this application maps it.
-#[derive(Clone, Copy, Debug, PartialEq, odc::Pdo)]
-struct Command {
-    #[pdo(index = 0x6040, bits = 16)]
-    controlword: Controlword,
-    #[pdo(index = 0x607A)]
-    target_position: i32,
-}
-
-/// T_PDO1 as this application maps it.
-#[derive(Clone, Copy, Debug, PartialEq, odc::Pdo)]
-struct Status {
-    #[pdo(index = 0x6041, bits = 16)]
-    statusword: Statusword,
-    #[pdo(index = 0x6064)]
-    position_actual_value: i32,
-}
-
-// The structs map objects the file declares mappable, with their types.
-const _: () = {
-    assert!(od::CONTROLWORD.addr.index == 0x6040 && od::CONTROLWORD.pdo_mappable);
-    assert!(od::TARGET_POSITION.addr.index == 0x607A && od::TARGET_POSITION.pdo_mappable);
-    assert!(od::STATUSWORD.addr.index == 0x6041 && od::STATUSWORD.pdo_mappable);
-    assert!(
-        od::POSITION_ACTUAL_VALUE.addr.index == 0x6064 && od::POSITION_ACTUAL_VALUE.pdo_mappable
-    );
-};
 
 /// The program: the drive in a thread, the master in this one.
 pub fn main() -> Result<(), Error> {
@@ -66,31 +38,14 @@ pub fn main() -> Result<(), Error> {
     step("the generated plan: the file's (empty) factory mapping");
     m.execute(NODE, &servoone::master::plan(NODE))?;
     step(
-        "the application's mapping: R_PDO1 controlword + target position, T_PDO1 statusword + position",
+        "the driver's mapping: R_PDO1 controlword + target position, T_PDO1 statusword + position",
     );
-    let (rx, tx) = (pdo::Rpdo1::cob_id(NODE), pdo::Tpdo1::cob_id(NODE));
-    m.execute(
-        NODE,
-        &mapping_plan::<Command>(pdo::Rpdo1::COMM_INDEX, pdo::Rpdo1::MAPPING_INDEX, rx, 255),
-    )?;
-    m.execute(
-        NODE,
-        &mapping_plan::<Status>(pdo::Tpdo1::COMM_INDEX, pdo::Tpdo1::MAPPING_INDEX, tx, 255),
-    )?;
+    m.execute(NODE, &cia402::plan(NODE))?;
     m.write(NODE, &od::PROFILE_VELOCITY, 100_000)?;
     let supported = odc_examples::supported_modes(&mut m, NODE)?;
     step("NMT start; the state machine to operation enabled");
     m.nmt(NmtCommand::Start, NODE)?;
-    let pdos = ProcessData {
-        rpdo: rx,
-        tpdo: tx,
-        command: |o: &Outputs| Command {
-            controlword: o.controlword,
-            target_position: o.target_position.unwrap_or(0),
-        },
-        status: |t: &Status| Inputs::new(t.statusword).with_position(t.position_actual_value),
-    };
-    let mut axis = Axis::new(&mut m, NODE, Driver::new(supported), pdos)?;
+    let mut axis = Axis::with_pdos::<cia402::Pdos>(&mut m, NODE, Driver::new(supported))?;
     axis.enable()?;
     axis.set_mode(ModeOfOperation::ProfilePosition)?;
     step("profile position move to 10000, SYNC every cycle");

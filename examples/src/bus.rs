@@ -79,13 +79,13 @@ impl odc::transport::Bus for Port {
         Port::send(self, *frame)
     }
 
-    fn recv(&mut self, deadline_ms: u64) -> Result<Option<CanFrame>, Closed> {
-        let left = deadline_ms.saturating_sub(self.now_ms());
-        self.recv_timeout(Duration::from_millis(left))
+    fn recv(&mut self, deadline: odc::time::Instant) -> Result<Option<CanFrame>, Closed> {
+        let left = deadline - odc::time::Instant::since(self.start);
+        self.recv_timeout(left.into())
     }
 
-    fn now_ms(&mut self) -> u64 {
-        u64::try_from(self.start.elapsed().as_millis()).unwrap_or(u64::MAX)
+    fn now(&mut self) -> odc::time::Instant {
+        odc::time::Instant::since(self.start)
     }
 }
 

@@ -76,7 +76,7 @@ impl<D: ObjectDictionary + DriveObjects> Drive<D> {
     /// the synchronous TPDOs the node sends for it carry the new position.
     pub fn handle(&mut self, frame: &CanFrame) -> Vec<CanFrame> {
         if frame.is_data(u32::from(odc::cob::SYNC)) && self.node.state() == NmtState::Operational {
-            self.drive.step(&mut self.od, self.cycle_ms);
+            self.drive.step(&mut self.od, odc::time::Duration::from_millis(self.cycle_ms.into()));
             self.drive.update(&mut self.od);
         }
         let mut out = Vec::new();

@@ -20,12 +20,12 @@ use odc::master::{Dir, Master};
 /// What can go wrong in an example: a closed bus, an SDO failure, a missing answer.
 pub type Error = Box<dyn std::error::Error + Send + Sync>;
 
-/// How long the master waits for an answer, in ms.
-pub const TIMEOUT_MS: u64 = 10_000;
+/// How long the master waits for an answer.
+pub const TIMEOUT: odc::time::Duration = odc::time::Duration::from_secs(10);
 
 /// The runtime's master on `port`, printing every frame sent and received, numbered.
 pub fn master(port: bus::Port) -> Master<bus::Port> {
-    let mut m = Master::new(port).with_timeout(TIMEOUT_MS);
+    let mut m = Master::new(port).with_timeout(TIMEOUT);
     let mut n = 0u32;
     m.observe(move |dir, frame| {
         n += 1;

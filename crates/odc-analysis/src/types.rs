@@ -19,6 +19,11 @@ pub enum RustTy {
     Text(usize),
     /// `OctetString<N>`.
     Bytes(usize),
+    /// `UnicodeString<N>`: at most `N` bytes of UTF-16LE.
+    Unicode(usize),
+    /// `Domain`: data of any length, which the application keeps (the dictionary stores
+    /// none).
+    Domain,
     /// `TimeOfDay`.
     TimeOfDay,
     /// `TimeDifference`.
@@ -31,7 +36,7 @@ pub enum RustTy {
 
 impl RustTy {
     /// The type for a sub-object, or `None` when the runtime has no value type for it
-    /// (DOMAIN, UNICODE_STRING, structured and profile types).
+    /// (structured and profile types: the checker reports such an entry, D014).
     pub fn of(sub: &SubObject) -> Option<RustTy> {
         Some(match sub.data_type {
             DataType::Boolean => RustTy::Bool,
@@ -57,6 +62,8 @@ impl RustTy {
             DataType::Real64 => RustTy::F64,
             DataType::VisibleString => RustTy::Text(string_len(sub)),
             DataType::OctetString => RustTy::Bytes(string_len(sub)),
+            DataType::UnicodeString => RustTy::Unicode(string_len(sub)),
+            DataType::Domain => RustTy::Domain,
             DataType::TimeOfDay => RustTy::TimeOfDay,
             DataType::TimeDifference => RustTy::TimeDifference,
             _ => return None,
@@ -129,6 +136,7 @@ fn string_len(sub: &SubObject) -> usize {
     match sub.initial_value().map(|v| &v.value) {
         Some(Value::Text(s)) => s.len(),
         Some(Value::Bytes(b)) => b.len(),
+        Some(Value::Unicode(u)) => u.len() * 2,
         _ => 0,
     }
 }

@@ -7,14 +7,14 @@ mod input;
 
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, Parser, Subcommand};
 
 /// The exit codes, shown by `odc --help` (README.md says the same).
 const EXIT_STATUS: &str = "\
 Exit status:
   0  no diagnostic at error level (warnings allowed)
   1  at least one error-level diagnostic (check), or a file with errors where a command needs a
-     usable model (dump, convert, info, generate)
+     usable model (dump, convert, info, generate); a failed check (conformance)
   2  usage error (bad arguments, unknown device or rule) or I/O error (unreadable input,
      unwritable output); nothing is written
 
@@ -50,11 +50,25 @@ enum Command {
     Sii(commands::sii::Args),
     Simulate(commands::simulate::Args),
     Sdo(commands::sdo::Args),
+    Conformance(commands::conformance::Args),
     Nmt(commands::nmt::Args),
     Lss(commands::lss::Args),
     Monitor(commands::monitor::Args),
     Explain(commands::explain::Args),
     Lints(commands::explain::LintsArgs),
+    Completions(Completions),
+    /// Print the manual page (roff, every subcommand listed): `odc man > odc.1; man ./odc.1`.
+    Man,
+}
+
+/// Print a shell completion script (bash, zsh, fish, elvish, powershell).
+///
+/// `odc completions bash > /etc/bash_completion.d/odc`, `odc completions zsh > ~/.zfunc/_odc`,
+/// `odc completions fish > ~/.config/fish/completions/odc.fish`.
+#[derive(clap::Args)]
+struct Completions {
+    /// The shell.
+    shell: clap_complete::Shell,
 }
 
 fn main() -> ExitCode {
@@ -70,16 +84,19 @@ fn main() -> ExitCode {
         Command::Sii(args) => commands::sii::run(args),
         Command::Simulate(args) => commands::simulate::run(args),
         Command::Sdo(args) => commands::sdo::run(args),
+        Command::Conformance(args) => commands::conformance::run(args),
         Command::Nmt(args) => commands::nmt::run(args),
         Command::Lss(args) => commands::lss::run(args),
         Command::Monitor(args) => commands::monitor::run(args),
         Command::Explain(args) => commands::explain::run(args),
         Command::Lints(args) => commands::explain::lints(args),
+        Command::Completions(args) => completions(args.shell),
+        Command::Man => man(),
     };
     match result {
         Ok(code) => code,
         Err(err) => {
-            eprintln!("error: {err:#}");
+            commands::err(&format!("error: {}\n", message(&err)));
             if err.downcast_ref::<commands::HasErrors>().is_some() {
                 ExitCode::from(1)
             } else {
@@ -87,4 +104,38 @@ fn main() -> ExitCode {
             }
         }
     }
+}
+
+/// `odc completions SHELL`.
+fn completions(shell: clap_complete::Shell) -> anyhow::Result<ExitCode> {
+    let mut script = Vec::new();
+    clap_complete::generate(shell, &mut Cli::command(), "odc", &mut script);
+    commands::out(&String::from_utf8_lossy(&script))?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `odc man`.
+fn man() -> anyhow::Result<ExitCode> {
+    let mut page = Vec::new();
+    clap_mangen::Man::new(Cli::command()).render(&mut page)?;
+    commands::out(&String::from_utf8_lossy(&page))?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The error and its causes, `: `-separated, each cause once: an error whose text already
+/// includes its cause's (`cannot read x.eds: No such file or directory (os error 2)`) does not
+/// repeat it.
+fn message(err: &anyhow::Error) -> String {
+    let mut text = String::new();
+    for cause in err.chain() {
+        let part = cause.to_string();
+        if text.contains(&part) {
+            continue;
+        }
+        if !text.is_empty() {
+            text.push_str(": ");
+        }
+        text.push_str(&part);
+    }
+    text
 }

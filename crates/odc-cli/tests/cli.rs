@@ -342,3 +342,184 @@ fn failed_generate_leaves_the_previous_output_untouched() {
     assert_eq!(std::fs::read_to_string(&out_path).unwrap(), "previous module");
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "no temporary file left behind");
 }
+
+/// Every command that loads a device file takes the rule levels its refusal names (`-A CODE`):
+/// the fixture's two errors (C205, F108) allowed, each gets past the gate; without them it
+/// is refused (exit 1) with the `-A` advice. Commands that talk to a bus print the file's
+/// warnings as one count with the command that shows them, not the warning itself (C407).
+#[test]
+fn every_loading_command_takes_the_rule_levels() {
+    let eds = fixture("bad-value.eds");
+    let node = format!("5={eds}");
+    let dir = tempdir();
+    let dir_s = dir.display().to_string();
+    let out_eds = dir.join("out.eds").display().to_string();
+    // Port 1 on loopback refuses connections and 192.0.2.1 (TEST-NET-1) is no local address:
+    // each bus command fails after loading, with exit 2.
+    let commands: Vec<(Vec<&str>, Option<i32>, bool)> = vec![
+        (vec!["check", &eds], Some(0), false),
+        (vec!["dump", &eds], Some(0), false),
+        (vec!["info", &eds], Some(0), false),
+        (vec!["doc", &eds, "-o", &dir_s], Some(0), false),
+        (vec!["convert", &eds, "-o", &out_eds], Some(0), false),
+        (vec!["diff", &eds, &eds], Some(0), false),
+        (vec!["monitor", "--node", &node, "--log", "/dev/null"], Some(0), true),
+        (vec!["sdo", "read", "--node", &node, "--tcp", "127.0.0.1:1", "0x1000"], Some(2), true),
+        (vec!["simulate", &eds, "--node-id", "5", "--tcp", "192.0.2.1:0"], Some(2), true),
+    ];
+    for (args, code, bus) in commands {
+        let mut with = args.clone();
+        with.extend(["-A", "C205", "-A", "F108"]);
+        let out = odc(&with);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), code, "odc {}: {err}", with.join(" "));
+        assert!(!err.contains("error["), "odc {}: {err}", with.join(" "));
+        if bus {
+            let count = format!("1 warning (`odc check {eds}` shows them)");
+            assert!(err.contains(&count), "odc {}: {err}", with.join(" "));
+            assert!(!err.contains("C407"), "odc {}: {err}", with.join(" "));
+        }
+        if args[0] == "diff" {
+            // diff allows the CiA rules itself: only the format rule is left to refuse.
+            continue;
+        }
+        let out = odc(&args);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(1), "odc {}: {err}", args.join(" "));
+        // `check` reports; the others refuse and say how to go on.
+        let advice = args[0] == "check" || err.contains("`-A C205`");
+        assert!(advice, "odc {}: {err}", args.join(" "));
+    }
+    let out = odc(&["diff", &eds, &eds]);
+    assert!(stderr(&out).contains("`-A F108`"), "{}", stderr(&out));
+}
+
+/// An I/O error prints its cause once, not `(os error 2): … (os error 2)`.
+#[test]
+fn io_error_cause_printed_once() {
+    let out = odc(&["info", "/nonexistent/odc/file.eds"]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(err.matches("(os error 2)").count(), 1, "{err}");
+}
+
+/// Standard input as a device file: `-`, and `/dev/stdin` read once (through a pipe, which
+/// cannot be read twice).
+#[test]
+fn info_reads_standard_input_once() {
+    use std::io::Write;
+    use std::process::Stdio;
+    let eds = std::fs::read(repo_file("eds/lxm23a.eds")).unwrap();
+    for file in ["-", "/dev/stdin"] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_odc"))
+            .args(["info", file])
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        child.stdin.take().unwrap().write_all(&eds).unwrap();
+        let out = child.wait_with_output().unwrap();
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(out.status.code(), Some(0), "{file}: {}", stderr(&out));
+        assert!(text.starts_with("LXM23A ("), "{file}: {text}");
+        assert!(text.contains("98 objects"), "{file}: {text}");
+    }
+}
+
+/// A file that is not well-formed XML is refused without advice to allow the rule that says
+/// so (`-A F202` would only hide what was lost).
+#[test]
+fn malformed_xml_is_not_advised_around() {
+    let dir = tempdir();
+    let path = dir.join("broken.xml");
+    std::fs::write(&path, "<EtherCATInfo><Vendor>").unwrap();
+    let out = odc(&["dump", &path.display().to_string()]);
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(1), "{err}");
+    assert!(err.contains("F202"), "{err}");
+    assert!(!err.contains("-A F202") && !err.contains("allow"), "{err}");
+    assert!(err.contains("cannot be read as a device description"), "{err}");
+}
+
+/// `--color auto` follows the conventions: `CLICOLOR_FORCE` colours output that is no
+/// terminal, and `NO_COLOR` wins over it.
+#[test]
+fn no_color_is_honoured() {
+    let run = |vars: &[(&str, &str)]| {
+        let mut cmd = Command::new(env!("CARGO_BIN_EXE_odc"));
+        cmd.args(["check", &fixture("bad-value.eds")]);
+        for k in ["NO_COLOR", "CLICOLOR", "CLICOLOR_FORCE"] {
+            cmd.env_remove(k);
+        }
+        for (k, v) in vars {
+            cmd.env(k, v);
+        }
+        stderr(&cmd.output().unwrap())
+    };
+    assert!(run(&[("CLICOLOR_FORCE", "1")]).contains("\x1b["));
+    assert!(!run(&[("CLICOLOR_FORCE", "1"), ("NO_COLOR", "1")]).contains("\x1b["));
+    assert!(!run(&[]).contains("\x1b["), "a pipe is no terminal");
+}
+
+/// Shell completions and a manual page, from the command's own definition.
+#[test]
+fn completions_and_man_page() {
+    let out = odc(&["completions", "bash"]);
+    assert_eq!(out.status.code(), Some(0));
+    let bash = String::from_utf8_lossy(&out.stdout);
+    assert!(bash.contains("_odc()") && bash.contains("simulate") && bash.contains("--stop-on-eof"));
+    let out = odc(&["completions", "zsh"]);
+    assert!(String::from_utf8_lossy(&out.stdout).starts_with("#compdef odc"));
+    let out = odc(&["man"]);
+    assert_eq!(out.status.code(), Some(0));
+    let page = String::from_utf8_lossy(&out.stdout);
+    assert!(page.contains(".TH odc 1"), "{page}");
+    assert!(page.contains("simulate"), "{page}");
+}
+
+/// The monitor without a device file shows an SDO answer's address once, and with one names
+/// the CiA 402 modes of operation (0x6060/0x6061) as it names controlword and statusword.
+#[test]
+fn monitor_addresses_once_and_names_modes() {
+    let dir = tempdir();
+    let log = dir.join("sdo.log");
+    std::fs::write(
+        &log,
+        "(1.0) can0 605#4000100000000000\n(1.1) can0 585#4300100092010400\n\
+         (1.2) can0 605#2F60600001000000\n(1.3) can0 585#6060600000000000\n",
+    )
+    .unwrap();
+    let out = odc(&["monitor", "--log", &log.display().to_string()]);
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    let answer = text.lines().nth(1).unwrap();
+    assert!(answer.ends_with("read answer 0x1000:00 = 92 01 04 00"), "{answer}");
+    let node = format!("5={}", repo_file("eds/lxm23a.eds"));
+    let out = odc(&["monitor", "--log", &log.display().to_string(), "--node", &node]);
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        text.contains(
+            "write confirmed 0x6060:00 Modes of operation = 1 (Profile position mode (pp))"
+        ),
+        "{text}"
+    );
+}
+
+/// README's first command writes where git ignores it (`target/`), so trying it leaves no
+/// untracked file in the repository.
+#[test]
+fn readme_first_command_writes_under_target() {
+    let readme = std::fs::read_to_string(repo_file("README.md")).unwrap();
+    let first = readme
+        .lines()
+        .find(|l| l.starts_with("cargo run -p odc-cli -- "))
+        .expect("README starts with a cargo run line");
+    let output = first
+        .split_whitespace()
+        .skip_while(|w| *w != "-o")
+        .nth(1)
+        .unwrap_or_else(|| panic!("no -o in {first}"));
+    let ignore = std::fs::read_to_string(repo_file(".gitignore")).unwrap();
+    assert!(ignore.lines().any(|l| l == "/target"), "target/ is no longer ignored");
+    assert!(output.starts_with("target/"), "README's first command writes {output}");
+}

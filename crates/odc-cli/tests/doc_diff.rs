@@ -103,3 +103,32 @@ fn diff_exit_codes_and_formats() {
     let out = odc(&["diff", &lxm, "/nonexistent/x.eds"]);
     assert_eq!(out.status.code(), Some(2), "{}", text(&out.stderr));
 }
+
+/// The Markdown sheet shows HTML in a device file's names as text (a renderer would otherwise
+/// run it), and names the input by its file name, not the absolute path it was made from.
+#[test]
+fn doc_markdown_escapes_html_and_names_the_file() {
+    let dir = scratch("escape");
+    let text_in = std::fs::read_to_string(repo("eds/lxm23a.eds")).unwrap();
+    let evil = text_in.replacen(
+        "ParameterName=Profile velocity",
+        "ParameterName=<script>alert(1)</script> & <b>velocity</b>",
+        1,
+    );
+    assert_ne!(text_in, evil);
+    let file = dir.join("evil.eds");
+    std::fs::write(&file, evil).unwrap();
+    std::fs::copy(repo("eds/lxm23a.odc.toml"), dir.join("evil.odc.toml")).unwrap();
+    let abs = file.canonicalize().unwrap();
+    let out = odc(&["doc", abs.to_str().unwrap(), "-o", dir.to_str().unwrap(), "--format", "md"]);
+    assert_eq!(out.status.code(), Some(0), "{}", text(&out.stderr));
+    let md = std::fs::read_to_string(dir.join("evil.md")).unwrap();
+    assert!(!md.contains("<script>") && !md.contains("<b>"), "raw HTML in the sheet");
+    assert!(
+        md.contains("&lt;script&gt;alert(1)&lt;/script&gt; &amp; &lt;b&gt;velocity&lt;/b&gt;"),
+        "{md}"
+    );
+    assert!(md.starts_with("# LXM23A\n\n`evil.eds`\n"), "{}", &md[..80.min(md.len())]);
+    assert!(!md.contains(dir.to_str().unwrap()), "the sheet names the directory it was made in");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -52,11 +52,6 @@ fn spec(dev: &Device, index: u16, sub: u8) -> (String, bool) {
     }
 }
 
-#[test]
-#[cfg_attr(
-    odc_cli_no_python,
-    ignore = "needs python3 with canopen and python-can: set ODC_INTEROP_PYTHON (tests/interop/README.md)"
-)]
 fn odc_sdo_reads_and_writes_python_canopen_by_name() {
     let python = PathBuf::from(std::env::var_os("ODC_INTEROP_PYTHON").unwrap_or("python3".into()));
     let mut failures = Vec::new();
@@ -82,7 +77,7 @@ fn odc_sdo_reads_and_writes_python_canopen_by_name() {
             .stderr(Stdio::piped())
             .spawn()
             .unwrap();
-        let deadline = watch.now_ms() + 30_000;
+        let deadline = watch.now() + odc::time::Duration::from_millis(30_000);
         loop {
             match watch.recv(deadline).unwrap() {
                 Some(f) if f.id() == 0x705 && f.bytes() == [0] => break,
@@ -190,4 +185,16 @@ fn odc_sdo_reads_and_writes_python_canopen_by_name() {
         hub_thread.join().unwrap();
     }
     assert!(failures.is_empty(), "{} disagreements:\n{}", failures.len(), failures.join("\n"));
+}
+
+/// The tests, with what each needs of the machine (odc_tests_support: ignored with the reason
+/// where a need is missing).
+fn main() -> std::process::ExitCode {
+    #[allow(unused_imports)]
+    use odc_tests_support::{Need, Test};
+    odc_tests_support::main(&[Test {
+        name: "odc_sdo_reads_and_writes_python_canopen_by_name",
+        run: odc_sdo_reads_and_writes_python_canopen_by_name,
+        needs: &[Need::Python(&["canopen", "can"])],
+    }])
 }

@@ -26,6 +26,7 @@ fn run(python: &Path, file: &str, script: &str, args: &[&str]) -> serde_json::Va
     let eds = repo(file);
     let mut sim = Command::new(env!("CARGO_BIN_EXE_odc"))
         .args(["simulate", eds.to_str().unwrap(), "--node-id", "5", "--tcp", "127.0.0.1:0"])
+        .arg("--stop-on-eof")
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::inherit())
@@ -54,11 +55,6 @@ fn run(python: &Path, file: &str, script: &str, args: &[&str]) -> serde_json::Va
     odc_tests_interop::last_json(&out)
 }
 
-#[test]
-#[cfg_attr(
-    odc_cli_no_python,
-    ignore = "needs python3 with canopen and python-can: set ODC_INTEROP_PYTHON (tests/interop/README.md)"
-)]
 fn python_canopen_masters_the_simulated_device() {
     let python = PathBuf::from(std::env::var_os("ODC_INTEROP_PYTHON").unwrap_or("python3".into()));
     for file in ["eds/lxm23a.eds", "eds/lexium-mdrive.eds", "eds/linmot-e1200.eds"] {
@@ -91,11 +87,6 @@ fn python_canopen_masters_the_simulated_device() {
 /// The node test of tests/interop (NMT, heartbeat, TPDO types 1/5/254, a remap, an RPDO,
 /// EMCY 0x8210, node guarding) through the CLI: python-canopen's checks of what it sees on the
 /// bus, as `tests/interop/tests/node.rs` makes them of a node it runs itself.
-#[test]
-#[cfg_attr(
-    odc_cli_no_python,
-    ignore = "needs python3 with canopen and python-can: set ODC_INTEROP_PYTHON (tests/interop/README.md)"
-)]
 fn python_canopen_drives_the_simulated_node() {
     use odc_tests_interop::node_report::{check, int};
     let python = PathBuf::from(std::env::var_os("ODC_INTEROP_PYTHON").unwrap_or("python3".into()));
@@ -124,12 +115,12 @@ fn python_canopen_drives_the_simulated_node() {
 }
 
 /// `--can IFACE` on a machine without that interface (no `vcan0` here) is a usage error that
-/// names it; where `vcan0` exists, the device runs on it until the end of standard input.
-#[test]
+/// names it; where `vcan0` exists, the device runs on it until the end of standard input
+/// (`--stop-on-eof`).
 fn can_on_a_missing_interface_is_a_clear_error() {
     let out = Command::new(env!("CARGO_BIN_EXE_odc"))
         .args(["simulate", repo("eds/lxm23a.eds").to_str().unwrap(), "--node-id", "5"])
-        .args(["--can", "vcan0"])
+        .args(["--can", "vcan0", "--stop-on-eof"])
         .stdin(Stdio::null())
         .output()
         .unwrap();
@@ -146,7 +137,6 @@ fn can_on_a_missing_interface_is_a_clear_error() {
     }
 }
 
-#[test]
 fn node_id_must_be_1_to_127() {
     let out = Command::new(env!("CARGO_BIN_EXE_odc"))
         .args(["simulate", repo("eds/lxm23a.eds").to_str().unwrap(), "--node-id", "128"])
@@ -156,4 +146,119 @@ fn node_id_must_be_1_to_127() {
         .unwrap();
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("128"));
+}
+
+/// `odc simulate` is a server: with standard input /dev/null (nohup, systemd, CI) it keeps
+/// serving until SIGTERM, and a closed standard output and error (`… 2>&1 | head`) do not end
+/// it with a panic (exit 101): it answers SDO after both are closed and after client events
+/// it logs, and exits 0 at SIGTERM.
+fn simulate_serves_until_sigterm_without_stdin_or_output() {
+    use std::time::{Duration, Instant};
+    let eds = repo("eds/lxm23a.eds");
+    let mut sim = Command::new(env!("CARGO_BIN_EXE_odc"))
+        .args(["simulate", eds.to_str().unwrap(), "--node-id", "5", "--tcp", "127.0.0.1:0"])
+        .stdin(Stdio::null())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut out = BufReader::new(sim.stdout.take().unwrap());
+    let mut first = String::new();
+    out.read_line(&mut first).unwrap();
+    let addr = first.trim().strip_prefix("listening on ").unwrap_or_else(|| panic!("{first:?}"));
+    // Both of its output pipes closed, as `head` closes them when it has its lines.
+    drop(out);
+    drop(sim.stderr.take());
+    std::thread::sleep(Duration::from_millis(300));
+    assert!(sim.try_wait().unwrap().is_none(), "odc simulate stopped with stdin /dev/null");
+    let node = format!("5={}", eds.display());
+    for _ in 0..3 {
+        // Each client connects and leaves: events the simulation logs to its closed stderr.
+        let read = Command::new(env!("CARGO_BIN_EXE_odc"))
+            .args(["sdo", "read", "--node", &node, "--tcp", addr, "0x1000"])
+            .output()
+            .unwrap();
+        assert_eq!(
+            String::from_utf8_lossy(&read.stdout),
+            "0x1000:00 Device type = 67240338 (0x4020192)\n",
+            "{}",
+            String::from_utf8_lossy(&read.stderr)
+        );
+    }
+    assert!(sim.try_wait().unwrap().is_none(), "odc simulate stopped before SIGTERM");
+    let kill = Command::new("kill").args(["-TERM", &sim.id().to_string()]).status().unwrap();
+    assert!(kill.success());
+    let deadline = Instant::now() + Duration::from_secs(10);
+    let status = loop {
+        if let Some(status) = sim.try_wait().unwrap() {
+            break status;
+        }
+        if Instant::now() > deadline {
+            let _ = sim.kill();
+            panic!("odc simulate did not stop within 10 s of SIGTERM");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    assert_eq!(status.code(), Some(0), "odc simulate at SIGTERM: {status}");
+}
+
+/// `--interface` on an interface that is down says so and how to bring it up, not
+/// "Unexpected poll event". Needs a veth pair (root, iproute2); skipped visibly without.
+fn interface_down_is_a_clear_error() {
+    let name = format!("odcd{}", std::process::id() % 100_000);
+    let peer = format!("{name}p");
+    let made = Command::new("ip")
+        .args(["link", "add", &name, "type", "veth", "peer", "name", &peer])
+        .stderr(Stdio::null())
+        .status()
+        .is_ok_and(|s| s.success());
+    if !made {
+        println!("skipped: cannot make a veth pair here (needs root and iproute2)");
+        return;
+    }
+    let out = Command::new(env!("CARGO_BIN_EXE_odc"))
+        .args(["simulate", repo("esi/servoone.xml").to_str().unwrap(), "--interface", &name])
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    let _ = Command::new("ip").args(["link", "del", &name]).status();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains(&format!("--interface {name}: the interface is down")), "{err}");
+    assert!(err.contains(&format!("ip link set {name} up")), "{err}");
+}
+
+/// The tests, with what each needs of the machine (odc_tests_support: ignored with the reason
+/// where a need is missing).
+fn main() -> std::process::ExitCode {
+    #[allow(unused_imports)]
+    use odc_tests_support::{Need, Test};
+    odc_tests_support::main(&[
+        Test {
+            name: "python_canopen_masters_the_simulated_device",
+            run: python_canopen_masters_the_simulated_device,
+            needs: &[Need::Python(&["canopen", "can"])],
+        },
+        Test {
+            name: "python_canopen_drives_the_simulated_node",
+            run: python_canopen_drives_the_simulated_node,
+            needs: &[Need::Python(&["canopen", "can"])],
+        },
+        Test {
+            name: "can_on_a_missing_interface_is_a_clear_error",
+            run: can_on_a_missing_interface_is_a_clear_error,
+            needs: &[],
+        },
+        Test { name: "node_id_must_be_1_to_127", run: node_id_must_be_1_to_127, needs: &[] },
+        Test {
+            name: "simulate_serves_until_sigterm_without_stdin_or_output",
+            run: simulate_serves_until_sigterm_without_stdin_or_output,
+            needs: &[],
+        },
+        Test {
+            name: "interface_down_is_a_clear_error",
+            run: interface_down_is_a_clear_error,
+            needs: &[Need::Netdevs],
+        },
+    ])
 }

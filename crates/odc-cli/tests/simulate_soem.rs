@@ -102,7 +102,7 @@ fn soem(tag: char, specs: &[String], devices: Value) -> (Value, String) {
     let mut sim = realtime(env!("CARGO_BIN_EXE_odc"))
         .arg("simulate")
         .args(specs)
-        .args(["--interface", &wire.devices])
+        .args(["--interface", &wire.devices, "--stop-on-eof"])
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
@@ -174,9 +174,9 @@ fn check_servoone(dev: &Value) {
     assert_eq!(dev["name"], "ServoOne");
     // config_map: 6 bytes each way (INTEGER16/UNSIGNED16 + INTEGER32, CiA 402).
     assert_eq!((&dev["outputs_len"], &dev["inputs_len"]), (&json!(6), &json!(6)));
-    // 0x1000 = 0x00020192 (the ESI's default), 0x1018:1 = 0, 0x6502 supported modes.
+    // 0x1000 = 0x00000192 (the ESI's default), 0x1018:1 = 0, 0x6502 supported modes.
     let reads = &dev["reads"];
-    assert_eq!(reads[0], json!([0x1000, 0, "92010200"]));
+    assert_eq!(reads[0], json!([0x1000, 0, "92010000"]));
     assert_eq!(reads[1], json!([0x1018, 1, "00000000"]));
     assert_eq!(reads[2][2].as_str().unwrap().len(), 8, "0x6502 is UNSIGNED32");
     assert_eq!(dev["written"], json!([[0x6060, 0, "08"], [0x607A, 0, "e8030000"]]));
@@ -206,11 +206,6 @@ fn check_cycles(report: &Value, expected_wkc: u32) {
     println!("frames lost: {}", report["frames_lost"]);
 }
 
-#[test]
-#[cfg_attr(
-    odc_cli_no_soem,
-    ignore = "needs pysoem (ODC_INTEROP_PYTHON), root and iproute2 for a veth pair in a network namespace (ODC_NET_REQUIRED)"
-)]
 fn soem_finds_maps_and_runs_the_servoone() {
     let esi = repo("esi/servoone.xml").to_str().unwrap().to_owned();
     let (report, _) = soem('a', &[esi], json!([servoone_plan()]));
@@ -225,7 +220,7 @@ fn soem_finds_maps_and_runs_the_servoone() {
 /// (`odc_analysis::image`, the sizes of the generated `pdi` structs): (device, outputs, inputs).
 fn corpus_device(file: &str, select: Option<&str>) -> (String, odc_model::Device, usize, usize) {
     use odc_analysis::image::{default_assignment, image};
-    let path = Path::new(env!("ODC_CLI_CORPUS")).join("esi").join(file);
+    let path = odc_tests_support::corpus().join("esi").join(file);
     let mut options = odc_pipeline::Options::new();
     if let Some(s) = select {
         options = options.select(odc_pipeline::Select::Spec(s.into()));
@@ -247,12 +242,6 @@ fn identity(device: &odc_model::Device) -> Value {
     json!([ecat.vendor_id.unwrap_or(0), ecat.product_code.unwrap_or(0), ecat.revision.unwrap_or(0)])
 }
 
-#[test]
-#[cfg_attr(
-    odc_cli_no_soem,
-    ignore = "needs pysoem (ODC_INTEROP_PYTHON), root and iproute2 for a veth pair in a network namespace (ODC_NET_REQUIRED)"
-)]
-#[cfg_attr(odc_cli_no_corpus, ignore = "needs the real-world corpus (ODC_CORPUS)")]
 fn soem_runs_a_line_of_three() {
     use odc_analysis::image::default_assignment;
     // The ServoOne; a Beckhoff EL2008 (8 digital outputs, fixed PDOs, no mailbox: SOEM maps
@@ -310,4 +299,23 @@ fn soem_runs_a_line_of_three() {
 
 fn hex_bytes(s: &str) -> Vec<u8> {
     (0..s.len()).step_by(2).map(|i| u8::from_str_radix(&s[i..i + 2], 16).unwrap()).collect()
+}
+
+/// The tests, with what each needs of the machine (odc_tests_support: ignored with the reason
+/// where a need is missing).
+fn main() -> std::process::ExitCode {
+    #[allow(unused_imports)]
+    use odc_tests_support::{Need, Test};
+    odc_tests_support::main(&[
+        Test {
+            name: "soem_finds_maps_and_runs_the_servoone",
+            run: soem_finds_maps_and_runs_the_servoone,
+            needs: &[Need::Python(&["pysoem"]), Need::Netdevs],
+        },
+        Test {
+            name: "soem_runs_a_line_of_three",
+            run: soem_runs_a_line_of_three,
+            needs: &[Need::Python(&["pysoem"]), Need::Netdevs, Need::Corpus],
+        },
+    ])
 }

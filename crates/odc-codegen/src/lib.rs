@@ -247,8 +247,53 @@ pub fn header(opts: &Options) -> String {
     )
 }
 
-/// A doc attribute for each line of `text`.
+/// A doc attribute for each line of `text`, with [`escape_brackets`].
 pub(crate) fn doc(text: &str) -> TokenStream {
     let lines = text.lines().map(|l| if l.is_empty() { String::new() } else { format!(" {l}") });
+    let lines = lines.map(|l| escape_brackets(&l));
     quote!(#(#[doc = #lines])*)
+}
+
+/// Square brackets from device files and overlays (`Save device data [0]`, `element [e]`)
+/// escaped, so rustdoc does not take them for links it cannot resolve (a warning in the
+/// user's `cargo doc`). The generator's own links are left as they are: they name code,
+/// `` [`Item`] `` or `` [`Item`](path) ``.
+pub(crate) fn escape_brackets(line: &str) -> String {
+    let mut out = String::with_capacity(line.len());
+    let mut in_code = false;
+    let mut prev = None;
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '`' => in_code = !in_code,
+            // Inside a code span a backslash would show.
+            '[' | ']' if in_code => {}
+            // `[`Item`]`: opened before a code span, closed right after one.
+            '[' if chars.peek() == Some(&'`') => {}
+            ']' if prev == Some('`') => {}
+            '[' | ']' => out.push('\\'),
+            _ => {}
+        }
+        out.push(c);
+        prev = Some(c);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::escape_brackets;
+
+    #[test]
+    fn brackets_from_files_are_escaped_links_and_code_kept() {
+        assert_eq!(escape_brackets(" Save device data [0]"), " Save device data \\[0\\]");
+        assert_eq!(escape_brackets("element [e] at e + 1"), "element \\[e\\] at e + 1");
+        assert_eq!(escape_brackets("Run [`plan`] first"), "Run [`plan`] first");
+        assert_eq!(
+            escape_brackets("[`Rpdo1`](super::pdo::Rpdo1)'s mapping"),
+            "[`Rpdo1`](super::pdo::Rpdo1)'s mapping"
+        );
+        assert_eq!(escape_brackets("under `[rules]` in odc.toml"), "under `[rules]` in odc.toml");
+        assert_eq!(escape_brackets("a ] and a ["), "a \\] and a \\[");
+    }
 }

@@ -5,12 +5,12 @@ use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
 
 use crate::pdo::{enabled_by_default, pdo_names, sm_layout};
-use crate::types::{index_literal, sub_literal};
+use crate::types::index_literal;
 use crate::{Ctx, doc};
 
 /// The `PdoConfig` of one CANopen PDO: what the runtime's CiA 301 procedure
 /// (`odc::plan::PdoConfig`) writes for it.
-fn canopen_config(pdo: &Pdo, ty: &Ident, rt: &TokenStream) -> TokenStream {
+pub(crate) fn canopen_config(pdo: &Pdo, ty: &Ident, rt: &TokenStream) -> TokenStream {
     let map = index_literal(pdo.mapping_index);
     let mut e = quote!(#rt::plan::PdoConfig::new(#map, &super::pdo::#ty::MAPPING_VALUES));
     if let Some(c) = pdo.comm_index {
@@ -113,13 +113,9 @@ fn ethercat(ctx: &Ctx<'_>) -> TokenStream {
                 0
             )));
         }
-        for (i, pdo) in members.iter().filter_map(|&i| pdos.get(i)).enumerate() {
-            let sub = sub_literal(u8::try_from(i + 1).unwrap_or(u8::MAX));
-            let map = index_literal(pdo.mapping_index);
-            steps.push(quote!(.push(#rt::plan::SdoWrite::u16(#assign, #sub, #map))));
-        }
-        let n = Literal::u8_unsuffixed(u8::try_from(members.len()).unwrap_or(u8::MAX));
-        steps.push(quote!(.push(#rt::plan::SdoWrite::u8(#assign, 0x00, #n))));
+        let maps =
+            members.iter().filter_map(|&i| pdos.get(i)).map(|p| index_literal(p.mapping_index));
+        steps.push(quote!(.assign(#assign, &[#(#maps),*])));
     }
     quote! {
         /// The CoE writes that set the default process data: per sync manager, clear its

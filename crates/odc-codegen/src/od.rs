@@ -140,6 +140,19 @@ fn entry_doc(index: u16, sub: &SubObject, ty: RustTy) -> String {
             }
         }
     }
+    // The capacity of a string is the file's: its bit size, else its default's length
+    // (CiA 306 gives a string no other length); the slave dictionary stores that much.
+    let from = if sub.bit_size.is_some() { "the file's bit size" } else { "its default's length" };
+    match ty {
+        RustTy::Text(n) | RustTy::Unicode(n) => notes.push(format!(
+            "At most {n} bytes ({from}): a longer download is refused with 0x06070012."
+        )),
+        RustTy::Bytes(n) => notes.push(format!(
+            "Exactly {n} bytes ({from}): another length is refused with 0x06070012 or \
+             0x06070013."
+        )),
+        _ => {}
+    }
     if let Some(d) = sub.initial_value() {
         let ok = ty.default_expr(&d.value, &rt).is_some();
         notes.push(format!(

@@ -69,6 +69,38 @@ fn drive_objects(ctx: &Ctx<'_>) -> TokenStream {
             });
         }
     }
+    for (index, ty, method) in [
+        (0x6098, RustTy::Signed(8), quote!(homing_method)),
+        (0x607C, RustTy::Signed(32), quote!(home_offset)),
+        (0x6071, RustTy::Signed(16), quote!(target_torque)),
+    ] {
+        if let Some(e) = var(index, ty) {
+            let t = ty.tokens(rt);
+            methods.push(quote! {
+                fn #method(&self) -> Option<#t> {
+                    self.get(#e).ok()
+                }
+            });
+        }
+    }
+    // 0x6099:01, speed during search for switch: a sub-object of the homing speeds.
+    if let Some(name) = ctx.names.entries.get(&(0x6099, 1))
+        && let (Some(m), RustTy::Unsigned(32)) = (&name.module, name.ty)
+    {
+        let k = &name.konst;
+        methods.push(quote! {
+            fn homing_speed(&self) -> Option<u32> {
+                self.get(od::#m::#k).ok()
+            }
+        });
+    }
+    if let Some(e) = var(0x6077, RustTy::Signed(16)) {
+        methods.push(quote! {
+            fn set_torque_actual_value(&mut self, torque: i16) {
+                let _ = self.set(#e, torque);
+            }
+        });
+    }
     for (index, method, arg) in [
         (0x6064, quote!(set_position_actual_value), quote!(position)),
         (0x606C, quote!(set_velocity_actual_value), quote!(velocity)),
@@ -125,10 +157,17 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
         ctx.device.name()
     ));
     let drive = drive_objects(ctx);
+    let lss = ctx.device.device_info.lss_supported.as_ref().is_some_and(|v| v.value);
     quote! {
         #docs
         pub mod slave {
             #imports
+
+            /// Whether the device answers LSS (CiA 305): the file's `LSS_Supported` (absent
+            /// means no, CiA 306). Give the node its LSS slave (`Node::with_lss`) only when
+            /// it is `true`: a device whose file says 0 stays silent on 0x7E5, as
+            /// `odc simulate` does.
+            pub const LSS_SUPPORTED: bool = #lss;
 
             /// The entries of the dictionary, sorted by (index, sub-index): each one's
             /// address, access, limits and default (from its descriptor in `od`) and where its
@@ -149,9 +188,17 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
                 /// to it. `None`: a node without node-ID (LSS), whose `$NODEID` defaults are
                 /// taken as absent.
                 pub fn new(node_id: impl Into<Option<#rt::cob::NodeId>>) -> Self {
-                    let mut values = [0; LAYOUT.size()];
-                    TABLE.init(&mut values, node_id.into());
-                    Dictionary { values }
+                    let mut dictionary = Dictionary { values: [0; LAYOUT.size()] };
+                    TABLE.init(&mut dictionary.values, node_id.into());
+                    dictionary
+                }
+
+                /// Every entry back to its default for node `node_id`, as
+                /// [`Dictionary::new`] makes it (a reset node or communication), in place:
+                /// `*dictionary = Dictionary::new(id)` puts the values on the stack first.
+                pub fn reset(&mut self, node_id: impl Into<Option<#rt::cob::NodeId>>) {
+                    self.values = [0; LAYOUT.size()];
+                    TABLE.init(&mut self.values, node_id.into());
                 }
 
                 /// The value of `entry`, one of `od`'s descriptors.
@@ -231,6 +278,9 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
                 }
                 fn access(&self, index: u16, sub: u8) -> Option<#rt::Access> {
                     TABLE.access(index, sub)
+                }
+                fn pdo_mappable(&self, index: u16, sub: u8, tx: bool) -> Result<u32, #rt::SdoAbort> {
+                    TABLE.pdo_mappable(index, sub, tx)
                 }
             }
 

@@ -3,9 +3,10 @@
 //! distributed-clocks modes.
 //!
 //! The order is a master's (ETG.2000 `InitCmd`, ETG.1000.6 0x1C10+n): the ESI's CoE init commands of the
-//! INIT→PRE-OP transition, then those of PRE-OP→SAFE-OP, then the mapping of each assigned PDO
-//! the device lets the master configure (`Mailbox/CoE@PdoConfig`, not `Fixed`), then the
-//! assignment 0x1C10+n of each process-data sync manager (`@PdoAssign`).
+//! INIT→PRE-OP transition, then those of PRE-OP→SAFE-OP (`downloads`), then the process data
+//! (`pdo_writes`) through the runtime's one procedure, `odc::plan::PlanBuilder`: per sync
+//! manager, clear its assignment 0x1C10+n (`@PdoAssign`), map each assigned PDO the device lets
+//! the master configure (`Mailbox/CoE@PdoConfig`, not `Fixed`), assign and count.
 
 use odc_model::ethercat::{EtherCat, InitCmd, SmUsage};
 use proc_macro2::{Literal, TokenStream};
@@ -31,21 +32,14 @@ fn bytes(data: &[u8]) -> TokenStream {
     quote!(&[#(#bytes),*])
 }
 
-/// A typed value's little-endian bytes: `&0x7000_0101u32.to_le_bytes()`, so a mapping entry
-/// reads as CiA 301 writes it (index, sub-index, bit length).
-fn le_bytes(value: u64, digits: usize, suffix: &str) -> TokenStream {
-    let text = format!("{}{suffix}", hex_literal(value, digits));
-    let lit: TokenStream = text.parse().unwrap_or_else(|_| quote!(#value));
-    quote!(&#lit.to_le_bytes())
-}
-
 /// The init commands of one transition, in file order; those without an index or sub-index
 /// are malformed and left out (the front-end reports them).
 fn init_cmds<'a>(cmds: &'a [InitCmd], transition: &'a str) -> impl Iterator<Item = &'a InitCmd> {
     cmds.iter().filter(move |c| c.transitions.iter().any(|t| t.trim() == transition))
 }
 
-fn downloads(ctx: &Ctx<'_>, ec: &EtherCat, assignment: &Assignment) -> Vec<TokenStream> {
+/// The ESI's CoE init commands of INIT→PRE-OP, then PRE-OP→SAFE-OP.
+fn downloads(ctx: &Ctx<'_>, ec: &EtherCat) -> Vec<TokenStream> {
     let rt = &ctx.rt;
     let mut out = Vec::new();
     let Some(coe) = ec.mailbox.as_ref().and_then(|m| m.coe.as_ref()) else {
@@ -60,47 +54,76 @@ fn downloads(ctx: &Ctx<'_>, ec: &EtherCat, assignment: &Assignment) -> Vec<Token
             }
         }
     }
-    if coe.pdo_config {
-        for indexes in assignment.values() {
-            for &index in indexes {
-                let Some(pdo) = ctx.device.pdos.iter().find(|p| p.mapping_index == index) else {
-                    continue;
-                };
-                if pdo.fixed {
-                    continue;
-                }
-                out.push(download(rt, index, 0, false, bytes(&[0])));
-                for (i, e) in pdo.entries.iter().enumerate() {
-                    let sub = u8::try_from(i + 1).unwrap_or(u8::MAX);
-                    let value = le_bytes(u64::from(e.mapping_value()), 8, "u32");
-                    out.push(download(rt, index, sub, false, value));
-                }
-                let n = u8::try_from(pdo.entries.len()).unwrap_or(u8::MAX);
-                out.push(download(rt, index, 0, false, bytes(&[n])));
-            }
-        }
-    }
-    if coe.pdo_assign {
-        for sm in &ec.sync_managers {
-            // A virtual sync manager is ESC registers, not a sync manager with a 0x1C1x.
-            if sm.virtual_sm || !matches!(sm.usage, SmUsage::Outputs | SmUsage::Inputs) {
-                continue;
-            }
-            let Some(object) = 0x1C10u16.checked_add(u16::from(sm.number)) else { continue };
-            let indexes = assignment.get(&sm.number).map(Vec::as_slice).unwrap_or_default();
-            out.push(download(rt, object, 0, false, bytes(&[0])));
-            if indexes.is_empty() {
-                continue;
-            }
-            for (i, pdo) in indexes.iter().enumerate() {
-                let sub = u8::try_from(i + 1).unwrap_or(u8::MAX);
-                out.push(download(rt, object, sub, false, le_bytes(u64::from(*pdo), 4, "u16")));
-            }
-            let n = u8::try_from(indexes.len()).unwrap_or(u8::MAX);
-            out.push(download(rt, object, 0, false, bytes(&[n])));
-        }
-    }
     out
+}
+
+/// The process-data writes of `assignment` as the steps of an `odc::plan::PlanBuilder`, the
+/// runtime's one procedure: per process-data sync manager, clear its assignment 0x1C1x (when
+/// the ESI lets the master assign, `@PdoAssign`), the CiA 301 mapping procedure of each
+/// assigned PDO that is not fixed (when it lets the master map, `@PdoConfig`), then the
+/// assignment and its count.
+fn pdo_steps(ctx: &Ctx<'_>, ec: &EtherCat, assignment: &Assignment) -> Vec<TokenStream> {
+    let rt = &ctx.rt;
+    let mut steps = Vec::new();
+    let Some(coe) = ec.mailbox.as_ref().and_then(|m| m.coe.as_ref()) else {
+        return steps;
+    };
+    let map = |steps: &mut Vec<TokenStream>, indexes: &[u16]| {
+        for &index in indexes {
+            let Some(pdo) = ctx.device.pdos.iter().find(|p| p.mapping_index == index) else {
+                continue;
+            };
+            if pdo.fixed {
+                continue;
+            }
+            let values = pdo.entries.iter().map(|e| hex_literal(u64::from(e.mapping_value()), 8));
+            let index = index_literal(index);
+            steps.push(quote!(.pdo(&#rt::plan::PdoConfig::new(#index, &[#(#values),*]), 0)));
+        }
+    };
+    let mut mapped = Vec::new();
+    for sm in &ec.sync_managers {
+        // A virtual sync manager is ESC registers, not a sync manager with a 0x1C1x.
+        if sm.virtual_sm || !matches!(sm.usage, SmUsage::Outputs | SmUsage::Inputs) {
+            continue;
+        }
+        let Some(object) = 0x1C10u16.checked_add(u16::from(sm.number)) else { continue };
+        let indexes = assignment.get(&sm.number).map(Vec::as_slice).unwrap_or_default();
+        let object = index_literal(object);
+        if coe.pdo_assign {
+            steps.push(quote!(.push(#rt::plan::SdoWrite::u8(#object, 0x00, 0))));
+        }
+        if coe.pdo_config {
+            map(&mut steps, indexes);
+            mapped.push(sm.number);
+        }
+        if coe.pdo_assign && !indexes.is_empty() {
+            let pdos = indexes.iter().map(|i| index_literal(*i));
+            steps.push(quote!(.assign(#object, &[#(#pdos),*])));
+        }
+    }
+    // PDOs assigned to a sync manager the ESI does not list: mapped all the same.
+    if coe.pdo_config {
+        for (_, indexes) in assignment.iter().filter(|(sm, _)| !mapped.contains(*sm)) {
+            map(&mut steps, indexes);
+        }
+    }
+    steps
+}
+
+/// `const fn #name<const N: usize>() -> PlanBuilder<N>` of `steps` and the array of its
+/// writes, `#array`.
+fn pdo_writes(rt: &TokenStream, name: &str, array: &str, steps: &[TokenStream]) -> TokenStream {
+    let f = proc_macro2::Ident::new(name, proc_macro2::Span::call_site());
+    let a = proc_macro2::Ident::new(array, proc_macro2::Span::call_site());
+    quote! {
+        /// The process-data writes, built into `N` slots (`N = 0` counts them).
+        const fn #f<const N: usize>() -> #rt::plan::PlanBuilder<N> {
+            #rt::plan::PlanBuilder::new() #(#steps)*
+        }
+        /// The process-data writes of the start-up, in order.
+        const #a: [#rt::plan::SdoWrite; #f::<0>().len()] = #f().finish();
+    }
 }
 
 /// The distributed-clocks modes as `odc::ethercat::DcOpMode` values.
@@ -144,7 +167,8 @@ pub(crate) fn generate(ctx: &Ctx<'_>) -> TokenStream {
     }
     let rt = &ctx.rt;
     let assignment = image::default_assignment(ctx.device);
-    let default_downloads = downloads(ctx, ec, &assignment);
+    let default_downloads = downloads(ctx, ec);
+    let default_writes = pdo_writes(rt, "pdo_plan", "PDO_WRITES", &pdo_steps(ctx, ec, &assignment));
     let modes = dc_modes(ctx, ec);
     let vendor = hex_literal(u64::from(vendor), 8);
     let product = hex_literal(u64::from(product), 8);
@@ -178,21 +202,29 @@ pub(crate) fn generate(ctx: &Ctx<'_>) -> TokenStream {
     let variant_plans = variants.iter().zip(&names).filter_map(|(v, module)| {
         image::image(ctx.device, &v.assignment, odc_model::Direction::Rx).ok()?;
         image::image(ctx.device, &v.assignment, odc_model::Direction::Tx).ok()?;
-        let downloads = downloads(ctx, ec, &v.assignment);
-        let name = proc_macro2::Ident::new(
-            &crate::names::screaming(&module.to_string()),
-            proc_macro2::Span::call_site(),
+        let downloads = downloads(ctx, ec);
+        let screaming = crate::names::screaming(&module.to_string());
+        let name = proc_macro2::Ident::new(&screaming, proc_macro2::Span::call_site());
+        let writes_name = format!("{screaming}_PDO_WRITES");
+        let writes = pdo_writes(
+            rt,
+            &format!("pdo_plan_{}", module.to_string().to_lowercase()),
+            &writes_name,
+            &pdo_steps(ctx, ec, &v.assignment),
         );
+        let writes_ident = proc_macro2::Ident::new(&writes_name, proc_macro2::Span::call_site());
         let docs = doc(&format!(
             "The start-up for `pdi::{module}`, {}: run it with the runtime's \
              `ethercat::ethercrab::configure(subdevice, &startup::{name})`.",
             crate::pdi::variant_text(v)
         ));
         Some(quote! {
+            #writes
             #docs
             pub const #name: #rt::ethercat::Startup = #rt::ethercat::Startup {
                 identity: PLAN.identity,
                 downloads: &[#(#downloads),*],
+                pdo_writes: &#writes_ident,
                 output_len: super::pdi::#module::OUTPUT_LEN,
                 input_len: super::pdi::#module::INPUT_LEN,
             };
@@ -208,10 +240,12 @@ pub(crate) fn generate(ctx: &Ctx<'_>) -> TokenStream {
     quote! {
         #docs
         pub mod startup {
+            #default_writes
             #plan_doc
             pub const PLAN: #rt::ethercat::Startup = #rt::ethercat::Startup {
                 identity: #identity,
                 downloads: &[#(#default_downloads),*],
+                pdo_writes: &PDO_WRITES,
                 output_len: super::pdi::OUTPUT_LEN,
                 input_len: super::pdi::INPUT_LEN,
             };

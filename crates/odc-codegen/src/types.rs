@@ -52,6 +52,11 @@ impl RustTyTokens for RustTy {
                 let n = Literal::usize_unsuffixed(n);
                 quote!(#rt::OctetString<#n>)
             }
+            RustTy::Unicode(n) => {
+                let n = Literal::usize_unsuffixed(n);
+                quote!(#rt::UnicodeString<#n>)
+            }
+            RustTy::Domain => quote!(#rt::Domain),
             RustTy::TimeOfDay => quote!(#rt::TimeOfDay),
             RustTy::TimeDifference => quote!(#rt::TimeDifference),
             RustTy::Controlword => quote!(#rt::cia402::Controlword),
@@ -116,6 +121,10 @@ fn expr_path(this: RustTy, rt: &TokenStream) -> TokenStream {
         RustTy::Bytes(n) => {
             let n = Literal::usize_unsuffixed(n);
             quote!(#rt::OctetString::<#n>)
+        }
+        RustTy::Unicode(n) => {
+            let n = Literal::usize_unsuffixed(n);
+            quote!(#rt::UnicodeString::<#n>)
         }
         _ => this.tokens(rt),
     }
@@ -182,6 +191,14 @@ fn value_expr(this: RustTy, value: &Value, rt: &TokenStream) -> Option<ValueExpr
             }
             let bytes = b.iter().map(|&x| hex_literal(u64::from(x), 2));
             ValueExpr::Plain(quote!(#rt::OctetString([#(#bytes),*])))
+        }
+        (RustTy::Unicode(n), Value::Unicode(units)) => {
+            if units.len() * 2 > n {
+                return None;
+            }
+            let bytes =
+                units.iter().flat_map(|u| u.to_le_bytes()).map(|b| hex_literal(b.into(), 2));
+            ValueExpr::Checked(quote!(#ty::from_le_bytes(&[#(#bytes),*])))
         }
         (RustTy::Controlword | RustTy::Statusword, Value::Unsigned(u)) => {
             let bits = hex_literal(u16::try_from(*u).ok()?.into(), 4);

@@ -107,23 +107,34 @@ fn generated_pdi_and_startup() {
     ] {
         assert!(code.contains(want), "missing `{want}` in:\n{code}");
     }
-    // The start-up: IP before PS, SO left out; the mapping of the configurable 0x1600 and
-    // 0x1A01 (0x1A00 is Fixed); then 0x1C12 = [0x1600], 0x1C13 = [0x1A00, 0x1A01].
+    // The start-up: the init commands, IP before PS, SO left out; then the process data
+    // through the runtime's PlanBuilder: per SM, clear 0x1C1x, the CiA 301 mapping procedure
+    // of the configurable 0x1600 and 0x1A01 (0x1A00 is Fixed), assign and count.
     let start = code.find("pub const PLAN").unwrap();
     let end = code.find("pub const DC_OP_MODES").unwrap();
     let plan = &code[start..end];
     let order: Vec<&str> =
         plan.split("index: ").skip(1).filter_map(|rest| rest.split(',').next()).collect();
+    assert_eq!(order, ["0x8000", "0x8000"], "IP sub 1, PS sub 2");
+    assert!(plan.contains("pdo_writes: &PDO_WRITES,"), "{plan}");
+    let flat: String = code.split_whitespace().collect();
+    let steps = flat.find("constfnpdo_plan<constN:usize>()").unwrap();
+    let steps = &flat[steps..flat[steps..].find('}').unwrap() + steps];
     assert_eq!(
-        order,
-        [
-            "0x8000", "0x8000", // IP sub 1, PS sub 2
-            "0x1600", "0x1600", "0x1600", "0x1600", "0x1600", // 0, 3 entries, count
-            "0x1A01", "0x1A01", "0x1A01", // 0, 1 entry, count
-            "0x1C12", "0x1C12", "0x1C12", // 0, 0x1600, count
-            "0x1C13", "0x1C13", "0x1C13", "0x1C13", // 0, 0x1A00, 0x1A01, count
-        ]
+        steps.split(").").skip(1).map(|s| s.split('(').next().unwrap()).collect::<Vec<_>>(),
+        ["push", "pdo", "assign", "push", "pdo", "assign"],
+        "{steps}"
     );
+    for want in [
+        ".push(::odc::plan::SdoWrite::u8(0x1C12,0x00,0))",
+        "PdoConfig::new(0x1600,&[0x7000_0101,0x0000_0007,0x7010_0110],)",
+        ".assign(0x1C12,&[0x1600])",
+        ".push(::odc::plan::SdoWrite::u8(0x1C13,0x00,0))",
+        "PdoConfig::new(0x1A01,&[0x6010_0120]),0)",
+        ".assign(0x1C13,&[0x1A00,0x1A01])",
+    ] {
+        assert!(steps.contains(want), "missing `{want}` in {steps}");
+    }
     assert!(!plan.contains("0x5A"), "the SO command is not part of PRE-OP");
     // Nothing is assigned to the virtual SM 4, in either plan.
     assert!(!code.contains("0x1C14"), "a virtual sync manager has no 0x1C14");

@@ -1,5 +1,5 @@
 //! What changed between two device descriptions (`odc diff`), object by object, whatever
-//! formats they were read from: both sides are [`Device`]s of the one model, so an EDS
+//! formats they were read from: both sides are [`Device`](odc_model::Device)s of the one model, so an EDS
 //! compares with its DCF, its XDD or an ESI revision as readily as with another EDS.
 //!
 //! The comparison is by meaning, not by text: objects by index, sub-objects by sub-index,

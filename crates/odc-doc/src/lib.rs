@@ -1,7 +1,7 @@
 //! A device description as a data sheet (`odc doc`): one self-contained HTML page with the
 //! PDOs and EtherCAT process images drawn bit by bit, and the same content as Markdown.
 //!
-//! - [`sheet`]: what the sheet says, gathered once from the model (identity, capabilities,
+//! - [`mod@sheet`]: what the sheet says, gathered once from the model (identity, capabilities,
 //!   CiA 402 modes, objects, PDOs, parameter schemes, diagnostics);
 //! - [`html`]: the page (inline styles, a filter box, inline SVG diagrams from [`svg`]);
 //! - [`markdown`]: the Markdown file.

@@ -5,9 +5,15 @@ use std::fmt::Write;
 
 use crate::sheet::Sheet;
 
-/// Text for a table cell: `|` escaped, line ends as spaces.
+/// Text from a device file for a table cell or heading: HTML escaped (a Markdown renderer
+/// passes raw HTML through, and a name like `<script>` must show as text), `|` escaped, line
+/// ends as spaces.
 fn cell(s: &str) -> String {
-    s.replace('|', "\\|").replace(['\r', '\n'], " ")
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('|', "\\|")
+        .replace(['\r', '\n'], " ")
 }
 
 /// The Markdown file.

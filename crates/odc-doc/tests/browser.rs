@@ -36,7 +36,7 @@ fn out_dir() -> PathBuf {
 fn chromium(profile: &Path, args: &[String]) -> std::process::Output {
     // Unset when the build script found no browser: the tests are then ignored, and run by
     // hand (`--ignored`) they name what is missing.
-    let out = Command::new(option_env!("ODC_DOC_CHROMIUM").unwrap_or("chromium"))
+    let out = Command::new(odc_tests_support::chromium())
         .args(FLAGS)
         .arg(format!("--user-data-dir={}", profile.display()))
         .args(args)
@@ -145,11 +145,6 @@ fn check_page(name: &str, loaded: &odc_pipeline::Loaded, device: &Device) -> (us
     (anchors, expected.len(), fields)
 }
 
-#[test]
-#[cfg_attr(
-    odc_doc_no_browser,
-    ignore = "needs Chromium: install Debian's `chromium` (or set ODC_CHROMIUM); .ci/run does"
-)]
 fn pages_render_in_chromium() {
     let mut shipped = vec![
         "eds/lxm23a.eds",
@@ -172,21 +167,31 @@ fn pages_render_in_chromium() {
     println!("total: {} anchors, {} diagrams, {} fields", totals.0, totals.1, totals.2);
 }
 
-#[test]
-#[cfg_attr(
-    odc_doc_no_browser,
-    ignore = "needs Chromium: install Debian's `chromium` (or set ODC_CHROMIUM); .ci/run does"
-)]
-#[cfg_attr(
-    all(not(odc_doc_no_browser), odc_doc_no_corpus),
-    ignore = "needs the real-world corpus: set ODC_CORPUS to its directory (README, Tests)"
-)]
 fn an_ethercat_terminal_with_its_process_image() {
-    let file = Path::new(env!("ODC_DOC_CORPUS")).join("esi/beckhoff__Beckhoff_EL15xx.xml");
+    let file = odc_tests_support::corpus().join("esi/beckhoff__Beckhoff_EL15xx.xml");
     let options = odc_pipeline::Options::new()
         .select(odc_pipeline::Select::Spec("0x05DE3052:0x00160000".into()));
     let loaded = odc_pipeline::load(&file, &options).unwrap();
     let (_, diagrams, fields) = check_page("EL1502", &loaded, &loaded.devices[0]);
     // Its PDOs with entries and both directions of the image.
     assert!(diagrams >= 2 && fields > 0, "{diagrams} diagrams, {fields} fields");
+}
+
+/// The tests, with what each needs of the machine (odc_tests_support: ignored with the reason
+/// where a need is missing).
+fn main() -> std::process::ExitCode {
+    #[allow(unused_imports)]
+    use odc_tests_support::{Need, Test};
+    odc_tests_support::main(&[
+        Test {
+            name: "an_ethercat_terminal_with_its_process_image",
+            run: an_ethercat_terminal_with_its_process_image,
+            needs: &[Need::Chromium, Need::Corpus],
+        },
+        Test {
+            name: "pages_render_in_chromium",
+            run: pages_render_in_chromium,
+            needs: &[Need::Chromium],
+        },
+    ])
 }

@@ -1,5 +1,5 @@
 //! CiA 306 EDS/DCF front-end for odc: a lossless raw layer ([`raw`]), the lowering to the
-//! [`odc_model::Device`] IR with coded diagnostics ([`parse`]), and the writer ([`write`]).
+//! [`odc_model::Device`] IR with coded diagnostics ([`parse`]), and the writer ([`write()`]).
 //!
 //! ```
 //! let mut sources = odc_model::Sources::new();

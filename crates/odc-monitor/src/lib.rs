@@ -213,8 +213,11 @@ impl Decoder {
                 if let Some((i, s)) = said.addr {
                     let name = self.name(node, i, s);
                     let at = format!("0x{i:04X}:{s:02X}");
-                    // The name once: in the text, or with the value when there is one.
-                    r.text = if name.is_empty() || said.done.is_some() {
+                    // The name once: in the text, or with the value when there is one; the
+                    // address once: a value without a name is shown at its address.
+                    r.text = if name.is_empty() && said.done.is_some() {
+                        r.text
+                    } else if name.is_empty() || said.done.is_some() {
                         format!("{} {at}", r.text)
                     } else {
                         format!("{} {at} {name}", r.text)
@@ -293,6 +296,7 @@ impl Decoder {
             (0x6040 | 0x6041, [lo, hi]) => {
                 format!("{shown}{}", cia402(index, u16::from_le_bytes([*lo, *hi])))
             }
+            (0x6060 | 0x6061, [v]) => format!("{shown} ({})", mode_name(i8::from_le_bytes([*v]))),
             _ => shown,
         }
     }
@@ -325,6 +329,16 @@ impl Decoder {
                 return;
             }
         }
+    }
+}
+
+/// The CiA 402 name of a mode of operation (0x6060, 0x6061): `Profile position mode (pp)`.
+pub(crate) fn mode_name(v: i8) -> &'static str {
+    match odc_analysis::cia402::MODES.iter().find(|m| m.value == v) {
+        Some(m) => m.text.trim_end_matches('.'),
+        None if v == 0 => "no mode",
+        None if v < 0 => "manufacturer-specific",
+        None => "reserved",
     }
 }
 

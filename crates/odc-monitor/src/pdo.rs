@@ -52,8 +52,11 @@ impl Mapping {
                 Some(raw) => match s.map(|s| s.data_type) {
                     Some(dt) => {
                         let v = show(&typed(raw, n, dt.class()));
-                        match u16::try_from(raw) {
-                            Ok(w) if n == 16 => format!("{v}{}", crate::cia402(index, w)),
+                        match (u16::try_from(raw), u8::try_from(raw)) {
+                            (Ok(w), _) if n == 16 => format!("{v}{}", crate::cia402(index, w)),
+                            (_, Ok(b)) if n == 8 && matches!(index, 0x6060 | 0x6061) => {
+                                format!("{v} ({})", crate::mode_name(i8::from_le_bytes([b])))
+                            }
                             _ => v,
                         }
                     }

@@ -188,8 +188,10 @@ impl fmt::Display for Refused {
         let n = self.errors;
         let plural = if n == 1 { "" } else { "s" };
         write!(f, "{}: refused: {n} error{plural}", self.path.display())?;
-        // The first code a level can be set for (generator codes cannot be allowed).
-        match self.codes.iter().find(|c| registry().get(c).is_some()) {
+        // The first code a level can be set for (generator codes cannot be allowed) and
+        // that is worth allowing: a file that is not well-formed is not advised around.
+        let allowable = |c: &&&str| registry().get(c).is_some() && !UNREADABLE.contains(*c);
+        match self.codes.iter().find(allowable) {
             Some(first) => write!(
                 f,
                 " ({}); fix the file, or allow a rule: `{first} = \"allow\"` under [rules] in \
@@ -197,10 +199,32 @@ impl fmt::Display for Refused {
                 self.codes.join(", "),
                 self.overlay.display()
             ),
+            None if self.codes.iter().any(|c| UNREADABLE.contains(c)) => write!(
+                f,
+                " ({}); the file cannot be read as a device description: fix it",
+                self.codes.join(", ")
+            ),
             None => write!(f, " ({})", self.codes.join(", ")),
         }
     }
 }
+
+/// The front-ends' codes for a file that cannot be read as it stands (not well-formed, wrong
+/// encoding, over a limit, not the format at all): allowing them only hides what was lost, so
+/// a refusal does not suggest it.
+const UNREADABLE: &[&str] = &[
+    odc_esi::codes::UNSUPPORTED_ENCODING,
+    odc_esi::codes::MALFORMED_XML,
+    odc_esi::codes::INVALID_UTF8,
+    odc_esi::codes::DEPTH_LIMIT,
+    odc_esi::codes::SIZE_LIMIT,
+    odc_esi::codes::NOT_ETHERCATINFO,
+    odc_xdd::codes::UNSUPPORTED_ENCODING,
+    odc_xdd::codes::MALFORMED_XML,
+    odc_xdd::codes::DEPTH_LIMIT,
+    odc_xdd::codes::SIZE_LIMIT,
+    odc_xdd::codes::NOT_XDD,
+];
 
 impl std::error::Error for Refused {}
 
@@ -381,6 +405,17 @@ pub fn check(
 pub fn load(path: &Path, options: &Options) -> Result<Loaded, Error> {
     let bytes =
         read_device_file(path).map_err(|source| Error::Io { path: path.to_path_buf(), source })?;
+    load_bytes(path, bytes, options)
+}
+
+/// [`load`] of a device file already read (standard input, or a file a caller looked at
+/// first): `path` names it in diagnostics, decides the format by its extension when it has
+/// one, and is where the overlay is looked for.
+///
+/// # Errors
+///
+/// As [`load`], but for the device file's own reading.
+pub fn load_bytes(path: &Path, bytes: Vec<u8>, options: &Options) -> Result<Loaded, Error> {
     let mut read = vec![path.to_path_buf()];
     let overlay_path = overlay_path(path);
     let overlay = match &overlay_path {
@@ -501,10 +536,16 @@ pub fn read_overlay(path: &Path) -> Result<Overlay, Error> {
 ///
 /// When the file cannot be opened or read.
 pub fn read_device_file(path: &Path) -> std::io::Result<Vec<u8>> {
+    read_device(std::fs::File::open(path)?)
+}
+
+/// [`read_device_file`] from any reader (standard input): at most one byte past the largest
+/// size a front-end accepts, so an endless input ends.
+pub fn read_device(reader: impl std::io::Read) -> std::io::Result<Vec<u8>> {
     use std::io::Read as _;
     let limit = odc_eds::MAX_FILE_SIZE.max(odc_esi::MAX_FILE_SIZE) as u64 + 1;
     let mut bytes = Vec::new();
-    std::fs::File::open(path)?.take(limit).read_to_end(&mut bytes)?;
+    reader.take(limit).read_to_end(&mut bytes)?;
     Ok(bytes)
 }
 

@@ -1,4 +1,4 @@
-//! SII EEPROM images (ETG.2010) for EtherCAT devices: [`write`] builds one from an ESI device,
+//! SII EEPROM images (ETG.2010) for EtherCAT devices: [`write()`] builds one from an ESI device,
 //! [`read`] decodes one.
 //!
 //! A firmware engineer building an EtherCAT device needs the EEPROM content the ESI describes

@@ -91,7 +91,7 @@ pub fn write(device: &Device) -> Result<Vec<u8>, Error> {
     write_with_notes(device).map(|(image, _)| image)
 }
 
-/// [`write`], with what the image could not carry exactly as the ESI says.
+/// [`write()`], with what the image could not carry exactly as the ESI says.
 ///
 /// A device whose ESI gives the whole image (`Eeprom/Data`, without `ConfigData`) gets that
 /// image as it is; [`write_from_description`] builds one from the description instead.

@@ -4,9 +4,10 @@
 //!
 //! The node is the runtime's [`Node`] over a [`ModelDictionary`]: the same NMT, heartbeat,
 //! node guarding, SYNC, PDO engine (following remaps), EMCY, SDO server (with block transfer)
-//! and LSS slave as generated firmware runs. What a simulation adds: the resets of the
-//! dictionary the node asks for, and a CiA 402 drive (state machine and axis) updated after
-//! every frame and tick, so RPDO and SDO controlwords both move it.
+//! and, for a file with `LSS_Supported=1`, LSS slave as generated firmware runs. What a
+//! simulation adds: the resets of the dictionary the node asks for, and a CiA 402 drive
+//! (state machine and axis) updated after every frame and tick, so RPDO and SDO controlwords
+//! both move it.
 
 use odc::can::CanFrame;
 use odc::cia402::{DeviceControl, Drive};
@@ -40,12 +41,26 @@ pub struct SimDevice {
 
 impl SimDevice {
     /// The device of `device` on node `node_id` (1–127), in initialisation: call
-    /// [`SimDevice::start`] for its boot-up.
-    pub fn new(device: &Device, node_id: NodeId) -> Self {
+    /// [`SimDevice::start`] for its boot-up. `None`: a device without node-ID (CiA 305's
+    /// 0xFF, as drives without address switches come), silent until an LSS master finds it
+    /// (fastscan) and gives it one, then boots at the next reset communication.
+    pub fn new(device: &Device, node_id: impl Into<Option<NodeId>>) -> Self {
+        let node_id = node_id.into();
         let od = ModelDictionary::new(device, node_id);
         let drive = od.is_drive().then(Drive::new);
-        // LSS with the identity of 0x1018 (read at start), bit timing 0 (1 Mbit/s; CiA 305).
-        let node = Node::new(node_id).with_lss(None, 0);
+        // LSS with the identity of 0x1018 (read at start), bit timing 0 (1 Mbit/s; CiA 305),
+        // when the file says `LSS_Supported=1` (absent means no, CiA 306): a device whose
+        // file says 0 does not answer on 0x7E5. A device started without node-ID gets it
+        // anyway: LSS is its only way to one.
+        let lss = device.device_info.lss_supported.as_ref().is_some_and(|v| v.value);
+        let node = match node_id {
+            Some(id) => Node::new(id),
+            None => Node::unconfigured(),
+        };
+        let node = match lss || node_id.is_none() {
+            true => node.with_lss(None, 0),
+            false => node,
+        };
         Self { node, od, drive, last_tick_ms: 0 }
     }
 
@@ -103,7 +118,7 @@ impl SimDevice {
         let dt = now_ms.saturating_sub(self.last_tick_ms);
         self.last_tick_ms = now_ms;
         if let Some(drive) = &mut self.drive {
-            drive.step(&mut self.od, u32::try_from(dt).unwrap_or(u32::MAX));
+            drive.step(&mut self.od, odc::time::Duration::from_millis(dt));
         }
     }
 
@@ -144,17 +159,19 @@ pub fn run_on_bus<B: odc::sdo::Bus>(
     mut stop: impl FnMut() -> bool,
 ) -> Result<(), B::Error> {
     let mut out = Vec::new();
-    device.start(bus.now_ms(), &mut |f| out.push(f));
-    let mut next_tick = bus.now_ms() + tick_ms;
+    // The device's tick counts in ms; the bus's clock is an `Instant`.
+    let now_ms = |bus: &mut B| bus.now().as_millis();
+    device.start(now_ms(bus), &mut |f| out.push(f));
+    let mut next_tick = now_ms(bus) + tick_ms;
     while !stop() {
         for f in out.drain(..) {
             bus.send(&f)?;
         }
-        if let Some(frame) = bus.recv(next_tick)? {
-            let now = bus.now_ms();
+        if let Some(frame) = bus.recv(odc::time::Instant::from_millis(next_tick))? {
+            let now = now_ms(bus);
             device.handle(&frame, now, &mut |f| out.push(f));
         }
-        let now = bus.now_ms();
+        let now = now_ms(bus);
         if now >= next_tick {
             device.poll(now, &mut |f| out.push(f));
             next_tick = now + tick_ms;

@@ -4,9 +4,10 @@
 
 use core::fmt;
 use odc::cob::NodeId;
+use std::collections::BTreeMap;
 
 use odc::cia402::{Controlword, DriveObjects, ModeOfOperation, Statusword};
-use odc::slave::{ObjectDictionary, RuntimeDictionary, Storage, TableBuilder};
+use odc::slave::{ObjectDictionary, RuntimeDictionary, Storage, TableBuilder, WriteHook};
 use odc::{Access, DataType, ObjValue, ObjectAddr, SdoAbort};
 use odc_analysis::RustTy;
 use odc_model::Device;
@@ -15,9 +16,10 @@ use odc_model::Device;
 /// `odc simulate` serves.
 ///
 /// Its entries are those of the generated `slave::Dictionary` of the same file
-/// ([`odc_analysis::slave_entries`]), and so are their semantics: the values stored in their
-/// SDO encoding, initial values from the default with `$NODEID` applied (else zero moved into
-/// the limits), SDO reads and writes with the same access, length and limit checks and the
+/// ([`odc_analysis::slave_entries`]), and so are their semantics but for DOMAIN entries (the
+/// simulated application keeps their data, [`ModelDictionary::domain`], where firmware's
+/// `WriteHook::write_domain` takes it): the values stored in their SDO encoding, initial
+/// values from the default with `$NODEID` applied (else zero moved into the limits), SDO reads and writes with the same access, length and limit checks and the
 /// same abort codes. The crate's tests compare the two entry by entry for every CANopen file
 /// of `eds/`.
 ///
@@ -43,6 +45,11 @@ use odc_model::Device;
 /// ```
 pub struct ModelDictionary {
     od: RuntimeDictionary,
+    /// The data last downloaded into each DOMAIN entry (the table stores none): the
+    /// simulated application keeps it, as firmware would in its `WriteHook::write_domain`,
+    /// and a read answers it. At most the SDO server's buffer long
+    /// ([`SDO_BUFFER`](crate::SDO_BUFFER)).
+    domains: BTreeMap<ObjectAddr, Vec<u8>>,
     drive: bool,
 }
 
@@ -61,18 +68,23 @@ impl ModelDictionary {
             crate::value::push(&mut table, addr, access(e.sub.access), e.sub, e.ty);
         }
         let od = RuntimeDictionary::new(table.build(), node_id.into());
-        ModelDictionary { od, drive: drive.0 && drive.1 }
+        ModelDictionary { od, domains: BTreeMap::new(), drive: drive.0 && drive.1 }
     }
 
     /// Every entry back to its initial value on node `node_id` (NMT reset node).
     pub fn reset(&mut self, node_id: Option<NodeId>) {
-        self.od.reset_where(node_id, |_| true);
+        self.reset_where(node_id, |_| true);
     }
 
     /// The communication profile area 0x1000–0x1FFF back to its initial values (NMT reset
     /// communication, CiA 301 §7.3.2.2.1); the application's values stay.
     pub fn reset_communication(&mut self, node_id: Option<NodeId>) {
-        self.od.reset_where(node_id, |index| (0x1000..=0x1FFF).contains(&index));
+        self.reset_where(node_id, |index| (0x1000..=0x1FFF).contains(&index));
+    }
+
+    fn reset_where(&mut self, node_id: Option<NodeId>, which: impl Fn(u16) -> bool) {
+        self.domains.retain(|addr, _| !which(addr.index));
+        self.od.reset_where(node_id, which);
     }
 
     /// The number of entries.
@@ -121,6 +133,12 @@ impl ModelDictionary {
         self.od.raw(index, sub).map(<[u8]>::len)
     }
 
+    /// The data last downloaded into the DOMAIN entry `index:sub` (a program image for
+    /// 0x1F50), for the simulated application; `None` before any.
+    pub fn domain(&self, index: u16, sub: u8) -> Option<&[u8]> {
+        self.domains.get(&ObjectAddr::new(index, sub)).map(Vec::as_slice)
+    }
+
     /// The stored bytes of `index:sub`, for the firmware side (process data): no access
     /// check.
     pub fn raw(&self, index: u16, sub: u8) -> Option<&[u8]> {
@@ -147,15 +165,41 @@ fn access(a: odc_model::Access) -> Access {
 
 impl ObjectDictionary for ModelDictionary {
     fn read(&self, index: u16, sub: u8, buf: &mut [u8]) -> Result<usize, SdoAbort> {
-        self.od.read(index, sub, buf)
+        match self.od.read(index, sub, buf) {
+            // A DOMAIN (the table keeps no data of one, the shared path answers `NoData`):
+            // what was last downloaded, empty until a download.
+            Err(SdoAbort::NoData) => {
+                let data =
+                    self.domains.get(&ObjectAddr::new(index, sub)).map_or(&[][..], Vec::as_slice);
+                let dst = buf.get_mut(..data.len()).ok_or(SdoAbort::TooShort)?;
+                dst.copy_from_slice(data);
+                Ok(data.len())
+            }
+            other => other,
+        }
     }
 
     fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
-        self.od.write(index, sub, data)
+        self.od.write_with(index, sub, data, &mut KeepDomains(&mut self.domains))
     }
 
     fn access(&self, index: u16, sub: u8) -> Option<odc::Access> {
         self.od.access(index, sub)
+    }
+
+    /// As the generated table answers: the file's flag and the access's direction.
+    fn pdo_mappable(&self, index: u16, sub: u8, tx: bool) -> Result<u32, SdoAbort> {
+        self.od.pdo_mappable(index, sub, tx)
+    }
+}
+
+/// The simulated application's [`WriteHook`]: keeps the data of DOMAIN downloads.
+struct KeepDomains<'a>(&'a mut BTreeMap<ObjectAddr, Vec<u8>>);
+
+impl WriteHook for KeepDomains<'_> {
+    fn write_domain(&mut self, addr: ObjectAddr, data: &[u8]) -> Result<(), SdoAbort> {
+        self.0.insert(addr, data.to_vec());
+        Ok(())
     }
 }
 
@@ -203,6 +247,21 @@ impl DriveObjects for ModelDictionary {
     }
     fn set_velocity_actual_value(&mut self, velocity: i32) {
         let _ = self.set(0x606C, 0, velocity);
+    }
+    fn homing_method(&self) -> Option<i8> {
+        self.get(0x6098, 0).ok()
+    }
+    fn homing_speed(&self) -> Option<u32> {
+        self.get(0x6099, 1).ok()
+    }
+    fn home_offset(&self) -> Option<i32> {
+        self.get(0x607C, 0).ok()
+    }
+    fn target_torque(&self) -> Option<i16> {
+        self.get(0x6071, 0).ok()
+    }
+    fn set_torque_actual_value(&mut self, torque: i16) {
+        let _ = self.set(0x6077, 0, torque);
     }
 }
 

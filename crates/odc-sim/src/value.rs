@@ -107,14 +107,15 @@ macro_rules! time {
 }
 time!(TimeOfDay, TimeDifference);
 
-/// The runtime's `Entry<T>` at `addr` with the file's limits and default; `words`: the
-/// controlword or statusword, whose defaults are never `$NODEID`-relative.
+/// The runtime's `Entry<T>` at `addr` with the file's limits, default and PDO mapping flag;
+/// `words`: the controlword or statusword, whose defaults are never `$NODEID`-relative.
 fn entry<T>(sub: &SubObject, addr: ObjectAddr, access: odc::Access, words: bool) -> Entry<T>
 where
     T: ObjValue + FromModel + PartialOrd,
 {
     let limit = |v: Option<&odc_model::Spanned<Value>>| v.and_then(|v| T::from_model(&v.value));
-    let entry = Entry::new(addr.index, addr.sub, "", access, false)
+    let mappable = sub.pdo_mapping.is_mappable();
+    let entry = Entry::new(addr.index, addr.sub, "", access, mappable)
         .with_limits(limit(sub.low_limit.as_deref()), limit(sub.high_limit.as_deref()));
     let default = sub.initial_value().and_then(|v| match v.value {
         Value::NodeIdPlus(off) if T::NODE_RELATIVE && !words => {
@@ -164,6 +165,7 @@ pub fn push(
         t.push(&entry::<T>(sub, addr, access, false));
     }
     let (t, a, x) = (table, addr, access);
+    let m = sub.pdo_mapping.is_mappable();
     let default = sub.initial_value().map(|v| &v.value);
     match ty {
         RustTy::Bool => typed::<bool>(t, sub, a, x),
@@ -198,7 +200,17 @@ pub fn push(
                 v(sub.low_limit.as_deref().map(|s| &s.value)),
                 v(sub.high_limit.as_deref().map(|s| &s.value)),
             );
-            t.push_text(a, x, cap, d.as_deref(), (lo.as_deref(), hi.as_deref()));
+            t.push_text(a, x, m, cap, d.as_deref(), (lo.as_deref(), hi.as_deref()));
+        }
+        RustTy::Unicode(cap) => {
+            let d: Option<Vec<u8>> = match default {
+                Some(Value::Unicode(u)) => Some(u.iter().flat_map(|c| c.to_le_bytes()).collect()),
+                _ => None,
+            };
+            t.push_unicode(a, x, m, cap, d.as_deref());
+        }
+        RustTy::Domain => {
+            t.push_domain(a, x, m);
         }
         RustTy::Bytes(len) => {
             let v = |v: Option<&Value>| v.and_then(|v| octet_value(v, len));
@@ -207,7 +219,7 @@ pub fn push(
                 v(sub.low_limit.as_deref().map(|s| &s.value)),
                 v(sub.high_limit.as_deref().map(|s| &s.value)),
             );
-            t.push_octets(a, x, len, d.as_deref(), (lo.as_deref(), hi.as_deref()));
+            t.push_octets(a, x, m, len, d.as_deref(), (lo.as_deref(), hi.as_deref()));
         }
     }
 }

@@ -87,3 +87,41 @@ fn controlword_frames_walk_the_state_machine() {
         assert_eq!(x, y, "{index:04X}:{sub:02X}");
     }
 }
+
+/// An expedited SDO download of `value` (1, 2 or 4 bytes) to `index:sub` and the answer.
+fn download(sim: &mut SimDevice, now: u64, index: u16, sub: u8, value: &[u8]) -> CanFrame {
+    let n = value.len() as u8;
+    let [lo, hi] = index.to_le_bytes();
+    let mut data = [0x23 | (4 - n) << 2, lo, hi, sub, 0, 0, 0, 0];
+    data[4..4 + value.len()].copy_from_slice(value);
+    let mut out = Vec::new();
+    sim.handle(&CanFrame::new(0x605, data).unwrap(), now, &mut |f| out.push(f));
+    out.pop().unwrap()
+}
+
+/// The simulated LXM23A lists homing (bit 5) but not CSV (bit 8) in 0x6502 (0xEF): a CSV
+/// request is refused with 0x06090030 (CiA 402-2 object 0x6060); homing with method 35
+/// (CiA 402-2 homing mode, "homing on current position") completes: statusword bits 10 and
+/// 12, 0x6064 the home offset 0x607C.
+#[test]
+fn the_simulated_drive_refuses_unlisted_modes_and_completes_homing() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../eds/lxm23a.eds");
+    let loaded = odc_pipeline::load(&path, &odc_pipeline::Options::new()).unwrap();
+    let mut sim = SimDevice::new(loaded.device().unwrap(), NODE);
+    sim.start(0, &mut |_| {});
+    let refused = download(&mut sim, 1, 0x6060, 0, &[9]);
+    assert_eq!(refused.data(), [0x80, 0x60, 0x60, 0x00, 0x30, 0x00, 0x09, 0x06]);
+    assert_eq!(download(&mut sim, 1, 0x6060, 0, &[6]).data()[0], 0x60);
+    assert_eq!(download(&mut sim, 1, 0x6098, 0, &[35]).data()[0], 0x60);
+    assert_eq!(download(&mut sim, 1, 0x607C, 0, &1500i32.to_le_bytes()).data()[0], 0x60);
+    for cw in [0x0006u16, 0x0007, 0x000F, 0x001F] {
+        assert_eq!(download(&mut sim, 2, 0x6040, 0, &cw.to_le_bytes()).data()[0], 0x60);
+    }
+    sim.poll(10, &mut |_| {});
+    let od = sim.dictionary();
+    let sw = od.get::<u16>(0x6041, 0).unwrap();
+    assert_eq!(sw & 0x6F, 0x27, "operation enabled: {sw:#06x}");
+    assert_eq!(sw & (1 << 12 | 1 << 10 | 1 << 13), 1 << 12 | 1 << 10, "homed: {sw:#06x}");
+    assert_eq!(od.get::<i32>(0x6064, 0), Ok(1500));
+    assert_eq!(od.get::<i8>(0x6061, 0), Ok(6));
+}

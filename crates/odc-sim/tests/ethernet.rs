@@ -41,11 +41,6 @@ fn ip(args: &[&str]) {
     assert!(out.status.success(), "ip {args:?}: {}", String::from_utf8_lossy(&out.stderr));
 }
 
-#[test]
-#[cfg_attr(
-    odc_sim_no_netdev,
-    ignore = "needs root and iproute2 for a veth pair (ODC_NET_REQUIRED)"
-)]
 fn frames_come_back_worked_on_and_marked() {
     let veth = Veth::new("e");
     let mut endpoint = EthernetEndpoint::open(&veth.a).unwrap();
@@ -98,4 +93,16 @@ fn frames_come_back_worked_on_and_marked() {
     assert_eq!(answer[..6], frame[..6]);
     assert_eq!(answer[12..28], frame[12..28]);
     assert!(served.frames >= 1 && served.frames as usize <= answers.len() + 20, "{served:?}");
+}
+
+/// The tests, with what each needs of the machine (odc_tests_support: ignored with the reason
+/// where a need is missing).
+fn main() -> std::process::ExitCode {
+    #[allow(unused_imports)]
+    use odc_tests_support::{Need, Test};
+    odc_tests_support::main(&[Test {
+        name: "frames_come_back_worked_on_and_marked",
+        run: frames_come_back_worked_on_and_marked,
+        needs: &[Need::Netdevs],
+    }])
 }

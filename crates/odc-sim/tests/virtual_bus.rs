@@ -12,13 +12,13 @@ use odc_sim::{SimDevice, VirtualBus};
 
 /// The next frame within 5 s, or `None`.
 fn next(bus: &mut TcpCan) -> Option<CanFrame> {
-    let deadline = bus.now_ms() + 5000;
+    let deadline = bus.now() + odc::time::Duration::from_millis(5000);
     bus.recv(deadline).unwrap()
 }
 
 /// Nothing more within 200 ms.
 fn quiet(bus: &mut TcpCan) -> bool {
-    let deadline = bus.now_ms() + 200;
+    let deadline = bus.now() + odc::time::Duration::from_millis(200);
     bus.recv(deadline).unwrap().is_none()
 }
 
@@ -42,7 +42,7 @@ fn clients_see_each_other_and_the_device() {
     let mut tries = 0;
     loop {
         a.send(&hello).unwrap();
-        let deadline = b.now_ms() + 100;
+        let deadline = b.now() + odc::time::Duration::from_millis(100);
         if b.recv(deadline).unwrap() == Some(hello) {
             break;
         }

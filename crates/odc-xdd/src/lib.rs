@@ -6,7 +6,7 @@
 //! [`odc_model::Device`]: the device profile (`DeviceIdentity`, `ApplicationProcess` with its
 //! `dataTypeList` and `parameterList`) and the communication network profile
 //! (`CANopenObjectList`, `dummyUsage`, `TransportLayers`, `NetworkManagement`,
-//! `deviceCommissioning`). [`write`] writes a model back as XDD or XDC.
+//! `deviceCommissioning`). [`write()`] writes a model back as XDD or XDC.
 //!
 //! # Policies
 //!

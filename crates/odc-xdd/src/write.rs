@@ -14,7 +14,7 @@ use odc_model::{Device, Format, Object, Origin, PdoMapping, RawEntry, SubObject,
 
 use crate::lower::{DESCRIPTION_KEY, iec_name};
 
-/// What [`write`] produced.
+/// What [`write()`] produced.
 #[derive(Debug)]
 pub struct Written {
     /// The XDD/XDC text.

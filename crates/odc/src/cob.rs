@@ -298,6 +298,28 @@ impl CobId {
     pub const fn is_restricted(self) -> bool {
         !self.is_extended() && is_restricted(self.can_id() as u16)
     }
+
+    /// Whether `frame` is a data frame on this COB-ID: the same identifier in the same
+    /// format (an 11-bit 0x181 is not the 29-bit 0x181), not a remote frame.
+    pub const fn matches(self, frame: &crate::can::CanFrame) -> bool {
+        !frame.is_remote()
+            && frame.is_extended() == self.is_extended()
+            && frame.id() == self.can_id()
+    }
+
+    /// A data frame with `data` on this COB-ID, in its format; `None` for more than 8 bytes.
+    pub fn frame(self, data: &[u8]) -> Option<crate::can::CanFrame> {
+        if self.is_extended() {
+            crate::can::CanFrame::extended(self.can_id(), data)
+        } else {
+            crate::can::CanFrame::from_slice(self.can_id(), data)
+        }
+    }
+
+    /// The COB-ID of a received data frame (valid, its format's bit 29).
+    pub const fn of_frame(frame: &crate::can::CanFrame) -> Self {
+        if frame.is_extended() { Self(frame.id() | Self::FRAME_29BIT) } else { Self(frame.id()) }
+    }
 }
 
 impl fmt::Display for CobId {
@@ -398,5 +420,22 @@ mod tests {
         assert!(x.is_extended() && !x.is_restricted());
         assert_eq!(x.can_id(), 0x1234_5678);
         assert!(CobId::new(0x5FF).is_restricted());
+    }
+
+    #[test]
+    fn eleven_and_twenty_nine_bit_ids_stay_apart() {
+        use crate::can::CanFrame;
+        let std = CobId(0x8000_0181); // not valid: flags do not change the identifier
+        let ext = CobId(CobId::FRAME_29BIT | 0x181);
+        let f11 = CanFrame::from_slice(0x181, &[1]).unwrap();
+        let f29 = CanFrame::extended(0x181, &[1]).unwrap();
+        assert!(std.matches(&f11) && !std.matches(&f29));
+        assert!(ext.matches(&f29) && !ext.matches(&f11));
+        assert!(!std.matches(&CanFrame::remote(0x181, 1).unwrap()));
+        assert_eq!(std.frame(&[1]), Some(f11));
+        assert_eq!(ext.frame(&[1]), Some(f29));
+        assert_eq!(std.frame(&[0; 9]), None);
+        assert_eq!(CobId::of_frame(&f29), ext);
+        assert_eq!(CobId::of_frame(&f11), CobId::new(0x181));
     }
 }

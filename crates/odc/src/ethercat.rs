@@ -99,9 +99,14 @@ pub struct DcOpMode {
 pub struct Startup {
     /// The identity the device must report before anything is written.
     pub identity: Identity,
-    /// The SDO downloads, in order: the ESI's init commands of the INIT→PRE-OP and
-    /// PRE-OP→SAFE-OP transitions, the mapping of each configurable PDO, the 0x1C1x assignment.
+    /// The ESI's init commands of the INIT→PRE-OP and PRE-OP→SAFE-OP transitions, in order:
+    /// sent first.
     pub downloads: &'static [SdoDownload],
+    /// Then the process data, by the runtime's one procedure ([`crate::plan::PlanBuilder`]):
+    /// per sync manager, clear its assignment 0x1C1x, the CiA 301 mapping procedure of each
+    /// configurable PDO, assign the PDOs and set the count (each part when the ESI lets the
+    /// master do it: `PdoAssign`, `PdoConfig`).
+    pub pdo_writes: &'static [crate::plan::SdoWrite],
     /// Bytes of the outputs (master → device) and inputs (device → master) the master maps.
     pub output_len: usize,
     /// See `output_len`.

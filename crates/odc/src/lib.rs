@@ -52,17 +52,17 @@
 //!
 //! ```
 //! # mod lxm23a { odc_macros::include_device!("../../eds/lxm23a.eds"); }
-//! # use odc::{can::CanFrame, sdo::{Bus, Server}};
+//! # use odc::{can::CanFrame, sdo::{Bus, Server}, time::{Duration, Instant}};
 //! # /// The bus: the drive's SDO server answers each request as it is sent.
-//! # struct InMemoryBus { drive: lxm23a::slave::Dictionary, server: Server<64>, reply: Option<CanFrame>, now: u64 }
+//! # struct InMemoryBus { drive: lxm23a::slave::Dictionary, server: Server<64>, reply: Option<CanFrame>, now: Instant }
 //! # impl InMemoryBus {
-//! #     fn with(drive: lxm23a::slave::Dictionary) -> Self { Self { drive, server: Server::new(odc::node_id!(5)), reply: None, now: 0 } }
+//! #     fn with(drive: lxm23a::slave::Dictionary) -> Self { Self { drive, server: Server::new(odc::node_id!(5)), reply: None, now: Instant::ZERO } }
 //! # }
 //! # impl Bus for InMemoryBus {
 //! #     type Error = core::convert::Infallible;
-//! #     fn send(&mut self, f: &CanFrame) -> Result<(), Self::Error> { self.reply = self.server.handle(&mut self.drive, f, odc::time::Instant::from_millis(self.now)); Ok(()) }
-//! #     fn recv(&mut self, _deadline: u64) -> Result<Option<CanFrame>, Self::Error> { self.now += 1; Ok(self.reply.take()) }
-//! #     fn now_ms(&mut self) -> u64 { self.now }
+//! #     fn send(&mut self, f: &CanFrame) -> Result<(), Self::Error> { self.reply = self.server.handle(&mut self.drive, f, self.now); Ok(()) }
+//! #     fn recv(&mut self, _deadline: Instant) -> Result<Option<CanFrame>, Self::Error> { self.now += Duration::from_millis(1); Ok(self.reply.take()) }
+//! #     fn now(&mut self) -> Instant { self.now }
 //! # }
 //! // build.rs: odc_build::Config::new().device("eds/lxm23a.eds").compile()
 //! // src/lib.rs: mod lxm23a { odc::include_od!("lxm23a"); }  (or odc_macros::include_device!)
@@ -132,8 +132,8 @@ pub use entry::{DefaultValue, Entry, EntryInfo, check_range};
 pub use pdo::{MappingEntry, PackError, Pdo, PdoValue, UnpackError};
 pub use types::{Access, DataType, ObjectAddr};
 pub use value::{
-    I24, I40, I48, I56, ObjValue, OctetString, TimeDifference, TimeOfDay, U24, U40, U48, U56,
-    ValueError, VisibleString,
+    Domain, I24, I40, I48, I56, ObjValue, OctetString, TimeDifference, TimeOfDay, U24, U40, U48,
+    U56, UnicodeString, ValueError, VisibleString,
 };
 
 #[cfg(feature = "derive")]

@@ -60,6 +60,18 @@ pub enum NmtState {
     PreOperational = 0x7F,
 }
 
+impl core::fmt::Display for NmtState {
+    /// CiA 301's name: `pre-operational`, `operational`, `stopped`, `boot-up`.
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            Self::BootUp => "boot-up",
+            Self::Stopped => "stopped",
+            Self::Operational => "operational",
+            Self::PreOperational => "pre-operational",
+        })
+    }
+}
+
 impl NmtState {
     /// The state for a heartbeat byte.
     pub const fn from_u8(v: u8) -> Option<Self> {

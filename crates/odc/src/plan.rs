@@ -237,12 +237,12 @@ impl<'a> PdoConfig<'a> {
 ///     PlanBuilder::new()
 ///         .push(SdoWrite::u8(0x1C12, 0, 0))
 ///         .pdo(&PdoConfig::new(0x1600, &[0x7000_0110]), 0)
-///         .push(SdoWrite::u16(0x1C12, 1, 0x1600))
-///         .push(SdoWrite::u8(0x1C12, 0, 1))
+///         .assign(0x1C12, &[0x1600])
 /// }
 /// const PLAN: [SdoWrite; build::<0>().len()] = build().finish();
 /// assert_eq!(PLAN.len(), 6);
 /// assert_eq!(PLAN[2], SdoWrite::u32(0x1600, 1, 0x7000_0110));
+/// assert_eq!(PLAN[4..], [SdoWrite::u16(0x1C12, 1, 0x1600), SdoWrite::u8(0x1C12, 0, 1)]);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct PlanBuilder<const N: usize> {
@@ -271,6 +271,20 @@ impl<const N: usize> PlanBuilder<N> {
     /// With the CiA 301 procedure of `pdo` ([`PdoConfig::writes`]) appended.
     pub const fn pdo(mut self, pdo: &PdoConfig<'_>, cob_id: u32) -> Self {
         self.len = pdo.write_into(cob_id, &mut self.writes, self.len);
+        self
+    }
+
+    /// With an EtherCAT sync manager's PDO assignment (ETG.1000.6 0x1C10 + n): `pdos` (the
+    /// mapping indexes) in sub-indexes 1.., then the count in sub-index 0. Clear the count
+    /// first (`push(SdoWrite::u8(object, 0, 0))`) and write the mappings in between, as
+    /// ETG.1000.6 orders a change of the assignment.
+    pub const fn assign(mut self, object: u16, pdos: &[u16]) -> Self {
+        let mut i = 0;
+        while i < pdos.len() && i < u8::MAX as usize {
+            self.len = put(&mut self.writes, self.len, SdoWrite::u16(object, i as u8 + 1, pdos[i]));
+            i += 1;
+        }
+        self.len = put(&mut self.writes, self.len, SdoWrite::u8(object, 0, i as u8));
         self
     }
 

@@ -1,8 +1,8 @@
 //! SDO: the frame codec, a server and a client ([`SdoAbort`], the abort codes, lives in the
 //! crate root with the rest of the vocabulary).
 //!
-//! Everything works on [`CanFrame`](crate::can::CanFrame)s as plain data and on a
-//! millisecond clock the caller passes in, so the same code runs in firmware (an interrupt
+//! Everything works on [`CanFrame`](crate::can::CanFrame)s as plain data and on the
+//! caller's clock ([`Instant`](crate::time::Instant)s it passes in), so the same code runs in firmware (an interrupt
 //! handler feeding [`Server::handle`]) and on a PC master (a [`Bus`] with the blocking
 //! [`Client`] calls). Expedited, segmented and block transfers in both directions; block
 //! transfers check the CRC of CiA 301 and repeat lost segments from the acknowledged one

@@ -69,7 +69,7 @@ mod table;
 
 #[cfg(feature = "alloc")]
 pub use runtime::{RuntimeDictionary, RuntimeTable, TableBuilder};
-pub use table::{Row, Spec, Table};
+pub use table::{Row, Spec, SpecRef, Table};
 
 use crate::cob::NodeId;
 use crate::{Access, DefaultValue, Entry, ObjValue, ObjectAddr, SdoAbort};
@@ -97,6 +97,28 @@ pub trait ObjectDictionary {
     fn access(&self, index: u16, sub: u8) -> Option<Access> {
         let _ = (index, sub);
         None
+    }
+
+    /// Whether `index:sub` may be mapped into a transmit PDO (`tx`) or a receive PDO:
+    /// `Ok(bits)`, the size of its value, when the dictionary has it and its file allows it
+    /// (`PDOMapping=1` and an access of that direction, [`Access::tpdo_allowed`] /
+    /// [`Access::rpdo_allowed`]). A node checks it when a master writes a mapping entry
+    /// (CiA 301 §7.5.2.36/38).
+    ///
+    /// The default knows no mapping flag: it answers what a read tells (the entry exists,
+    /// its size), so a dictionary that does not implement it refuses only a missing entry.
+    ///
+    /// # Errors
+    ///
+    /// [`SdoAbort::NoSuchObject`] or [`SdoAbort::NoSuchSub`] when the dictionary does not
+    /// have it, [`SdoAbort::NotMappable`] when it may not be mapped that way.
+    fn pdo_mappable(&self, index: u16, sub: u8, tx: bool) -> Result<u32, SdoAbort> {
+        let _ = tx;
+        match self.read(index, sub, &mut [0u8; 8]) {
+            Ok(n) => Ok(n as u32 * 8),
+            Err(e @ (SdoAbort::NoSuchObject | SdoAbort::NoSuchSub)) => Err(e),
+            Err(_) => Ok(64),
+        }
     }
 }
 
@@ -148,6 +170,21 @@ pub trait WriteHook {
     /// Called after a value was stored.
     fn after_write(&mut self, addr: ObjectAddr) {
         let _ = addr;
+    }
+
+    /// Takes the data of a DOMAIN download (after `before_write`): the dictionary stores no
+    /// DOMAIN bytes, so they are the application's to keep or act on (a program image for
+    /// 0x1F50, a file). It comes whole, at most the SDO server's buffer long (`N` of
+    /// `Server<N>` and `Node<N>`; a longer download is refused with 0x05040005).
+    ///
+    /// # Errors
+    ///
+    /// The abort to answer. By default [`SdoAbort::DataTransfer`] (0x08000020, "cannot be
+    /// stored to the application"): a dictionary without a hook for it refuses the data
+    /// instead of dropping it.
+    fn write_domain(&mut self, addr: ObjectAddr, data: &[u8]) -> Result<(), SdoAbort> {
+        let _ = (addr, data);
+        Err(SdoAbort::DataTransfer)
     }
 }
 
@@ -221,13 +258,13 @@ fn initial_value<T: ObjValue + PartialOrd>(
 }
 
 /// The [`Row`] of a descriptor, for the `const` table of generated code: `row!(od::X)` is
-/// `Row::new(&od::X, &od::X.spec())`, the [`Spec`] promoted to a `static` that entries with the
-/// same limits and default share.
+/// `Row::new(&od::X, &SpecRef::new(&od::X.spec()))`, the [`Spec`] and its [`SpecRef`]
+/// promoted to `static`s that entries with the same limits and default share.
 #[macro_export]
 #[doc(hidden)]
 macro_rules! __slave_row {
     ($entry:expr) => {
-        $crate::slave::Row::new(&$entry, &$entry.spec())
+        $crate::slave::Row::new(&$entry, &$crate::slave::SpecRef::new(&$entry.spec()))
     };
 }
 

@@ -48,6 +48,11 @@ impl Instant {
         Self(self.0.saturating_add(d.0))
     }
 
+    /// `self - d`, at least the epoch.
+    pub const fn saturating_sub(self, d: Duration) -> Self {
+        Self(self.0.saturating_sub(d.0))
+    }
+
     /// The time from `earlier` to `self`; zero when `earlier` is later.
     pub const fn saturating_duration_since(self, earlier: Self) -> Duration {
         Duration(self.0.saturating_sub(earlier.0))
@@ -93,6 +98,31 @@ impl Duration {
     /// `self × n` (saturating).
     pub const fn saturating_mul(self, n: u64) -> Self {
         Self(self.0.saturating_mul(n))
+    }
+}
+
+#[cfg(feature = "std")]
+impl Instant {
+    /// The time since `epoch` on the host's monotonic clock, as an instant (saturating): how
+    /// the `std` transports tell the time.
+    pub fn since(epoch: std::time::Instant) -> Self {
+        Self(u64::try_from(epoch.elapsed().as_micros()).unwrap_or(u64::MAX))
+    }
+}
+
+impl core::fmt::Display for Duration {
+    /// In the largest unit that keeps it whole: `1.5 s` is `1500 ms`, `250 µs` stays µs.
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        let us = self.0;
+        if us == 0 {
+            f.write_str("0 ms")
+        } else if us.is_multiple_of(1_000_000) {
+            write!(f, "{} s", us / 1_000_000)
+        } else if us.is_multiple_of(1000) {
+            write!(f, "{} ms", us / 1000)
+        } else {
+            write!(f, "{us} µs")
+        }
     }
 }
 
@@ -144,6 +174,7 @@ impl From<Duration> for core::time::Duration {
 
 #[cfg(test)]
 mod tests {
+    extern crate std;
     use super::*;
 
     #[test]
@@ -157,6 +188,14 @@ mod tests {
             Instant::from_micros(u64::MAX)
         );
         assert_eq!(Instant::from_micros(10) - Instant::from_micros(30), Duration::ZERO);
+        assert_eq!(
+            Instant::from_micros(10).saturating_sub(Duration::from_micros(30)),
+            Instant::ZERO
+        );
+        assert_eq!(
+            Instant::from_micros(30).saturating_sub(Duration::from_micros(10)),
+            Instant::from_micros(20)
+        );
         assert_eq!(Instant::from_micros(30) - Instant::from_micros(10), Duration::from_micros(20));
         assert_eq!(
             Duration::from(core::time::Duration::from_nanos(2_500)),
@@ -164,5 +203,14 @@ mod tests {
         );
         assert_eq!(core::time::Duration::from(Duration::from_micros(1500)).as_micros(), 1500);
         assert!(Duration::ZERO.is_zero() && !Duration::MICROSECOND.is_zero());
+    }
+
+    #[test]
+    fn durations_print_in_their_largest_whole_unit() {
+        use std::string::ToString;
+        assert_eq!(Duration::from_secs(5).to_string(), "5 s");
+        assert_eq!(Duration::from_millis(1500).to_string(), "1500 ms");
+        assert_eq!(Duration::from_micros(250).to_string(), "250 µs");
+        assert_eq!(Duration::ZERO.to_string(), "0 ms");
     }
 }

@@ -317,6 +317,94 @@ impl<const N: usize> ObjValue for VisibleString<N> {
     }
 }
 
+/// UNICODE_STRING of at most `N` bytes (`N / 2` UTF-16 code units, little-endian, as CiA 301
+/// encodes it), stored inline. Trailing zero code units are padding, as a VISIBLE_STRING's
+/// zeros are.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct UnicodeString<const N: usize> {
+    bytes: [u8; N],
+    len: usize,
+}
+
+impl<const N: usize> UnicodeString<N> {
+    /// The empty string, for `const` initial values.
+    pub const EMPTY: Self = Self { bytes: [0; N], len: 0 };
+
+    /// The string of the UTF-16LE `bytes`, or `None` if they are more than `N` or an odd
+    /// number. `const`, for the defaults of generated code.
+    pub const fn from_le_bytes(src: &[u8]) -> Option<Self> {
+        if src.len() > N || src.len() & 1 != 0 {
+            return None;
+        }
+        let mut bytes = [0u8; N];
+        let mut i = 0;
+        while i < src.len() {
+            bytes[i] = src[i];
+            i += 1;
+        }
+        Some(Self { bytes, len: src.len() })
+    }
+
+    /// The UTF-16LE bytes.
+    pub fn as_bytes(&self) -> &[u8] {
+        self.bytes.get(..self.len).unwrap_or(&[])
+    }
+
+    /// The code units.
+    pub fn units(&self) -> impl Iterator<Item = u16> + '_ {
+        self.as_bytes().chunks_exact(2).map(|c| u16::from(c[0]) | u16::from(c[1]) << 8)
+    }
+}
+
+impl<const N: usize> ObjValue for UnicodeString<N> {
+    const DATA_TYPE: DataType = DataType::UnicodeString;
+    const MAX_LEN: usize = N;
+    fn encode(&self, buf: &mut [u8]) -> Result<usize, ValueError> {
+        put(buf, self.as_bytes())
+    }
+    /// Trailing zero code units are dropped, as a padded VISIBLE_STRING's zeros are.
+    fn decode(buf: &[u8]) -> Result<Self, ValueError> {
+        if buf.len() & 1 != 0 {
+            return Err(ValueError::Invalid);
+        }
+        let end = unicode_len(buf);
+        if end > N {
+            return Err(ValueError::TooLong);
+        }
+        Self::from_le_bytes(buf.get(..end).unwrap_or(&[])).ok_or(ValueError::Invalid)
+    }
+}
+
+/// The length of UTF-16LE `buf` without its trailing zero code units.
+pub(crate) fn unicode_len(buf: &[u8]) -> usize {
+    let mut end = buf.len() & !1;
+    while end >= 2 && buf.get(end - 2..end) == Some(&[0, 0]) {
+        end -= 2;
+    }
+    end
+}
+
+/// DOMAIN: data of any length (a program image, a file). The value holds none of it: a
+/// dictionary stores no DOMAIN bytes, the download goes to the application
+/// ([`WriteHook::write_domain`](crate::slave::WriteHook::write_domain)), whole, at most the
+/// SDO server's buffer long.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Domain;
+
+impl ObjValue for Domain {
+    const DATA_TYPE: DataType = DataType::Domain;
+    const MAX_LEN: usize = 0;
+    fn encode(&self, _: &mut [u8]) -> Result<usize, ValueError> {
+        Ok(0)
+    }
+    /// Any bytes: their meaning is the application's.
+    fn decode(_: &[u8]) -> Result<Self, ValueError> {
+        Ok(Domain)
+    }
+}
+
 macro_rules! time_type {
     ($(#[$m:meta])* $name:ident => $dt:ident) => {
         $(#[$m])*
@@ -387,6 +475,19 @@ mod tests {
         assert_eq!(bool::decode(&[2]), Err(ValueError::Invalid));
         assert_eq!(bool::decode(&[1]), Ok(true));
         assert_eq!(SdoAbort::from(ValueError::TooLong), SdoAbort::TooLong);
+    }
+
+    #[test]
+    fn unicode_and_domain() {
+        // "Ab" in UTF-16LE, padded with a zero code unit.
+        let s = UnicodeString::<6>::decode(&[0x41, 0, 0x62, 0, 0, 0]).unwrap();
+        let mut units = s.units();
+        assert_eq!((units.next(), units.next(), units.next()), (Some(0x41), Some(0x62), None));
+        let mut b = [0u8; 6];
+        assert_eq!(s.encode(&mut b), Ok(4));
+        assert_eq!(UnicodeString::<2>::decode(&[0x41, 0, 0x62, 0]), Err(ValueError::TooLong));
+        assert_eq!(UnicodeString::<6>::decode(&[0x41]), Err(ValueError::Invalid));
+        assert_eq!(Domain::decode(&[1, 2, 3]), Ok(Domain));
     }
 
     #[test]

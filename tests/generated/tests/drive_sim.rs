@@ -39,7 +39,8 @@ fn session<P: DrivePdos>(file: &str, plans: &[&[odc::plan::SdoWrite]], velocity:
         let mut dev = odc_sim::SimDevice::new(&device, NODE);
         hub.run(&mut dev, &mut |_| {});
     });
-    let mut m = Master::new(TcpCan::connect(addr).unwrap()).with_timeout(2000);
+    let mut m = Master::new(TcpCan::connect(addr).unwrap())
+        .with_timeout(odc::time::Duration::from_millis(2000));
     let seen = Arc::new(Mutex::new(Vec::new()));
     let log = seen.clone();
     m.observe(move |_, f| log.lock().unwrap().push(*f));
@@ -67,7 +68,7 @@ fn session<P: DrivePdos>(file: &str, plans: &[&[odc::plan::SdoWrite]], velocity:
             }
             Ok(())
         }
-        Err(Error::Drive(e)) => Err(e),
+        Err(Error::Drive { error, .. }) => Err(error),
         Err(e) => panic!("{file}: {e}"),
     };
     // Two more cycles for the last set-point to come back in the TPDO.

@@ -143,3 +143,44 @@ fn master_plan_follows_cia301() {
     assert_eq!(plan[..w.len()], w);
     assert_eq!(SdoWrite::u16(1, 2, 0x1234).to_le_bytes(), ([0x34, 0x12, 0, 0], 2));
 }
+
+/// CiA 301 data types DOMAIN and UNICODE_STRING: DOMAIN (0x1F50:01, program data, CiA 302-3) and UNICODE_STRING (0x2001)
+/// entries are in the generated dictionary. The UNICODE_STRING holds the file's default
+/// ("Ax", UTF-16LE) in the bytes its default takes; the DOMAIN's data goes to the
+/// application's `WriteHook::write_domain`, and a dictionary without one refuses it
+/// (0x08000020) instead of dropping it.
+#[test]
+fn domain_and_unicode_entries_are_served() {
+    use odc::{Domain, UnicodeString};
+    let _: odc::Entry<Domain> = od::program_data::PROGRAM_NUMBER_1;
+    let _: odc::Entry<UnicodeString<4>> = od::AXIS_LABEL;
+    let mut d = slave::Dictionary::new(odc::node_id!(5));
+    let mut buf = [0u8; 8];
+    assert_eq!(d.read(0x2001, 0, &mut buf), Ok(4));
+    assert_eq!(buf[..4], [0x41, 0, 0x78, 0]);
+    assert_eq!(d.write(0x2001, 0, &[0x42, 0]), Ok(()));
+    assert_eq!(d.read(0x2001, 0, &mut buf), Ok(2));
+    // Longer than the file's default (4 bytes): 0x06070012.
+    assert_eq!(d.write(0x2001, 0, &[0x42, 0, 0x43, 0, 0x44, 0]), Err(SdoAbort::TooLong));
+    assert_eq!(d.read(0x1F50, 1, &mut buf), Err(SdoAbort::ReadOfWriteOnly));
+    assert_eq!(d.write(0x1F50, 1, &[1, 2, 3]), Err(SdoAbort::DataTransfer));
+
+    struct Program(Vec<u8>);
+    impl odc::slave::WriteHook for Program {
+        fn write_domain(&mut self, addr: ObjectAddr, data: &[u8]) -> Result<(), SdoAbort> {
+            assert_eq!(addr, ObjectAddr::new(0x1F50, 1));
+            self.0.extend_from_slice(data);
+            Ok(())
+        }
+    }
+    let mut program = Program(Vec::new());
+    let image: Vec<u8> = (0..200u8).collect();
+    assert_eq!(d.write_with(0x1F50, 1, &image, &mut program), Ok(()));
+    assert_eq!(program.0, image);
+}
+
+/// CiA 306 `LSS_Supported=0` in the file: the generated flag says the device has no LSS.
+#[test]
+fn lss_follows_the_file() {
+    const { assert!(!slave::LSS_SUPPORTED) };
+}

@@ -130,9 +130,7 @@ fn serve(py: &std::path::Path, dev: &Device, through_node: bool) -> Served {
     let mut slave = if through_node {
         let mut node = Box::new(Node::<BUF>::new(NODE));
         let mut boot = Vec::new();
-        node.start(od.as_mut(), odc::time::Instant::from_millis(peer.bus.now_ms()), &mut |f| {
-            boot.push(f)
-        });
+        node.start(od.as_mut(), peer.bus.now(), &mut |f| boot.push(f));
         for f in boot {
             peer.bus.send(&f).unwrap();
         }
@@ -144,30 +142,23 @@ fn serve(py: &std::path::Path, dev: &Device, through_node: bool) -> Served {
     let end = Instant::now() + SESSION;
     loop {
         assert!(Instant::now() < end, "{}: session over {SESSION:?}", dev.name);
-        let now = peer.bus.now_ms();
+        let now = peer.bus.now();
         let mut out = Vec::new();
-        let received = peer.bus.recv(now + 20);
-        let now = peer.bus.now_ms();
+        let received = peer.bus.recv(now + odc::time::Duration::from_millis(20));
+        let now = peer.bus.now();
         if let Ok(Some(frame)) = &received {
             match &mut slave {
-                Slave::Server(s) => s.handle_into(
-                    od.as_mut(),
-                    frame,
-                    odc::time::Instant::from_millis(now),
-                    &mut |f| out.push(f),
-                ),
+                Slave::Server(s) => s.handle_into(od.as_mut(), frame, now, &mut |f| out.push(f)),
                 Slave::Node(n) => {
-                    n.handle(od.as_mut(), frame, odc::time::Instant::from_millis(now), &mut |f| {
-                        out.push(f)
-                    });
+                    n.handle(od.as_mut(), frame, now, &mut |f| out.push(f));
                 }
             }
             burst = burst.max(out.len());
         }
         match &mut slave {
-            Slave::Server(s) => out.extend(s.poll(odc::time::Instant::from_millis(now))),
+            Slave::Server(s) => out.extend(s.poll(now)),
             Slave::Node(n) => {
-                n.poll(od.as_mut(), odc::time::Instant::from_millis(now), &mut |f| out.push(f));
+                n.poll(od.as_mut(), now, &mut |f| out.push(f));
             }
         }
         for f in out {
@@ -296,7 +287,7 @@ fn our_block_client_their_server() {
         let path = dev.path.to_str().unwrap();
         let mut peer = Peer::start(&py, "slave.py", &["--eds", path, "--node", "5"]);
         let bus = &mut peer.bus;
-        let boot = bus.now_ms() + 30_000;
+        let boot = bus.now() + odc::time::Duration::from_millis(30_000);
         loop {
             match bus.recv(boot).unwrap() {
                 Some(f) if f.id() == NODE.error_control().raw() && f.bytes() == [0] => break,
@@ -305,7 +296,8 @@ fn our_block_client_their_server() {
             }
         }
         let reference = (dev.slave)(NODE);
-        let mut client = Client::<BUF>::new(NODE).with_timeout(2000);
+        let mut client =
+            Client::<BUF>::new(NODE).with_timeout(odc::time::Duration::from_millis(2000));
         let (mut uploaded, mut no_default, mut refused) = (0, 0, 0);
         for r in rows.iter().filter(|r| r.access().readable()) {
             let (i, s) = (r.addr().index, r.addr().sub);

@@ -61,28 +61,20 @@ fn run(py: &std::path::Path, dev: &Device) -> (Seen, Value) {
         &["--new-node", &new, "--second-node", &second, "--bit-timing", &bt],
     );
     let mut out = Vec::new();
-    node.start(od.as_mut(), odc::time::Instant::from_millis(peer.bus.now_ms()), &mut |f| {
-        out.push(f)
-    });
+    node.start(od.as_mut(), peer.bus.now(), &mut |f| out.push(f));
     let end = Instant::now() + SESSION;
     'run: loop {
         assert!(Instant::now() < end, "{}: session over {SESSION:?}", dev.name);
-        let now = peer.bus.now_ms();
-        let frame = match peer.bus.recv(now + 1) {
+        let now = peer.bus.now();
+        let frame = match peer.bus.recv(now + odc::time::Duration::from_millis(1)) {
             Ok(f) => f,
             Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => break,
             Err(e) => panic!("{}: {e}", dev.name),
         };
-        let now_us = peer.bus.now_ms() * 1000;
-        let mut events =
-            node.poll(od.as_mut(), odc::time::Instant::from_micros(now_us), &mut |f| out.push(f));
+        let now = peer.bus.now();
+        let mut events = node.poll(od.as_mut(), now, &mut |f| out.push(f));
         if let Some(f) = &frame {
-            events.absorb(node.handle(
-                od.as_mut(),
-                f,
-                odc::time::Instant::from_micros(now_us),
-                &mut |f| out.push(f),
-            ));
+            events.absorb(node.handle(od.as_mut(), f, now, &mut |f| out.push(f)));
         }
         match events.lss {
             Some(LssEvent::Store { node_id, bit_timing }) => {

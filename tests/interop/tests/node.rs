@@ -43,8 +43,8 @@ fn session(py: &std::path::Path, dev: &Device) -> (Value, Seen) {
     let end = Instant::now() + SESSION;
     'run: loop {
         assert!(Instant::now() < end, "{}: session over {SESSION:?}", dev.name);
-        let ms = peer.bus.now_ms();
-        let frame = match peer.bus.recv(ms + 1) {
+        let now = peer.bus.now();
+        let frame = match peer.bus.recv(now + odc::time::Duration::from_millis(1)) {
             Ok(f) => f,
             Err(e) if e.kind() == std::io::ErrorKind::UnexpectedEof => break,
             Err(e) => panic!("{}: {e}", dev.name),
@@ -164,8 +164,8 @@ fn socketcan_vcan0() {
         std::thread::sleep(Duration::from_millis(50));
         node.start(od.as_mut(), odc::time::Instant::from_micros(now_us()), &mut |f| out.push(f));
         while !stop_node.load(std::sync::atomic::Ordering::Relaxed) {
-            let ms = wire.now_ms();
-            if let Some(f) = wire.recv(ms + 1).unwrap() {
+            let now = wire.now();
+            if let Some(f) = wire.recv(now + odc::time::Duration::from_millis(1)).unwrap() {
                 node.handle(od.as_mut(), &f, odc::time::Instant::from_micros(now_us()), &mut |f| {
                     out.push(f)
                 });
@@ -176,7 +176,7 @@ fn socketcan_vcan0() {
             }
         }
     });
-    let deadline = master.now_ms() + 2000;
+    let deadline = master.now() + odc::time::Duration::from_millis(2000);
     let boot = loop {
         match master.recv(deadline).unwrap() {
             Some(f) if f.id() == 0x705 => break Some(f),
@@ -190,10 +190,10 @@ fn socketcan_vcan0() {
     assert_eq!(Some(device_type), dev.device_type.default.and_then(|d| d.resolve(NODE)));
     sdo.download(&mut master, 0x1017, 0, &50u16.to_le_bytes()).unwrap();
     master.send(&odc::can::CanFrame::from_slice(0, &[0x01, NODE.get()]).unwrap()).unwrap();
-    let t0 = master.now_ms();
+    let end = master.now() + odc::time::Duration::from_millis(520);
     let mut beats = Vec::new();
-    while master.now_ms() < t0 + 520 {
-        if let Some(f) = master.recv(t0 + 520).unwrap()
+    while master.now() < end {
+        if let Some(f) = master.recv(end).unwrap()
             && f.id() == 0x705
         {
             beats.push(f.data()[0]);
@@ -222,26 +222,23 @@ fn node_and_sdo_client_on_the_in_memory_bus() {
         let mut od = slave(NODE);
         let mut node: Node<BUF> = Node::new(NODE);
         let mut out = Vec::new();
-        let us = |p: &mut odc::transport::mem::MemPort| p.now_ms() * 1000;
-        let now = us(&mut wire);
-        node.start(od.as_mut(), odc::time::Instant::from_micros(now), &mut |f| out.push(f));
+        let now = wire.now();
+        node.start(od.as_mut(), now, &mut |f| out.push(f));
         while !stop_node.load(std::sync::atomic::Ordering::Relaxed) {
-            let ms = wire.now_ms();
-            if let Some(f) = wire.recv(ms + 1).unwrap() {
-                let now = us(&mut wire);
-                node.handle(od.as_mut(), &f, odc::time::Instant::from_micros(now), &mut |f| {
-                    out.push(f)
-                });
+            let now = wire.now();
+            if let Some(f) = wire.recv(now + odc::time::Duration::from_millis(1)).unwrap() {
+                let now = wire.now();
+                node.handle(od.as_mut(), &f, now, &mut |f| out.push(f));
             }
-            let now = us(&mut wire);
-            node.poll(od.as_mut(), odc::time::Instant::from_micros(now), &mut |f| out.push(f));
+            let now = wire.now();
+            node.poll(od.as_mut(), now, &mut |f| out.push(f));
             for f in out.drain(..) {
                 wire.send(&f).unwrap();
             }
         }
     });
     let boot = |p: &mut odc::transport::mem::MemPort| {
-        let deadline = p.now_ms() + 2000;
+        let deadline = p.now() + odc::time::Duration::from_millis(2000);
         loop {
             match p.recv(deadline).unwrap() {
                 Some(f) if f.id() == 0x705 => break Some(f.bytes().to_vec()),
@@ -257,11 +254,11 @@ fn node_and_sdo_client_on_the_in_memory_bus() {
     assert_eq!(Some(device_type), dev.device_type.default.and_then(|d| d.resolve(NODE)));
     sdo.download(&mut master, 0x1017, 0, &20u16.to_le_bytes()).unwrap();
     master.send(&odc::can::CanFrame::from_slice(0, &[0x01, NODE.get()]).unwrap()).unwrap();
-    let t0 = sniffer.now_ms();
+    let end = sniffer.now() + odc::time::Duration::from_millis(210);
     let mut beats = Vec::new();
     let mut requests = 0;
-    while sniffer.now_ms() < t0 + 210 {
-        match sniffer.recv(t0 + 210).unwrap() {
+    while sniffer.now() < end {
+        match sniffer.recv(end).unwrap() {
             Some(f) if f.id() == 0x705 => beats.push(f.data()[0]),
             Some(f) if f.id() == 0x605 => requests += 1,
             _ => {}

@@ -37,20 +37,15 @@ fn serve(py: &std::path::Path, dev: &Device) -> (Box<dyn ObjectDictionary + Send
     let end = Instant::now() + SESSION;
     loop {
         assert!(Instant::now() < end, "{}: session over {SESSION:?}", dev.name);
-        let now = peer.bus.now_ms();
-        match peer.bus.recv(now + 20) {
+        let now = peer.bus.now();
+        match peer.bus.recv(now + odc::time::Duration::from_millis(20)) {
             Ok(Some(frame)) => {
-                if let Some(r) = server.handle(
-                    od.as_mut(),
-                    &frame,
-                    odc::time::Instant::from_millis(peer.bus.now_ms()),
-                ) {
+                if let Some(r) = server.handle(od.as_mut(), &frame, peer.bus.now()) {
                     peer.bus.send(&r).unwrap();
                 }
             }
             Ok(None) => {
-                if let Some(abort) = server.poll(odc::time::Instant::from_millis(peer.bus.now_ms()))
-                {
+                if let Some(abort) = server.poll(peer.bus.now()) {
                     peer.bus.send(&abort).unwrap();
                 }
                 if peer.exited() {
@@ -192,11 +187,12 @@ fn drive(py: &std::path::Path, dev: &Device) -> Master {
     let mut m = Master::default();
     // odc's master runtime, on the test's end of the socket. LocalNode answers SDO requests
     // only after its boot-up message, which python can take long to send.
-    let mut master = odc::master::Master::new(&mut peer.bus).with_timeout(30_000);
+    let mut master = odc::master::Master::new(&mut peer.bus)
+        .with_timeout(odc::time::Duration::from_millis(30_000));
     if let Err(e) = master.wait_boot_up(NODE) {
         panic!("{}: no boot-up message from LocalNode: {e}", dev.name);
     }
-    let mut master = master.with_timeout(2000);
+    let mut master = master.with_timeout(odc::time::Duration::from_millis(2000));
     let remote = |e: &MasterError<std::io::Error>| match e {
         MasterError::Sdo { error: SdoError::Remote(a), .. } => Some(*a),
         _ => None,

@@ -37,22 +37,20 @@ const NODE_ID: NodeId = odc::node_id!(5); // checked at compile time: 1..=127
 static OD: StaticCell<Dictionary> = StaticCell::new();
 static NODE: StaticCell<Node<64>> = StaticCell::new();
 
-/// Runs the node on `can` (the HAL's CAN peripheral) with a millisecond clock; never returns.
-/// Called once, from the entry point (a second call panics: the statics are taken).
-pub fn run<C: embedded_can::nb::Can>(can: C, clock_ms: impl FnMut() -> u64) -> ! {
+/// Runs the node on `can` (the HAL's CAN peripheral) with `clock` (a monotonic timer); never
+/// returns. Called once, from the entry point (a second call panics: the statics are taken).
+pub fn run<C: embedded_can::nb::Can>(can: C, clock: impl FnMut() -> Instant) -> ! {
     let od = OD.init_with(|| Dictionary::new(NODE_ID));
     let node = NODE.init_with(|| Node::new(NODE_ID));
     let mut drive = Drive::new(); // CiA 402: the power state machine, a simulated axis
-    let mut bus = NbBus::new(can, clock_ms);
+    let mut bus = NbBus::new(can, clock);
     let mut bus_errors = 0u32; // what the driver refused: a firmware reports it (EMCY, LED)
-    let mut last_ms = bus.now_ms();
-    let now = Instant::from_millis(last_ms);
-    node.start(od, now, &mut |f| bus_errors += u32::from(bus.send(&f).is_err()));
+    let mut last = bus.now();
+    node.start(od, last, &mut |f| bus_errors += u32::from(bus.send(&f).is_err()));
     drive.start(od);
     loop {
-        let now_ms = bus.now_ms();
-        let received = bus.recv(now_ms); // at once: Ok(None) when nothing came
-        let now = Instant::from_millis(now_ms);
+        let now = bus.now();
+        let received = bus.recv(now); // at once: Ok(None) when nothing came
         let mut out = |f: CanFrame| bus_errors += u32::from(bus.send(&f).is_err());
         let mut events = node.poll(od, now, &mut out);
         match received {
@@ -63,12 +61,12 @@ pub fn run<C: embedded_can::nb::Can>(can: C, clock_ms: impl FnMut() -> u64) -> !
             Ok(None) => {}
             Err(_) => bus_errors += 1,
         }
-        if now_ms != last_ms {
-            drive.step(od, u32::try_from(now_ms - last_ms).unwrap_or(u32::MAX));
-            last_ms = now_ms;
+        if now != last {
+            drive.step(od, now - last);
+            last = now;
         }
         if events.reset.is_some() {
-            *od = Dictionary::new(node.next_node_id()); // defaults back
+            od.reset(node.next_node_id()); // defaults back, in place
             drive = Drive::new();
             drive.start(od);
         }
@@ -86,7 +84,9 @@ fn main() -> ! {
     board::paint_stack();
     board::start_systick();
     board::calibrate();
-    run(ScriptCan::open(), || u64::from(MS.load(Ordering::Relaxed)))
+    run(ScriptCan::open(), || {
+        odc::time::Instant::from_millis(u64::from(MS.load(Ordering::Relaxed)))
+    })
 }
 
 /// SysTick, every millisecond: the clock `run` reads.

@@ -12,7 +12,7 @@ use crate::input;
 ///
 /// The output format follows `--to`, else the extension of `-o` (`.eds`, `.dcf`, `.xdd`,
 /// `.xdc`); what the output format has no place for is named in a warning; a file holding DCF values
-/// (ParameterValue, Denotation, [DeviceComissioning], [ConnectedModules]) stays a DCF unless
+/// (ParameterValue, Denotation, `[DeviceComissioning]`, `[ConnectedModules]`) stays a DCF unless
 /// `--to eds` asks for an EDS, which leaves them out with a warning that counts them. Keys and
 /// sections odc does not interpret are carried over. The output is read back and checked
 /// first: a file `odc check` would refuse at the same levels is not written (an ESI device that

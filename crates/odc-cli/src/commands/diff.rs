@@ -1,6 +1,5 @@
 //! `odc diff`: what changed between two device descriptions, of any formats.
 
-use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -50,11 +49,14 @@ pub struct Args {
     /// Colour the human output.
     #[arg(long, value_enum, default_value_t)]
     color: Color,
+    /// Rule levels for both files (on top of diff's own: the CiA and ETG groups allowed).
+    #[command(flatten)]
+    rules: crate::input::Rules,
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    let a = load(&args.a, args.device_a.as_deref())?;
-    let b = load(&args.b, args.device_b.as_deref())?;
+    let a = load(&args.a, args.device_a.as_deref(), &args.rules)?;
+    let b = load(&args.b, args.device_b.as_deref(), &args.rules)?;
     let (da, db) = (one(&a, "--device-a")?, one(&b, "--device-b")?);
     let opts = odc_diff::Options {
         ignore_names: args.ignore_names,
@@ -65,11 +67,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let text = match args.format {
         DiffFormat::Json => odc_diff::json(&changes) + "\n",
         DiffFormat::Human => {
-            let color = match args.color {
-                Color::Auto => std::io::stdout().is_terminal(),
-                Color::Always => true,
-                Color::Never => false,
-            };
+            let color = args.color.on(&std::io::stdout());
             if changes.is_empty() {
                 "no differences\n".to_owned()
             } else {
@@ -88,12 +86,14 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
 
 /// Reads a file for comparison. Only the front-end's rules gate it: a file whose text cannot
 /// be read as a device description is refused, as it would be compared by what was lost; the
-/// CiA and ETG rules say nothing about what changed, so they are not run as errors here.
-fn load(path: &Path, device: Option<&str>) -> anyhow::Result<Loaded> {
+/// CiA and ETG rules say nothing about what changed, so they are not run as errors here
+/// (unless `rules` asks for them).
+fn load(path: &Path, device: Option<&str>, rules: &crate::input::Rules) -> anyhow::Result<Loaded> {
     let mut options = Options::new();
     for group in ["cia301", "cia402", "etg"] {
         options = options.level(group.to_owned(), Level::Allow);
     }
+    let mut options = rules.apply(options);
     if let Some(spec) = device {
         options = options.select(Select::Spec(spec.to_owned()));
     }

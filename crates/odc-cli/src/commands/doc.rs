@@ -45,6 +45,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         .with_context(|| format!("cannot create {}", args.output.display()))?;
     let stem = args.file.file_stem().map_or("device".into(), |s| s.to_string_lossy().into_owned());
     let schemes = &loaded.codegen.scheme;
+    let file_name = loaded.file_name();
     // Render everything first: nothing is written unless every file can be.
     let mut files = Vec::new();
     for dev in &loaded.devices {
@@ -52,9 +53,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         let single = loaded.devices.len() == 1;
         let diagnostics: Vec<_> =
             loaded.diagnostics.iter().filter(|d| single || concerns(d, dev)).cloned().collect();
+        // The file's name, not its path: the sheet travels without the directory it was
+        // made in.
         let input = odc_doc::Input {
             device: dev,
-            file: &loaded.name,
+            file: &file_name,
             sources: Some(&loaded.sources),
             diagnostics: &diagnostics,
             schemes,

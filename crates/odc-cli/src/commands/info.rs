@@ -13,7 +13,7 @@ use crate::input;
 /// device unless `--device` picks one.
 #[derive(clap::Args)]
 pub struct Args {
-    /// EDS, DCF or ESI file, or an SII EEPROM image (`.bin`).
+    /// EDS, DCF or ESI file, or an SII EEPROM image (`.bin`); `-` reads standard input.
     file: PathBuf,
     /// Levels, configuration and `--device`.
     #[command(flatten)]
@@ -21,13 +21,13 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
-    // An SII EEPROM image (`odc sii`'s output) is read back instead.
-    if let Ok(bytes) = std::fs::read(&args.file)
-        && super::sii::is_image(&args.file, &bytes)
-    {
-        return super::sii::info(&args.file, &bytes);
+    // Read once: `/dev/stdin` or `-` cannot be read twice. An SII EEPROM image (`odc sii`'s
+    // output) is read back instead.
+    let (path, bytes) = input::read(&args.file)?;
+    if super::sii::is_image(&path, &bytes) {
+        return super::sii::info(&path, &bytes);
     }
-    let loaded = input::load(&args.file, &args.levels)?;
+    let loaded = input::load_bytes(&path, bytes, &args.levels)?;
     super::gate(&loaded)?;
     if loaded.devices.len() > 1 {
         super::out(&format!(

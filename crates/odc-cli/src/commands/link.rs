@@ -2,7 +2,6 @@
 //! (`--tcp` as `odc simulate` serves it, `--can` on Linux) and the devices they know
 //! (`--node ID=FILE`).
 
-use std::net::SocketAddr;
 use std::path::PathBuf;
 
 use anyhow::{Context, bail};
@@ -17,9 +16,10 @@ use crate::input;
 #[derive(clap::Args, Clone, Debug)]
 #[command(group(clap::ArgGroup::new("bus").required(true).args(["tcp", "can"])))]
 pub struct BusArgs {
-    /// A virtual CAN bus over TCP, as `odc simulate --tcp` serves it.
+    /// A virtual CAN bus over TCP, as `odc simulate --tcp` serves it (`localhost:PORT`,
+    /// `127.0.0.1:PORT`, any host name).
     #[arg(long, value_name = "HOST:PORT")]
-    pub tcp: Option<SocketAddr>,
+    pub tcp: Option<String>,
     /// A SocketCAN interface (Linux), such as `can0` or `vcan0`.
     #[arg(long, value_name = "IFACE")]
     pub can: Option<String>,
@@ -39,7 +39,8 @@ impl BusArgs {
     pub fn open(&self) -> anyhow::Result<Link> {
         match (&self.tcp, &self.can) {
             (Some(addr), _) => Ok(Link::Tcp(
-                TcpCan::connect(addr).with_context(|| format!("--tcp {addr}: cannot connect"))?,
+                TcpCan::connect(addr.as_str())
+                    .with_context(|| format!("--tcp {addr}: cannot connect"))?,
             )),
             (None, Some(iface)) => can(iface),
             (None, None) => bail!("give --tcp HOST:PORT or --can IFACE"),
@@ -71,19 +72,19 @@ impl Bus for Link {
         }
     }
 
-    fn recv(&mut self, deadline_ms: u64) -> std::io::Result<Option<CanFrame>> {
+    fn recv(&mut self, deadline: odc::time::Instant) -> std::io::Result<Option<CanFrame>> {
         match self {
-            Link::Tcp(b) => b.recv(deadline_ms),
+            Link::Tcp(b) => b.recv(deadline),
             #[cfg(all(feature = "socketcan", target_os = "linux"))]
-            Link::Can(b) => b.recv(deadline_ms),
+            Link::Can(b) => b.recv(deadline),
         }
     }
 
-    fn now_ms(&mut self) -> u64 {
+    fn now(&mut self) -> odc::time::Instant {
         match self {
-            Link::Tcp(b) => b.now_ms(),
+            Link::Tcp(b) => b.now(),
             #[cfg(all(feature = "socketcan", target_os = "linux"))]
-            Link::Can(b) => b.now_ms(),
+            Link::Can(b) => b.now(),
         }
     }
 }
@@ -121,18 +122,20 @@ fn parse_u8(s: &str) -> Option<u8> {
     parse_u64(s).and_then(|n| u8::try_from(n).ok())
 }
 
-/// The device of a node's file (the file's one device, or the one `--device` picks).
-pub fn load(spec: &NodeSpec) -> anyhow::Result<Device> {
-    Ok(load_with_process_data(spec)?.0)
+/// The device of a node's file (the file's one device), checked at the levels of `rules`.
+pub fn load(spec: &NodeSpec, rules: &input::Rules) -> anyhow::Result<Device> {
+    Ok(load_with_process_data(spec, rules)?.0)
 }
 
 /// The device of a node's file and the process data its overlay lays out
 /// (`[[process-data]]`), for the monitor.
 pub fn load_with_process_data(
     spec: &NodeSpec,
+    rules: &input::Rules,
 ) -> anyhow::Result<(Device, Vec<odc_monitor::ProcessLayout>)> {
-    let loaded = input::load(&spec.file, &input::Levels::default())?;
-    super::gate(&loaded)?;
+    let levels = input::Levels { rules: rules.clone(), device: None };
+    let loaded = input::load(&spec.file, &levels)?;
+    super::gate_bus(&loaded)?;
     let layouts = loaded
         .codegen
         .process_data

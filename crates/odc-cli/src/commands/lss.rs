@@ -80,7 +80,7 @@ fn show(id: &Identity) -> String {
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mut master = Master::new(args.bus.open()?);
-    let mut lss = master.lss().with_timeout(args.timeout);
+    let mut lss = master.lss().with_timeout(odc::time::Duration::from_millis(args.timeout));
     let e = |e: odc::master::Error<std::io::Error>| anyhow::anyhow!("{e}");
     let value =
         || args.value.clone().ok_or_else(|| anyhow::anyhow!("{:?} needs a value", args.action));

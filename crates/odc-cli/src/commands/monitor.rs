@@ -1,7 +1,6 @@
 //! `odc monitor`: a bus, live or from a candump log, decoded with the device files.
 
 use std::io::{BufRead, BufReader};
-use std::net::SocketAddr;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -31,7 +30,7 @@ pub enum MonitorFormat {
 pub struct Args {
     /// A virtual CAN bus over TCP, as `odc simulate --tcp` serves it.
     #[arg(long, value_name = "HOST:PORT")]
-    tcp: Option<SocketAddr>,
+    tcp: Option<String>,
     /// A SocketCAN interface (Linux).
     #[arg(long, value_name = "IFACE")]
     can: Option<String>,
@@ -44,13 +43,16 @@ pub struct Args {
     /// Output format.
     #[arg(long, value_enum, default_value_t)]
     format: MonitorFormat,
+    /// Rule levels for the device files.
+    #[command(flatten)]
+    rules: crate::input::Rules,
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let mut devices = Vec::new();
     let mut process = Vec::new();
     for spec in &args.node {
-        let (device, layouts) = load_with_process_data(spec)?;
+        let (device, layouts) = load_with_process_data(spec, &args.rules)?;
         devices.push((spec.id.get(), device));
         process.push((spec.id, layouts));
     }
@@ -82,11 +84,11 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         }
         return Ok(if bad == 0 { ExitCode::SUCCESS } else { ExitCode::from(1) });
     }
-    let bus = BusArgs { tcp: args.tcp, can: args.can.clone() };
+    let bus = BusArgs { tcp: args.tcp.clone(), can: args.can.clone() };
     let mut link = bus.open()?;
     let start = std::time::Instant::now();
     loop {
-        let deadline = link.now_ms().saturating_add(1000);
+        let deadline = link.now() + odc::time::Duration::from_secs(1);
         match link.recv(deadline) {
             Ok(Some(frame)) => print(&decoder.decode(&frame, Some(start.elapsed().as_secs_f64())))?,
             Ok(None) => {}

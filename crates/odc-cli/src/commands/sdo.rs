@@ -11,8 +11,10 @@ use super::link::{BusArgs, NodeSpec, load};
 
 /// Read or write one object of a node over SDO: OBJECT as `0x6060`, `0x1018:01` (or
 /// `0x1018sub1`), or the object's name in the device file (`Controlword`,
-/// `Identity object/Vendor-ID`); values parsed and printed by the file's data type. An abort
-/// prints its CiA 301 meaning and exits 1.
+/// `Identity object/Vendor-ID`; a record's or array's name reads each sub-object); values
+/// parsed and printed by the file's data type. An index the file lacks is still read (raw
+/// bytes) or written (hex bytes). A name the file lacks is answered with the near ones (edit
+/// distance). An abort prints its CiA 301 meaning and exits 1.
 #[derive(clap::Args)]
 pub struct Args {
     #[command(subcommand)]
@@ -46,14 +48,18 @@ struct Common {
     /// How long to wait for each answer, in ms.
     #[arg(long, default_value_t = 1000)]
     timeout: u64,
+    /// Rule levels for the device file.
+    #[command(flatten)]
+    rules: crate::input::Rules,
 }
 
-/// An object of the file, resolved.
+/// An object of the node, resolved: by the file when it has it.
 struct Target {
     index: u16,
     sub: u8,
     name: String,
-    data_type: DataType,
+    /// `None`: the file does not have it (read raw, written as hex bytes).
+    data_type: Option<DataType>,
 }
 
 pub fn run(args: Args) -> anyhow::Result<ExitCode> {
@@ -61,58 +67,101 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
         Op::Read(c) => (c, None),
         Op::Write { common, value } => (common, Some(value.as_str())),
     };
-    let device = load(&common.node)?;
-    let target = resolve(&device, &common.object)?;
+    let device = load(&common.node, &common.rules)?;
+    let targets = resolve(&device, &common.object)?;
     let node = common.node.id;
-    let payload = match value {
-        Some(text) => Some(parse_value(text, target.data_type, node).with_context(|| {
-            format!("`{text}` is no value of {} ({})", target.name, target.data_type.name())
-        })?),
-        None => None,
-    };
-    let mut master = Master::new(common.bus.open()?).with_timeout(common.timeout);
-    let at = format!("0x{:04X}:{:02X} {}", target.index, target.sub, target.name);
-    let result = match &payload {
-        Some(bytes) => master.download(node, target.index, target.sub, bytes).map(|()| None),
-        None => master.upload(node, target.index, target.sub).map(Some),
-    };
-    match result {
-        Ok(Some(bytes)) => {
-            let shown = odc_model::wire::decode(&bytes, target.data_type).map_or_else(
-                || format!("{} (raw, not a {})", hex(&bytes), target.data_type.name()),
-                |v| odc_monitor::show(&v),
-            );
-            super::out(&format!("{at} = {shown}\n"))?;
-            Ok(ExitCode::SUCCESS)
+    let mut master = Master::new(common.bus.open()?)
+        .with_timeout(odc::time::Duration::from_millis(common.timeout));
+    let Some(text) = value else {
+        let mut code = ExitCode::SUCCESS;
+        for target in &targets {
+            if !read(&mut master, node, target)? {
+                code = ExitCode::from(1);
+            }
         }
-        Ok(None) => {
-            super::out(&format!("{at} := {}\n", value.unwrap_or_default()))?;
+        return Ok(code);
+    };
+    let [target] = &targets[..] else {
+        let subs: Vec<String> = targets.iter().map(|t| format!("`{}`", t.name)).collect();
+        bail!("`{}` has sub-objects; write one of them: {}", common.object, subs.join(", "));
+    };
+    // An object the file lacks takes hex bytes, as an octet string.
+    let dt = target.data_type.unwrap_or(DataType::OctetString);
+    let payload = parse_value(text, dt, node)
+        .with_context(|| format!("`{text}` is no value of {} ({})", target.name, dt.name()))?;
+    let at = at(target);
+    match master.download(node, target.index, target.sub, &payload) {
+        Ok(()) => {
+            super::out(&format!("{at} := {text}\n"))?;
             Ok(ExitCode::SUCCESS)
         }
         Err(MasterError::Sdo { error: SdoError::Remote(a) | SdoError::Local(a), .. }) => {
             eprintln!("error: {at}: {a}");
             Ok(ExitCode::from(1))
         }
+        // No response: the master's error says whether the node was heard at all.
+        Err(e @ MasterError::Timeout { .. }) => {
+            eprintln!("error: {at}: {e}");
+            Ok(ExitCode::from(1))
+        }
         Err(e) => Err(anyhow::anyhow!("{at}: {e}")),
     }
 }
 
-/// `0x6060`, `0x1018:01`, `0x1018sub1`, `6060`, or a name.
-fn resolve(device: &Device, spec: &str) -> anyhow::Result<Target> {
-    let target = |index: u16, sub: u8| -> anyhow::Result<Target> {
-        let object = device
-            .objects
-            .get(&index)
-            .with_context(|| format!("the device file has no object 0x{index:04X}"))?;
-        let s = object
-            .sub(sub)
-            .with_context(|| format!("object 0x{index:04X} has no sub-index 0x{sub:02X}"))?;
+/// `0x6081:00 Profile velocity`.
+fn at(target: &Target) -> String {
+    format!("0x{:04X}:{:02X} {}", target.index, target.sub, target.name)
+}
+
+/// Reads and prints one entry; `false` when the node aborted or did not answer.
+fn read<B: odc::transport::Bus<Error = std::io::Error>>(
+    master: &mut Master<B>,
+    node: odc::cob::NodeId,
+    target: &Target,
+) -> anyhow::Result<bool> {
+    let at = at(target);
+    match master.upload(node, target.index, target.sub) {
+        Ok(bytes) => {
+            let shown = match target.data_type {
+                Some(dt) => odc_model::wire::decode(&bytes, dt).map_or_else(
+                    || format!("{} (raw, not a {})", hex(&bytes), dt.name()),
+                    |v| odc_monitor::show(&v),
+                ),
+                None => format!("{} (raw)", hex(&bytes)),
+            };
+            super::out(&format!("{at} = {shown}\n"))?;
+            Ok(true)
+        }
+        Err(MasterError::Sdo { error: SdoError::Remote(a) | SdoError::Local(a), .. }) => {
+            eprintln!("error: {at}: {a}");
+            Ok(false)
+        }
+        // No response: the master's error says whether the node was heard at all.
+        Err(e @ MasterError::Timeout { .. }) => {
+            eprintln!("error: {at}: {e}");
+            Ok(false)
+        }
+        Err(e) => Err(anyhow::anyhow!("{at}: {e}")),
+    }
+}
+
+/// `0x6060`, `0x1018:01`, `0x1018sub1`, `6060`, or a name: one entry, or every sub-object of
+/// a record or array named as a whole (for a read).
+fn resolve(device: &Device, spec: &str) -> anyhow::Result<Vec<Target>> {
+    let target = |index: u16, sub: u8| -> Target {
+        let Some(object) = device.objects.get(&index) else {
+            return Target { index, sub, name: "(not in the device file)".into(), data_type: None };
+        };
+        let Some(s) = object.sub(sub) else {
+            let name = format!("{}/(sub-index not in the device file)", object.name);
+            return Target { index, sub, name, data_type: None };
+        };
         let name = if object.kind.has_subs() {
             format!("{}/{}", object.name, s.name)
         } else {
             object.name.clone()
         };
-        Ok(Target { index, sub, name, data_type: s.data_type })
+        Target { index, sub, name, data_type: Some(s.data_type) }
     };
     let lower = spec.to_ascii_lowercase();
     let split = lower.split_once(':').or_else(|| lower.split_once("sub"));
@@ -131,12 +180,16 @@ fn resolve(device: &Device, spec: &str) -> anyhow::Result<Target> {
                 .with_context(|| format!("`{spec}`: the sub-index is not a hex number"))?,
             None => 0,
         };
-        return target(index, sub);
+        // An index the file lacks is still read from the node (raw bytes).
+        return Ok(vec![target(index, sub)]);
     }
-    // A name: an object's (its sub 0 for a VAR), `object/sub-object`, or a sub-object's
-    // when only one has it.
+    // A name: an object's (its sub 0 for a VAR, every sub-object for a record or array),
+    // `object/sub-object`, or a sub-object's when only one has it.
     let mut found = Vec::new();
     for o in device.objects.values() {
+        if o.kind.has_subs() && o.name.to_ascii_lowercase() == lower {
+            return Ok(o.subs.keys().map(|&s| target(o.index, s)).collect());
+        }
         for s in o.subs.values() {
             let full = format!("{}/{}", o.name, s.name).to_ascii_lowercase();
             let var = !o.kind.has_subs() && o.name.to_ascii_lowercase() == lower;
@@ -146,15 +199,9 @@ fn resolve(device: &Device, spec: &str) -> anyhow::Result<Target> {
         }
     }
     match found.as_slice() {
-        [(i, s)] => target(*i, *s),
+        [(i, s)] => Ok(vec![target(*i, *s)]),
         [] => {
-            let near: Vec<String> = device
-                .objects
-                .values()
-                .filter(|o| o.name.to_ascii_lowercase().contains(&lower))
-                .take(8)
-                .map(|o| format!("0x{:04X} {}", o.index, o.name))
-                .collect();
+            let near = near_names(device, &lower);
             if near.is_empty() {
                 bail!("no object is called `{spec}` in the device file");
             }
@@ -166,6 +213,26 @@ fn resolve(device: &Device, spec: &str) -> anyhow::Result<Target> {
             bail!("`{spec}` names {} entries ({}); give the index", many.len(), list.join(", "))
         }
     }
+}
+
+/// The file's names nearest to `lower` (lower case): those that contain it, then those within
+/// a small edit distance (a typo), best first, at most 8, as `0x6081 Profile velocity`.
+fn near_names(device: &Device, lower: &str) -> Vec<String> {
+    let mut scored: Vec<(f64, String)> = Vec::new();
+    for o in device.objects.values() {
+        let name = o.name.to_ascii_lowercase();
+        let score = if name.contains(lower) {
+            2.0
+        } else {
+            strsim::normalized_damerau_levenshtein(&name, lower)
+        };
+        if score >= 0.7 {
+            scored.push((score, format!("0x{:04X} {}", o.index, o.name)));
+        }
+    }
+    // Stable: equal scores keep the file's order (by index).
+    scored.sort_by(|a, b| b.0.total_cmp(&a.0));
+    scored.into_iter().take(8).map(|(_, s)| s).collect()
 }
 
 /// A value given on the command line, as the bytes of `dt`.

@@ -392,7 +392,7 @@ impl<'r, 'a> Lower<'r, 'a> {
         n: Spanned<u8>,
         b: &ObjB,
     ) {
-        let what = format_args!("compact object {:04X}", obj.index);
+        let what = format!("compact object {:04X}", obj.index);
         // The template: DataType, AccessType, PDOMapping and values of the object section.
         let mut tkeys = Keys { k: [None; N_KEYS], extra: Vec::new(), shadowed: Vec::new() };
         for k in COMPACT_TEMPLATE {

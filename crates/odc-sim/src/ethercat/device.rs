@@ -41,14 +41,14 @@ struct Firmware {
     drive: Option<Drive>,
     last_ns: Option<u64>,
     carry_ns: u64,
-    dt_ms: u32,
+    dt: odc::time::Duration,
 }
 
 impl Application<ModelDictionary> for Firmware {
     fn cycle(&mut self, od: &mut ModelDictionary, _state: u8) {
         if let Some(drive) = &mut self.drive {
             drive.update(od);
-            drive.step(od, self.dt_ms);
+            drive.step(od, self.dt);
         }
     }
 
@@ -186,7 +186,7 @@ impl SubDevice {
             info,
             stack: Box::new(Stack::new()),
             od,
-            app: Firmware { drive, last_ns: None, carry_ns: 0, dt_ms: 0 },
+            app: Firmware { drive, last_ns: None, carry_ns: 0, dt: odc::time::Duration::ZERO },
         };
         dev.restart_drive();
         Ok(dev)
@@ -271,13 +271,13 @@ impl SubDevice {
             return;
         }
         let app = &mut self.app;
-        app.dt_ms = match app.last_ns {
+        app.dt = match app.last_ns {
             Some(last) => {
                 let ns = at.arrival_ns.saturating_sub(last) + app.carry_ns;
-                app.carry_ns = ns % 1_000_000;
-                u32::try_from(ns / 1_000_000).unwrap_or(u32::MAX)
+                app.carry_ns = ns % 1000;
+                odc::time::Duration::from_micros(ns / 1000)
             }
-            None => 0,
+            None => odc::time::Duration::ZERO,
         };
         app.last_ns = Some(at.arrival_ns);
         let cfg = Config {

@@ -1,7 +1,8 @@
 //! The drive's side of CiA 402: the objects a drive's firmware reads and sets
 //! ([`DriveObjects`]), the power state machine the controlword drives ([`DeviceControl`]),
-//! and a simple axis ([`Axis`]) that runs profile position, profile velocity and cyclic
-//! synchronous position. [`Drive`]
+//! and a simple axis ([`Axis`]) that runs profile position, profile velocity, homing
+//! (methods 35/37 and 19, see [`HOME_SWITCH`]) and the cyclic synchronous position, velocity
+//! and torque modes. [`Drive`]
 //! puts the three together for a simulated device.
 //!
 //! No bus code: the application (or `odc simulate`) calls [`Drive::update`] after each
@@ -10,6 +11,7 @@
 //!
 //! ```
 //! use odc::cia402::{Controlword, Drive, DriveObjects, ModeOfOperation, State, Statusword};
+//! use odc::time::Duration;
 //!
 //! /// The 402 objects of a tiny drive (generated dictionaries implement the trait).
 //! #[derive(Default)]
@@ -36,15 +38,21 @@
 //! od.cw = Controlword::ENABLE_OPERATION.with_new_setpoint(true);
 //! drive.update(&mut od);
 //! assert!(od.sw.setpoint_ack() && !od.sw.target_reached());
-//! drive.step(&mut od, 100); // 100 ms at 1000 units/s
+//! drive.step(&mut od, Duration::from_millis(100)); // at 1000 units/s
 //! assert_eq!(od.position, 100);
-//! drive.step(&mut od, 200);
+//! drive.step(&mut od, Duration::from_millis(200));
 //! assert_eq!(od.position, 250);
 //! assert!(od.sw.target_reached());
 //! ```
 
+#[cfg(feature = "cia402")]
+pub use super::homing::HOME_SWITCH;
+#[cfg(feature = "cia402")]
+use super::homing::{Homing, Method};
 #[cfg_attr(not(feature = "cia402"), allow(unused_imports))]
 use super::{Controlword, ModeOfOperation, State, Statusword};
+#[cfg(feature = "cia402")]
+use crate::time::Duration;
 
 /// The CiA 402 objects a drive's firmware reads (what the master commands) and sets (what
 /// the drive reports, read-only over SDO). Generated slave dictionaries implement it when the
@@ -84,6 +92,26 @@ pub trait DriveObjects {
     /// 0x606C velocity actual value, INTEGER32.
     fn set_velocity_actual_value(&mut self, velocity: i32) {
         let _ = velocity;
+    }
+    /// 0x6098 homing method, INTEGER8.
+    fn homing_method(&self) -> Option<i8> {
+        None
+    }
+    /// 0x6099:01 homing speed during search for switch, UNSIGNED32 (velocity units).
+    fn homing_speed(&self) -> Option<u32> {
+        None
+    }
+    /// 0x607C home offset, INTEGER32: the position actual value at the home position.
+    fn home_offset(&self) -> Option<i32> {
+        None
+    }
+    /// 0x6071 target torque, INTEGER16.
+    fn target_torque(&self) -> Option<i16> {
+        None
+    }
+    /// 0x6077 torque actual value, INTEGER16.
+    fn set_torque_actual_value(&mut self, torque: i16) {
+        let _ = torque;
     }
 }
 
@@ -233,9 +261,13 @@ pub const fn transition(from: State, to: State) -> Option<u8> {
 }
 
 /// A simple axis: profile position (a set-point handshake on controlword bit 4, absolute or
-/// relative by bit 6, motion at the profile velocity) and profile velocity (the actual
-/// velocity is the target velocity at once); halt (bit 8) stops it. Positions in position
-/// units, velocities in position units per second.
+/// relative by bit 6, motion at the profile velocity), profile velocity (the actual
+/// velocity is the target velocity at once), homing (bit 4 starts it: methods 35 and 37 at
+/// once, 19 by moving to the home switch at [`HOME_SWITCH`] at 0x6099:01, else the profile
+/// velocity; another method ends in homing error), and the cyclic synchronous modes, which
+/// follow their targets within the cycle (CSP the position, CSV the velocity, CST the
+/// torque); halt (bit 8) stops it. Positions in position units, velocities in position units
+/// per second.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg(feature = "cia402")]
 pub struct Axis {
@@ -245,8 +277,17 @@ pub struct Axis {
     setpoint_ack: bool,
     last: Controlword,
     mode: Option<ModeOfOperation>,
-    /// Motion of less than one unit carried to the next step, in units × ms.
+    /// Motion of less than one unit carried to the next step, in units × µs.
     carry: i64,
+    homing: Homing,
+    /// The position of the mechanics minus the position actual value (homing moves the
+    /// latter).
+    shift: i64,
+    /// The home offset of the homing under way.
+    home_offset: i64,
+    torque: i16,
+    /// In a cyclic synchronous mode with operation enabled: following the command value.
+    following: bool,
 }
 
 #[cfg(feature = "cia402")]
@@ -261,7 +302,53 @@ impl Axis {
             last: Controlword::DISABLE_VOLTAGE,
             mode: None,
             carry: 0,
+            homing: Homing::Idle,
+            shift: 0,
+            home_offset: 0,
+            torque: 0,
+            following: false,
         }
+    }
+
+    /// The actual torque (cyclic synchronous torque: the target torque).
+    pub const fn torque(&self) -> i16 {
+        self.torque
+    }
+
+    /// Whether the axis is homed (statusword bit 12 in homing mode).
+    pub fn homed(&self) -> bool {
+        self.homing == Homing::Attained
+    }
+
+    /// Controlword bit 4 rose in homing mode: start the method of 0x6098.
+    fn start_homing<D: DriveObjects + ?Sized>(&mut self, od: &D) {
+        self.home_offset = od.home_offset().map_or(0, i64::from);
+        self.homing = match Method::of(od.homing_method()) {
+            Method::Here => {
+                self.home();
+                Homing::Attained
+            }
+            Method::HomeSwitch => {
+                let speed = od.homing_speed().filter(|&s| s > 0).or(od.profile_velocity());
+                match speed.filter(|&s| s > 0) {
+                    Some(_) => {
+                        self.target = Some(HOME_SWITCH - self.shift);
+                        Homing::Searching
+                    }
+                    None => Homing::Error,
+                }
+            }
+            Method::Unsupported => Homing::Error,
+        };
+    }
+
+    /// The axis is at its home position: the position actual value becomes the home offset.
+    fn home(&mut self) {
+        self.shift += self.position - self.home_offset;
+        self.position = self.home_offset;
+        self.target = None;
+        self.velocity = 0;
+        self.carry = 0;
     }
 
     /// The actual position.
@@ -283,6 +370,9 @@ impl Axis {
         if mode != self.mode {
             self.target = None;
             self.mode = mode;
+            if self.homing == Homing::Searching {
+                self.homing = Homing::Idle;
+            }
         }
         match mode {
             Some(ModeOfOperation::ProfilePosition) => {
@@ -307,29 +397,72 @@ impl Axis {
             Some(ModeOfOperation::ProfileVelocity) if enabled && !cw.bit(8) => {
                 self.velocity = od.target_velocity().map_or(0, i64::from);
             }
+            Some(ModeOfOperation::Homing) => {
+                if enabled && cw.bit(4) && !self.last.bit(4) {
+                    self.start_homing(od);
+                }
+                if !cw.bit(4) && self.homing == Homing::Searching {
+                    // Bit 4 cleared: homing interrupted.
+                    self.homing = Homing::Idle;
+                    self.target = None;
+                }
+                let speed = od.homing_speed().filter(|&s| s > 0).or(od.profile_velocity());
+                let speed = speed.map_or(0, i64::from);
+                self.velocity = match self.target {
+                    Some(t) if enabled && !cw.bit(8) => (t - self.position).signum() * speed,
+                    _ => 0,
+                };
+            }
             // Cyclic synchronous position: the set-point of the cycle, reached by its end
             // (an ideal position loop; the velocity is what it took).
             Some(ModeOfOperation::CyclicSyncPosition) if enabled => {
                 self.target = od.target_position().map(i64::from);
                 self.velocity = 0;
             }
+            // Cyclic synchronous velocity: the target velocity at once (an ideal loop).
+            Some(ModeOfOperation::CyclicSyncVelocity) if enabled => {
+                self.velocity = od.target_velocity().map_or(0, i64::from);
+            }
+            // Cyclic synchronous torque: the target torque at once; the axis has no load
+            // model, so it does not move.
+            Some(ModeOfOperation::CyclicSyncTorque) if enabled => {
+                self.torque = od.target_torque().unwrap_or(0);
+                self.velocity = 0;
+            }
             _ => self.velocity = 0,
         }
+        if mode != Some(ModeOfOperation::CyclicSyncTorque) || !enabled {
+            self.torque = 0;
+        }
+        self.following = enabled
+            && matches!(
+                mode,
+                Some(
+                    ModeOfOperation::CyclicSyncPosition
+                        | ModeOfOperation::CyclicSyncVelocity
+                        | ModeOfOperation::CyclicSyncTorque
+                )
+            );
         if !enabled {
             // Leaving "operation enabled" drops the set-point: no motion resumes on its own.
             self.velocity = 0;
             self.target = None;
+            if self.homing == Homing::Searching {
+                self.homing = Homing::Idle;
+            }
         }
         self.last = cw;
     }
 
-    /// Moves for `dt_ms` milliseconds at the commanded velocity (stopping at a profile
-    /// position target).
-    pub fn step(&mut self, dt_ms: u32) {
-        let travel = self.velocity.saturating_mul(i64::from(dt_ms)).saturating_add(self.carry);
-        let mut delta = travel / 1000;
-        self.carry = travel % 1000;
-        if self.mode == Some(ModeOfOperation::ProfilePosition)
+    /// Moves for `dt` at the commanded velocity (units/s; stopping at a profile position
+    /// target).
+    pub fn step(&mut self, dt: Duration) {
+        let dt_us = i64::try_from(dt.as_micros()).unwrap_or(i64::MAX);
+        let travel = self.velocity.saturating_mul(dt_us).saturating_add(self.carry);
+        let mut delta = travel / 1_000_000;
+        self.carry = travel % 1_000_000;
+        let homing = self.homing == Homing::Searching;
+        if (self.mode == Some(ModeOfOperation::ProfilePosition) || homing)
             && let Some(t) = self.target
         {
             let remaining = t - self.position;
@@ -340,6 +473,11 @@ impl Axis {
             }
         }
         self.position = self.position.saturating_add(delta);
+        if homing && self.target == Some(self.position) {
+            // At the home switch's edge (method 19).
+            self.home();
+            self.homing = Homing::Attained;
+        }
         if self.mode == Some(ModeOfOperation::CyclicSyncPosition)
             && let Some(t) = self.target
         {
@@ -354,21 +492,32 @@ impl Axis {
     }
 
     /// `sw` with the mode bits of the axis: target reached (10) and, in profile position,
-    /// set-point acknowledge (12), in profile velocity "speed" (12, velocity zero).
+    /// set-point acknowledge (12), in profile velocity "speed" (12, velocity zero), in homing
+    /// "homing attained" (12) and "homing error" (13), in the cyclic synchronous modes
+    /// "following the command value" (12).
     pub fn statusword(&self, sw: Statusword) -> Statusword {
+        let halted = self.last.bit(8) && self.velocity == 0;
         let reached = match self.mode {
             Some(ModeOfOperation::ProfilePosition) => {
-                let halted = self.last.bit(8) && self.velocity == 0;
                 self.target.is_none_or(|t| t == self.position) || halted
             }
+            Some(ModeOfOperation::Homing) => self.homing != Homing::Searching || halted,
             _ => true,
         };
         let bit12 = match self.mode {
             Some(ModeOfOperation::ProfilePosition) => self.setpoint_ack,
             Some(ModeOfOperation::ProfileVelocity) => self.velocity == 0,
+            Some(ModeOfOperation::Homing) => self.homing == Homing::Attained,
+            Some(
+                ModeOfOperation::CyclicSyncPosition
+                | ModeOfOperation::CyclicSyncVelocity
+                | ModeOfOperation::CyclicSyncTorque,
+            ) => self.following,
             _ => false,
         };
-        sw.with_target_reached(reached).with_setpoint_ack(bit12)
+        let homing_error =
+            self.mode == Some(ModeOfOperation::Homing) && self.homing == Homing::Error;
+        sw.with_target_reached(reached).with_setpoint_ack(bit12).with_bit(13, homing_error)
     }
 }
 
@@ -379,13 +528,16 @@ impl Axis {
 pub struct Drive {
     control: DeviceControl,
     axis: Axis,
+    /// The torque actual value last written (0x6077): written again only when it changes,
+    /// as the other modes leave it at 0 (one dictionary write less per frame).
+    torque_shown: Option<i16>,
 }
 
 #[cfg(feature = "cia402")]
 impl Drive {
     /// A drive in "not ready to switch on", the axis at 0.
     pub const fn new() -> Self {
-        Self { control: DeviceControl::new(), axis: Axis::new() }
+        Self { control: DeviceControl::new(), axis: Axis::new(), torque_shown: None }
     }
 
     /// The same drive with another state machine (say, another quick stop option code).
@@ -420,14 +572,14 @@ impl Drive {
         taken
     }
 
-    /// `dt_ms` milliseconds of motion; a quick stop or fault reaction completes here (the
-    /// axis stops at once). Returns the transition number taken, if any.
-    pub fn step<D: DriveObjects + ?Sized>(&mut self, od: &mut D, dt_ms: u32) -> Option<u8> {
+    /// `dt` of motion; a quick stop or fault reaction completes here (the axis stops at
+    /// once). Returns the transition number taken, if any.
+    pub fn step<D: DriveObjects + ?Sized>(&mut self, od: &mut D, dt: Duration) -> Option<u8> {
         let taken = if self.control.stopping() {
             self.axis.stop();
             self.control.stopped()
         } else {
-            self.axis.step(dt_ms);
+            self.axis.step(dt);
             None
         };
         self.axis.command(od, self.control.state());
@@ -443,7 +595,7 @@ impl Drive {
         taken
     }
 
-    fn publish<D: DriveObjects + ?Sized>(&self, od: &mut D) {
+    fn publish<D: DriveObjects + ?Sized>(&mut self, od: &mut D) {
         od.set_statusword(self.axis.statusword(self.control.statusword()));
         if let Some(mode) = od.modes_of_operation() {
             od.set_modes_of_operation_display(mode);
@@ -451,6 +603,11 @@ impl Drive {
         let clamp = |v: i64| i32::try_from(v).unwrap_or(if v < 0 { i32::MIN } else { i32::MAX });
         od.set_position_actual_value(clamp(self.axis.position()));
         od.set_velocity_actual_value(clamp(self.axis.velocity()));
+        let torque = self.axis.torque();
+        if self.torque_shown != Some(torque) {
+            od.set_torque_actual_value(torque);
+            self.torque_shown = Some(torque);
+        }
     }
 }
 

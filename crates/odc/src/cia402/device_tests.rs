@@ -3,6 +3,7 @@
 //! coding of the statusword (mask 0x6F: bits 0–3, 5, 6).
 
 use super::*;
+use crate::time::Duration;
 
 /// The objects of a drive, as plain fields.
 #[derive(Debug, Default)]
@@ -16,6 +17,11 @@ struct Objects {
     profile_velocity: u32,
     position: i32,
     velocity: i32,
+    homing_method: i8,
+    homing_speed: u32,
+    home_offset: i32,
+    target_torque: i16,
+    torque: i16,
 }
 
 impl DriveObjects for Objects {
@@ -45,6 +51,21 @@ impl DriveObjects for Objects {
     }
     fn set_velocity_actual_value(&mut self, velocity: i32) {
         self.velocity = velocity;
+    }
+    fn homing_method(&self) -> Option<i8> {
+        Some(self.homing_method)
+    }
+    fn homing_speed(&self) -> Option<u32> {
+        Some(self.homing_speed)
+    }
+    fn home_offset(&self) -> Option<i32> {
+        Some(self.home_offset)
+    }
+    fn target_torque(&self) -> Option<i16> {
+        Some(self.target_torque)
+    }
+    fn set_torque_actual_value(&mut self, torque: i16) {
+        self.torque = torque;
     }
 }
 
@@ -142,11 +163,11 @@ fn quick_stop_ends_by_its_option_code() {
     // (transition 12) without a command.
     let (mut drive, mut od) = after(&enabled, 2);
     assert!(coded(od.sw, QUICK_STOP_ACTIVE));
-    assert_eq!(drive.step(&mut od, 10), Some(12));
+    assert_eq!(drive.step(&mut od, Duration::from_millis(10)), Some(12));
     assert!(coded(od.sw, SWITCH_ON_DISABLED));
     // Option code 6: stay in "quick stop active"; enable operation goes back (16).
     let (mut drive, mut od) = after(&enabled, 6);
-    assert_eq!(drive.step(&mut od, 10), None);
+    assert_eq!(drive.step(&mut od, Duration::from_millis(10)), None);
     assert!(coded(od.sw, QUICK_STOP_ACTIVE));
     od.cw = Controlword(ENABLE_OPERATION);
     assert_eq!(drive.update(&mut od), Some(16));
@@ -164,7 +185,7 @@ fn fault_reaction_fault_and_reset() {
     assert_eq!(drive.fault(&mut od), Some(13));
     assert!(coded(od.sw, FAULT_REACTION_ACTIVE));
     assert!(od.sw.fault());
-    assert_eq!(drive.step(&mut od, 1), Some(14));
+    assert_eq!(drive.step(&mut od, Duration::from_millis(1)), Some(14));
     assert!(coded(od.sw, FAULT));
     // Commands do nothing in "fault"; fault reset acts on the rising edge of bit 7 (15).
     od.cw = Controlword(ENABLE_OPERATION);
@@ -174,7 +195,7 @@ fn fault_reaction_fault_and_reset() {
     assert!(coded(od.sw, SWITCH_ON_DISABLED));
     // A fault from "fault" again is no transition; bit 7 held high resets nothing twice.
     assert_eq!(drive.fault(&mut od), Some(13));
-    assert_eq!(drive.step(&mut od, 1), Some(14));
+    assert_eq!(drive.step(&mut od, Duration::from_millis(1)), Some(14));
     assert_eq!(drive.fault(&mut od), None);
     assert_eq!(drive.update(&mut od), None, "bit 7 still set: no edge");
     od.cw = Controlword(0);
@@ -213,9 +234,9 @@ fn profile_position_moves_to_the_target() {
     od.cw = Controlword(ENABLE_OPERATION).with_new_setpoint(true);
     drive.update(&mut od);
     assert!(od.sw.setpoint_ack() && !od.sw.target_reached());
-    drive.step(&mut od, 100);
+    drive.step(&mut od, Duration::from_millis(100));
     assert_eq!((od.position, od.velocity), (-200, -2000));
-    drive.step(&mut od, 1000);
+    drive.step(&mut od, Duration::from_millis(1000));
     assert_eq!((od.position, od.velocity), (-500, 0));
     assert!(od.sw.target_reached());
     // Relative (bit 6): 100 more from here.
@@ -225,7 +246,7 @@ fn profile_position_moves_to_the_target() {
     od.target = 100;
     od.cw = Controlword(ENABLE_OPERATION).with_new_setpoint(true).with_relative(true);
     drive.update(&mut od);
-    drive.step(&mut od, 1000);
+    drive.step(&mut od, Duration::from_millis(1000));
     assert_eq!(od.position, -400);
     // No motion outside "operation enabled".
     od.cw = Controlword(ENABLE_OPERATION);
@@ -233,7 +254,7 @@ fn profile_position_moves_to_the_target() {
     od.target = 0;
     od.cw = Controlword(SWITCH_ON).with_new_setpoint(true);
     drive.update(&mut od);
-    drive.step(&mut od, 1000);
+    drive.step(&mut od, Duration::from_millis(1000));
     assert_eq!(od.position, -400);
 }
 
@@ -244,12 +265,119 @@ fn profile_velocity_follows_the_target_velocity() {
     od.target_velocity = 300;
     drive.update(&mut od);
     assert!(!od.sw.setpoint_ack(), "bit 12 in pv: speed is not zero");
-    drive.step(&mut od, 500);
+    drive.step(&mut od, Duration::from_millis(500));
     assert_eq!((od.position, od.velocity), (150, 300));
     // Halt (bit 8) stops it; speed zero (bit 12) set.
     od.cw = Controlword(ENABLE_OPERATION).with_halt(true);
     drive.update(&mut od);
-    drive.step(&mut od, 500);
+    drive.step(&mut od, Duration::from_millis(500));
     assert_eq!((od.position, od.velocity), (150, 0));
     assert!(od.sw.setpoint_ack());
+}
+
+/// A drive in "operation enabled" in `mode`.
+fn enabled_in(mode: ModeOfOperation) -> (Drive, Objects) {
+    let mut od = Objects { mode: Some(mode), ..Objects::default() };
+    let mut drive = Drive::new();
+    drive.start(&mut od);
+    for cw in [SHUTDOWN, SWITCH_ON, ENABLE_OPERATION] {
+        od.cw = Controlword(cw);
+        drive.update(&mut od);
+    }
+    assert_eq!(od.sw.state(), Some(State::OperationEnabled));
+    (drive, od)
+}
+
+const START_HOMING: u16 = ENABLE_OPERATION | 1 << 4;
+
+/// CiA 402-2 homing mode, methods 35 and 37 ("homing on current position"): controlword bit
+/// 4 starts it, the current position becomes the home position, whose position actual value
+/// is the home offset (0x607C); statusword bits 12 (homing attained) and 10 (target reached).
+#[test]
+fn homing_on_the_current_position() {
+    for method in [35, 37] {
+        let (mut drive, mut od) = enabled_in(ModeOfOperation::Homing);
+        od.homing_method = method;
+        od.home_offset = 500;
+        assert!(!od.sw.homing_attained());
+        od.cw = Controlword(START_HOMING);
+        drive.update(&mut od);
+        assert_eq!(od.position, 500, "method {method}");
+        assert!(od.sw.homing_attained() && od.sw.target_reached() && !od.sw.homing_error());
+        drive.step(&mut od, Duration::from_millis(100));
+        assert_eq!((od.position, od.velocity), (500, 0));
+    }
+}
+
+/// CiA 402-2 homing mode, method 19 (positive home switch, no index pulse): the home switch
+/// is inactive at power-on (below `HOME_SWITCH`), so the axis moves in the positive
+/// direction at the search speed (0x6099:01) until it becomes active; that edge is the home
+/// position. Until then bits 10 and 12 are clear.
+#[test]
+fn homing_on_the_home_switch() {
+    let (mut drive, mut od) = enabled_in(ModeOfOperation::Homing);
+    od.homing_method = 19;
+    od.homing_speed = 500; // units per second
+    od.home_offset = -20;
+    od.cw = Controlword(START_HOMING);
+    drive.update(&mut od);
+    drive.step(&mut od, Duration::from_millis(1000));
+    assert_eq!((od.position, od.velocity), (500, 500));
+    assert!(!od.sw.homing_attained() && !od.sw.target_reached());
+    // Bit 4 cleared: interrupted, the axis stands.
+    od.cw = Controlword(ENABLE_OPERATION);
+    drive.update(&mut od);
+    drive.step(&mut od, Duration::from_millis(500));
+    assert_eq!((od.position, od.velocity), (500, 0));
+    assert!(!od.sw.homing_attained() && od.sw.target_reached());
+    // Started again: 500 units more to the switch at mechanical position 1000.
+    assert_eq!(HOME_SWITCH, 1000);
+    od.cw = Controlword(START_HOMING);
+    drive.update(&mut od);
+    drive.step(&mut od, Duration::from_millis(600));
+    assert_eq!((od.position, od.velocity), (800, 500));
+    drive.step(&mut od, Duration::from_millis(500));
+    assert_eq!(od.position, -20, "the home position reads as the home offset");
+    assert!(od.sw.homing_attained() && od.sw.target_reached());
+}
+
+/// A method the simulated axis cannot perform (1: negative limit switch and index pulse)
+/// ends in statusword bit 13, homing error; so does method 19 without a speed.
+#[test]
+fn homing_error_for_what_the_axis_cannot_do() {
+    for (method, speed) in [(1, 100), (19, 0)] {
+        let (mut drive, mut od) = enabled_in(ModeOfOperation::Homing);
+        od.homing_method = method;
+        od.homing_speed = speed;
+        od.cw = Controlword(START_HOMING);
+        drive.update(&mut od);
+        assert!(od.sw.homing_error() && !od.sw.homing_attained(), "method {method}");
+    }
+}
+
+/// CiA 402-2 cyclic synchronous velocity and torque modes: the drive follows the target of
+/// each cycle (0x60FF, 0x6071) and says so in statusword bit 12; CSV integrates it.
+#[test]
+fn cyclic_synchronous_modes_follow_their_targets() {
+    let (mut drive, mut od) = enabled_in(ModeOfOperation::CyclicSyncVelocity);
+    od.target_velocity = -300;
+    drive.update(&mut od);
+    drive.step(&mut od, Duration::from_millis(1000));
+    assert_eq!((od.position, od.velocity), (-300, -300));
+    assert!(od.sw.setpoint_ack(), "bit 12: following the command value");
+    let (mut drive, mut od) = enabled_in(ModeOfOperation::CyclicSyncTorque);
+    od.target_torque = 250;
+    drive.update(&mut od);
+    assert_eq!(od.torque, 250);
+    od.target_torque = -40;
+    drive.step(&mut od, Duration::from_millis(1));
+    assert_eq!((od.torque, od.position), (-40, 0));
+    od.cw = Controlword(DISABLE_OPERATION);
+    drive.update(&mut od);
+    assert_eq!(od.torque, 0, "no torque out of operation enabled");
+    let (mut drive, mut od) = enabled_in(ModeOfOperation::CyclicSyncPosition);
+    od.target = 1234;
+    drive.update(&mut od);
+    drive.step(&mut od, Duration::from_millis(1));
+    assert_eq!(od.position, 1234);
 }

@@ -34,7 +34,7 @@
 //!     (od.cw, od.mode) = (out.controlword, out.mode);
 //!     od.target = out.target_position.unwrap_or(od.target);
 //!     drive.update(od);
-//!     drive.step(od, 10);
+//!     drive.step(od, Duration::from_millis(10));
 //!     *now += Duration::from_millis(10);
 //! };
 //! let mut now = Instant::ZERO;
@@ -52,6 +52,7 @@
 
 #[cfg_attr(not(feature = "cia402"), allow(unused_imports))]
 use super::{Controlword, ModeOfOperation, State, Statusword, SupportedModes};
+#[cfg_attr(not(feature = "cia402"), allow(unused_imports))]
 use crate::time::{Duration, Instant};
 
 /// What the driver reads from the drive each cycle (its TPDOs or input process data).
@@ -110,8 +111,9 @@ pub struct Outputs {
 }
 
 /// A CiA 402 device's process data as its generated code maps it: the generated
-/// `cia402::Pdos` of a device whose default mapping carries the controlword out and the
-/// statusword in. The driver's [`Outputs`] become its RPDO struct, its TPDO struct becomes
+/// `cia402::Pdos` of a CANopen drive, two PDOs of its default mapping (the controlword and a
+/// target out, the statusword in) or, where it has no such pair, RPDO 1 and TPDO 1 as the
+/// generated `cia402::plan` maps them. The driver's [`Outputs`] become its RPDO struct, its TPDO struct becomes
 /// [`Inputs`].
 pub trait DrivePdos {
     /// The RPDO with the controlword.
@@ -119,9 +121,9 @@ pub trait DrivePdos {
     /// The TPDO with the statusword.
     type Status: crate::Pdo;
     /// The RPDO's COB-ID at `node_id`.
-    fn command_cob_id(node_id: crate::cob::NodeId) -> u32;
+    fn command_cob_id(node_id: crate::cob::NodeId) -> crate::cob::CobId;
     /// The TPDO's COB-ID at `node_id`.
-    fn status_cob_id(node_id: crate::cob::NodeId) -> u32;
+    fn status_cob_id(node_id: crate::cob::NodeId) -> crate::cob::CobId;
     /// The RPDO for the driver's outputs.
     fn command(outputs: &Outputs) -> Self::Command;
     /// The driver's inputs from the TPDO.
@@ -214,7 +216,13 @@ enum Job {
     Stream,
 }
 
-/// Default time a job may take.
+/// Default time a job may take (5 s; [`Driver::with_timeout`] sets another).
+///
+/// When a job is not done in time, [`Driver::status`] is [`DriverError::Timeout`] naming what
+/// it waited for, and the drive is stopped: a drive in "operation enabled" gets the halt bit
+/// (controlword bit 8, CiA 402-2 §6.3.1 / IEC 61800-7-201 "halt"), so it decelerates as its
+/// halt option code 0x605D says and stays enabled for the next job; in any other state the
+/// power stage does not drive a motion and the controlword stays as it was.
 #[cfg(feature = "cia402")]
 pub const DEFAULT_TIMEOUT: Duration = Duration::from_secs(5);
 
@@ -252,7 +260,8 @@ impl Driver {
         }
     }
 
-    /// The same driver with another job timeout.
+    /// The same driver with another job timeout (what happens when it fires:
+    /// [`DEFAULT_TIMEOUT`]).
     pub const fn with_timeout(mut self, timeout: Duration) -> Self {
         self.timeout = timeout;
         self
@@ -402,6 +411,11 @@ impl Driver {
                 let waiting_for = self.waiting_for();
                 self.status = DriverStatus::Failed(DriverError::Timeout { waiting_for });
                 self.job = Job::None;
+                // A job that ran out of time must not leave the axis moving (see
+                // DEFAULT_TIMEOUT): halt, CiA 402-2 controlword bit 8.
+                if state == Some(State::OperationEnabled) {
+                    self.out.controlword = Controlword::ENABLE_OPERATION.with_halt(true);
+                }
             }
         }
         self.out

@@ -82,7 +82,7 @@ impl Loop {
         self.od.target = out.target_position.unwrap_or(self.od.target);
         self.od.velocity_target = out.target_velocity.unwrap_or(self.od.velocity_target);
         self.drive.update(&mut self.od);
-        self.drive.step(&mut self.od, 10);
+        self.drive.step(&mut self.od, crate::time::Duration::from_millis(10));
         self.now += 10_000;
     }
 
@@ -203,6 +203,35 @@ fn modes_are_checked_against_0x6502() {
         DriverStatus::Failed(DriverError::Timeout { waiting_for: "the mode display (0x6061)" })
     );
     assert!(now <= 80_000, "{now}");
+}
+
+/// A move that outlasts the job timeout (1,000,000 units at 10,000 units/s, 2 s allowed)
+/// fails with the timeout, and the drive stops: the halt bit (CiA 402-2 controlword bit 8)
+/// goes out in the cycle the timeout fires, the drive stays enabled, the position no longer
+/// changes.
+#[test]
+fn a_job_timeout_halts_the_drive() {
+    let mut l = Loop::enabled(0x1);
+    l.driver.set_mode(ModeOfOperation::ProfilePosition).unwrap();
+    assert_eq!(l.run(), DriverStatus::Done);
+    l.driver.move_to(1_000_000, false).unwrap();
+    assert_eq!(
+        l.run(),
+        DriverStatus::Failed(DriverError::Timeout { waiting_for: "target reached (bit 10)" })
+    );
+    assert_eq!(l.od.cw.bits(), 0x010F, "enable operation with halt");
+    // 2 s at 10,000 units/s: about 20,000 units, far from the target.
+    let stopped_at = l.od.position;
+    assert!((19_000..=21_000).contains(&stopped_at), "{stopped_at}");
+    for _ in 0..50 {
+        l.cycle();
+    }
+    assert_eq!(l.od.position, stopped_at, "the drive kept moving after the timeout");
+    assert_eq!(l.od.sw.state(), Some(State::OperationEnabled));
+    // The next job takes over from the halt.
+    l.driver.move_to(stopped_at + 100, false).unwrap();
+    assert_eq!(l.run(), DriverStatus::Done);
+    assert_eq!(l.od.position, stopped_at + 100);
 }
 
 #[test]

@@ -40,6 +40,8 @@
 
 mod device;
 mod driver;
+#[cfg(feature = "cia402")]
+mod homing;
 mod modes;
 mod state;
 mod values;
@@ -47,10 +49,10 @@ mod words;
 
 pub use device::DriveObjects;
 #[cfg(feature = "cia402")]
-pub use device::{Axis, DeviceControl, Drive, transition};
-pub use driver::{DrivePdos, Inputs, Outputs};
+pub use device::{Axis, DeviceControl, Drive, HOME_SWITCH, transition};
 #[cfg(feature = "cia402")]
-pub use driver::{Driver, DriverError, DriverStatus};
+pub use driver::{DEFAULT_TIMEOUT, Driver, DriverError, DriverStatus};
+pub use driver::{DrivePdos, Inputs, Outputs};
 pub use modes::{ModeOfOperation, SupportedModes};
 pub use state::State;
 pub use words::{Command, Controlword, Statusword};

@@ -72,7 +72,8 @@ impl fmt::Display for ConfigureError {
 
 impl core::error::Error for ConfigureError {}
 
-/// Checks the SubDevice's identity against the plan's, then sends the plan's SDO downloads in
+/// Checks the SubDevice's identity against the plan's, then sends the plan's SDO downloads (the
+/// init commands) and its process-data writes ([`Startup::pdo_writes`]) in
 /// order. Call it in PRE-OP (ethercrab's `init_single_group` leaves SubDevices there), before
 /// `into_op`, which then sizes the process image from what was written.
 ///
@@ -110,6 +111,14 @@ where
             sub: d.sub,
             error,
         })?;
+    }
+    for w in plan.pdo_writes {
+        let (bytes, n) = w.to_le_bytes();
+        let data = bytes.get(..n).unwrap_or(&bytes);
+        subdevice
+            .sdo_write(w.index, SubIndex::Index(w.sub), data)
+            .await
+            .map_err(|error| ConfigureError::Sdo { index: w.index, sub: w.sub, error })?;
     }
     Ok(())
 }

@@ -7,8 +7,7 @@
 //! [`LssEvent`]. Storing is answered by the application ([`LssSlave::store_response`]), as
 //! CANopenNode's store callback returns its result.
 
-#[cfg_attr(not(feature = "lss-slave"), allow(unused_imports))]
-use super::frame::{Bound, Part, Request, Response};
+use super::frame::Part;
 #[cfg_attr(not(feature = "lss-slave"), allow(unused_imports))]
 use super::{REQUEST_ID, RESPONSE_ID};
 #[cfg_attr(not(feature = "lss-slave"), allow(unused_imports))]
@@ -37,11 +36,17 @@ impl Identity {
 
     /// One of the four numbers.
     pub const fn part(&self, p: Part) -> u32 {
-        match p {
-            Part::Vendor => self.vendor,
-            Part::Product => self.product,
-            Part::Revision => self.revision,
-            Part::Serial => self.serial,
+        self.nth(p as u8)
+    }
+
+    /// Number `i` (0 vendor, 1 product, 2 revision, 3 and above serial), as the command
+    /// specifiers of CiA 305 count them from their first.
+    const fn nth(&self, i: u8) -> u32 {
+        match i {
+            0 => self.vendor,
+            1 => self.product,
+            2 => self.revision,
+            _ => self.serial,
         }
     }
 }
@@ -227,11 +232,7 @@ impl LssSlave {
     /// The answer to [`LssEvent::Store`], once the application has stored (or not).
     pub const fn store_response(&self, result: StoreResult) -> CanFrame {
         let (error, specific) = result.codes();
-        CanFrame::standard(RESPONSE_ID, Response::StoreConfiguration { error, specific }.encode())
-    }
-
-    fn reply(r: Response) -> Option<CanFrame> {
-        Some(CanFrame::standard(RESPONSE_ID, r.encode()))
+        CanFrame::standard(RESPONSE_ID, [0x17, error, specific, 0, 0, 0, 0, 0])
     }
 
     fn enter(&mut self, state: LssState) -> Option<LssEvent> {
@@ -243,88 +244,88 @@ impl LssSlave {
     }
 
     /// Handles one received frame: the answer to send on 0x7E4, if any, and what the node
-    /// must do. Frames of other CAN-IDs, remote and extended frames, frames shorter than 8 bytes or with an unknown command are
-    /// ignored (CiA 305: a slave does not answer what it does not serve).
+    /// must do. Frames of other CAN-IDs, remote and extended frames, frames shorter than 8
+    /// bytes or with an unknown command are ignored (CiA 305: a slave does not answer what it
+    /// does not serve).
     pub fn handle(&mut self, frame: &CanFrame) -> (Option<CanFrame>, Option<LssEvent>) {
         // Remote and extended frames on 0x7E5 are no LSS requests.
         if !frame.is_data(REQUEST_ID.raw()) {
             return (None, None);
         }
-        let Some(req) = Request::decode(frame.bytes()) else { return (None, None) };
+        let Ok(bytes) = <[u8; 8]>::try_from(frame.bytes()) else { return (None, None) };
+        let (answer, event) = self.serve(bytes);
+        (answer.map(|a| CanFrame::standard(RESPONSE_ID, a)), event)
+    }
+
+    /// One request's answer (its 8 bytes) and event. The request is read from its bytes as
+    /// the table in [`frame`](super::frame) lays them out, without decoding it into a
+    /// [`Request`](super::frame::Request) first: the decode, the match over its variants
+    /// and the encoding of a `Response` took the slave 1,558 B of Thumb code
+    /// (`tests/slave-size`).
+    fn serve(&mut self, b: [u8; 8]) -> (Option<[u8; 8]>, Option<LssEvent>) {
+        let [cs, b1, b2, _, _, bit_checked, sub, next] = b;
+        let n = u32::from_le_bytes([b[1], b[2], b[3], b[4]]);
+        let short = |cs: u8, b1: u8| Some([cs, b1, 0, 0, 0, 0, 0, 0]);
         let configuring = self.state == LssState::Configuration;
-        match req {
-            Request::SwitchStateGlobal { configuration: true } => {
-                (None, self.enter(LssState::Configuration))
-            }
-            Request::SwitchStateGlobal { configuration: false } => {
+        match cs {
+            // Switch state global: mode 1 configuration, 0 waiting.
+            0x04 if b1 == 1 => (None, self.enter(LssState::Configuration)),
+            0x04 if b1 == 0 => {
                 let apply = configuring && self.active.is_none() && self.pending.is_some();
                 let event = self.enter(LssState::Waiting);
                 (None, if apply { Some(LssEvent::ResetCommunication) } else { event })
             }
-            Request::SwitchStateSelective(part, n) => self.selective(part, n),
-            Request::IdentifyRemoteSlave(part, bound, n) => (self.identify(part, bound, n), None),
-            Request::IdentifyNonConfigured => {
+            0x40..=0x43 => self.selective(cs - 0x40, n),
+            0x46..=0x4B => (self.identify(cs - 0x46, n), None),
+            0x4C => {
                 let unconfigured = self.active.is_none() && self.pending.is_none();
-                (
-                    if unconfigured { Self::reply(Response::IdentifyNonConfigured) } else { None },
-                    None,
-                )
+                (if unconfigured { short(0x50, 0) } else { None }, None)
             }
-            Request::Fastscan { id_number, bit_checked, sub, next } => {
-                self.fastscan(id_number, bit_checked, sub, next)
-            }
+            0x51 => self.fastscan(n, bit_checked, sub, next),
             // The rest is served in configuration state only.
             _ if !configuring => (None, None),
-            Request::ConfigureNodeId(id) => {
-                if let Some(id) = NodeId::from_lss(id) {
+            0x11 => match NodeId::from_lss(b1) {
+                Some(id) => {
                     self.pending = id;
-                    let event = LssEvent::NodeIdConfigured(self.pending_node_id());
-                    (Self::reply(Response::ConfigureNodeId { error: 0, specific: 0 }), Some(event))
-                } else {
-                    (Self::reply(Response::ConfigureNodeId { error: 1, specific: 0 }), None)
+                    (short(0x11, 0), Some(LssEvent::NodeIdConfigured(id)))
                 }
+                None => (short(0x11, 1), None),
+            },
+            // Configure bit timing: table selector 0 (CiA 301's table), table index.
+            0x13 if b1 == 0 && b2 < 16 && self.bit_timings & (1 << b2) != 0 => {
+                self.pending_bit_timing = b2;
+                (short(0x13, 0), Some(LssEvent::BitTimingConfigured(b2)))
             }
-            Request::ConfigureBitTiming { table, index } => {
-                let supported = table == 0 && index < 16 && self.bit_timings & (1 << index) != 0;
-                if supported {
-                    self.pending_bit_timing = index;
-                    let answer = Response::ConfigureBitTiming { error: 0, specific: 0 };
-                    (Self::reply(answer), Some(LssEvent::BitTimingConfigured(index)))
-                } else {
-                    (Self::reply(Response::ConfigureBitTiming { error: 1, specific: 0 }), None)
-                }
-            }
-            Request::ActivateBitTiming { delay_ms } => {
+            0x13 => (short(0x13, 1), None),
+            0x15 => {
                 self.bit_timing = self.pending_bit_timing;
+                let delay_ms = u16::from_le_bytes([b1, b2]);
                 (None, Some(LssEvent::ActivateBitTiming { delay_ms }))
             }
-            Request::StoreConfiguration if self.storage => {
+            0x17 if self.storage => {
                 let event = LssEvent::Store {
                     node_id: self.pending_node_id(),
                     bit_timing: self.pending_bit_timing,
                 };
                 (None, Some(event))
             }
-            Request::StoreConfiguration => {
-                (Some(self.store_response(StoreResult::NotSupported)), None)
+            0x17 => (short(0x17, StoreResult::NotSupported.codes().0), None),
+            0x5A..=0x5D => {
+                let v = self.identity.nth(cs - 0x5A).to_le_bytes();
+                (Some([cs, v[0], v[1], v[2], v[3], 0, 0, 0]), None)
             }
-            Request::Inquire(part) => {
-                (Self::reply(Response::Inquire(part, self.identity.part(part))), None)
-            }
-            Request::InquireNodeId => {
-                (Self::reply(Response::InquireNodeId(NodeId::to_lss(self.active))), None)
-            }
+            0x5E => (short(0x5E, NodeId::to_lss(self.active)), None),
+            _ => (None, None),
         }
     }
 
-    /// Switch state selective: the four parts in order, the last one answered and the slave in
-    /// configuration state if all matched. Served in waiting state.
-    fn selective(&mut self, part: Part, n: u32) -> (Option<CanFrame>, Option<LssEvent>) {
+    /// Switch state selective: the four parts (`step` 0–3) in order, the last one answered
+    /// and the slave in configuration state if all matched. Served in waiting state.
+    fn selective(&mut self, step: u8, n: u32) -> (Option<[u8; 8]>, Option<LssEvent>) {
         if self.state != LssState::Waiting {
             return (None, None);
         }
-        let step = part as u8;
-        let matched = self.identity.part(part) == n;
+        let matched = self.identity.nth(step) == n;
         self.selective = match (step, matched) {
             (0, true) => 1,
             (s, true) if s == self.selective => s + 1,
@@ -334,19 +335,22 @@ impl LssSlave {
             return (None, None);
         }
         let event = self.enter(LssState::Configuration);
-        (Self::reply(Response::SwitchStateSelective), event)
+        (Some(SELECTIVE_DONE), event)
     }
 
     /// Identify remote slave: vendor, product, revision low and high, serial low and high in
-    /// order; answered after the last if the address is inside.
-    fn identify(&mut self, part: Part, bound: Bound, n: u32) -> Option<CanFrame> {
-        let (step, ok) = match (part, bound) {
-            (Part::Vendor, _) => (0, self.identity.vendor == n),
-            (Part::Product, _) => (1, self.identity.product == n),
-            (Part::Revision, Bound::Low) => (2, self.identity.revision >= n),
-            (Part::Revision, Bound::High) => (3, self.identity.revision <= n),
-            (Part::Serial, Bound::Low) => (4, self.identity.serial >= n),
-            (Part::Serial, Bound::High) => (5, self.identity.serial <= n),
+    /// order (`step` 0–5); answered after the last if the address is inside.
+    fn identify(&mut self, step: u8, n: u32) -> Option<[u8; 8]> {
+        // Steps 0 and 1 compare exactly, 2 and 4 are low bounds, 3 and 5 high bounds.
+        let v = self.identity.nth(match step {
+            0 | 1 => step,
+            2 | 3 => 2,
+            _ => 3,
+        });
+        let ok = match step {
+            0 | 1 => v == n,
+            2 | 4 => v >= n,
+            _ => v <= n,
         };
         self.remote = match (step, ok) {
             (0, true) => 1,
@@ -357,7 +361,7 @@ impl LssSlave {
             return None;
         }
         self.remote = 0;
-        Self::reply(Response::IdentifySlave)
+        Some(IDENTIFY_SLAVE)
     }
 
     /// Fastscan, for a slave without node-ID in waiting state: BitChecked 0x80 restarts; else
@@ -370,7 +374,7 @@ impl LssSlave {
         bit_checked: u8,
         sub: u8,
         next: u8,
-    ) -> (Option<CanFrame>, Option<LssEvent>) {
+    ) -> (Option<[u8; 8]>, Option<LssEvent>) {
         let candidate =
             self.state == LssState::Waiting && self.active.is_none() && self.pending.is_none();
         if !candidate {
@@ -378,16 +382,13 @@ impl LssSlave {
         }
         if bit_checked == 0x80 {
             self.fastscan = 0;
-            return (Self::reply(Response::IdentifySlave), None);
+            return (Some(IDENTIFY_SLAVE), None);
         }
-        let (Some(part), true, true) = (Part::from_index(sub), bit_checked <= 31, next <= 3) else {
-            return (None, None);
-        };
-        if self.fastscan != sub {
+        if sub > 3 || bit_checked > 31 || next > 3 || self.fastscan != sub {
             return (None, None);
         }
         let mask = u32::MAX << bit_checked;
-        if (self.identity.part(part) ^ id_number) & mask != 0 {
+        if (self.identity.nth(sub) ^ id_number) & mask != 0 {
             return (None, None);
         }
         let mut event = None;
@@ -399,9 +400,16 @@ impl LssSlave {
                 self.fastscan = next;
             }
         }
-        (Self::reply(Response::IdentifySlave), event)
+        (Some(IDENTIFY_SLAVE), event)
     }
 }
+
+/// The answer "identify slave" (0x4F), to identify remote slave and fastscan.
+#[cfg(feature = "lss-slave")]
+const IDENTIFY_SLAVE: [u8; 8] = [0x4F, 0, 0, 0, 0, 0, 0, 0];
+/// The answer to a switch state selective (0x44).
+#[cfg(feature = "lss-slave")]
+const SELECTIVE_DONE: [u8; 8] = [0x44, 0, 0, 0, 0, 0, 0, 0];
 
 #[cfg(all(test, feature = "lss-slave"))]
 mod tests {

@@ -4,14 +4,15 @@
 //!
 //! ```no_run
 //! # use odc::master::{Master, axis::{Axis, ProcessData}};
+//! # use odc::cob::CobId;
 //! # use odc::cia402::{Controlword, Driver, Inputs, ModeOfOperation, Outputs, Statusword, SupportedModes};
 //! # #[derive(odc::Pdo)] struct Rpdo2 { #[pdo(index = 0x6040)] controlword: u16, #[pdo(index = 0x607A)] target_position: i32 }
 //! # #[derive(odc::Pdo)] struct Tpdo2 { #[pdo(index = 0x6041)] statusword: u16, #[pdo(index = 0x6064)] position: i32 }
 //! # fn run(bus: odc::transport::mem::MemPort) -> Result<(), Box<dyn std::error::Error>> {
 //! let mut master = Master::new(bus);
 //! let pdos = ProcessData {
-//!     rpdo: 0x301,
-//!     tpdo: 0x281,
+//!     rpdo: CobId::new(0x301),
+//!     tpdo: CobId::new(0x281),
 //!     command: |o: &Outputs| Rpdo2 { controlword: o.controlword.bits(), target_position: o.target_position.unwrap_or(0) },
 //!     status: |t: &Tpdo2| Inputs::new(Statusword(t.statusword)).with_position(t.position),
 //! };
@@ -25,7 +26,8 @@
 use super::{Error, Master};
 use crate::Pdo;
 use crate::cia402::{Driver, DriverStatus, Inputs, ModeOfOperation, Statusword};
-use crate::cob::NodeId;
+use crate::cob::{CobId, NodeId};
+use crate::time::Duration;
 use crate::transport::Bus;
 
 /// The device's process data for its 402 objects: the RPDO that carries the controlword
@@ -33,18 +35,18 @@ use crate::transport::Bus;
 /// driver's outputs and inputs map onto their generated structs.
 pub struct ProcessData<R, T> {
     /// COB-ID of the RPDO.
-    pub rpdo: u32,
+    pub rpdo: CobId,
     /// COB-ID of the TPDO.
-    pub tpdo: u32,
+    pub tpdo: CobId,
     /// The RPDO struct for the driver's outputs.
     pub command: fn(&crate::cia402::Outputs) -> R,
     /// The driver's inputs from the TPDO struct.
     pub status: fn(&T) -> Inputs,
 }
 
-/// How long a cycle waits for the TPDO after its SYNC, in ms; without one (an event-driven
-/// TPDO whose data did not change) the last inputs stand.
-pub const CYCLE_WAIT_MS: u64 = 20;
+/// How long a cycle waits for the TPDO after its SYNC; without one (an event-driven TPDO
+/// whose data did not change) the last inputs stand.
+pub const CYCLE_WAIT: Duration = Duration::from_millis(20);
 
 /// A CiA 402 drive driven over PDOs and SYNC.
 pub struct Axis<'m, B: Bus, R, T> {
@@ -116,22 +118,26 @@ impl<'m, B: Bus, R: Pdo, T: Pdo> Axis<'m, B, R, T> {
     ///
     /// A struct that does not pack or unpack, or the bus error.
     pub fn cycle(&mut self) -> Result<Inputs, Error<B::Error>> {
-        let now = crate::time::Instant::from_millis(self.master.now_ms());
+        let now = self.master.now();
         let out = self.driver.cycle(&self.inputs, now);
         self.master.send_pdo(self.pdos.rpdo, &(self.pdos.command)(&out))?;
         self.master.sync()?;
-        let id = self.pdos.tpdo & 0x7FF;
-        let deadline = self.master.now_ms().saturating_add(CYCLE_WAIT_MS);
-        let mut latest = self.master.link.take(deadline, |f| f.is_data(id)).map_err(Error::Bus)?;
+        let tpdo = self.pdos.tpdo;
+        let deadline = self.master.now() + CYCLE_WAIT;
+        let mut latest =
+            self.master.link.take(deadline, |f| tpdo.matches(f)).map_err(Error::Bus)?;
         // An event-driven TPDO may have come more than once: the newest is the drive's state.
         if latest.is_some() {
-            let now = self.master.now_ms();
-            while let Some(f) = self.master.link.take(now, |f| f.is_data(id)).map_err(Error::Bus)? {
+            let now = self.master.now();
+            while let Some(f) =
+                self.master.link.take(now, |f| tpdo.matches(f)).map_err(Error::Bus)?
+            {
                 latest = Some(f);
             }
         }
         if let Some(f) = latest {
-            let t = T::unpack(f.bytes()).map_err(|reason| Error::Unpack { cob_id: id, reason })?;
+            let t =
+                T::unpack(f.bytes()).map_err(|reason| Error::Unpack { cob_id: tpdo, reason })?;
             self.inputs = (self.pdos.status)(&t);
         }
         self.cycles += 1;
@@ -149,7 +155,7 @@ impl<'m, B: Bus, R: Pdo, T: Pdo> Axis<'m, B, R, T> {
                 DriverStatus::Busy => {
                     self.cycle()?;
                 }
-                DriverStatus::Failed(e) => return Err(Error::Drive(e)),
+                DriverStatus::Failed(error) => return Err(Error::Drive { node: self.node, error }),
                 DriverStatus::Done | DriverStatus::Idle => return Ok(()),
             }
         }
@@ -182,7 +188,7 @@ impl<'m, B: Bus, R: Pdo, T: Pdo> Axis<'m, B, R, T> {
     ///
     /// [`Error::Drive`] with the mode refused, the SDO error, or another mode displayed.
     pub fn set_mode(&mut self, mode: ModeOfOperation) -> Result<(), Error<B::Error>> {
-        self.driver.set_mode(mode).map_err(Error::Drive)?;
+        self.driver.set_mode(mode).map_err(|error| Error::Drive { node: self.node, error })?;
         let v = mode.to_i8().to_le_bytes();
         self.master.download(self.node, 0x6060, 0, &v)?;
         let shown = self.master.upload(self.node, 0x6061, 0)?;
@@ -198,7 +204,9 @@ impl<'m, B: Bus, R: Pdo, T: Pdo> Axis<'m, B, R, T> {
     ///
     /// As [`Axis::run`].
     pub fn move_to(&mut self, target: i32) -> Result<(), Error<B::Error>> {
-        self.driver.move_to(target, false).map_err(Error::Drive)?;
+        self.driver
+            .move_to(target, false)
+            .map_err(|error| Error::Drive { node: self.node, error })?;
         self.run()
     }
 
@@ -208,7 +216,7 @@ impl<'m, B: Bus, R: Pdo, T: Pdo> Axis<'m, B, R, T> {
     ///
     /// As [`Axis::run`].
     pub fn run_at(&mut self, velocity: i32) -> Result<(), Error<B::Error>> {
-        self.driver.run_at(velocity).map_err(Error::Drive)?;
+        self.driver.run_at(velocity).map_err(|error| Error::Drive { node: self.node, error })?;
         self.run()
     }
 

@@ -2,9 +2,11 @@
 //! observer, and the SDO client sees only its responses.
 
 use std::boxed::Box;
-use std::collections::VecDeque;
+use std::collections::{BTreeMap, VecDeque};
 
 use crate::can::CanFrame;
+use crate::cob::{self, Function, NodeId};
+use crate::time::Instant;
 use crate::transport::Bus;
 
 /// Which way a frame went, for an observer.
@@ -25,6 +27,21 @@ pub(super) struct Link<B> {
     pub(super) observer: Option<Observer>,
     /// The SDO response CAN-ID the current transfer waits for.
     pub(super) sdo_response: Option<u32>,
+    /// When each node was last heard: any frame it sends (boot-up, heartbeat, EMCY, TPDO,
+    /// SDO response), so a timeout can tell a silent node from an absent one.
+    pub(super) heard: BTreeMap<NodeId, Instant>,
+}
+
+/// The node that sent `frame`, by CiA 301's predefined connection set: only the functions a
+/// node transmits (a request to it is no sign of life).
+fn sender(frame: &CanFrame) -> Option<NodeId> {
+    if frame.is_extended() || frame.is_remote() {
+        return None;
+    }
+    match cob::classify(u16::try_from(frame.id()).ok()?)? {
+        (Function::Emcy | Function::Tpdo(_) | Function::SdoTx | Function::Heartbeat, node) => node,
+        _ => None,
+    }
 }
 
 impl<B: Bus> Link<B> {
@@ -35,27 +52,33 @@ impl<B: Bus> Link<B> {
         self.bus.send(frame)
     }
 
-    /// The next frame from the bus (not the queue), waiting until `deadline_ms`.
-    pub(super) fn receive(&mut self, deadline_ms: u64) -> Result<Option<CanFrame>, B::Error> {
-        let frame = self.bus.recv(deadline_ms)?;
-        if let (Some(o), Some(f)) = (&mut self.observer, &frame) {
-            o(Dir::Received, f);
+    /// The next frame from the bus (not the queue), waiting until `deadline`.
+    pub(super) fn receive(&mut self, deadline: Instant) -> Result<Option<CanFrame>, B::Error> {
+        let frame = self.bus.recv(deadline)?;
+        if let Some(f) = &frame {
+            if let Some(node) = sender(f) {
+                let now = self.bus.now();
+                self.heard.insert(node, now);
+            }
+            if let Some(o) = &mut self.observer {
+                o(Dir::Received, f);
+            }
         }
         Ok(frame)
     }
 
-    /// The first frame (queued first) that `want` accepts, waiting until `deadline_ms`; the
+    /// The first frame (queued first) that `want` accepts, waiting until `deadline`; the
     /// others received meanwhile are queued.
     pub(super) fn take(
         &mut self,
-        deadline_ms: u64,
+        deadline: Instant,
         want: impl Fn(&CanFrame) -> bool,
     ) -> Result<Option<CanFrame>, B::Error> {
         if let Some(pos) = self.pending.iter().position(&want) {
             return Ok(self.pending.remove(pos));
         }
         loop {
-            match self.receive(deadline_ms)? {
+            match self.receive(deadline)? {
                 Some(f) if want(&f) => return Ok(Some(f)),
                 Some(f) => self.pending.push_back(f),
                 None => return Ok(None),
@@ -72,12 +95,12 @@ impl<B: Bus> Bus for Link<B> {
         Link::send(self, frame)
     }
 
-    fn recv(&mut self, deadline_ms: u64) -> Result<Option<CanFrame>, B::Error> {
+    fn recv(&mut self, deadline: Instant) -> Result<Option<CanFrame>, B::Error> {
         let id = self.sdo_response;
-        self.take(deadline_ms, |f| Some(f.id) == id && !f.extended && !f.remote)
+        self.take(deadline, |f| Some(f.id) == id && !f.extended && !f.remote)
     }
 
-    fn now_ms(&mut self) -> u64 {
-        self.bus.now_ms()
+    fn now(&mut self) -> Instant {
+        self.bus.now()
     }
 }

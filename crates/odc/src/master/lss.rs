@@ -13,10 +13,11 @@ use crate::can::CanFrame;
 use crate::cob::NodeId;
 use crate::lss::frame::Part;
 use crate::lss::{Identity, REQUEST_ID, RESPONSE_ID, Request, Response};
+use crate::time::Duration;
 use crate::transport::Bus;
 
-/// Default wait for an LSS answer, in ms (fastscan waits this long for each silent step).
-pub const DEFAULT_LSS_TIMEOUT_MS: u64 = 50;
+/// Default wait for an LSS answer (fastscan waits this long for each silent step).
+pub const DEFAULT_LSS_TIMEOUT: Duration = Duration::from_millis(50);
 
 /// Why an LSS service failed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -78,17 +79,17 @@ impl fmt::Display for LssError {
 /// LSS services on a [`Master`]'s bus.
 pub struct LssMaster<'m, B: Bus> {
     master: &'m mut Master<B>,
-    timeout_ms: u64,
+    timeout: Duration,
 }
 
 impl<'m, B: Bus> LssMaster<'m, B> {
     pub(super) fn new(master: &'m mut Master<B>) -> Self {
-        LssMaster { master, timeout_ms: DEFAULT_LSS_TIMEOUT_MS }
+        LssMaster { master, timeout: DEFAULT_LSS_TIMEOUT }
     }
 
     /// The same services with another answer timeout.
-    pub fn with_timeout(mut self, ms: u64) -> Self {
-        self.timeout_ms = ms;
+    pub fn with_timeout(mut self, timeout: Duration) -> Self {
+        self.timeout = timeout;
         self
     }
 
@@ -98,7 +99,7 @@ impl<'m, B: Bus> LssMaster<'m, B> {
 
     /// The next LSS answer, or `None` after the timeout (other frames are kept).
     fn answer(&mut self) -> Result<Option<Response>, Error<B::Error>> {
-        let deadline = self.master.now_ms().saturating_add(self.timeout_ms);
+        let deadline = self.master.now() + self.timeout;
         let f = self
             .master
             .link

@@ -2,7 +2,8 @@
 //! of [`crate::transport`]: SocketCAN, embedded-can HALs, TCP, in-memory).
 //!
 //! - NMT master: commands to one node or all; each node's state as its boot-up, heartbeat or
-//!   guarding answer last said; a heartbeat consumer that makes a lost node an event;
+//!   guarding answer last said; a heartbeat consumer that makes a lost node an event; node
+//!   guarding (remote frames, toggle bit, life-guarding loss as an event);
 //! - SYNC producer (with the CiA 301 counter when asked for);
 //! - SDO client for every node (expedited, segmented; block transfer with
 //!   [`Master::upload_block`]), typed by generated descriptors;
@@ -22,10 +23,11 @@
 //! use odc::nmt::{NmtCommand, NmtState};
 //! use odc::transport::{Bus, mem::MemBus};
 //! use odc::can::CanFrame;
+//! use odc::time::Duration;
 //!
 //! let bus = MemBus::new();
 //! let (mut device, port) = (bus.port(), bus.port());
-//! let mut master = Master::new(port).with_timeout(100);
+//! let mut master = Master::new(port).with_timeout(Duration::from_millis(100));
 //! // A device says it booted, and later that it is operational.
 //! device.send(&CanFrame::from_slice(0x705, &[0x00]).unwrap()).unwrap();
 //! let node = odc::node_id!(5);
@@ -33,13 +35,14 @@
 //! assert_eq!(master.state(node), Some(NmtState::PreOperational));
 //! master.nmt(NmtCommand::Start, node)?;
 //! device.send(&CanFrame::from_slice(0x705, &[0x05]).unwrap()).unwrap();
-//! let deadline = master.now_ms() + 100;
+//! let deadline = master.now() + Duration::from_millis(100);
 //! assert_eq!(master.poll(deadline)?, Some(Event::State { node, state: NmtState::Operational }));
 //! # Ok::<(), odc::master::Error<odc::transport::mem::Closed>>(())
 //! ```
 
 pub mod axis;
 mod error;
+mod guard;
 mod link;
 pub mod lss;
 mod nmt;
@@ -51,18 +54,19 @@ use std::vec::Vec;
 
 use crate::Pdo;
 use crate::can::CanFrame;
-use crate::cob::NodeId;
+use crate::cob::{CobId, NodeId};
 use crate::emcy::EmcyFrame;
 use crate::nmt::NmtState;
 use crate::plan::SdoWrite;
 use crate::sdo::Client;
+use crate::time::{Duration, Instant};
 use crate::transport::Bus;
 
 /// Bytes of the largest SDO value the master transfers (segmented or block).
 pub const SDO_BUFFER: usize = 4096;
 
-/// Default time the master waits for an answer, in ms.
-pub const DEFAULT_TIMEOUT_MS: u64 = 1000;
+/// Default time the master waits for an answer (1 s, as [`crate::sdo::DEFAULT_TIMEOUT`]).
+pub const DEFAULT_TIMEOUT: Duration = Duration::from_secs(1);
 
 /// Something that happened on the bus.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -84,6 +88,12 @@ pub enum Event {
         /// The node.
         node: NodeId,
     },
+    /// A node guarded with [`Master::guard`] gave no valid answer (toggle bit alternating)
+    /// within its life time.
+    GuardingLost {
+        /// The node.
+        node: NodeId,
+    },
     /// An emergency message (`EmcyCode`'s `Display` gives its CiA 301/402 meaning).
     Emcy {
         /// The node.
@@ -91,10 +101,10 @@ pub enum Event {
         /// Code, error register, manufacturer bytes.
         emcy: EmcyFrame,
     },
-    /// A PDO (COB-ID 0x181–0x57F).
+    /// A PDO (an 11-bit data frame on 0x181–0x57F).
     Pdo {
-        /// Its CAN-ID.
-        cob_id: u32,
+        /// Its COB-ID (11-bit, valid).
+        cob_id: CobId,
         /// The frame.
         frame: CanFrame,
     },
@@ -107,7 +117,8 @@ pub enum Event {
     Other(CanFrame),
 }
 
-pub use error::Error;
+pub use error::{Error, Waited};
+pub use guard::GuardStatus;
 pub use link::Dir;
 use link::Link;
 
@@ -116,24 +127,25 @@ use link::Link;
 struct Watch {
     state: Option<NmtState>,
     /// Heartbeat consumer time, when watched.
-    timeout_ms: Option<u64>,
-    last_seen_ms: u64,
+    timeout: Option<Duration>,
+    last_seen: Instant,
     lost: bool,
 }
 
 /// The SYNC producer.
 #[derive(Clone, Copy, Debug)]
 struct SyncProducer {
-    period_ms: u64,
-    next_ms: u64,
+    period: Duration,
+    next: Instant,
 }
 
 /// A CANopen master over a bus.
 pub struct Master<B: Bus> {
     link: Link<B>,
-    timeout_ms: u64,
+    timeout: Duration,
     clients: BTreeMap<NodeId, Box<Client<SDO_BUFFER>>>,
     nodes: BTreeMap<NodeId, Watch>,
+    guards: BTreeMap<NodeId, guard::Guard>,
     sync: Option<SyncProducer>,
     /// The SYNC counter's overflow value (0x1019), when SYNCs carry a counter.
     sync_overflow: Option<u8>,
@@ -141,13 +153,20 @@ pub struct Master<B: Bus> {
 }
 
 impl<B: Bus> Master<B> {
-    /// A master on `bus`, waiting [`DEFAULT_TIMEOUT_MS`] for answers.
+    /// A master on `bus`, waiting [`DEFAULT_TIMEOUT`] for answers.
     pub fn new(bus: B) -> Self {
         Master {
-            link: Link { bus, pending: VecDeque::new(), observer: None, sdo_response: None },
-            timeout_ms: DEFAULT_TIMEOUT_MS,
+            link: Link {
+                bus,
+                pending: VecDeque::new(),
+                observer: None,
+                sdo_response: None,
+                heard: BTreeMap::new(),
+            },
+            timeout: DEFAULT_TIMEOUT,
             clients: BTreeMap::new(),
             nodes: BTreeMap::new(),
+            guards: BTreeMap::new(),
             sync: None,
             sync_overflow: None,
             sync_counter: 1,
@@ -155,8 +174,8 @@ impl<B: Bus> Master<B> {
     }
 
     /// The same master with another answer timeout (SDO responses, boot-up, PDOs).
-    pub fn with_timeout(mut self, ms: u64) -> Self {
-        self.timeout_ms = ms;
+    pub fn with_timeout(mut self, timeout: Duration) -> Self {
+        self.timeout = timeout;
         self.clients.clear();
         self
     }
@@ -171,13 +190,28 @@ impl<B: Bus> Master<B> {
         &mut self.link.bus
     }
 
-    /// The bus's clock, in ms.
-    pub fn now_ms(&mut self) -> u64 {
-        self.link.bus.now_ms()
+    /// The bus's clock.
+    pub fn now(&mut self) -> Instant {
+        self.link.bus.now()
     }
 
-    fn deadline(&mut self) -> u64 {
-        self.now_ms().saturating_add(self.timeout_ms)
+    /// The answer timeout (SDO responses, boot-up, PDOs).
+    pub fn timeout(&self) -> Duration {
+        self.timeout
+    }
+
+    /// When `node` was last heard: the last frame it sent (boot-up, heartbeat, EMCY, TPDO,
+    /// SDO response) that the master received; `None` if none yet.
+    pub fn last_heard(&self, node: NodeId) -> Option<Instant> {
+        self.link.heard.get(&node).copied()
+    }
+
+    /// The timeout error of a wait for `what` from `node` that began at `since`: whether the
+    /// node was heard meanwhile, and its last reported state.
+    fn timeout_error(&self, node: Option<NodeId>, what: Waited, since: Instant) -> Error<B::Error> {
+        let heard = node.and_then(|n| self.last_heard(n)).is_some_and(|t| t >= since);
+        let state = node.and_then(|n| self.state(n));
+        Error::Timeout { node, what, waited: self.timeout, heard, state }
     }
 
     /// Sends a frame as it is.
@@ -191,48 +225,52 @@ impl<B: Bus> Master<B> {
 
     // ---- PDO -----------------------------------------------------------------------------
 
-    /// Sends an RPDO: the struct's bytes on the CAN-ID of `cob_id` (its bit 31 and the other
-    /// flags dropped).
+    /// Sends an RPDO: the struct's bytes on `cob_id`'s identifier, 11- or 29-bit as its bit
+    /// 29 says (bit 31, "not valid", and bit 30 do not change the frame).
     ///
     /// # Errors
     ///
     /// A value that does not fit its field, or the bus error.
-    pub fn send_pdo<P: Pdo>(&mut self, cob_id: u32, pdo: &P) -> Result<(), Error<B::Error>> {
-        let id = cob_id & 0x7FF;
-        let bytes = pdo.pack().map_err(|reason| Error::Pdo { cob_id: id, reason })?;
-        let frame = CanFrame::from_slice(id, bytes.as_ref())
-            .ok_or(Error::Invalid("a PDO of more than 8 bytes"))?;
+    pub fn send_pdo<P: Pdo>(&mut self, cob_id: CobId, pdo: &P) -> Result<(), Error<B::Error>> {
+        let bytes = pdo.pack().map_err(|reason| Error::Pdo { cob_id, reason })?;
+        let frame =
+            cob_id.frame(bytes.as_ref()).ok_or(Error::Invalid("a PDO of more than 8 bytes"))?;
         self.send(&frame)
     }
 
-    /// The next TPDO on `cob_id`, unpacked (queued ones first).
+    /// The next TPDO on `cob_id` (a data frame of its identifier and format), unpacked
+    /// (queued ones first).
     ///
     /// # Errors
     ///
     /// [`Error::Timeout`], a frame that does not unpack into `P`, or the bus error.
-    pub fn recv_pdo<P: Pdo>(&mut self, cob_id: u32) -> Result<P, Error<B::Error>> {
-        let id = cob_id & 0x7FF;
-        let deadline = self.deadline();
-        let frame = self
-            .link
-            .take(deadline, |f| f.is_data(id))
-            .map_err(Error::Bus)?
-            .ok_or(Error::Timeout { what: "PDO" })?;
-        P::unpack(frame.bytes()).map_err(|reason| Error::Unpack { cob_id: id, reason })
+    pub fn recv_pdo<P: Pdo>(&mut self, cob_id: CobId) -> Result<P, Error<B::Error>> {
+        let frame = self.recv_frame(cob_id)?;
+        P::unpack(frame.bytes()).map_err(|reason| Error::Unpack { cob_id, reason })
     }
 
-    /// The next data frame with CAN-ID `id` (queued ones first), as it is: for process data
+    /// The next data frame on `cob_id` (queued ones first), as it is: for process data
     /// without a struct, or a vendor protocol.
     ///
     /// # Errors
     ///
     /// [`Error::Timeout`], or the bus error.
-    pub fn recv_frame(&mut self, id: u32) -> Result<CanFrame, Error<B::Error>> {
-        let deadline = self.deadline();
-        self.link
-            .take(deadline, |f| f.is_data(id))
-            .map_err(Error::Bus)?
-            .ok_or(Error::Timeout { what: "frame" })
+    pub fn recv_frame(&mut self, cob_id: CobId) -> Result<CanFrame, Error<B::Error>> {
+        let since = self.now();
+        let deadline = since + self.timeout;
+        match self.link.take(deadline, |f| cob_id.matches(f)).map_err(Error::Bus)? {
+            Some(f) => Ok(f),
+            None => {
+                let node = match cob_id.is_extended() {
+                    true => None,
+                    false => u16::try_from(cob_id.can_id())
+                        .ok()
+                        .and_then(crate::cob::classify)
+                        .and_then(|(_, n)| n),
+                };
+                Err(self.timeout_error(node, Waited::Frame(cob_id), since))
+            }
+        }
     }
 
     /// The LSS master (CiA 305) on this master's bus.
@@ -249,14 +287,14 @@ impl<B: Bus> Master<B> {
 pub fn mapping_plan<P: Pdo>(
     comm_index: u16,
     mapping_index: u16,
-    cob_id: u32,
+    cob_id: CobId,
     transmission_type: u8,
 ) -> Vec<SdoWrite> {
     let mapping: Vec<u32> = P::MAPPING.iter().map(|e| e.to_u32()).collect();
     crate::plan::PdoConfig::new(mapping_index, &mapping)
         .with_comm(comm_index, true)
         .with_transmission_type(transmission_type)
-        .to_vec(cob_id)
+        .to_vec(cob_id.0)
 }
 
 /// A data frame of at most 8 bytes.

@@ -1,10 +1,11 @@
 //! NMT master, heartbeat consumer, the events of the bus and the SYNC producer.
 
-use super::{Error, Event, Master, SyncProducer, frame};
+use super::{Error, Event, Master, SyncProducer, Waited, frame};
 use crate::can::CanFrame;
-use crate::cob::NodeId;
+use crate::cob::{CobId, NodeId};
 use crate::emcy::EmcyFrame;
 use crate::nmt::{NmtCommand, NmtState};
+use crate::time::{Duration, Instant};
 use crate::transport::Bus;
 
 impl<B: Bus> Master<B> {
@@ -34,13 +35,13 @@ impl<B: Bus> Master<B> {
         self.nodes.get(&node).and_then(|w| w.state)
     }
 
-    /// Consumes `node`'s heartbeat: when none comes for `timeout_ms`, [`Master::poll`] gives
+    /// Consumes `node`'s heartbeat: when none comes for `timeout`, [`Master::poll`] gives
     /// [`Event::HeartbeatLost`] once, until it comes back.
-    pub fn watch_heartbeat(&mut self, node: NodeId, timeout_ms: u64) {
-        let now = self.now_ms();
+    pub fn watch_heartbeat(&mut self, node: NodeId, timeout: Duration) {
+        let now = self.now();
         let w = self.nodes.entry(node).or_default();
-        w.timeout_ms = Some(timeout_ms);
-        w.last_seen_ms = now;
+        w.timeout = Some(timeout);
+        w.last_seen = now;
         w.lost = false;
     }
 
@@ -51,14 +52,15 @@ impl<B: Bus> Master<B> {
     /// [`Error::Timeout`] when none comes in time, or the bus error.
     pub fn wait_boot_up(&mut self, node: NodeId) -> Result<(), Error<B::Error>> {
         let id = node.error_control().raw();
-        let deadline = self.deadline();
+        let since = self.now();
+        let deadline = since + self.timeout;
         let boot = |f: &CanFrame| f.is_data(id) && f.bytes() == [0];
         match self.link.take(deadline, boot).map_err(Error::Bus)? {
             Some(f) => {
                 self.note(&f);
                 Ok(())
             }
-            None => Err(Error::Timeout { what: "boot-up message" }),
+            None => Err(self.timeout_error(Some(node), Waited::BootUp, since)),
         }
     }
 
@@ -69,7 +71,8 @@ impl<B: Bus> Master<B> {
     /// [`Error::Timeout`], or the bus error.
     pub fn wait_state(&mut self, node: NodeId, state: NmtState) -> Result<(), Error<B::Error>> {
         let id = node.error_control().raw();
-        let deadline = self.deadline();
+        let since = self.now();
+        let deadline = since + self.timeout;
         let want = |f: &CanFrame| {
             f.is_data(id) && f.bytes().first().and_then(|b| NmtState::from_u8(*b)) == Some(state)
         };
@@ -78,7 +81,18 @@ impl<B: Bus> Master<B> {
                 self.note(&f);
                 Ok(())
             }
-            None => Err(Error::Timeout { what: "heartbeat with the state waited for" }),
+            None => {
+                // The heartbeats seen meanwhile (queued) still tell the node's last state.
+                let pending: std::vec::Vec<CanFrame> = self.link.pending.iter().copied().collect();
+                for f in pending.iter().filter(|f| f.is_data(id)) {
+                    if let Some(s) = f.bytes().first().and_then(|b| NmtState::from_u8(*b))
+                        && s != NmtState::BootUp
+                    {
+                        self.nodes.entry(node).or_default().state = Some(s);
+                    }
+                }
+                Err(self.timeout_error(Some(node), Waited::State(state), since))
+            }
         }
     }
 
@@ -90,14 +104,14 @@ impl<B: Bus> Master<B> {
         if f.extended || f.remote {
             return Some(Event::Other(*f));
         }
-        let now = self.link.bus.now_ms();
+        let now = self.link.bus.now();
         let event = match id {
             0x080 => Event::Sync { counter: f.bytes().first().copied() },
             0x081..=0x0FF => match (NodeId::of_emcy(id), EmcyFrame::decode(f.bytes())) {
                 (Some(node), Ok(emcy)) => Event::Emcy { node, emcy },
                 _ => Event::Other(*f),
             },
-            0x181..=0x57F => Event::Pdo { cob_id: id, frame: *f },
+            0x181..=0x57F => Event::Pdo { cob_id: CobId::of_frame(f), frame: *f },
             0x701..=0x77F => {
                 let Some(node) = NodeId::of_error_control(id) else {
                     return Some(Event::Other(*f));
@@ -105,8 +119,9 @@ impl<B: Bus> Master<B> {
                 let Some(state) = f.bytes().first().and_then(|b| NmtState::from_u8(*b)) else {
                     return Some(Event::Other(*f));
                 };
+                self.guard_answer(node, f, now);
                 let w = self.nodes.entry(node).or_default();
-                w.last_seen_ms = now;
+                w.last_seen = now;
                 w.lost = false;
                 if state == NmtState::BootUp {
                     w.state = Some(NmtState::PreOperational);
@@ -125,14 +140,14 @@ impl<B: Bus> Master<B> {
 
     // ---- Events and SYNC -------------------------------------------------------------------
 
-    /// The next event, waiting until `deadline_ms` at the latest: queued frames first, then
+    /// The next event, waiting until `deadline` at the latest: queued frames first, then
     /// lost heartbeats, then the bus. Also sends the SYNCs that fall due meanwhile. Repeated
     /// heartbeats of an unchanged state are not events (they update the node's watch).
     ///
     /// # Errors
     ///
     /// The bus error.
-    pub fn poll(&mut self, deadline_ms: u64) -> Result<Option<Event>, Error<B::Error>> {
+    pub fn poll(&mut self, deadline: Instant) -> Result<Option<Event>, Error<B::Error>> {
         loop {
             if let Some(f) = self.link.pending.pop_front() {
                 match self.note(&f) {
@@ -140,30 +155,37 @@ impl<B: Bus> Master<B> {
                     None => continue,
                 }
             }
-            let now = self.now_ms();
+            let now = self.now();
             if let Some(node) = self.lost_node(now) {
                 return Ok(Some(Event::HeartbeatLost { node }));
             }
+            if let Some(event) = self.guard_due(now)? {
+                return Ok(Some(event));
+            }
             self.sync_due(now)?;
-            if now >= deadline_ms {
+            if now >= deadline {
                 return Ok(None);
             }
             // Wake for the next SYNC or heartbeat deadline, whichever is first.
-            let wake = [self.sync.map(|s| s.next_ms), self.next_heartbeat_deadline()]
-                .into_iter()
-                .flatten()
-                .fold(deadline_ms, u64::min);
+            let wake = [
+                self.sync.map(|s| s.next),
+                self.next_heartbeat_deadline(),
+                self.next_guard_deadline(),
+            ]
+            .into_iter()
+            .flatten()
+            .fold(deadline, Instant::min);
             if let Some(f) = self.link.receive(wake.max(now)).map_err(Error::Bus)? {
                 self.link.pending.push_back(f);
             }
         }
     }
 
-    fn lost_node(&mut self, now: u64) -> Option<NodeId> {
+    fn lost_node(&mut self, now: Instant) -> Option<NodeId> {
         for (node, w) in &mut self.nodes {
-            if let Some(t) = w.timeout_ms
+            if let Some(t) = w.timeout
                 && !w.lost
-                && now > w.last_seen_ms.saturating_add(t)
+                && now > w.last_seen + t
             {
                 w.lost = true;
                 return Some(*node);
@@ -172,23 +194,21 @@ impl<B: Bus> Master<B> {
         None
     }
 
-    fn next_heartbeat_deadline(&self) -> Option<u64> {
+    fn next_heartbeat_deadline(&self) -> Option<Instant> {
         self.nodes
             .values()
             .filter(|w| !w.lost)
-            .filter_map(|w| {
-                w.timeout_ms.map(|t| w.last_seen_ms.saturating_add(t).saturating_add(1))
-            })
+            .filter_map(|w| w.timeout.map(|t| w.last_seen + t + Duration::MICROSECOND))
             .min()
     }
 
-    fn sync_due(&mut self, now: u64) -> Result<(), Error<B::Error>> {
+    fn sync_due(&mut self, now: Instant) -> Result<(), Error<B::Error>> {
         if let Some(s) = self.sync
-            && now >= s.next_ms
+            && now >= s.next
         {
             // One SYNC per call, on the period's grid (a late poll does not send a burst).
-            let next = s.next_ms.saturating_add(s.period_ms).max(now.saturating_add(1));
-            self.sync = Some(SyncProducer { period_ms: s.period_ms, next_ms: next });
+            let next = (s.next + s.period).max(now + Duration::MICROSECOND);
+            self.sync = Some(SyncProducer { period: s.period, next });
             self.sync()?;
         }
         Ok(())
@@ -212,12 +232,12 @@ impl<B: Bus> Master<B> {
         self.send(&frame)
     }
 
-    /// Makes [`Master::poll`] send a SYNC every `period_ms` (none with `None`).
-    pub fn set_sync_period(&mut self, period_ms: Option<u64>) {
-        let now = self.now_ms();
-        self.sync = period_ms
-            .filter(|p| *p > 0)
-            .map(|period_ms| SyncProducer { period_ms, next_ms: now.saturating_add(period_ms) });
+    /// Makes [`Master::poll`] send a SYNC every `period` (none with `None` or zero).
+    pub fn set_sync_period(&mut self, period: Option<Duration>) {
+        let now = self.now();
+        self.sync = period
+            .filter(|p| !p.is_zero())
+            .map(|period| SyncProducer { period, next: now + period });
     }
 
     /// SYNCs carry a counter from 1 to `overflow` (0x1019, 2..=240), or none with `None`.

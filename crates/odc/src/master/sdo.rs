@@ -4,7 +4,9 @@
 use std::boxed::Box;
 use std::vec::Vec;
 
+use super::Waited;
 use super::{Error, Master, SDO_BUFFER, link::Link};
+use crate::SdoAbort;
 use crate::cob::NodeId;
 use crate::plan::SdoWrite;
 use crate::sdo::{Client, SdoError};
@@ -110,15 +112,19 @@ impl<B: Bus> Master<B> {
     ///
     /// # Errors
     ///
-    /// [`Error::Plan`]: which write failed, and why.
+    /// [`Error::Plan`]: which write failed, and why; [`Error::Timeout`] when a response did
+    /// not come.
     pub fn execute(&mut self, node: NodeId, plan: &[SdoWrite]) -> Result<(), Error<B::Error>> {
         let mut client = self.take_client(node)?;
         let r = client.execute(&mut self.link, plan);
         self.clients.insert(node, client);
-        r.map_err(|(step, error)| {
-            let write = plan.get(step).copied().unwrap_or(SdoWrite::u8(0, 0, 0));
-            Error::Plan { node, step, write, error }
-        })
+        let Err((step, error)) = r else { return Ok(()) };
+        let write = plan.get(step).copied().unwrap_or(SdoWrite::u8(0, 0, 0));
+        if matches!(error, SdoError::Local(SdoAbort::Timeout)) {
+            let what = Waited::Sdo { index: write.index, sub: write.sub };
+            return Err(self.sdo_timeout(node, what));
+        }
+        Err(Error::Plan { node, step, write, error })
     }
 
     /// Runs one transfer with `node`'s client; its error names the node and the object.
@@ -132,14 +138,29 @@ impl<B: Bus> Master<B> {
         let mut client = self.take_client(node)?;
         let r = run(&mut client, &mut self.link);
         self.clients.insert(node, client);
-        r.map_err(|error| Error::Sdo { node, index, sub, error })
+        match r {
+            Ok(v) => Ok(v),
+            // The client waited for a response in vain (and sent the abort 0x05040000): say
+            // whether the node is there at all.
+            Err(SdoError::Local(SdoAbort::Timeout)) => {
+                Err(self.sdo_timeout(node, Waited::Sdo { index, sub }))
+            }
+            Err(error) => Err(Error::Sdo { node, index, sub, error }),
+        }
+    }
+
+    /// The timeout of an SDO transfer with `node`: heard or not during the last response wait
+    /// (earlier responses of the same transfer do not make a silent node alive).
+    fn sdo_timeout(&mut self, node: NodeId, what: Waited) -> Error<B::Error> {
+        let since = self.now().saturating_sub(self.timeout);
+        self.timeout_error(Some(node), what, since)
     }
 
     /// The node's client, out of the map while it runs (it borrows the link mutably); the
     /// link then lets its responses through.
     fn take_client(&mut self, node: NodeId) -> Result<Box<Client<SDO_BUFFER>>, Error<B::Error>> {
         self.link.sdo_response = Some(node.sdo_response().raw());
-        let timeout = self.timeout_ms;
+        let timeout = self.timeout;
         Ok(self
             .clients
             .remove(&node)

@@ -34,6 +34,9 @@ pub(super) struct Emcy {
     /// How many entries the dictionary's 0x1003 has (0: no 0x1003).
     history_cap: usize,
     has_register: bool,
+    /// The register the application set ([`Emcy::set_register`]): sent and read instead of
+    /// the bits of the active errors.
+    app_register: Option<ErrorRegister>,
     /// A ring: `queued` payloads from `head` on (indexes modulo [`QUEUE`], so no bounds
     /// check and no memmove on the frame path).
     queue: [[u8; 8]; QUEUE],
@@ -54,6 +57,7 @@ impl Emcy {
             history_len: 0,
             history_cap: 0,
             has_register: false,
+            app_register: None,
             queue: [[0; 8]; QUEUE],
             head: 0,
             queued: 0,
@@ -63,8 +67,9 @@ impl Emcy {
     }
 
     /// Reset communication: no active error, empty history, parameters from `dict`.
+    /// The application's register stays: it is the device's, not communication's.
     pub(super) fn reset<D: ObjectDictionary + ?Sized>(&mut self, dict: &D) {
-        *self = Self::new();
+        *self = Self { app_register: self.app_register, ..Self::new() };
         self.has_register = dict.read(0x1001, 0, &mut [0u8; 4]).is_ok();
         self.history_cap = (1..=MAX_HISTORY as u8)
             .take_while(|&s| {
@@ -85,9 +90,19 @@ impl Emcy {
         );
     }
 
-    /// The error register: the bits of the active errors, with the generic bit.
+    /// The error register: the application's ([`Emcy::set_register`]), else the bits of the
+    /// active errors, with the generic bit.
     pub(super) fn register(&self) -> ErrorRegister {
+        if let Some(r) = self.app_register {
+            return r;
+        }
         self.active.iter().flatten().fold(self.sticky, |r, c| r.with_error(c.register_bit()))
+    }
+
+    /// The application takes the error register over (`Some`), or gives it back to the
+    /// node (`None`).
+    pub(super) fn set_register(&mut self, register: Option<ErrorRegister>) {
+        self.app_register = register;
     }
 
     /// The history, newest first.

@@ -22,6 +22,9 @@ pub(super) fn has_node(set: u128, node: u8) -> bool {
     set & node_bit(node) != 0
 }
 
+// `ErrorControl::poll` reports lost consumers as the bits of a `u8`.
+const _: () = assert!(MAX_HB_CONSUMERS <= 8);
+
 #[derive(Clone, Copy, Debug, Default)]
 struct Consumer {
     node: u8,
@@ -66,6 +69,19 @@ impl ErrorControl {
                 last: None,
                 lost: false,
             },
+        }
+    }
+
+    /// Back to [`ErrorControl::new`], in place.
+    pub(super) fn reset(&mut self) {
+        self.heartbeat = Duration::ZERO;
+        self.next_heartbeat = Instant::ZERO;
+        self.consumers = [Consumer::default(); MAX_HB_CONSUMERS];
+        self.lost = 0;
+        #[cfg(feature = "guarding")]
+        {
+            self.guarding =
+                Guarding { toggle: false, life_time: Duration::ZERO, last: None, lost: false };
         }
     }
 
@@ -145,7 +161,9 @@ impl ErrorControl {
     }
 
     /// The heartbeat, when due (`state` in it), and the timeouts of the consumers and of
-    /// life guarding, reported in `ev`.
+    /// life guarding, reported in `ev`. Returns the consumers (bit n: `consumers[n]`) whose
+    /// node was lost now, one bit per node, for the node's EMCY: a loop over them is shorter
+    /// than one over the bits of a `u128` on a 32-bit core.
     pub(super) fn poll(
         &mut self,
         own_id: StdId,
@@ -153,13 +171,14 @@ impl ErrorControl {
         now: Instant,
         out: &mut impl FnMut(CanFrame),
         ev: &mut Events,
-    ) {
+    ) -> u8 {
+        let mut newly = 0;
         if !self.heartbeat.is_zero() && now >= self.next_heartbeat {
             out(super::one_byte(own_id, state.to_u8()));
             // Keep the period; after a long gap (a stalled caller), start again from now.
             self.next_heartbeat = self.next_heartbeat.saturating_add(self.heartbeat).max(now);
         }
-        for c in &self.consumers {
+        for (i, c) in self.consumers.iter().enumerate() {
             if let Some(last) = c.last
                 && !c.time.is_zero()
                 && now > last.saturating_add(c.time)
@@ -167,6 +186,7 @@ impl ErrorControl {
             {
                 self.lost |= node_bit(c.node);
                 ev.heartbeat_lost |= node_bit(c.node);
+                newly |= 1 << i;
             }
         }
         #[cfg(feature = "guarding")]
@@ -178,6 +198,12 @@ impl ErrorControl {
             self.guarding.lost = true;
             ev.life_guarding_lost = true;
         }
+        newly
+    }
+
+    /// The node that consumer `i` watches (0 for none).
+    pub(super) fn consumer_node(&self, i: usize) -> u8 {
+        self.consumers.get(i).map_or(0, |c| c.node)
     }
 
     /// The next heartbeat, or the first timeout of a consumer or of life guarding.

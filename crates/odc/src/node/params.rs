@@ -3,8 +3,9 @@
 //! the PDO engine get (0x1001 and 0x1003 answered by the node, CiA 301's rules between values).
 
 use super::{emcy, pdo};
-use crate::SdoAbort;
+use crate::cia402::{ModeOfOperation, SupportedModes};
 use crate::slave::ObjectDictionary;
+use crate::{MappingEntry, SdoAbort};
 
 /// Reads up to 4 bytes of `index:sub` as a little-endian number; `None` when the dictionary
 /// has no such entry or cannot read it.
@@ -38,6 +39,8 @@ impl Dirty {
     pub(super) const SYNC: u8 = 8;
     pub(super) const EMCY: u8 = 16;
     pub(super) const PDO: u8 = 32;
+    /// Not a write: the node starts (boot-up, a reset), so the PDOs start afresh.
+    pub(super) const RESTART: u8 = 128;
 
     fn of(index: u16) -> u8 {
         match index {
@@ -94,6 +97,18 @@ impl<D: ObjectDictionary + ?Sized> View<'_, D> {
             (0x1014, 0) if new & (1 << 31) == 0 && restricted_11_bit(new) => {
                 return Err(SdoAbort::InvalidValue);
             }
+            // Modes of operation (CiA 402-2 object 0x6060): a profile mode the drive does not
+            // announce in 0x6502 is refused (0x06090030). 0 (no mode) and the manufacturer's
+            // negative modes are the application's to judge.
+            (0x6060, 0) => {
+                let mode = data.first().map_or(0, |&m| m as i8);
+                if mode > 0
+                    && let Some(supported) = get_u32(&*self.dict, 0x6502, 0)
+                    && !SupportedModes(supported).supports(ModeOfOperation::from_i8(mode))
+                {
+                    return Err(SdoAbort::InvalidValue);
+                }
+            }
             // Two heartbeat consumer entries for one node (CiA 301 7.5.2.14: 0x06040043).
             (0x1016, s) if s > 0 => {
                 let node = new >> 16 & 0xFF;
@@ -113,6 +128,86 @@ impl<D: ObjectDictionary + ?Sized> View<'_, D> {
     }
 }
 
+impl<D: ObjectDictionary + ?Sized> View<'_, D> {
+    /// 0x1010 store parameters / 0x1011 restore default parameters (CiA 301, objects 0x1010 and 0x1011):
+    /// the signature "save" / "load" (ASCII, as the 4 bytes of the download) asks the
+    /// application to do it ([`Events::storage`](super::Events::storage)); any other value
+    /// is refused with 0x08000020. The dictionary's value stays what a read answers: the
+    /// storage capability.
+    fn storage_command(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
+        if let Err(e @ (SdoAbort::NoSuchObject | SdoAbort::NoSuchSub)) =
+            self.dict.read(index, sub, &mut [0u8; 8])
+        {
+            return Err(e);
+        }
+        let (signature, command) = if index == 0x1010 {
+            (b"save", super::Storage::Save(sub))
+        } else {
+            (b"load", super::Storage::Restore(sub))
+        };
+        if data.len() != 4 {
+            return Err(SdoAbort::LengthMismatch);
+        }
+        if data != signature {
+            return Err(SdoAbort::DataTransfer);
+        }
+        self.storage = Some(command);
+        Ok(())
+    }
+
+    /// Whether mapping `entry` into a transmit (`tx`) or receive PDO is allowed: the object
+    /// exists (0x06020000), its file allows mapping it that way and the entry maps no more
+    /// bits than it has (0x06040041), as CiA 301 §7.5.2.36/38 say the write of the entry
+    /// is refused. A dummy entry (0x0001–0x0007) maps nothing.
+    fn check_entry(&self, entry: MappingEntry, tx: bool) -> Result<(), SdoAbort> {
+        if entry.is_dummy() {
+            return Ok(());
+        }
+        let bits = self.dict.pdo_mappable(entry.index, entry.sub, tx).map_err(|e| match e {
+            // The abort is about the entry being written: "sub-index does not exist" would
+            // say the mapping object lacks it.
+            SdoAbort::NoSuchSub => SdoAbort::NoSuchObject,
+            e => e,
+        })?;
+        if entry.bits == 0 || u32::from(entry.bits) > bits {
+            return Err(SdoAbort::NotMappable);
+        }
+        Ok(())
+    }
+
+    /// CiA 301 §7.5.2.36/38 on a write into mapping object `index`: an entry (sub 1–64)
+    /// names an object that may be mapped (0 leaves it empty); enabling the mapping (sub 0
+    /// > 0) needs every entry it counts to be one, and at most 64 bits (0x06040042).
+    fn check_mapping(&self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
+        let tx = index >= 0x1A00;
+        let value = le_u32(data);
+        // A value of another length is the dictionary's to refuse (0x06070010).
+        if data.len() != if sub > 0 { 4 } else { 1 } {
+            return Ok(());
+        }
+        if sub > 0 {
+            return match value {
+                0 => Ok(()),
+                v => self.check_entry(MappingEntry::from_u32(v), tx),
+            };
+        }
+        let count = data.first().copied().unwrap_or(0);
+        if count > pdo::MAX_MAPPED {
+            return Err(SdoAbort::PdoLengthExceeded);
+        }
+        let mut bits = 0u32;
+        for s in 1..=count {
+            let entry = MappingEntry::from_u32(get_u32(&*self.dict, index, s).unwrap_or(0));
+            self.check_entry(entry, tx)?;
+            bits += u32::from(entry.bits);
+        }
+        if bits > 64 {
+            return Err(SdoAbort::PdoLengthExceeded);
+        }
+        Ok(())
+    }
+}
+
 /// The dictionary as the SDO server and the PDO engine see it: the node answers 0x1001 and
 /// 0x1003 itself, and notes writes to the communication objects.
 pub(super) struct View<'a, D: ?Sized> {
@@ -120,6 +215,9 @@ pub(super) struct View<'a, D: ?Sized> {
     pub(super) emcy: &'a mut emcy::Emcy,
     pub(super) dirty: &'a mut Dirty,
     pub(super) written: bool,
+    /// A store (0x1010) or restore (0x1011) command with its signature, for the
+    /// application.
+    pub(super) storage: Option<super::Storage>,
     /// The mappings of these PDOs may not change (CiA 301 7.5.2.36: only while the PDO is
     /// invalid): bit n of word 0 for TPDO n+1, of word 1 for RPDO n+1.
     pub(super) locked: [u64; 2],
@@ -145,6 +243,9 @@ impl<D: ObjectDictionary + ?Sized> ObjectDictionary for View<'_, D> {
         if self.dict.access(index, sub).is_some_and(|a| !a.writable()) {
             return Err(SdoAbort::WriteOfReadOnly);
         }
+        if matches!(index, 0x1010 | 0x1011) && sub > 0 {
+            return self.storage_command(index, sub, data);
+        }
         self.check_parameter(index, sub, data)?;
         if let Some((word, n)) = match index {
             0x1600..=0x17FF => Some((1, index - 0x1600)),
@@ -156,19 +257,8 @@ impl<D: ObjectDictionary + ?Sized> ObjectDictionary for View<'_, D> {
             // CiA 301: a mapping may only change while its PDO is invalid (COB-ID bit 31).
             return Err(SdoAbort::UnsupportedAccess);
         }
-        if matches!(index, 0x1600..=0x17FF | 0x1A00..=0x1BFF)
-            && sub == 0
-            && data.first().is_some_and(|&c| c > 0)
-        {
-            // The mapping enabled: at most 64 bits (CiA 301 abort 0x06040042).
-            let count = data.first().copied().unwrap_or(0);
-            let mut bits = 0u32;
-            for s in 1..=count.min(pdo::MAX_MAPPED) {
-                bits += get_u32(&*self.dict, index, s).map_or(0, |e| e & 0xFF);
-            }
-            if bits > 64 || count > pdo::MAX_MAPPED {
-                return Err(SdoAbort::PdoLengthExceeded);
-            }
+        if matches!(index, 0x1600..=0x17FF | 0x1A00..=0x1BFF) {
+            self.check_mapping(index, sub, data)?;
         }
         self.dict.write(index, sub, data)?;
         self.dirty.0 |= Dirty::of(index);

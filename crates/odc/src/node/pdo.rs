@@ -71,16 +71,26 @@ impl Outcome {
     }
 }
 
-/// A packed PDO: its bytes and length.
+/// A packed PDO: its bytes as a little-endian word, in two halves, and its length. A word
+/// compares in a few instructions where 8 bytes took a loop ("did the mapped data change"
+/// runs at every poll of an event-driven TPDO), and goes to and from the dictionary without
+/// copies (`tests/slave-size`, canopennode image: 22,235 B flash with bytes, 22,133 B with
+/// this, RAM 1,592 and 1,688 B). One `u64` saves a few bytes of code more (26 B) but aligns
+/// the PDO state to 8 bytes: 96 B more RAM for 4 + 4 PDOs, 192 B for a `Node<64>`'s 8 + 8.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 struct Data {
-    bytes: [u8; 8],
+    word: [u32; 2],
     len: u8,
 }
 
 impl Data {
-    fn as_slice(&self) -> &[u8] {
-        self.bytes.get(..usize::from(self.len)).unwrap_or(&self.bytes)
+    fn new(word: u64, len: u8) -> Self {
+        Self { word: [word as u32, (word >> 32) as u32], len }
+    }
+
+    /// The bytes as one little-endian word.
+    fn word(&self) -> u64 {
+        u64::from(self.word[0]) | u64::from(self.word[1]) << 32
     }
 }
 
@@ -137,10 +147,12 @@ fn can_id(cob_id: u32) -> u32 {
 }
 
 fn frame(cob_id: u32, data: &Data) -> Option<CanFrame> {
+    let bytes = data.word().to_le_bytes();
+    let bytes = bytes.get(..usize::from(data.len))?;
     if cob_id & FRAME_29 != 0 {
-        CanFrame::extended(can_id(cob_id), data.as_slice())
+        CanFrame::extended(can_id(cob_id), bytes)
     } else {
-        CanFrame::from_slice(can_id(cob_id), data.as_slice())
+        CanFrame::from_slice(can_id(cob_id), bytes)
     }
 }
 
@@ -169,7 +181,6 @@ pub(super) fn mapped_bits<D: ObjectDictionary + ?Sized>(
 
 /// Packs the objects that mapping object `index` names.
 fn pack<D: ObjectDictionary + ?Sized>(dict: &D, index: u16) -> Result<Data, SdoAbort> {
-    let mut data = Data::default();
     let mut word = 0u64;
     let mut at = 0usize;
     for e in entries(dict, index)? {
@@ -189,21 +200,18 @@ fn pack<D: ObjectDictionary + ?Sized>(dict: &D, index: u16) -> Result<Data, SdoA
         }
         at += e.bits as usize;
     }
-    data.bytes = word.to_le_bytes();
-    data.len = at.div_ceil(8) as u8;
-    Ok(data)
+    Ok(Data::new(word, at.div_ceil(8) as u8))
 }
 
-/// Writes the bytes of a received PDO into the objects that mapping object `index` names,
-/// skipping dummy entries. Each value keeps the bytes of its object past the mapped bits.
+/// Writes the bytes of a received PDO (`word`: a frame is at most 8 bytes, one word; bits
+/// past its end are 0) into the objects that mapping object `index` names, skipping dummy
+/// entries. Each value keeps the bytes of its object past the mapped bits.
 fn unpack<D: ObjectDictionary + ?Sized>(
     dict: &mut D,
     index: u16,
-    data: &[u8],
+    word: u64,
 ) -> Result<(), SdoAbort> {
     let count = get_u8(dict, index, 0).ok_or(SdoAbort::NoSuchObject)?.min(MAX_MAPPED);
-    // A frame is at most 8 bytes: one word; bits past its end read as 0.
-    let word = load_le_u64(data);
     let mut at = 0usize;
     for sub in 1..=count {
         let e = get_u32(dict, index, sub).map(MappingEntry::from_u32).ok_or(SdoAbort::NoSuchSub)?;
@@ -243,7 +251,10 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
     /// A PDO exists when its COB-ID's bit 31 is clear and its mapping has objects: sub-index 0
     /// of the mapping object at 0 disables the mapping (CiA 301 7.5.2.36), and a PDO without
     /// one is not sent or received (as CANopenNode's `CO_PDO.c` makes it invalid).
-    pub(super) fn load<D: ObjectDictionary + ?Sized>(&mut self, dict: &D) {
+    ///
+    /// `restart`: every PDO starts afresh (a reset: the node's start clears them this way
+    /// rather than build a new engine on the stack).
+    pub(super) fn load<D: ObjectDictionary + ?Sized>(&mut self, dict: &D, restart: bool) {
         let exists = |cob_id: u32, mapping: u16| {
             cob_id & INVALID == 0 && get_u8(dict, mapping, 0).is_some_and(|n| n > 0)
         };
@@ -252,7 +263,7 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
             let cob_id = get_u32(dict, index, 1).unwrap_or(INVALID);
             let ttype = get_u8(dict, index, 2).unwrap_or(255);
             let valid = exists(cob_id, 0x1600 + i as u16);
-            if (r.cob_id, r.ttype, r.valid) != (cob_id, ttype, valid) {
+            if restart || (r.cob_id, r.ttype, r.valid) != (cob_id, ttype, valid) {
                 *r = Rpdo { valid, cob_id, ttype, pending: None };
             }
         }
@@ -281,13 +292,15 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
                     fresh.event,
                     fresh.sync_start,
                 );
-            if !same {
+            if restart || !same {
                 *t = fresh;
             }
         }
     }
 
-    /// Which PDOs are valid: bit n of word 0 for TPDO n+1, of word 1 for RPDO n+1.
+    /// Which PDOs are valid: bit n of word 0 for TPDO n+1, of word 1 for RPDO n+1. Not
+    /// inlined: its 64-bit shifts were copied into every place the node makes a `View`.
+    #[inline(never)]
     pub(super) fn valid(&self) -> [u64; 2] {
         let bits = |it: &mut dyn Iterator<Item = bool>| {
             it.take(64).enumerate().fold(0u64, |acc, (i, v)| acc | u64::from(v) << i)
@@ -353,7 +366,7 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
         let mut o = Outcome::default();
         for (i, r) in self.rx.iter_mut().enumerate() {
             if let Some(data) = r.pending.take() {
-                match unpack(dict, 0x1600 + i as u16, data.as_slice()) {
+                match unpack(dict, 0x1600 + i as u16, data.word()) {
                     Ok(()) => o.rpdo |= Outcome::bit(i),
                     Err(abort) => o.error = Some(PdoError { pdo: PdoId::Rx(i as u16 + 1), abort }),
                 }
@@ -460,16 +473,11 @@ impl<const R: usize, const T: usize> PdoEngine<R, T> {
             // Longer: the mapped bytes are used, the rest ignored, EMCY 0x8220.
             o.length_emcy = Some(0x8220);
         }
-        let mut data = Data::default();
-        let n = usize::from(f.len.min(8));
-        if let (Some(d), Some(s)) = (data.bytes.get_mut(..n), f.bytes().get(..n)) {
-            crate::bits::copy_bytes(d, s);
-        }
-        data.len = f.len.min(8);
+        let data = Data::new(load_le_u64(f.bytes()), f.len.min(8));
         if r.ttype <= 240 {
             r.pending = Some(data);
         } else {
-            match unpack(dict, map, data.as_slice()) {
+            match unpack(dict, map, data.word()) {
                 Ok(()) => o.rpdo |= Outcome::bit(i),
                 Err(abort) => o.error = Some(PdoError { pdo: PdoId::Rx(i as u16 + 1), abort }),
             }

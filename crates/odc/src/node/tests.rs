@@ -46,6 +46,11 @@ impl Dict {
         d.add(0x1006, 0, &0u32.to_le_bytes(), rw);
         d.add(0x100C, 0, &0u16.to_le_bytes(), rw);
         d.add(0x100D, 0, &[0], rw);
+        // Store / restore all parameters: capability "on command" (bit 0).
+        d.add(0x1010, 0, &[1], false);
+        d.add(0x1010, 1, &1u32.to_le_bytes(), rw);
+        d.add(0x1011, 0, &[1], false);
+        d.add(0x1011, 1, &1u32.to_le_bytes(), rw);
         d.add(0x1014, 0, &(0x80u32 + u32::from(ID)).to_le_bytes(), false);
         d.add(0x1015, 0, &0u16.to_le_bytes(), rw);
         d.add(0x1016, 0, &[2], false);
@@ -80,6 +85,10 @@ impl Dict {
         d.add(0x2000, 0, &[0; 2], rw);
         d.add(0x2001, 0, &[0], rw);
         d.add(0x2002, 0, &[0; 4], rw);
+        // A drive's modes: 0x6060, and 0x6502 announcing profile position (bit 0) and
+        // homing (bit 5).
+        d.add(0x6060, 0, &[0], rw);
+        d.add(0x6502, 0, &0x21u32.to_le_bytes(), false);
         d
     }
 
@@ -130,6 +139,15 @@ impl ObjectDictionary for Dict {
     fn access(&self, index: u16, sub: u8) -> Option<crate::Access> {
         let o = &self.objs[self.find(index, sub).ok()?];
         Some(if o.writable { crate::Access::Rw } else { crate::Access::Ro })
+    }
+
+    /// As a file would say: 0x1000 is not mappable, read-only entries only into TPDOs.
+    fn pdo_mappable(&self, index: u16, sub: u8, tx: bool) -> Result<u32, SdoAbort> {
+        let o = &self.objs[self.find(index, sub)?];
+        if index == 0x1000 || !tx && !o.writable {
+            return Err(SdoAbort::NotMappable);
+        }
+        Ok(o.value.len() as u32 * 8)
     }
 }
 
@@ -549,6 +567,49 @@ fn remap_over_sdo_changes_the_tpdo() {
     assert_eq!(b.sdo_write(0x1A00, 0, &[3]), [0x80, 0x00, 0x1A, 0x00, 0x42, 0x00, 0x04, 0x06]);
 }
 
+/// The abort in an SDO answer.
+fn abort_code(reply: [u8; 8]) -> u32 {
+    assert_eq!(reply[0], 0x80, "an abort: {reply:02X?}");
+    u32::from_le_bytes([reply[4], reply[5], reply[6], reply[7]])
+}
+
+/// CiA 301 §7.5.2.36 (RPDO mapping) and §7.5.2.38 (TPDO mapping): the write of an entry
+/// naming an object the device does not have is refused with 0x06020000, of one that may
+/// not be mapped (or with more bits than the object has) with 0x06040041; enabling a
+/// mapping (sub 0) checks its entries the same way, and 0x06040042 for more than 64 bits.
+#[test]
+fn mapping_entries_are_checked_when_written() {
+    let mut b = Bench::new();
+    b.take();
+    // Pre-operational, TPDO 1 disabled for the remap.
+    b.sdo_write(0x1800, 1, &0x8000_0185u32.to_le_bytes());
+    assert_eq!(b.sdo_write(0x1A00, 0, &[0])[0], 0x60);
+    let entry = |b: &mut Bench, map: u16, v: u32| abort_code(b.sdo_write(map, 1, &v.to_le_bytes()));
+    assert_eq!(entry(&mut b, 0x1A00, 0x3000_0010), 0x0602_0000, "no object 0x3000");
+    assert_eq!(entry(&mut b, 0x1A00, 0x2000_0910), 0x0602_0000, "no sub 9 of 0x2000");
+    assert_eq!(entry(&mut b, 0x1A00, 0x1000_0020), 0x0604_0041, "0x1000 not mappable");
+    assert_eq!(entry(&mut b, 0x1A00, 0x2000_0020), 0x0604_0041, "32 bits of a 16-bit object");
+    assert_eq!(entry(&mut b, 0x1A00, 0x2000_0000), 0x0604_0041, "no bits");
+    assert_eq!(b.sdo_write(0x1600, 0, &[0])[0], 0x60);
+    assert_eq!(entry(&mut b, 0x1600, 0x1001_0008), 0x0604_0041, "read-only into an RPDO");
+    // Refused writes leave the entries as they were.
+    assert_eq!(b.dict.get(0x1A00, 1), 0x2000_0010u32.to_le_bytes());
+    // A good entry, a dummy in an RPDO, and 0 (an unused entry) are accepted.
+    assert_eq!(b.sdo_write(0x1A00, 1, &0x2002_0020u32.to_le_bytes())[0], 0x60);
+    assert_eq!(b.sdo_write(0x1600, 1, &0x0006_0010u32.to_le_bytes())[0], 0x60);
+    assert_eq!(b.sdo_write(0x1A00, 2, &0u32.to_le_bytes())[0], 0x60);
+    // Sub 0 counts an entry the firmware left bad: refused when the mapping is enabled.
+    b.dict.set(0x1A00, 2, &0x1000_0020u32.to_le_bytes());
+    assert_eq!(abort_code(b.sdo_write(0x1A00, 0, &[2])), 0x0604_0041);
+    b.dict.set(0x1A00, 2, &0x4000_0008u32.to_le_bytes());
+    assert_eq!(abort_code(b.sdo_write(0x1A00, 0, &[2])), 0x0602_0000);
+    b.dict.set(0x1A00, 2, &0x2002_0020u32.to_le_bytes());
+    b.dict.set(0x1A00, 3, &0x2001_0008u32.to_le_bytes());
+    assert_eq!(abort_code(b.sdo_write(0x1A00, 0, &[3])), 0x0604_0042, "72 bits");
+    assert_eq!(b.sdo_write(0x1A00, 0, &[2])[0], 0x60);
+    assert_eq!(abort_code(b.sdo_write(0x1A00, 0, &[65])), 0x0604_0042, "65 entries");
+}
+
 #[test]
 fn sync_producer_with_counter() {
     let mut b = Bench::new();
@@ -773,4 +834,71 @@ fn tpdo_without_mapped_objects_is_not_sent() {
     b.sdo_write(0x1A00, 0, &[1]);
     b.run_to(20);
     assert!(b.take().iter().any(|f| f.id == 0x185 && f.len == 2), "TPDO 1 with 0x2000");
+}
+
+/// CiA 301 object descriptions of 0x1010 (store parameters) and 0x1011 (restore default
+/// parameters): only the signatures "save" (0x65766173) and "load" (0x64616F6C) are
+/// accepted, anything else is refused with 0x08000020; a read still gives the capability.
+#[test]
+fn store_and_restore_need_their_signatures() {
+    let mut b = Bench::new();
+    b.take();
+    let save = u32::from_le_bytes(*b"save");
+    assert_eq!(save, 0x6576_6173);
+    let load = u32::from_le_bytes(*b"load");
+    assert_eq!(abort_code(b.sdo_write(0x1010, 1, &1u32.to_le_bytes())), 0x0800_0020);
+    assert_eq!(abort_code(b.sdo_write(0x1010, 1, &load.to_le_bytes())), 0x0800_0020);
+    assert_eq!(abort_code(b.sdo_write(0x1011, 1, &save.to_le_bytes())), 0x0800_0020);
+    assert_eq!(abort_code(b.sdo_write(0x1010, 2, &save.to_le_bytes())), 0x0609_0011);
+    let [lo, hi] = 0x1010u16.to_le_bytes();
+    let ev = b.rx(CanFrame::new(0x605, [0x23, lo, hi, 1, b's', b'a', b'v', b'e']).unwrap());
+    assert_eq!(b.take(), [data(0x585, &[0x60, lo, hi, 1, 0, 0, 0, 0])]);
+    assert_eq!(ev.storage, Some(Storage::Save(1)));
+    assert_eq!(b.sdo_read(0x1010, 1)[4..8], 1u32.to_le_bytes(), "the capability stays");
+    let [lo, hi] = 0x1011u16.to_le_bytes();
+    let ev = b.rx(CanFrame::new(0x605, [0x23, lo, hi, 1, b'l', b'o', b'a', b'd']).unwrap());
+    assert_eq!(ev.storage, Some(Storage::Restore(1)));
+    assert_eq!(b.dict.writes, []);
+}
+
+/// CiA 301 object 0x1001 (error register) and the EMCY message (byte 2, the error
+/// register): the register is the device's. The application sets it; EMCY frames and 0x1001
+/// carry it, over a reset communication too, until it gives it back to the node.
+#[test]
+fn the_application_sets_the_error_register() {
+    let mut b = Bench::new();
+    b.take();
+    let mut sent = Vec::new();
+    let at = crate::time::Instant::ZERO;
+    b.node.set_error_register(Some(ErrorRegister(0x01)));
+    b.node.raise_emcy(crate::emcy::EmcyCode(0x3100), [0; 5], at, &mut |f| sent.push(f));
+    assert_eq!(sent, [data(0x85, &[0x00, 0x31, 0x01, 0, 0, 0, 0, 0])], "not 0x05");
+    assert_eq!(b.sdo_read(0x1001, 0)[4], 0x01);
+    b.nmt(0x82);
+    b.run_to(1);
+    assert_eq!(b.node.error_register(), ErrorRegister(0x01), "kept over reset communication");
+    b.node.set_error_register(None);
+    sent.clear();
+    b.node.raise_emcy(crate::emcy::EmcyCode(0x3100), [0; 5], at, &mut |f| sent.push(f));
+    assert_eq!(sent[0].data[2], 0x05, "the node's again: generic and voltage");
+}
+
+/// CiA 402-2 objects 0x6060 (modes of operation) and 0x6502 (supported drive modes): a
+/// mode 0x6502 does not list is refused with 0x06090030; listed ones, 0 and the
+/// manufacturer's negative modes are written.
+#[test]
+fn modes_of_operation_follow_0x6502() {
+    let mut b = Bench::new();
+    b.take();
+    for (mode, ok) in
+        [(1i8, true), (6, true), (0, true), (-1, true), (3, false), (8, false), (5, false)]
+    {
+        let reply = b.sdo_write(0x6060, 0, &[mode as u8]);
+        if ok {
+            assert_eq!(reply[0], 0x60, "mode {mode}");
+            assert_eq!(b.dict.get(0x6060, 0), [mode as u8]);
+        } else {
+            assert_eq!(abort_code(reply), 0x0609_0030, "mode {mode}");
+        }
+    }
 }

@@ -8,6 +8,7 @@ use super::server::DEFAULT_TIMEOUT;
 use crate::can::{CanFrame, StdId};
 use crate::cob::NodeId;
 use crate::plan::SdoWrite;
+use crate::time::{Duration, Instant};
 use crate::transport::Bus;
 use crate::{Entry, ObjValue, ObjectAddr, SdoAbort};
 use core::fmt;
@@ -84,28 +85,28 @@ enum State {
     InitDownload {
         addr: ObjectAddr,
         segmented: bool,
-        deadline: u64,
+        deadline: Instant,
     },
     Download {
         addr: ObjectAddr,
         sent: usize,
         toggle: bool,
         last: bool,
-        deadline: u64,
+        deadline: Instant,
     },
     InitUpload {
         addr: ObjectAddr,
-        deadline: u64,
+        deadline: Instant,
     },
     Upload {
         addr: ObjectAddr,
         size: Option<usize>,
         toggle: bool,
-        deadline: u64,
+        deadline: Instant,
     },
     InitBlockDownload {
         addr: ObjectAddr,
-        deadline: u64,
+        deadline: Instant,
     },
     /// Block download of the buffer's `len` bytes: `acked` segments acknowledged, `sent` of
     /// the current sub-block of `blksize` sent; `sending` while more of it are due.
@@ -116,15 +117,15 @@ enum State {
         acked: usize,
         sent: u8,
         sending: bool,
-        deadline: u64,
+        deadline: Instant,
     },
     EndBlockDownload {
         addr: ObjectAddr,
-        deadline: u64,
+        deadline: Instant,
     },
     InitBlockUpload {
         addr: ObjectAddr,
-        deadline: u64,
+        deadline: Instant,
     },
     /// Block upload: `self.len` bytes of whole segments received, `ackseq` of the current
     /// sub-block; `last` once the final segment came (then the end frame is due).
@@ -134,7 +135,7 @@ enum State {
         size: Option<usize>,
         ackseq: u8,
         last: bool,
-        deadline: u64,
+        deadline: Instant,
     },
 }
 
@@ -161,6 +162,7 @@ enum State {
 /// use odc::can::CanFrame;
 /// use odc::sdo::{Bus, Client, SdoError, Server};
 /// use odc::slave::ObjectDictionary;
+/// use odc::time::{Duration, Instant};
 /// use odc::{Access, Entry, SdoAbort};
 ///
 /// /// The device: 0x2000 holds a u32 that the client may read and write.
@@ -180,22 +182,22 @@ enum State {
 /// }
 ///
 /// /// The bus: frames go straight to the device's server; its answer is the next received.
-/// struct InMemoryBus { device: Device, server: Server<64>, reply: Option<CanFrame>, now: u64 }
+/// struct InMemoryBus { device: Device, server: Server<64>, reply: Option<CanFrame>, now: Instant }
 /// impl Bus for InMemoryBus {
 ///     type Error = core::convert::Infallible;
 ///     fn send(&mut self, frame: &CanFrame) -> Result<(), Self::Error> {
-///         self.reply = self.server.handle(&mut self.device, frame, odc::time::Instant::from_millis(self.now));
+///         self.reply = self.server.handle(&mut self.device, frame, self.now);
 ///         Ok(())
 ///     }
-///     fn recv(&mut self, _deadline_ms: u64) -> Result<Option<CanFrame>, Self::Error> {
-///         self.now += 1; // a real bus waits; time passes either way
+///     fn recv(&mut self, _deadline: Instant) -> Result<Option<CanFrame>, Self::Error> {
+///         self.now += Duration::from_millis(1); // a real bus waits; time passes either way
 ///         Ok(self.reply.take())
 ///     }
-///     fn now_ms(&mut self) -> u64 { self.now }
+///     fn now(&mut self) -> Instant { self.now }
 /// }
 ///
 /// const COUNTER: Entry<u32> = Entry::new(0x2000, 0, "Counter", Access::Rw, false);
-/// let mut bus = InMemoryBus { device: Device(7), server: Server::new(odc::node_id!(5)), reply: None, now: 0 };
+/// let mut bus = InMemoryBus { device: Device(7), server: Server::new(odc::node_id!(5)), reply: None, now: Instant::ZERO };
 /// let mut sdo = Client::<64>::new(odc::node_id!(5));
 /// assert_eq!(sdo.read(&mut bus, &COUNTER)?, 7); // typed: a u32, because COUNTER is Entry<u32>
 /// sdo.write(&mut bus, &COUNTER, 1000)?;
@@ -208,7 +210,7 @@ enum State {
 #[derive(Clone, Debug)]
 pub struct Client<const N: usize> {
     node_id: NodeId,
-    timeout_ms: u64,
+    timeout: Duration,
     state: State,
     buf: [u8; N],
     len: usize,
@@ -222,7 +224,7 @@ impl<const N: usize> Client<N> {
     pub const fn new(node_id: NodeId) -> Self {
         Self {
             node_id,
-            timeout_ms: DEFAULT_TIMEOUT.as_millis(),
+            timeout: DEFAULT_TIMEOUT,
             state: State::Idle,
             buf: [0; N],
             len: 0,
@@ -231,8 +233,8 @@ impl<const N: usize> Client<N> {
     }
 
     /// The same client with another response timeout.
-    pub const fn with_timeout(mut self, ms: u64) -> Self {
-        self.timeout_ms = ms;
+    pub const fn with_timeout(mut self, timeout: Duration) -> Self {
+        self.timeout = timeout;
         self
     }
 
@@ -277,13 +279,13 @@ impl<const N: usize> Client<N> {
         index: u16,
         sub: u8,
         data: &[u8],
-        now_ms: u64,
+        now: Instant,
     ) -> Result<CanFrame, SdoError> {
         if self.is_busy() {
             return Err(SdoError::Busy);
         }
         let addr = ObjectAddr::new(index, sub);
-        let deadline = now_ms.saturating_add(self.timeout_ms);
+        let deadline = now + self.timeout;
         if let Some(init) = Init::expedited(data) {
             self.state = State::InitDownload { addr, segmented: false, deadline };
             return Ok(self.frame(Request::InitiateDownload(addr, init)));
@@ -301,21 +303,26 @@ impl<const N: usize> Client<N> {
     /// # Errors
     ///
     /// [`SdoError::Busy`] during another transfer.
-    pub fn start_upload(&mut self, index: u16, sub: u8, now_ms: u64) -> Result<CanFrame, SdoError> {
+    pub fn start_upload(
+        &mut self,
+        index: u16,
+        sub: u8,
+        now: Instant,
+    ) -> Result<CanFrame, SdoError> {
         if self.is_busy() {
             return Err(SdoError::Busy);
         }
         let addr = ObjectAddr::new(index, sub);
         self.len = 0;
         self.sized = true;
-        self.state = State::InitUpload { addr, deadline: now_ms.saturating_add(self.timeout_ms) };
+        self.state = State::InitUpload { addr, deadline: now + self.timeout };
         Ok(self.frame(Request::InitiateUpload(addr)))
     }
 
     /// Checks the response timeout; on expiry the transfer fails with a local
     /// [`SdoAbort::Timeout`] and the abort frame to send. During a block download sub-block,
     /// gives its next segment instead ([`Step::Send`]), one a call: call again until `None`.
-    pub fn poll(&mut self, now_ms: u64) -> Option<Step> {
+    pub fn poll(&mut self, now: Instant) -> Option<Step> {
         if let Some(f) = self.next_block_segment() {
             return Some(Step::Send(f));
         }
@@ -329,7 +336,7 @@ impl<const N: usize> Client<N> {
             | State::EndBlockDownload { addr, deadline }
             | State::InitBlockUpload { addr, deadline }
             | State::BlockUpload { addr, deadline, .. }
-                if now_ms > deadline =>
+                if now > deadline =>
             {
                 Some(self.fail(addr, SdoAbort::Timeout))
             }
@@ -338,7 +345,7 @@ impl<const N: usize> Client<N> {
     }
 
     /// The deadline of the response awaited, if a transfer is under way.
-    pub const fn deadline(&self) -> Option<u64> {
+    pub const fn deadline(&self) -> Option<Instant> {
         match self.state {
             State::Idle => None,
             State::InitDownload { deadline, .. }
@@ -356,12 +363,12 @@ impl<const N: usize> Client<N> {
     /// Handles a received frame; `None` when it is not a response of this client's server, no
     /// transfer is under way, or it needs no answer (a segment inside a block upload's
     /// sub-block).
-    pub fn handle(&mut self, frame: &CanFrame, now_ms: u64) -> Option<Step> {
+    pub fn handle(&mut self, frame: &CanFrame, now: Instant) -> Option<Step> {
         // Remote and extended frames on the CAN-ID are no SDO responses.
         if !frame.is_data(self.response_id().raw()) {
             return None;
         }
-        let deadline = now_ms.saturating_add(self.timeout_ms);
+        let deadline = now + self.timeout;
         let addr = match self.state {
             State::Idle => return None,
             State::InitDownload { addr, .. }
@@ -466,7 +473,7 @@ impl<const N: usize> Client<N> {
             // (python-canopen's LocalNode always does): carry on as a normal upload.
             (State::InitBlockUpload { .. }, Response::InitiateUpload(..)) => {
                 self.state = State::InitUpload { addr, deadline };
-                return self.handle(frame, now_ms);
+                return self.handle(frame, now);
             }
             (_, Response::Block(r)) => self.block_response(addr, r, deadline),
             _ => self.fail(addr, SdoAbort::InvalidCommand),
@@ -478,7 +485,7 @@ impl<const N: usize> Client<N> {
         addr: ObjectAddr,
         sent: usize,
         toggle: bool,
-        deadline: u64,
+        deadline: Instant,
     ) -> Step {
         let end = (sent + 7).min(self.len);
         let last = end == self.len;
@@ -493,9 +500,9 @@ impl<const N: usize> Client<N> {
         loop {
             let Some(deadline) = self.deadline() else { return Ok(()) };
             let step = match bus.recv(deadline).map_err(SdoError::Bus)? {
-                Some(frame) => self.handle(&frame, bus.now_ms()),
+                Some(frame) => self.handle(&frame, bus.now()),
                 // `recv` waited up to the deadline: the timeout has passed.
-                None => self.poll(bus.now_ms().max(deadline.saturating_add(1))),
+                None => self.poll(bus.now().max(deadline + Duration::MICROSECOND)),
             };
             match step {
                 None => {}
@@ -532,7 +539,7 @@ impl<const N: usize> Client<N> {
         index: u16,
         sub: u8,
     ) -> Result<&[u8], SdoError<B::Error>> {
-        let first = self.start_upload(index, sub, bus.now_ms()).map_err(SdoError::widen)?;
+        let first = self.start_upload(index, sub, bus.now()).map_err(SdoError::widen)?;
         self.run(bus, first)?;
         Ok(self.data())
     }
@@ -549,7 +556,7 @@ impl<const N: usize> Client<N> {
         sub: u8,
         data: &[u8],
     ) -> Result<(), SdoError<B::Error>> {
-        let first = self.start_download(index, sub, data, bus.now_ms()).map_err(SdoError::widen)?;
+        let first = self.start_download(index, sub, data, bus.now()).map_err(SdoError::widen)?;
         self.run(bus, first)
     }
 

@@ -198,6 +198,8 @@ impl Request {
     ///
     /// [`SdoAbort::InvalidCommand`] for ccs 7, an unknown block sub-command (any block
     /// request without the feature `sdo-block`) or an empty frame.
+    // Inlined into the server, whose match on the request then is the decoder's own.
+    #[inline(always)]
     pub fn decode(bytes: &[u8]) -> Result<Self, SdoAbort> {
         if bytes.is_empty() {
             return Err(SdoAbort::InvalidCommand);
@@ -220,6 +222,9 @@ impl Request {
 
 impl Response {
     /// The 8 bytes on the wire.
+    // Inlined: where the variant is known (every answer of the server), only its arm is
+    // linked, not the block responses' encoder into a server without block transfer.
+    #[inline(always)]
     pub fn encode(&self) -> [u8; 8] {
         match *self {
             Self::InitiateDownload(a) => with_mux(0x60, a, [0; 4]),

@@ -4,7 +4,13 @@ use super::*;
 use crate::can::CanFrame;
 use crate::plan::SdoWrite;
 use crate::slave::ObjectDictionary;
+use crate::time::{Duration, Instant};
 use crate::{Access, Entry};
+
+/// `n` ms after the epoch.
+fn ms(n: u64) -> Instant {
+    Instant::from_millis(n)
+}
 
 /// A small dictionary: 0x1000 UNSIGNED32 ro, 0x2000 UNSIGNED8 rw (max 100), 0x2001 a string
 /// of up to 40 bytes rw, 0x2002 UNSIGNED16 wo, 0x1600 a mapping record rw.
@@ -322,7 +328,7 @@ struct Loop {
     server: Server<64>,
     od: Od,
     pending: Option<CanFrame>,
-    now: u64,
+    now: Instant,
     /// Drop the server's answers (to test timeouts).
     mute: bool,
     /// Flip the toggle bit of segment answers (to test the client's check).
@@ -337,7 +343,7 @@ impl Loop {
             server: Server::new(NODE),
             od: Od::default(),
             pending: None,
-            now: 0,
+            now: Instant::ZERO,
             mute: false,
             flip_toggle: false,
             sent: 0,
@@ -351,18 +357,17 @@ impl Bus for Loop {
     fn send(&mut self, frame: &CanFrame) -> Result<(), ()> {
         self.sent += 1;
         self.last_sent = Some(*frame);
-        let mut r =
-            self.server.handle(&mut self.od, frame, crate::time::Instant::from_millis(self.now));
+        let mut r = self.server.handle(&mut self.od, frame, self.now);
         if let Some(f) = r.as_mut().filter(|f| self.flip_toggle && f.data[0] >> 5 <= 1) {
             f.data[0] ^= 0x10;
         }
         self.pending = if self.mute { None } else { r };
         Ok(())
     }
-    fn recv(&mut self, deadline: u64) -> Result<Option<CanFrame>, ()> {
+    fn recv(&mut self, deadline: Instant) -> Result<Option<CanFrame>, ()> {
         match self.pending.take() {
             Some(f) => {
-                self.now += 1;
+                self.now += Duration::from_millis(1);
                 Ok(Some(f))
             }
             None => {
@@ -371,7 +376,7 @@ impl Bus for Loop {
             }
         }
     }
-    fn now_ms(&mut self) -> u64 {
+    fn now(&mut self) -> Instant {
         self.now
     }
 }
@@ -455,7 +460,7 @@ fn client_widened_writes() {
 #[test]
 fn client_timeout_toggle_and_busy() {
     let mut bus = Loop::new();
-    let mut c = Client::<64>::new(NODE).with_timeout(50);
+    let mut c = Client::<64>::new(NODE).with_timeout(Duration::from_millis(50));
     bus.mute = true;
     assert_eq!(c.upload(&mut bus, 0x1000, 0), Err(SdoError::Local(SdoAbort::Timeout)));
     // The client sent the abort frame after the request.
@@ -474,17 +479,20 @@ fn client_timeout_toggle_and_busy() {
         Err(SdoError::Local(SdoAbort::ToggleBit))
     );
     // Frame level: one transfer at a time, responses of other nodes ignored.
-    let first = c.start_upload(0x1000, 0, 0).unwrap();
+    let first = c.start_upload(0x1000, 0, ms(0)).unwrap();
     assert_eq!(first, CanFrame::new(0x605, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]).unwrap());
-    assert_eq!(c.start_upload(0x1000, 0, 0), Err(SdoError::Busy));
-    assert_eq!(c.handle(&CanFrame::new(0x586, [0x43, 0, 0x10, 0, 1, 2, 3, 4]).unwrap(), 1), None);
+    assert_eq!(c.start_upload(0x1000, 0, ms(0)), Err(SdoError::Busy));
+    assert_eq!(
+        c.handle(&CanFrame::new(0x586, [0x43, 0, 0x10, 0, 1, 2, 3, 4]).unwrap(), ms(1)),
+        None
+    );
     // A response for another object is a protocol error.
-    let step = c.handle(&CanFrame::new(0x585, [0x43, 0, 0x20, 0, 1, 2, 3, 4]).unwrap(), 1);
+    let step = c.handle(&CanFrame::new(0x585, [0x43, 0, 0x20, 0, 1, 2, 3, 4]).unwrap(), ms(1));
     assert!(matches!(step, Some(Step::Failed(SdoError::Local(SdoAbort::InvalidCommand), Some(_)))));
     // Expedited without size indication: four bytes, the type takes the low ones.
-    c.start_upload(0x2000, 0, 0).unwrap();
+    c.start_upload(0x2000, 0, ms(0)).unwrap();
     assert_eq!(
-        c.handle(&CanFrame::new(0x585, [0x42, 0, 0x20, 0, 9, 0, 0, 0]).unwrap(), 1),
+        c.handle(&CanFrame::new(0x585, [0x42, 0, 0x20, 0, 9, 0, 0, 0]).unwrap(), ms(1)),
         Some(Step::Done)
     );
     assert_eq!(c.data(), &[9, 0, 0, 0]);
@@ -517,10 +525,10 @@ fn remote_and_extended_frames_are_not_sdo() {
     );
 
     let mut c = Client::<64>::new(NODE);
-    c.start_upload(0x1000, 0, 0).unwrap();
+    c.start_upload(0x1000, 0, ms(0)).unwrap();
     let answer = [0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00];
-    assert_eq!(c.handle(&CanFrame::extended(0x585, &answer).unwrap(), 0), None);
-    assert_eq!(c.handle(&CanFrame::remote(0x585, 8).unwrap(), 0), None);
-    assert_eq!(c.handle(&CanFrame::new(0x585, answer).unwrap(), 0), Some(Step::Done));
+    assert_eq!(c.handle(&CanFrame::extended(0x585, &answer).unwrap(), ms(0)), None);
+    assert_eq!(c.handle(&CanFrame::remote(0x585, 8).unwrap(), ms(0)), None);
+    assert_eq!(c.handle(&CanFrame::new(0x585, answer).unwrap(), ms(0)), Some(Step::Done));
     assert_eq!(c.data(), &0x0002_0192u32.to_le_bytes());
 }

@@ -169,6 +169,7 @@ impl<const N: usize> Server<N> {
         !matches!(self.state, State::Idle)
     }
 
+    #[inline(always)]
     fn reply(&self, r: Response) -> Option<CanFrame> {
         Some(CanFrame::standard(self.response_id(), r.encode()))
     }

@@ -12,7 +12,7 @@ use alloc::vec::Vec;
 use core::fmt;
 
 use super::key as row_key;
-use super::table::{RowLike, Rows, Slot};
+use super::table::{MAPPABLE, RowLike, Rows, Slot};
 use super::{EntryMeta, ObjectDictionary, Storage, WriteHook};
 use crate::cob::NodeId;
 use crate::{Access, DataType, Entry, ObjValue, ObjectAddr, SdoAbort, ValueError};
@@ -48,8 +48,9 @@ impl fmt::Debug for TableBuilder {
     }
 }
 
-fn packed(addr: ObjectAddr, access: Access) -> u32 {
-    row_key(addr.index, addr.sub) | (access as u32) << 24
+fn packed(addr: ObjectAddr, access: Access, mappable: bool) -> u32 {
+    let flag = if mappable { MAPPABLE } else { 0 };
+    row_key(addr.index, addr.sub) | (access as u32) << 24 | flag
 }
 
 impl TableBuilder {
@@ -64,18 +65,20 @@ impl TableBuilder {
     where
         T: ObjValue + PartialOrd + Send + Sync + 'static,
     {
-        let key = packed(entry.addr, entry.access);
+        let key = packed(entry.addr, entry.access, entry.pdo_mappable);
         self.rows.push(OwnedRow { slot: Box::new(entry.spec()), key, at: 0 });
         self
     }
 
     /// Adds a VISIBLE_STRING of at most `capacity` bytes (as `VisibleString<capacity>`):
     /// `default`, `low` and `high` are its default and limits, each at most `capacity` bytes
-    /// (longer ones are not used).
+    /// (longer ones are not used); `mappable` when the file allows mapping it into PDOs.
+    #[allow(clippy::too_many_arguments)]
     pub fn push_text(
         &mut self,
         addr: ObjectAddr,
         access: Access,
+        mappable: bool,
         capacity: usize,
         default: Option<&[u8]>,
         limits: (Option<&[u8]>, Option<&[u8]>),
@@ -88,35 +91,78 @@ impl TableBuilder {
             })
         };
         let slot = Bytes {
-            text: true,
+            kind: Kind::Text,
             len: capacity,
             default: fit(default),
             low: fit(limits.0),
             high: fit(limits.1),
         };
-        self.rows.push(OwnedRow { slot: Box::new(slot), key: packed(addr, access), at: 0 });
+        self.rows.push(OwnedRow {
+            slot: Box::new(slot),
+            key: packed(addr, access, mappable),
+            at: 0,
+        });
         self
     }
 
     /// Adds an OCTET_STRING of exactly `len` bytes (as `OctetString<len>`), with its default
-    /// and limits (those of another length are not used).
+    /// and limits (those of another length are not used); `mappable` as for
+    /// [`TableBuilder::push_text`].
+    #[allow(clippy::too_many_arguments)]
     pub fn push_octets(
         &mut self,
         addr: ObjectAddr,
         access: Access,
+        mappable: bool,
         len: usize,
         default: Option<&[u8]>,
         limits: (Option<&[u8]>, Option<&[u8]>),
     ) -> &mut Self {
         let fit = |v: Option<&[u8]>| v.filter(|v| v.len() == len).map(<[u8]>::to_vec);
         let slot = Bytes {
-            text: false,
+            kind: Kind::Octets,
             len,
             default: fit(default),
             low: fit(limits.0),
             high: fit(limits.1),
         };
-        self.rows.push(OwnedRow { slot: Box::new(slot), key: packed(addr, access), at: 0 });
+        self.rows.push(OwnedRow {
+            slot: Box::new(slot),
+            key: packed(addr, access, mappable),
+            at: 0,
+        });
+        self
+    }
+
+    /// Adds a UNICODE_STRING of at most `capacity` bytes (as `UnicodeString<N>` with
+    /// `capacity / 2` code units) with its default, the UTF-16LE bytes (a longer one is not
+    /// used); `mappable` as for [`TableBuilder::push_text`].
+    pub fn push_unicode(
+        &mut self,
+        addr: ObjectAddr,
+        access: Access,
+        mappable: bool,
+        capacity: usize,
+        default: Option<&[u8]>,
+    ) -> &mut Self {
+        let default = default.filter(|v| v.len() <= capacity).map(|v| {
+            let mut padded = v.to_vec();
+            padded.resize(capacity, 0);
+            padded
+        });
+        let slot = Bytes { kind: Kind::Unicode, len: capacity, default, low: None, high: None };
+        let key = packed(addr, access, mappable);
+        self.rows.push(OwnedRow { slot: Box::new(slot), key, at: 0 });
+        self
+    }
+
+    /// Adds a DOMAIN: any bytes, none stored (the shared path hands a download to
+    /// [`WriteHook::write_domain`] and answers an upload [`SdoAbort::NoData`], as a generated
+    /// table does).
+    pub fn push_domain(&mut self, addr: ObjectAddr, access: Access, mappable: bool) -> &mut Self {
+        let slot = Bytes { kind: Kind::Domain, len: 0, default: None, low: None, high: None };
+        let key = packed(addr, access, mappable);
+        self.rows.push(OwnedRow { slot: Box::new(slot), key, at: 0 });
         self
     }
 
@@ -141,11 +187,20 @@ impl TableBuilder {
     }
 }
 
-/// A VISIBLE_STRING or OCTET_STRING whose size is known at run time; limits compare as the
-/// runtime's `VisibleString<N>` and `OctetString<N>` order: the bytes, a string zero-padded
-/// to its capacity.
+/// The types of [`Bytes`].
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Text,
+    Octets,
+    Unicode,
+    Domain,
+}
+
+/// A VISIBLE_STRING, OCTET_STRING, UNICODE_STRING or DOMAIN whose size is known at run time;
+/// limits compare as the runtime's `VisibleString<N>` and `OctetString<N>` order: the bytes, a
+/// string zero-padded to its capacity.
 struct Bytes {
-    text: bool,
+    kind: Kind,
     len: usize,
     default: Option<Vec<u8>>,
     low: Option<Vec<u8>>,
@@ -154,7 +209,21 @@ struct Bytes {
 
 impl Slot for Bytes {
     fn check(&self, data: &[u8]) -> Result<(), SdoAbort> {
-        if !self.text {
+        match self.kind {
+            Kind::Domain => return Ok(()),
+            Kind::Unicode => {
+                // As `UnicodeString::<N>::decode`: whole code units, zero units at the end pad.
+                if data.len() & 1 != 0 {
+                    return Err(ValueError::Invalid.into());
+                }
+                if crate::value::unicode_len(data) > self.len {
+                    return Err(ValueError::TooLong.into());
+                }
+                return Ok(());
+            }
+            Kind::Text | Kind::Octets => {}
+        }
+        if self.kind == Kind::Octets {
             return match data.len() {
                 n if n < self.len => Err(ValueError::TooShort.into()),
                 n if n > self.len => Err(ValueError::TooLong.into()),
@@ -195,7 +264,12 @@ impl Slot for Bytes {
     }
 
     fn data_type(&self) -> DataType {
-        if self.text { DataType::VisibleString } else { DataType::OctetString }
+        match self.kind {
+            Kind::Text => DataType::VisibleString,
+            Kind::Octets => DataType::OctetString,
+            Kind::Unicode => DataType::UnicodeString,
+            Kind::Domain => DataType::Domain,
+        }
     }
 }
 
@@ -316,6 +390,9 @@ impl ObjectDictionary for RuntimeDictionary {
     fn access(&self, index: u16, sub: u8) -> Option<Access> {
         Rows(&self.table.rows).access(index, sub)
     }
+    fn pdo_mappable(&self, index: u16, sub: u8, tx: bool) -> Result<u32, SdoAbort> {
+        Rows(&self.table.rows).pdo_mappable(index, sub, tx)
+    }
 }
 
 impl Storage for RuntimeDictionary {
@@ -359,7 +436,7 @@ mod tests {
         ]);
         let mut b = TableBuilder::new();
         b.push(&HB).push(&TYPE);
-        b.push_text(ObjectAddr::new(0x1008, 0), Access::Ro, 8, Some(b"odc"), (None, None));
+        b.push_text(ObjectAddr::new(0x1008, 0), Access::Ro, false, 8, Some(b"odc"), (None, None));
         let mut rt = RuntimeDictionary::new(b.build(), None);
         let mut values = [0u8; 14];
         assert_eq!(TABLE.size(), 14);
@@ -392,8 +469,15 @@ mod tests {
     fn strings_of_run_time_size() {
         let mut b = TableBuilder::new();
         let addr = ObjectAddr::new(0x2000, 0);
-        b.push_text(addr, Access::Rw, 4, None, (Some(b"B"), Some(b"M")));
-        b.push_octets(ObjectAddr::new(0x2001, 0), Access::Rw, 2, Some(&[1, 2]), (None, None));
+        b.push_text(addr, Access::Rw, false, 4, None, (Some(b"B"), Some(b"M")));
+        b.push_octets(
+            ObjectAddr::new(0x2001, 0),
+            Access::Rw,
+            false,
+            2,
+            Some(&[1, 2]),
+            (None, None),
+        );
         let mut d = RuntimeDictionary::new(b.build(), None);
         assert_eq!(d.write(0x2000, 0, b"A"), Err(SdoAbort::ValueTooLow));
         assert_eq!(d.write(0x2000, 0, b"Z"), Err(SdoAbort::ValueTooHigh));
@@ -401,5 +485,58 @@ mod tests {
         assert_eq!(d.write(0x2000, 0, b"C"), Ok(()));
         assert_eq!(d.raw(0x2001, 0), Some(&[1, 2][..]));
         assert_eq!(d.write(0x2001, 0, &[1]), Err(SdoAbort::TooShort));
+    }
+
+    /// The file's mapping flag and the access's direction, as `Table::pdo_mappable` answers.
+    #[test]
+    fn mapping_flag_from_the_entry() {
+        let cw: Entry<u16> = Entry::new(0x6040, 0, "Controlword", Access::Rww, true);
+        let sw: Entry<u16> = Entry::new(0x6041, 0, "Statusword", Access::Ro, true);
+        let hb: Entry<u16> = Entry::new(0x1017, 0, "Producer heartbeat", Access::Rw, false);
+        let mut b = TableBuilder::new();
+        b.push(&cw).push(&sw).push(&hb);
+        b.push_octets(ObjectAddr::new(0x2001, 0), Access::Rw, true, 3, None, (None, None));
+        let d = RuntimeDictionary::new(b.build(), None);
+        assert_eq!(d.pdo_mappable(0x6040, 0, false), Ok(16));
+        assert_eq!(d.pdo_mappable(0x6040, 0, true), Err(SdoAbort::NotMappable));
+        assert_eq!(d.pdo_mappable(0x6041, 0, true), Ok(16));
+        assert_eq!(d.pdo_mappable(0x6041, 0, false), Err(SdoAbort::NotMappable));
+        assert_eq!(d.pdo_mappable(0x1017, 0, true), Err(SdoAbort::NotMappable));
+        assert_eq!(d.pdo_mappable(0x2001, 0, false), Ok(24));
+        assert_eq!(d.pdo_mappable(0x6042, 0, true), Err(SdoAbort::NoSuchObject));
+        // The flag in bit 31 leaves the access code (bits 24-26) as it was.
+        assert_eq!(d.access(0x6040, 0), Some(Access::Rww));
+        assert_eq!(d.access(0x6041, 0), Some(Access::Ro));
+    }
+
+    /// UNICODE_STRING reads without its zero padding; a DOMAIN stores nothing, hands a
+    /// download to the hook and answers an upload `NoData`, as a generated table does.
+    #[test]
+    fn unicode_and_domain() {
+        struct Keep(Vec<u8>);
+        impl WriteHook for Keep {
+            fn write_domain(&mut self, _: ObjectAddr, data: &[u8]) -> Result<(), SdoAbort> {
+                self.0 = data.to_vec();
+                Ok(())
+            }
+        }
+        let mut b = TableBuilder::new();
+        b.push_unicode(ObjectAddr::new(0x2000, 0), Access::Rw, false, 6, Some(&[0x41, 0]));
+        b.push_domain(ObjectAddr::new(0x1F50, 1), Access::Rw, false);
+        let mut d = RuntimeDictionary::new(b.build(), None);
+        assert_eq!(d.table().size(), 6);
+        let mut buf = [0u8; 8];
+        assert_eq!(d.read(0x2000, 0, &mut buf), Ok(2));
+        assert_eq!(buf[..2], [0x41, 0]);
+        assert_eq!(d.write(0x2000, 0, &[0x41, 0, 0x62]), Err(SdoAbort::InvalidValue));
+        assert_eq!(d.write(0x2000, 0, &[1, 0, 2, 0, 3, 0, 4, 0]), Err(SdoAbort::TooLong));
+        assert_eq!(d.write(0x2000, 0, &[0x62, 0, 0x63, 0, 0, 0]), Ok(()));
+        assert_eq!(d.read(0x2000, 0, &mut buf), Ok(4));
+        assert_eq!(buf[..4], [0x62, 0, 0x63, 0]);
+        assert_eq!(d.read(0x1F50, 1, &mut buf), Err(SdoAbort::NoData));
+        assert_eq!(d.write(0x1F50, 1, &[1, 2, 3]), Err(SdoAbort::DataTransfer));
+        let mut keep = Keep(Vec::new());
+        assert_eq!(d.write_with(0x1F50, 1, &[1, 2, 3, 4, 5, 6, 7, 8, 9], &mut keep), Ok(()));
+        assert_eq!(keep.0, [1, 2, 3, 4, 5, 6, 7, 8, 9]);
     }
 }

@@ -83,45 +83,98 @@ fn store(data_type: DataType, data: &[u8], stored: &mut [u8]) {
     }
 }
 
+/// The [`Spec`] of a row's value as the shared paths use it: a `static` that rows with the
+/// same spec share, so that a [`Row`] points at it with a thin pointer (4 bytes on a 32-bit
+/// target, where the trait object's own pointer would take 8 in every row).
+#[derive(Clone, Copy)]
+pub struct SpecRef(&'static dyn Slot);
+
+impl SpecRef {
+    /// The reference to `spec`, for [`row!`](crate::slave::row).
+    pub const fn new<T>(spec: &'static Spec<T>) -> SpecRef
+    where
+        T: ObjValue + PartialOrd + Sync + 'static,
+    {
+        SpecRef(spec)
+    }
+}
+
 /// One entry of a generated dictionary: its address, access right, the [`Spec`] of its value
-/// and where the value is stored; 16 bytes on a 32-bit target.
+/// and where the value is stored; 10 bytes on a 32-bit target (rows are most of a
+/// dictionary's flash: 170 of them for CiA 301's communication objects alone).
 ///
 /// A row is a table entry, not code: the dictionary's read and write paths ([`Table::read`],
 /// [`Table::write`]) serve every row. Generated code writes `row!(od::CONTROLWORD)`.
+///
+/// Packed to 2-byte alignment, so that a row takes 10 bytes and not 12; no reference to a
+/// field is ever taken (the compiler refuses one), fields are copied out.
 #[derive(Clone, Copy)]
+#[repr(C, packed(2))]
 pub struct Row {
-    spec: &'static dyn Slot,
-    /// [`key`] of the address in the low 24 bits, the access right in the high 8.
+    spec: &'static SpecRef,
+    /// [`key`] of the address in bits 0–23, the access right's code in bits 24–26, bits
+    /// 16–19 of the offset in bits 27–30, whether the file allows PDO mapping in bit 31
+    /// ([`MAPPABLE`]).
     key: u32,
-    /// Offset of the value in the dictionary's storage ([`Row::new`] puts its length here,
-    /// [`Table::new`] the offset).
-    at: u32,
+    /// Bits 0–15 of the offset of the value in the dictionary's storage ([`Row::new`] puts
+    /// the value's length in the offset, [`Table::new`] the offset).
+    at: u16,
 }
+
+/// Offsets and lengths in a [`Row`] are below 1 MiB (20 bits).
+const AT_LIMIT: usize = 1 << 20;
+/// [`Row::key`]'s bit for an entry the file allows to map into PDOs.
+pub(super) const MAPPABLE: u32 = 1 << 31;
 
 /// The access rights by their code in [`Row::key`].
 const ACCESS: [Access; 6] =
     [Access::Ro, Access::Wo, Access::Rw, Access::Rwr, Access::Rww, Access::Const];
 
 impl Row {
-    /// The row of `entry`, whose limits and default are `spec` (`entry.spec()`: see
-    /// [`row!`](crate::slave::row)).
-    pub const fn new<T>(entry: &Entry<T>, spec: &'static Spec<T>) -> Row
+    /// The row of `entry`, whose limits and default are `spec`: `SpecRef::new(&entry.spec())`,
+    /// as [`row!`](crate::slave::row) writes it (a spec made from another entry would give the
+    /// value that entry's checks and size).
+    pub const fn new<T>(entry: &Entry<T>, spec: &'static SpecRef) -> Row
     where
         T: ObjValue + PartialOrd + Sync + 'static,
     {
         let access = entry.access as u32;
-        let key = key(entry.addr.index, entry.addr.sub) | access << 24;
-        Row { spec, key, at: T::MAX_LEN as u32 }
+        let mappable = if entry.pdo_mappable { MAPPABLE } else { 0 };
+        let key = key(entry.addr.index, entry.addr.sub) | access << 24 | mappable;
+        // Evaluated when the `const` table is built: a compile error, not a run-time panic.
+        assert!(T::MAX_LEN < AT_LIMIT, "a dictionary value of 1 MiB or more");
+        Row { spec, key, at: 0 }.with_at(T::MAX_LEN)
+    }
+
+    /// The offset (or, before [`Table::new`], the length) of the value.
+    const fn at(&self) -> usize {
+        let key = self.key;
+        let low = self.at;
+        low as usize | ((key >> 27 & 0xF) as usize) << 16
+    }
+
+    /// The same row with offset (or length) `at`, below [`AT_LIMIT`].
+    const fn with_at(mut self, at: usize) -> Row {
+        self.at = at as u16;
+        self.key = self.key & 0x87FF_FFFF | ((at >> 16) as u32 & 0xF) << 27;
+        self
+    }
+
+    fn spec(&self) -> &'static dyn Slot {
+        let spec = self.spec;
+        spec.0
     }
 
     /// The entry's address.
     pub const fn addr(&self) -> ObjectAddr {
-        ObjectAddr::new((self.key >> 8) as u16, self.key as u8)
+        let key = self.key;
+        ObjectAddr::new((key >> 8) as u16, key as u8)
     }
 
     /// The entry's access right.
     pub fn access(&self) -> Access {
-        match ACCESS.get((self.key >> 24) as usize) {
+        let key = self.key;
+        match ACCESS.get((key >> 24 & 7) as usize) {
             Some(&a) => a,
             // Unreachable: `Row::new` stores the code of an `Access`.
             None => Access::Ro,
@@ -130,7 +183,7 @@ impl Row {
 
     /// The entry's CiA 301 data type.
     pub fn data_type(&self) -> DataType {
-        self.spec.data_type()
+        self.spec().data_type()
     }
 }
 
@@ -140,7 +193,7 @@ impl fmt::Debug for Row {
             .field("addr", &self.addr())
             .field("access", &self.access())
             .field("data_type", &self.data_type())
-            .field("at", &self.at)
+            .field("at", &self.at())
             .finish()
     }
 }
@@ -148,7 +201,8 @@ impl fmt::Debug for Row {
 /// What the shared read and write paths need of a row: the const [`Row`] of generated code,
 /// and (feature `alloc`) the row of a table built at run time, which owns its [`Slot`].
 pub(super) trait RowLike {
-    /// [`key`] in the low 24 bits, the access code in the high 8.
+    /// [`key`] in bits 0–23, the access code in bits 24–26, [`MAPPABLE`] in bit 31 (the
+    /// other bits are the row's own).
     fn packed(&self) -> u32;
     /// Offset of the value in the storage.
     fn at(&self) -> usize;
@@ -160,11 +214,15 @@ pub(super) trait RowLike {
         ObjectAddr::new((k >> 8) as u16, k as u8)
     }
     fn access(&self) -> Access {
-        match ACCESS.get((self.packed() >> 24) as usize) {
+        match ACCESS.get((self.packed() >> 24 & 7) as usize) {
             Some(&a) => a,
             // Unreachable: rows store the code of an `Access`.
             None => Access::Ro,
         }
+    }
+    /// Whether the file allows mapping the entry into PDOs.
+    fn mappable(&self) -> bool {
+        self.packed() & MAPPABLE != 0
     }
     fn of<'v>(&self, values: &'v [u8]) -> Result<&'v [u8], SdoAbort> {
         let at = self.at();
@@ -179,13 +237,14 @@ pub(super) trait RowLike {
 
 impl RowLike for Row {
     fn packed(&self) -> u32 {
-        self.key
+        let key = self.key;
+        key
     }
     fn at(&self) -> usize {
-        self.at as usize
+        Row::at(self)
     }
     fn slot(&self) -> &dyn Slot {
-        self.spec
+        self.spec()
     }
 }
 
@@ -210,12 +269,14 @@ impl<const N: usize> Table<N> {
         let mut i = 0;
         // `i < N`: the indexing cannot fail.
         while i < N {
-            let len = rows[i].at;
-            rows[i].at = at;
+            let len = rows[i].at();
+            rows[i] = rows[i].with_at(at);
             at += len;
             i += 1;
         }
-        Table { rows, size: at as usize }
+        // Evaluated when the `const` table is built: a compile error, not a run-time panic.
+        assert!(at < AT_LIMIT, "a dictionary of 1 MiB or more");
+        Table { rows, size: at }
     }
 
     /// The size of the storage in bytes: the encoded sizes of every entry's type.
@@ -251,12 +312,23 @@ impl<const N: usize> Table<N> {
         Rows(&self.rows).access(index, sub)
     }
 
+    /// Whether `index:sub` may be mapped into a transmit (`tx`) or receive PDO: its size in
+    /// bits (see [`ObjectDictionary::pdo_mappable`](super::ObjectDictionary::pdo_mappable)).
+    ///
+    /// # Errors
+    ///
+    /// [`SdoAbort::NoSuchObject`], [`SdoAbort::NoSuchSub`] or [`SdoAbort::NotMappable`].
+    pub fn pdo_mappable(&self, index: u16, sub: u8, tx: bool) -> Result<u32, SdoAbort> {
+        Rows(&self.rows).pdo_mappable(index, sub, tx)
+    }
+
     /// SDO upload of `index:sub` from `values` into `buf`; returns the length.
     ///
     /// # Errors
     ///
     /// [`SdoAbort::NoSuchObject`] or [`SdoAbort::NoSuchSub`] (see [`Table::read`]),
-    /// [`SdoAbort::ReadOfWriteOnly`], [`SdoAbort::TooShort`] when `buf` cannot hold the value.
+    /// [`SdoAbort::ReadOfWriteOnly`], [`SdoAbort::TooShort`] when `buf` cannot hold the value,
+    /// [`SdoAbort::NoData`] (0x08000024) for a DOMAIN, whose data the table does not keep.
     pub fn read(
         &self,
         values: &[u8],
@@ -276,8 +348,8 @@ impl<const N: usize> Table<N> {
     /// [`SdoAbort::WriteOfReadOnly`], the length or value error of decoding `data`
     /// ([`SdoAbort::TooShort`], `TooLong`, `InvalidValue`), the limits
     /// ([`SdoAbort::MaxLessThanMin`], `ValueTooHigh`, `ValueTooLow`, see
-    /// [`crate::check_range`]), or what `hook.before_write` answered; the value is then
-    /// unchanged.
+    /// [`crate::check_range`]), or what `hook.before_write` answered (for a DOMAIN, then
+    /// `hook.write_domain`); the value is then unchanged.
     pub fn write(
         &self,
         values: &mut [u8],
@@ -364,6 +436,16 @@ impl<R: RowLike> Rows<'_, R> {
         self.row(index, sub).ok().map(R::access)
     }
 
+    pub(super) fn pdo_mappable(&self, index: u16, sub: u8, tx: bool) -> Result<u32, SdoAbort> {
+        let row = self.row(index, sub)?;
+        let access = row.access();
+        let allowed = if tx { access.tpdo_allowed() } else { access.rpdo_allowed() };
+        if !row.mappable() || !allowed {
+            return Err(SdoAbort::NotMappable);
+        }
+        Ok(row.slot().len() as u32 * 8)
+    }
+
     fn row(&self, index: u16, sub: u8) -> Result<&R, SdoAbort> {
         let pos = search(self.0, |r| r.packed() & 0xFF_FFFF, index, sub)?;
         self.0.get(pos).ok_or(SdoAbort::NoSuchObject)
@@ -381,9 +463,12 @@ impl<R: RowLike> Rows<'_, R> {
             return Err(SdoAbort::ReadOfWriteOnly);
         }
         let stored = row.of(values)?;
-        // The stored bytes are the encoding, but for the zeros that pad a shorter string.
+        // The stored bytes are the encoding, but for the zeros that pad a shorter string. A
+        // DOMAIN's data is the application's (`WriteHook::write_domain`): none here.
         let len = match row.slot().data_type() {
             DataType::VisibleString => stored.iter().rposition(|&b| b != 0).map_or(0, |p| p + 1),
+            DataType::UnicodeString => crate::value::unicode_len(stored),
+            DataType::Domain => return Err(SdoAbort::NoData),
             _ => stored.len(),
         };
         let (src, dst) = (stored.get(..len), buf.get_mut(..len));
@@ -409,6 +494,9 @@ impl<R: RowLike> Rows<'_, R> {
         row.slot().check(data)?;
         let addr = row.addr();
         hook.before_write(addr, data)?;
+        if row.slot().data_type() == DataType::Domain {
+            hook.write_domain(addr, data)?;
+        }
         store(row.slot().data_type(), data, row.of_mut(values)?);
         hook.after_write(addr);
         Ok(())

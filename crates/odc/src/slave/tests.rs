@@ -228,10 +228,48 @@ fn initial_values() {
 #[test]
 fn rows_keep_every_access_right() {
     for access in [Access::Ro, Access::Wo, Access::Rw, Access::Rwr, Access::Rww, Access::Const] {
-        const SPEC: crate::slave::Spec<u8> = od::PASSWORD_U8.spec();
+        const SPEC: crate::slave::SpecRef = crate::slave::SpecRef::new(&od::PASSWORD_U8.spec());
         let entry: Entry<u8> = Entry::new(0xFFFF, 0xFF, "", access, false);
         let row = Row::new(&entry, &SPEC);
         assert_eq!((row.access(), row.addr()), (access, ObjectAddr::new(0xFFFF, 0xFF)));
         assert_eq!(row.data_type(), DataType::Unsigned8);
     }
+}
+
+/// A row keeps offsets past 16 bits (bits 16–19 live beside the access right and the mapping flag): a value stored
+/// behind a 70,000-byte string reads back, and the access rights stay apart from the offset.
+#[test]
+fn rows_reach_past_64_kib() {
+    const BIG: Entry<crate::OctetString<70_000>> = Entry::new(0x2000, 0, "", Access::Ro, false);
+    const SMALL: Entry<u32> = Entry::new(0x2001, 0, "", Access::Rw, true);
+    const TABLE: Table<2> = Table::new([crate::slave::row!(BIG), crate::slave::row!(SMALL)]);
+    assert_eq!(TABLE.size(), 70_004);
+    let mut values = vec![0u8; TABLE.size()];
+    TABLE.write(&mut values, 0x2001, 0, &0x1234_5678u32.to_le_bytes(), &mut ()).unwrap();
+    assert_eq!(values[70_000..], 0x1234_5678u32.to_le_bytes());
+    let mut buf = [0u8; 4];
+    assert_eq!(TABLE.read(&values, 0x2001, 0, &mut buf), Ok(4));
+    assert_eq!(u32::from_le_bytes(buf), 0x1234_5678);
+    assert_eq!(TABLE.access(0x2000, 0), Some(Access::Ro));
+    assert_eq!(TABLE.access(0x2001, 0), Some(Access::Rw));
+    assert_eq!(TABLE.write(&mut values, 0x2000, 0, &[0], &mut ()), Err(SdoAbort::WriteOfReadOnly));
+    // The offset's high bits leave the mapping flag alone: BIG is not mappable, SMALL is.
+    assert_eq!(TABLE.pdo_mappable(0x2000, 0, true), Err(SdoAbort::NotMappable));
+    assert_eq!(TABLE.pdo_mappable(0x2001, 0, true), Ok(32));
+}
+
+/// CiA 301 §7.5.2.36/38: a mapping entry names an object the file lets map in that
+/// direction (`PDOMapping=1`; CiA 306 access: `rww` into RPDOs, `ro` into TPDOs), with its
+/// size; the node refuses the others with 0x06040041 or 0x06020000.
+#[test]
+fn pdo_mappable_follows_the_flag_and_the_direction() {
+    // 0x6040 controlword: rww, PDOMapping=1, 16 bits.
+    assert_eq!(TABLE.pdo_mappable(0x6040, 0, false), Ok(16));
+    assert_eq!(TABLE.pdo_mappable(0x6040, 0, true), Err(SdoAbort::NotMappable));
+    // 0x2000:2 is rw but its file says PDOMapping=0.
+    assert_eq!(TABLE.pdo_mappable(0x2000, 2, false), Err(SdoAbort::NotMappable));
+    assert_eq!(TABLE.pdo_mappable(0x2000, 9, true), Err(SdoAbort::NoSuchSub));
+    assert_eq!(TABLE.pdo_mappable(0x3000, 0, true), Err(SdoAbort::NoSuchObject));
+    // The flag bit does not change the access.
+    assert_eq!(TABLE.access(0x6040, 0), Some(Access::Rww));
 }

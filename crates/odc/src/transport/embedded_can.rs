@@ -2,7 +2,7 @@
 //! them carries odc's frames. [`CanFrame`] is itself an [`embedded_can::Frame`], and converts
 //! from and to any other implementation ([`CanFrame::from_frame`], [`CanFrame::to_frame`]).
 //!
-//! [`NbBus`] and [`BlockingBus`] make a [`Bus`] of a driver and a millisecond clock the user
+//! [`NbBus`] and [`BlockingBus`] make a [`Bus`] of a driver and a clock the user
 //! supplies (a timer, a tick counter): the `embedded_can` traits have no notion of time.
 //!
 //! ```
@@ -19,6 +19,7 @@ use embedded_can::{ExtendedId, Frame, Id, StandardId};
 
 use super::Bus;
 use crate::can::CanFrame;
+use crate::time::Instant;
 
 impl Frame for CanFrame {
     fn new(id: impl Into<Id>, data: &[u8]) -> Option<Self> {
@@ -125,8 +126,8 @@ pub struct NbBus<C, T> {
     clock: T,
 }
 
-impl<C: embedded_can::nb::Can, T: FnMut() -> u64> NbBus<C, T> {
-    /// The bus of driver `can`; `clock` gives monotonic milliseconds.
+impl<C: embedded_can::nb::Can, T: FnMut() -> Instant> NbBus<C, T> {
+    /// The bus of driver `can`; `clock` tells the time (a monotonic timer's [`Instant`]).
     pub fn new(can: C, clock: T) -> Self {
         Self { can, clock }
     }
@@ -163,7 +164,7 @@ impl<C: embedded_can::nb::Can, T: FnMut() -> u64> NbBus<C, T> {
     }
 }
 
-impl<C: embedded_can::nb::Can, T: FnMut() -> u64> Bus for NbBus<C, T> {
+impl<C: embedded_can::nb::Can, T: FnMut() -> Instant> Bus for NbBus<C, T> {
     type Error = Error<C::Error>;
 
     fn send(&mut self, frame: &CanFrame) -> Result<(), Self::Error> {
@@ -171,18 +172,18 @@ impl<C: embedded_can::nb::Can, T: FnMut() -> u64> Bus for NbBus<C, T> {
         self.transmit(&f)
     }
 
-    fn recv(&mut self, deadline_ms: u64) -> Result<Option<CanFrame>, Self::Error> {
+    fn recv(&mut self, deadline: Instant) -> Result<Option<CanFrame>, Self::Error> {
         loop {
             match self.can.receive() {
                 Ok(f) => return Ok(Some(CanFrame::from_frame(&f))),
-                Err(nb::Error::WouldBlock) if (self.clock)() >= deadline_ms => return Ok(None),
+                Err(nb::Error::WouldBlock) if (self.clock)() >= deadline => return Ok(None),
                 Err(nb::Error::WouldBlock) => {}
                 Err(nb::Error::Other(e)) => return Err(Error::Driver(e)),
             }
         }
     }
 
-    fn now_ms(&mut self) -> u64 {
+    fn now(&mut self) -> Instant {
         (self.clock)()
     }
 }
@@ -196,8 +197,8 @@ pub struct BlockingBus<C, T> {
     clock: T,
 }
 
-impl<C: embedded_can::blocking::Can, T: FnMut() -> u64> BlockingBus<C, T> {
-    /// The bus of driver `can`; `clock` gives monotonic milliseconds.
+impl<C: embedded_can::blocking::Can, T: FnMut() -> Instant> BlockingBus<C, T> {
+    /// The bus of driver `can`; `clock` tells the time (a monotonic timer's [`Instant`]).
     pub fn new(can: C, clock: T) -> Self {
         Self { can, clock }
     }
@@ -208,7 +209,7 @@ impl<C: embedded_can::blocking::Can, T: FnMut() -> u64> BlockingBus<C, T> {
     }
 }
 
-impl<C: embedded_can::blocking::Can, T: FnMut() -> u64> Bus for BlockingBus<C, T> {
+impl<C: embedded_can::blocking::Can, T: FnMut() -> Instant> Bus for BlockingBus<C, T> {
     type Error = Error<C::Error>;
 
     fn send(&mut self, frame: &CanFrame) -> Result<(), Self::Error> {
@@ -216,11 +217,11 @@ impl<C: embedded_can::blocking::Can, T: FnMut() -> u64> Bus for BlockingBus<C, T
         self.can.transmit(&f).map_err(Error::Driver)
     }
 
-    fn recv(&mut self, _deadline_ms: u64) -> Result<Option<CanFrame>, Self::Error> {
+    fn recv(&mut self, _deadline: Instant) -> Result<Option<CanFrame>, Self::Error> {
         self.can.receive().map(|f| Some(CanFrame::from_frame(&f))).map_err(Error::Driver)
     }
 
-    fn now_ms(&mut self) -> u64 {
+    fn now(&mut self) -> Instant {
         (self.clock)()
     }
 }
@@ -268,19 +269,19 @@ mod tests {
         let fake = Fake { sent: [None; 4], n: 0, busy: true, rx: None };
         let mut bus = NbBus::new(fake, move || {
             t += 1;
-            t
+            Instant::from_millis(t)
         });
         let a = CanFrame::from_slice(0x181, &[1]).unwrap();
         let b = CanFrame::remote(0x705, 1).unwrap();
         bus.send(&a).unwrap();
         bus.send(&b).unwrap();
-        assert_eq!(bus.recv(10).unwrap(), None);
-        assert!(bus.now_ms() > 10);
+        assert_eq!(bus.recv(Instant::from_millis(10)).unwrap(), None);
+        assert!(bus.now() > Instant::from_millis(10));
         let mut fake = bus.into_inner();
         assert_eq!(&fake.sent[..2], &[Some(a), Some(b)]);
         fake.rx = Some(CanFrame::extended(0x1234_5678, &[9]).unwrap());
-        let mut bus = NbBus::new(fake, || 0);
-        let got = bus.recv(0).unwrap().unwrap();
+        let mut bus = NbBus::new(fake, || Instant::ZERO);
+        let got = bus.recv(Instant::ZERO).unwrap().unwrap();
         assert!(got.extended && got.id == 0x1234_5678 && got.bytes() == [9]);
     }
 

@@ -9,7 +9,7 @@
 //! let bus = MemBus::new();
 //! let (mut a, mut b, mut c) = (bus.port(), bus.port(), bus.port());
 //! a.send(&CanFrame::from_slice(0x701, &[0]).unwrap())?;
-//! let now = b.now_ms();
+//! let now = b.now();
 //! assert_eq!(b.recv(now)?.map(|f| f.id()), Some(0x701));
 //! assert_eq!(c.try_recv()?.map(|f| f.id()), Some(0x701));
 //! assert_eq!(a.try_recv()?, None); // not to the sender
@@ -18,11 +18,12 @@
 
 use std::collections::VecDeque;
 use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
-use std::time::{Duration, Instant};
+use std::time::Instant as StdInstant;
 use std::vec::Vec;
 
 use super::Bus;
 use crate::can::CanFrame;
+use crate::time::Instant;
 
 /// The bus can no longer be used: a thread panicked while it held the bus.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -52,7 +53,7 @@ struct Shared {
 struct Inner {
     shared: Mutex<Shared>,
     arrived: Condvar,
-    start: Instant,
+    start: StdInstant,
 }
 
 /// The bus: makes ports. Cloning it gives another handle on the same bus.
@@ -66,12 +67,12 @@ impl Default for MemBus {
 }
 
 impl MemBus {
-    /// An empty bus; its clock (`now_ms` of every port) starts now.
+    /// An empty bus; its clock (`now` of every port) starts now.
     pub fn new() -> Self {
         Self(Arc::new(Inner {
             shared: Mutex::new(Shared::default()),
             arrived: Condvar::new(),
-            start: Instant::now(),
+            start: StdInstant::now(),
         }))
     }
 
@@ -105,8 +106,8 @@ impl MemPort {
         Ok(s.queues.get_mut(self.me).and_then(Option::as_mut).and_then(VecDeque::pop_front))
     }
 
-    fn elapsed_ms(&self) -> u64 {
-        u64::try_from(self.bus.start.elapsed().as_millis()).unwrap_or(u64::MAX)
+    fn elapsed(&self) -> Instant {
+        Instant::since(self.bus.start)
     }
 }
 
@@ -134,7 +135,7 @@ impl Bus for MemPort {
         Ok(())
     }
 
-    fn recv(&mut self, deadline_ms: u64) -> Result<Option<CanFrame>, Closed> {
+    fn recv(&mut self, deadline: Instant) -> Result<Option<CanFrame>, Closed> {
         let mut s = self.lock()?;
         loop {
             if let Some(f) =
@@ -142,23 +143,23 @@ impl Bus for MemPort {
             {
                 return Ok(Some(f));
             }
-            let now = self.elapsed_ms();
-            if now >= deadline_ms {
+            let now = self.elapsed();
+            if now >= deadline {
                 return Ok(None);
             }
-            let wait = Duration::from_millis(deadline_ms - now);
-            s = self.bus.arrived.wait_timeout(s, wait)?.0;
+            s = self.bus.arrived.wait_timeout(s, (deadline - now).into())?.0;
         }
     }
 
-    fn now_ms(&mut self) -> u64 {
-        self.elapsed_ms()
+    fn now(&mut self) -> Instant {
+        self.elapsed()
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::time::Duration;
 
     #[test]
     fn every_other_port_receives() {
@@ -184,15 +185,15 @@ mod tests {
         let mut rx = bus.port();
         let mut tx = bus.port();
         let t = std::thread::spawn(move || {
-            std::thread::sleep(Duration::from_millis(20));
+            std::thread::sleep(std::time::Duration::from_millis(20));
             tx.send(&CanFrame::remote(0x705, 1).unwrap()).unwrap();
         });
-        let start = rx.now_ms();
-        let got = rx.recv(start + 2000).unwrap();
+        let start = rx.now();
+        let got = rx.recv(start + Duration::from_secs(2)).unwrap();
         assert_eq!(got, Some(CanFrame::remote(0x705, 1).unwrap()));
         t.join().unwrap();
-        let before = rx.now_ms();
-        assert_eq!(rx.recv(before + 30).unwrap(), None);
-        assert!(rx.now_ms() >= before + 30);
+        let before = rx.now();
+        assert_eq!(rx.recv(before + Duration::from_millis(30)).unwrap(), None);
+        assert!(rx.now() >= before + Duration::from_millis(30));
     }
 }

@@ -8,6 +8,7 @@
 //! - `tcp` (`std`): the 16-byte SocketCAN-layout records over TCP of `tests/interop`.
 
 use crate::can::CanFrame;
+use crate::time::Instant;
 
 #[cfg(feature = "embedded-can")]
 pub mod embedded_can;
@@ -30,16 +31,17 @@ pub trait Bus {
     /// When the interface fails.
     fn send(&mut self, frame: &CanFrame) -> Result<(), Self::Error>;
 
-    /// The next received frame, waiting until the clock reaches `deadline_ms` at the latest;
-    /// `None` if nothing arrived by then.
+    /// The next received frame, waiting until the clock ([`Bus::now`]) reaches `deadline` at
+    /// the latest; `None` if nothing arrived by then.
     ///
     /// # Errors
     ///
     /// When the interface fails.
-    fn recv(&mut self, deadline_ms: u64) -> Result<Option<CanFrame>, Self::Error>;
+    fn recv(&mut self, deadline: Instant) -> Result<Option<CanFrame>, Self::Error>;
 
-    /// A monotonic clock in milliseconds.
-    fn now_ms(&mut self) -> u64;
+    /// The interface's monotonic clock: the time base of `recv`'s deadline and of every
+    /// timeout the SDO client and the master keep.
+    fn now(&mut self) -> Instant;
 }
 
 /// A borrowed bus is a bus: a master or client can work on one it does not own.
@@ -50,11 +52,11 @@ impl<B: Bus + ?Sized> Bus for &mut B {
         (**self).send(frame)
     }
 
-    fn recv(&mut self, deadline_ms: u64) -> Result<Option<CanFrame>, B::Error> {
-        (**self).recv(deadline_ms)
+    fn recv(&mut self, deadline: Instant) -> Result<Option<CanFrame>, B::Error> {
+        (**self).recv(deadline)
     }
 
-    fn now_ms(&mut self) -> u64 {
-        (**self).now_ms()
+    fn now(&mut self) -> Instant {
+        (**self).now()
     }
 }

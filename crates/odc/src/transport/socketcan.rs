@@ -5,17 +5,18 @@
 //! waits for the next frame until the deadline.
 
 use std::io;
-use std::time::{Duration, Instant};
+use std::time::Instant as StdInstant;
 
 use socketcan::{CanSocket, Socket};
 
 use super::Bus;
 use crate::can::CanFrame;
+use crate::time::Instant;
 
-/// A [`Bus`] over a SocketCAN interface, with a millisecond clock from its opening.
+/// A [`Bus`] over a SocketCAN interface, with a clock from its opening.
 pub struct SocketCan {
     socket: CanSocket,
-    start: Instant,
+    start: StdInstant,
 }
 
 impl SocketCan {
@@ -30,7 +31,7 @@ impl SocketCan {
 
     /// Wraps an open socket (with the filters the caller set).
     pub fn from_socket(socket: CanSocket) -> Self {
-        Self { socket, start: Instant::now() }
+        Self { socket, start: StdInstant::now() }
     }
 
     /// The socket.
@@ -49,13 +50,13 @@ impl Bus for SocketCan {
         self.socket.write_frame_insist(&f)
     }
 
-    fn recv(&mut self, deadline_ms: u64) -> io::Result<Option<CanFrame>> {
+    fn recv(&mut self, deadline: Instant) -> io::Result<Option<CanFrame>> {
         loop {
-            let now = self.now_ms();
-            if now >= deadline_ms {
+            let now = self.now();
+            if now >= deadline {
                 return Ok(None);
             }
-            match self.socket.read_frame_timeout(Duration::from_millis(deadline_ms - now)) {
+            match self.socket.read_frame_timeout((deadline - now).into()) {
                 Ok(socketcan::CanFrame::Error(_)) => {}
                 Ok(f) => return Ok(Some(CanFrame::from_frame(&f))),
                 Err(e)
@@ -69,7 +70,7 @@ impl Bus for SocketCan {
         }
     }
 
-    fn now_ms(&mut self) -> u64 {
-        u64::try_from(self.start.elapsed().as_millis()).unwrap_or(u64::MAX)
+    fn now(&mut self) -> Instant {
+        Instant::since(self.start)
     }
 }

@@ -25,7 +25,7 @@
 
 use std::io::{self, Read, Write};
 use std::net::{Shutdown, TcpStream};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 use std::vec::Vec;
 
 use crate::can::CanFrame;
@@ -139,7 +139,7 @@ impl Decoder {
     }
 }
 
-/// One end of a TCP CAN link, with a millisecond clock since it was made: a [`Bus`].
+/// One end of a TCP CAN link, with a clock since it was made: a [`Bus`].
 #[derive(Debug)]
 pub struct TcpCan {
     stream: TcpStream,
@@ -190,17 +190,17 @@ impl Bus for TcpCan {
 
     /// `Err(UnexpectedEof)` once the peer closed the connection, `Err(InvalidData)` for a
     /// record that is no frame.
-    fn recv(&mut self, deadline_ms: u64) -> io::Result<Option<CanFrame>> {
+    fn recv(&mut self, deadline: crate::time::Instant) -> io::Result<Option<CanFrame>> {
         loop {
             if let Some(frame) = self.decoder.next_frame() {
                 self.frames += 1;
                 return frame.map(Some).map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e));
             }
-            let now = self.now_ms();
-            if now >= deadline_ms {
+            let now = self.now();
+            if now >= deadline {
                 return Ok(None);
             }
-            self.stream.set_read_timeout(Some(Duration::from_millis(deadline_ms - now)))?;
+            self.stream.set_read_timeout(Some((deadline - now).into()))?;
             let mut buf = [0u8; 1024];
             match self.stream.read(&mut buf) {
                 Ok(0) => return Err(io::ErrorKind::UnexpectedEof.into()),
@@ -216,8 +216,8 @@ impl Bus for TcpCan {
         }
     }
 
-    fn now_ms(&mut self) -> u64 {
-        u64::try_from(self.start.elapsed().as_millis()).unwrap_or(u64::MAX)
+    fn now(&mut self) -> crate::time::Instant {
+        crate::time::Instant::since(self.start)
     }
 }
 
@@ -276,13 +276,13 @@ mod tests {
         let mut server = TcpCan::new(listener.accept().unwrap().0).unwrap();
         let f = CanFrame::new(0x605, [0x40, 0x00, 0x10, 0x00, 0, 0, 0, 0]).unwrap();
         client.send(&f).unwrap();
-        let deadline = server.now_ms() + 5000;
+        let deadline = server.now() + crate::time::Duration::from_secs(5);
         assert_eq!(server.recv(deadline).unwrap(), Some(f));
         server.send(&f).unwrap();
-        let deadline = client.now_ms() + 5000;
+        let deadline = client.now() + crate::time::Duration::from_secs(5);
         assert_eq!(client.recv(deadline).unwrap(), Some(f));
         client.shutdown().unwrap();
-        let deadline = server.now_ms() + 5000;
+        let deadline = server.now() + crate::time::Duration::from_secs(5);
         assert_eq!(server.recv(deadline).unwrap_err().kind(), io::ErrorKind::UnexpectedEof);
     }
 }

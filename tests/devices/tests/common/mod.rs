@@ -17,73 +17,163 @@ use odc::{Entry, ObjValue, Pdo};
 /// string) fits.
 pub const N: usize = 128;
 
-/// A frame as the manual prints it, and how much of it the manual defines.
+/// A frame as the manual prints it: its CAN-ID, its bytes, and the positions the manual
+/// prints as placeholders (`xxh`, `-`, `CurveID`: written `..` in the transcription).
 #[derive(Clone, Debug)]
 pub struct Printed {
-    /// The frame.
-    pub frame: CanFrame,
-    /// Bytes to compare: all printed ones unless the manual says the rest is undefined.
-    pub defined: usize,
-    /// The manual's text, for messages.
+    /// The CAN-ID as printed.
+    pub id: u32,
+    /// Whether the manual prints a remote frame (node guarding's request).
+    pub remote: bool,
+    /// The data bytes as printed; `None` where the manual prints a placeholder.
+    pub bytes: Vec<Option<u8>>,
+    /// The manual's text, for messages and the records.
     pub text: &'static str,
+    /// Why the frame on the wire does not count as reproduced (a test built or chose some of
+    /// its bytes, or it differs from the print); `None`: compared exactly and counted.
+    pub not_reproduced: Option<&'static str>,
 }
 
 /// Parses the manual's notation `"601 / 23 01 14 01 01 03 00 04"` (CAN-ID, then data bytes,
-/// all hexadecimal), or `"702 RTR"` for a remote frame. OCR mistakes are fixed in the transcription, never here.
+/// all hexadecimal; `..` where the manual prints a placeholder), or `"702 RTR"` for a remote
+/// frame. OCR mistakes are fixed in the transcription, never here.
 pub fn printed(text: &'static str) -> Printed {
     // `"702 RTR"`: a remote frame (node guarding's request), which carries no data.
     if let Some(id) = text.strip_suffix(" RTR") {
         let id = u32::from_str_radix(id.trim(), 16).expect("hex CAN-ID");
-        return Printed { frame: CanFrame::remote(id, 1).unwrap(), defined: 0, text };
+        return Printed { id, remote: true, bytes: Vec::new(), text, not_reproduced: None };
     }
     let (id, data) = text.split_once('/').expect("`ID / bytes`");
     let id = u32::from_str_radix(id.trim(), 16).expect("hex CAN-ID");
-    let bytes: Vec<u8> =
-        data.split_whitespace().map(|b| u8::from_str_radix(b, 16).expect("hex byte")).collect();
-    let frame = CanFrame::from_slice(id, &bytes).expect("at most 8 bytes");
-    Printed { frame, defined: bytes.len(), text }
+    let bytes: Vec<Option<u8>> = data
+        .split_whitespace()
+        .map(|b| (b != "..").then(|| u8::from_str_radix(b, 16).expect("hex byte")))
+        .collect();
+    assert!(bytes.len() <= 8, "{text}: more than 8 bytes");
+    Printed { id, remote: false, bytes, text, not_reproduced: None }
 }
 
 impl Printed {
-    /// Only the first `n` bytes are defined (the manual's own table says the rest is not, or
-    /// the print lost them).
-    pub fn defined(mut self, n: usize) -> Self {
-        self.defined = n;
+    /// The frame on the wire is not counted as reproduced, for `why` (recorded).
+    pub fn not_reproduced(mut self, why: &'static str) -> Self {
+        self.not_reproduced = Some(why);
         self
     }
 
-    /// Whether `frame` is this frame in every defined byte (and has the printed CAN-ID).
+    /// Whether `frame` is this frame exactly: the CAN-ID, remote or data, the length, and
+    /// every byte the manual prints as a value.
     pub fn matches(&self, frame: &CanFrame) -> bool {
-        let n = self.defined;
-        frame.id() == self.frame.id()
-            && frame.is_remote() == self.frame.is_remote()
-            && frame.bytes().len() >= n
-            && frame.bytes().get(..n) == self.frame.bytes().get(..n)
+        frame.id() == self.id
+            && frame.is_remote() == self.remote
+            && frame.bytes().len() == self.bytes.len()
+            && frame.bytes().iter().zip(&self.bytes).all(|(b, p)| p.is_none_or(|p| p == *b))
     }
 }
 
-/// Compares the frames on the wire with the manual's, one by one, and says which differ.
-pub fn assert_same(wire: &[CanFrame], manual: &[Printed]) {
-    let show = |f: &CanFrame| {
-        let bytes: Vec<String> = f.bytes().iter().map(|b| format!("{b:02X}")).collect();
-        format!("{:X} / {}", f.id(), bytes.join(" "))
-    };
-    for (i, (ours, theirs)) in wire.iter().zip(manual).enumerate() {
-        assert!(
-            theirs.matches(ours),
-            "frame {}: built {}, the manual prints {} (compared bytes: {})",
-            i + 1,
-            show(ours),
-            theirs.text,
-            theirs.defined
-        );
+/// Shows a frame as the transcriptions write it.
+pub fn show(f: &CanFrame) -> String {
+    if f.is_remote() {
+        return format!("{:X} RTR", f.id());
     }
-    assert_eq!(
-        wire.len(),
-        manual.len(),
-        "frames built: {:#?}",
-        wire.iter().map(show).collect::<Vec<_>>()
-    );
+    let bytes: Vec<String> = f.bytes().iter().map(|b| format!("{b:02X}")).collect();
+    format!("{:X} / {}", f.id(), bytes.join(" "))
+}
+
+/// The comparisons of one test with the manual's printed frames, kept as records: the
+/// counts of `tests/devices/README.md` are made from them (`tests/table.rs`).
+///
+/// Each record is one printed frame: the test, where the manual prints it, whether it is
+/// reproduced (`R`, compared exactly) or not (`N`, with the reason), the printed text and the
+/// bytes on the wire. On drop (a test that passed), the records are compared with the test's
+/// block in `records/<test file>.tsv`; with `ODC_RECORDS=write` that block is rewritten.
+pub struct Records {
+    test: &'static str,
+    lines: Vec<String>,
+}
+
+impl Records {
+    /// The records of test function `test` of this test file.
+    pub fn new(test: &'static str) -> Self {
+        Records { test, lines: Vec::new() }
+    }
+
+    /// Compares the frames library code put on the wire with the manual's, one by one, at
+    /// `at` (the README row's key: section, figure or table): each reproduced one exactly.
+    pub fn compare(&mut self, at: &'static str, wire: &[CanFrame], manual: &[Printed]) {
+        for (i, (ours, theirs)) in wire.iter().zip(manual).enumerate() {
+            if theirs.not_reproduced.is_none() {
+                assert!(
+                    theirs.matches(ours),
+                    "{at}, frame {}: built {}, the manual prints {}",
+                    i + 1,
+                    show(ours),
+                    theirs.text
+                );
+            }
+        }
+        assert_eq!(
+            wire.len(),
+            manual.len(),
+            "{at}: frames built: {:#?}",
+            wire.iter().map(show).collect::<Vec<_>>()
+        );
+        for (ours, theirs) in wire.iter().zip(manual) {
+            self.push(at, theirs.text, &show(ours), theirs.not_reproduced);
+        }
+    }
+
+    /// Printed frames no library code builds here, with the reason.
+    pub fn printed_only(&mut self, at: &'static str, manual: &[&'static str], why: &'static str) {
+        for text in manual {
+            self.push(at, text, "-", Some(why));
+        }
+    }
+
+    fn push(&mut self, at: &str, printed: &str, made: &str, why: Option<&str>) {
+        let (kind, why) = match why {
+            Some(why) => ("N", why),
+            None => ("R", ""),
+        };
+        let line = format!("{}\t{at}\t{kind}\t{printed}\t{made}\t{why}", self.test);
+        assert!(!line[self.test.len()..].contains('\n'), "one line per record");
+        self.lines.push(line);
+    }
+}
+
+/// Serialises the rewrites of one records file by the tests of one binary.
+static RECORDS_FILE: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+impl Drop for Records {
+    fn drop(&mut self) {
+        if std::thread::panicking() {
+            return;
+        }
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("records")
+            .join(format!("{}.tsv", env!("CARGO_CRATE_NAME")));
+        let _guard = RECORDS_FILE.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+        let text = std::fs::read_to_string(&path).unwrap_or_default();
+        let prefix = format!("{}\t", self.test);
+        let committed: Vec<&str> = text.lines().filter(|l| l.starts_with(&prefix)).collect();
+        if std::env::var_os("ODC_RECORDS").is_some_and(|v| v == "write") {
+            let mut all: Vec<String> =
+                text.lines().filter(|l| !l.starts_with(&prefix)).map(str::to_owned).collect();
+            all.extend(self.lines.iter().cloned());
+            // Stable: by test, each test's records in the order it compared them.
+            all.sort_by(|a, b| a.split('\t').next().cmp(&b.split('\t').next()));
+            std::fs::create_dir_all(path.parent().expect("records/")).expect("records/");
+            std::fs::write(&path, all.join("\n") + "\n").expect("records written");
+        } else {
+            assert_eq!(
+                committed,
+                self.lines,
+                "{}: the test's comparisons and {} differ (rerun with ODC_RECORDS=write, then \
+                 `ODC_RECORDS=write cargo test -p odc-tests-devices --test table`)",
+                self.test,
+                path.display()
+            );
+        }
+    }
 }
 
 /// What the device side does besides answering SDOs: the wire loops every request through
@@ -113,13 +203,13 @@ impl<D: ObjectDictionary> Bus for Wire<D> {
         Ok(())
     }
 
-    fn recv(&mut self, _deadline_ms: u64) -> Result<Option<CanFrame>, Self::Error> {
+    fn recv(&mut self, _deadline: odc::time::Instant) -> Result<Option<CanFrame>, Self::Error> {
         Ok(self.inbox.pop_front())
     }
 
-    fn now_ms(&mut self) -> u64 {
+    fn now(&mut self) -> odc::time::Instant {
         self.now += 1;
-        self.now
+        odc::time::Instant::from_millis(self.now)
     }
 }
 
@@ -183,7 +273,8 @@ impl<D: ObjectDictionary> Bench<D> {
 
     /// The NMT command to every node (node 0), as the examples send it.
     pub fn nmt_all(&mut self, cmd: NmtCommand) {
-        self.wire.log.push(CanFrame::from_slice(0, &cmd.frame(None)).expect("2 bytes"));
+        let id = odc::cob::Function::Nmt.base().expect("NMT has a CAN-ID");
+        self.wire.log.push(CanFrame::from_slice(id.into(), &cmd.frame(None)).expect("2 bytes"));
     }
 
     /// A PDO on the wire (either direction): its COB-ID for this node and its packed bytes.

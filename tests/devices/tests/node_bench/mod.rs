@@ -107,19 +107,19 @@ impl<D: ObjectDictionary> Bus for NodeWire<D> {
         Ok(())
     }
 
-    fn recv(&mut self, _deadline_ms: u64) -> Result<Option<CanFrame>, Self::Error> {
+    fn recv(&mut self, _deadline: odc::time::Instant) -> Result<Option<CanFrame>, Self::Error> {
         Ok(self.inbox.pop_front())
     }
 
-    fn now_ms(&mut self) -> u64 {
+    fn now(&mut self) -> odc::time::Instant {
         self.tick();
-        self.now_us / 1_000
+        odc::time::Instant::from_micros(self.now_us)
     }
 }
 
 /// odc's master on a wire with node `node_id` (booted) on dictionary `od`.
 pub fn master<D: ObjectDictionary>(node_id: odc::cob::NodeId, od: D) -> Master<NodeWire<D>> {
-    Master::new(NodeWire::new(node_id, od)).with_timeout(50)
+    Master::new(NodeWire::new(node_id, od)).with_timeout(odc::time::Duration::from_millis(50))
 }
 
 /// The heartbeat frames of node `node_id` on `od`, boot-up first: its producer heartbeat time

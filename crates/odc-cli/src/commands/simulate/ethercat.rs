@@ -10,20 +10,25 @@ use odc_sim::ethercat::{Chain, SubDevice};
 use crate::input;
 
 /// Loads each `FILE[@DEVICE]`, builds the line of devices and serves it on `iface` until the
-/// end of standard input.
-pub fn run(files: &[String], levels: &input::Levels, iface: &str) -> anyhow::Result<ExitCode> {
+/// first SIGINT or SIGTERM (or the end of standard input with `stop_on_eof`).
+pub fn run(
+    files: &[String],
+    levels: &input::Levels,
+    iface: &str,
+    stop_on_eof: bool,
+) -> anyhow::Result<ExitCode> {
     let mut devices = Vec::with_capacity(files.len());
     for spec in files {
         let (path, levels) = split_spec(spec, levels);
         let loaded = input::load(path, &levels)?;
-        super::super::gate(&loaded)?;
+        super::super::gate_bus(&loaded)?;
         let model = loaded.device()?;
         let Some(ecat) = model.ethercat.as_deref() else {
             bail!("{}: --interface runs EtherCAT devices (ESI); this is a CANopen device", spec)
         };
         let device = SubDevice::new(model)
             .with_context(|| format!("{spec}: cannot make the device's SII image"))?;
-        eprintln!(
+        elog!(
             "device {}: {} (vendor {:#010x}, product {:#010x}), {} dictionary entries",
             devices.len() + 1,
             device.name(),
@@ -33,7 +38,7 @@ pub fn run(files: &[String], levels: &input::Levels, iface: &str) -> anyhow::Res
         );
         devices.push(device);
     }
-    serve(iface, Chain::new(devices))
+    serve(iface, Chain::new(devices), stop_on_eof)
 }
 
 /// `FILE@DEVICE` (when FILE exists) as the file and `--device DEVICE`; anything else as a
@@ -50,36 +55,44 @@ fn split_spec<'a>(spec: &'a str, levels: &input::Levels) -> (&'a Path, input::Le
 }
 
 #[cfg(not(target_os = "linux"))]
-fn serve(iface: &str, _chain: Chain) -> anyhow::Result<ExitCode> {
+fn serve(iface: &str, _chain: Chain, _stop_on_eof: bool) -> anyhow::Result<ExitCode> {
     bail!("--interface {iface}: raw Ethernet frames are supported on Linux only")
 }
 
 #[cfg(target_os = "linux")]
-fn serve(iface: &str, mut chain: Chain) -> anyhow::Result<ExitCode> {
-    use std::io::Write;
+fn serve(iface: &str, mut chain: Chain, stop_on_eof: bool) -> anyhow::Result<ExitCode> {
     use std::sync::atomic::Ordering;
     use std::time::Instant;
+    if is_down(iface) {
+        bail!(
+            "--interface {iface}: the interface is down; bring it up first \
+             (`ip link set {iface} up`, as root)"
+        );
+    }
     let mut endpoint = odc_sim::EthernetEndpoint::open(iface)
         .with_context(|| format!("--interface {iface}: cannot open it for raw frames"))?;
-    {
-        let mut stdout = std::io::stdout().lock();
-        writeln!(stdout, "serving {} devices on {iface}", chain.devices().len())?;
-        stdout.flush()?;
-    }
-    let stop = super::stop_at_end_of_stdin();
+    super::super::out_flushed(&format!("serving {} devices on {iface}\n", chain.devices().len()))?;
+    let stop = super::stop::flag(stop_on_eof)?;
     let start = Instant::now();
     let clock = || u64::try_from(start.elapsed().as_nanos()).unwrap_or(u64::MAX);
     let served = endpoint
         .serve(|frame| chain.process(frame, clock()).is_ok(), || stop.load(Ordering::Relaxed))
-        .with_context(|| format!("--interface {iface}"))?;
-    eprintln!(
+        .with_context(|| {
+            // The raw socket reports an interface taken down under it only as a poll error.
+            if is_down(iface) {
+                format!("--interface {iface}: the interface went down")
+            } else {
+                format!("--interface {iface}")
+            }
+        })?;
+    elog!(
         "{} frames ({} datagrams) served, {} malformed or not EtherCAT",
         served.frames,
         chain.datagrams(),
         served.ignored
     );
     for (k, device) in chain.devices().iter().enumerate() {
-        eprintln!(
+        elog!(
             "device {}: AL state {:#04x}, status code {:#06x}",
             k + 1,
             device.al_state(),
@@ -87,4 +100,18 @@ fn serve(iface: &str, mut chain: Chain) -> anyhow::Result<ExitCode> {
         );
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// Whether the interface exists and is administratively down (`IFF_UP` clear in
+/// `/sys/class/net/IFACE/flags`): a raw socket on it fails at the first poll with no word
+/// of why.
+#[cfg(target_os = "linux")]
+fn is_down(iface: &str) -> bool {
+    const IFF_UP: u32 = 0x1;
+    let Ok(text) = std::fs::read_to_string(Path::new("/sys/class/net").join(iface).join("flags"))
+    else {
+        return false;
+    };
+    let hex = text.trim().trim_start_matches("0x");
+    u32::from_str_radix(hex, 16).is_ok_and(|flags| flags & IFF_UP == 0)
 }

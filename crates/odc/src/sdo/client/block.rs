@@ -5,6 +5,7 @@ use super::{Bus, Client, SdoError, State, Step};
 use crate::can::CanFrame;
 use crate::sdo::block::{self, BlockRequest, BlockResponse, BlockSegment, MAX_BLKSIZE};
 use crate::sdo::frame::{Request, pad};
+use crate::time::Instant;
 use crate::{ObjectAddr, SdoAbort};
 
 impl<const N: usize> Client<N> {
@@ -20,7 +21,7 @@ impl<const N: usize> Client<N> {
         index: u16,
         sub: u8,
         data: &[u8],
-        now_ms: u64,
+        now: Instant,
     ) -> Result<CanFrame, SdoError> {
         if self.is_busy() {
             return Err(SdoError::Busy);
@@ -30,8 +31,7 @@ impl<const N: usize> Client<N> {
         dst.copy_from_slice(data);
         self.len = data.len();
         let size = u32::try_from(data.len()).map_err(|_| SdoError::Local(SdoAbort::OutOfMemory))?;
-        self.state =
-            State::InitBlockDownload { addr, deadline: now_ms.saturating_add(self.timeout_ms) };
+        self.state = State::InitBlockDownload { addr, deadline: now + self.timeout };
         let req = BlockRequest::InitiateDownload { addr, crc: true, size: Some(size) };
         Ok(self.frame(Request::Block(req)))
     }
@@ -47,7 +47,7 @@ impl<const N: usize> Client<N> {
         &mut self,
         index: u16,
         sub: u8,
-        now_ms: u64,
+        now: Instant,
     ) -> Result<CanFrame, SdoError> {
         if self.is_busy() {
             return Err(SdoError::Busy);
@@ -55,8 +55,7 @@ impl<const N: usize> Client<N> {
         let addr = ObjectAddr::new(index, sub);
         self.len = 0;
         self.sized = true;
-        self.state =
-            State::InitBlockUpload { addr, deadline: now_ms.saturating_add(self.timeout_ms) };
+        self.state = State::InitBlockUpload { addr, deadline: now + self.timeout };
         // pst 0: this client asks for a block transfer whatever the size.
         let req = BlockRequest::InitiateUpload { addr, crc: true, blksize: MAX_BLKSIZE, pst: 0 };
         Ok(self.frame(Request::Block(req)))
@@ -74,7 +73,7 @@ impl<const N: usize> Client<N> {
         index: u16,
         sub: u8,
     ) -> Result<&[u8], SdoError<B::Error>> {
-        let first = self.start_block_upload(index, sub, bus.now_ms()).map_err(SdoError::widen)?;
+        let first = self.start_block_upload(index, sub, bus.now()).map_err(SdoError::widen)?;
         self.run(bus, first)?;
         Ok(self.data())
     }
@@ -92,7 +91,7 @@ impl<const N: usize> Client<N> {
         data: &[u8],
     ) -> Result<(), SdoError<B::Error>> {
         let first =
-            self.start_block_download(index, sub, data, bus.now_ms()).map_err(SdoError::widen)?;
+            self.start_block_download(index, sub, data, bus.now()).map_err(SdoError::widen)?;
         self.run(bus, first)
     }
 
@@ -120,7 +119,7 @@ impl<const N: usize> Client<N> {
         &mut self,
         addr: ObjectAddr,
         resp: BlockResponse,
-        deadline: u64,
+        deadline: Instant,
     ) -> Step {
         match (self.state, resp) {
             (
@@ -235,7 +234,7 @@ impl<const N: usize> Client<N> {
         &mut self,
         addr: ObjectAddr,
         frame: &CanFrame,
-        deadline: u64,
+        deadline: Instant,
     ) -> Option<Step> {
         let State::BlockUpload { crc, size, ackseq, .. } = self.state else {
             return Some(self.fail(addr, SdoAbort::InvalidCommand));

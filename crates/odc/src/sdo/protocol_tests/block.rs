@@ -3,10 +3,11 @@
 
 extern crate std;
 
-use super::{NODE, Od, abort_code, req, resp};
+use super::{NODE, Od, abort_code, ms, req, resp};
 use crate::SdoAbort;
 use crate::can::CanFrame;
 use crate::sdo::{Bus, Client, SdoError, Server, Step};
+use crate::time::{Duration, Instant};
 use std::collections::VecDeque;
 use std::vec::Vec;
 
@@ -253,7 +254,7 @@ struct Lossy {
     server: Server<64>,
     od: Od,
     queue: VecDeque<CanFrame>,
-    now: u64,
+    now: Instant,
     /// Client frames seen (1-based) that are lost before the server sees them.
     lose_request: Vec<usize>,
     /// Server frames (1-based) that are lost before the client sees them.
@@ -270,7 +271,7 @@ impl Lossy {
             server,
             od: Od::default(),
             queue: VecDeque::new(),
-            now: 0,
+            now: Instant::ZERO,
             lose_request: Vec::new(),
             lose_response: Vec::new(),
             damage_response: None,
@@ -288,12 +289,7 @@ impl Bus for Lossy {
             return Ok(());
         }
         let mut out = Vec::new();
-        self.server.handle_into(
-            &mut self.od,
-            frame,
-            crate::time::Instant::from_millis(self.now),
-            &mut |f| out.push(f),
-        );
+        self.server.handle_into(&mut self.od, frame, self.now, &mut |f| out.push(f));
         for mut f in out {
             self.responses += 1;
             if self.lose_response.contains(&self.responses) {
@@ -306,19 +302,19 @@ impl Bus for Lossy {
         }
         Ok(())
     }
-    fn recv(&mut self, deadline: u64) -> Result<Option<CanFrame>, ()> {
-        self.now += 1;
+    fn recv(&mut self, deadline: Instant) -> Result<Option<CanFrame>, ()> {
+        self.now += Duration::from_millis(1);
         let f = self.queue.pop_front();
         if f.is_none() {
             self.now = deadline;
             // Time passes on the server too.
-            if let Some(f) = self.server.poll(crate::time::Instant::from_millis(self.now + 1)) {
+            if let Some(f) = self.server.poll(self.now + Duration::from_millis(1)) {
                 self.queue.push_back(f);
             }
         }
         Ok(f)
     }
-    fn now_ms(&mut self) -> u64 {
+    fn now(&mut self) -> Instant {
         self.now
     }
 }
@@ -379,19 +375,19 @@ fn client_block_falls_back_and_times_out() {
     // A server that answers a block upload with a normal one (as CiA 301 lets it): here
     // the frames by hand, an expedited answer of 4 bytes.
     let mut c = Client::<64>::new(NODE);
-    let f = c.start_block_upload(0x1000, 0, 0).unwrap();
+    let f = c.start_block_upload(0x1000, 0, ms(0)).unwrap();
     assert_eq!(f.data, [0xA4, 0x00, 0x10, 0x00, 127, 0, 0, 0]);
     let answer = CanFrame::new(0x585, [0x43, 0x00, 0x10, 0x00, 0x92, 0x01, 0x02, 0x00]).unwrap();
-    assert_eq!(c.handle(&answer, 1), Some(Step::Done));
+    assert_eq!(c.handle(&answer, ms(1)), Some(Step::Done));
     assert_eq!(c.data(), [0x92, 0x01, 0x02, 0x00]);
     // Block download without an answer: local timeout, abort frame 0x05040000.
-    c.start_block_download(0x2001, 0, b"abc", 0).unwrap();
-    let Some(Step::Failed(e, Some(abort))) = c.poll(1001) else { panic!("no timeout") };
+    c.start_block_download(0x2001, 0, b"abc", ms(0)).unwrap();
+    let Some(Step::Failed(e, Some(abort))) = c.poll(ms(1001)) else { panic!("no timeout") };
     assert_eq!(e, SdoError::Local(SdoAbort::Timeout));
     assert_eq!(abort.data, [0x80, 0x01, 0x20, 0x00, 0x00, 0x00, 0x04, 0x05]);
     // A server blksize of 0: 0x05040002.
-    c.start_block_download(0x2001, 0, b"abc", 0).unwrap();
+    c.start_block_download(0x2001, 0, b"abc", ms(0)).unwrap();
     let bad = CanFrame::new(0x585, [0xA4, 0x01, 0x20, 0x00, 0, 0, 0, 0]).unwrap();
-    let Some(Step::Failed(e, _)) = c.handle(&bad, 1) else { panic!("accepted blksize 0") };
+    let Some(Step::Failed(e, _)) = c.handle(&bad, ms(1)) else { panic!("accepted blksize 0") };
     assert_eq!(e, SdoError::Local(SdoAbort::InvalidBlockSize));
 }
