@@ -170,7 +170,7 @@ where
 
     /// The next frame on the SDO response CAN-ID, within the timeout.
     pub fn raw_answer(&mut self) -> Result<Option<[u8; 8]>, String> {
-        match self.master.recv_frame(odc::cob::CobId(u32::from(self.node.sdo_response().raw()))) {
+        match self.master.recv_frame(odc::cob::CobId(self.node.sdo_response().raw())) {
             Ok(f) => Ok(Some(f.data())),
             Err(Error::Timeout { .. }) => Ok(None),
             Err(e) => Err(e.to_string()),

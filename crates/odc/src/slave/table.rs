@@ -237,8 +237,8 @@ pub(super) trait RowLike {
 
 impl RowLike for Row {
     fn packed(&self) -> u32 {
-        let key = self.key;
-        key
+        // A copy of the packed field, no reference to it.
+        self.key
     }
     fn at(&self) -> usize {
         Row::at(self)
