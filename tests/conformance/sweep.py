@@ -35,7 +35,7 @@ def one(odc, path, out, limit, tolerance):
     log = out / (path.name + ".simulate.log")
     with open(log, "w") as err_file:
         sim = subprocess.Popen(
-            [odc, "simulate", str(path), "--node-id", "5", "--tcp", "127.0.0.1:0"],
+            [odc, "simulate", str(path), "--node-id", "5", "--tcp", "127.0.0.1:0", "--stop-on-eof"],
             stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
             stderr=err_file,

@@ -20,9 +20,14 @@ fn odc(args: &[&str]) -> Output {
 
 /// `odc simulate FILE --node-id 5 --tcp 127.0.0.1:0`; its address.
 fn simulate(file: &str) -> (Child, String) {
+    simulate_as(file, "5")
+}
+
+/// `odc simulate FILE --node-id ID --tcp 127.0.0.1:0` (255: without node-ID); its address.
+fn simulate_as(file: &str, node_id: &str) -> (Child, String) {
     let mut sim = Command::new(env!("CARGO_BIN_EXE_odc"))
-        .args(["simulate", repo(file).to_str().unwrap(), "--node-id", "5", "--tcp", "127.0.0.1:0"])
-        .arg("--stop-on-eof")
+        .args(["simulate", repo(file).to_str().unwrap(), "--node-id", node_id])
+        .args(["--tcp", "127.0.0.1:0", "--stop-on-eof"])
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::null())
@@ -232,17 +237,7 @@ fn simulate_without_node_id_is_found_by_lss_fastscan() {
     use odc::lss::Identity;
     use odc::master::Master;
     use odc::nmt::NmtCommand;
-    let mut sim = Command::new(env!("CARGO_BIN_EXE_odc"))
-        .args(["simulate", repo("eds/lxm23a.eds").to_str().unwrap(), "--node-id", "255"])
-        .args(["--tcp", "127.0.0.1:0", "--stop-on-eof"])
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut first = String::new();
-    BufReader::new(sim.stdout.take().unwrap()).read_line(&mut first).unwrap();
-    let addr = first.trim().strip_prefix("listening on ").unwrap().to_owned();
+    let (mut sim, addr) = simulate_as("eds/lxm23a.eds", "255");
     let bus = odc::transport::tcp::TcpCan::connect(addr.as_str()).unwrap();
     let mut m = Master::new(bus).with_timeout(odc::time::Duration::from_millis(1000));
     let mut lss = m.lss().with_timeout(odc::time::Duration::from_millis(50));

@@ -14,6 +14,7 @@ fn repo(path: &str) -> PathBuf {
 fn simulate(file: &str) -> (Child, String) {
     let mut sim = Command::new(env!("CARGO_BIN_EXE_odc"))
         .args(["simulate", repo(file).to_str().unwrap(), "--node-id", "5", "--tcp", "127.0.0.1:0"])
+        .arg("--stop-on-eof")
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::null())

@@ -42,6 +42,9 @@ impl Display for SdoFail {
 fn sdo_fail<E: Display>(e: Error<E>) -> SdoFail {
     match e {
         Error::Sdo { error: SdoError::Remote(a), .. } => SdoFail::Abort(a.to_u32()),
+        // The master reports a missing SDO response as a timeout of its own (saying whether
+        // the node was heard at all); a client-side abort 0x05040000 is the same.
+        Error::Timeout { .. } => SdoFail::Timeout,
         Error::Sdo { error: SdoError::Local(odc::SdoAbort::Timeout), .. } => SdoFail::Timeout,
         other => SdoFail::Other(other.to_string()),
     }

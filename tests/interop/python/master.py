@@ -393,6 +393,13 @@ def cia301_refusal(var, current, new, code):
             return "a valid PDO's CAN-ID changes only while it is invalid (CiA 301 7.5.2.35/37)"
     if var.index == 0x1016 and var.subindex > 0 and code == 0x06040043:
         return "two heartbeat consumer entries for one node (CiA 301 7.5.2.14)"
+    if var.index in (0x1010, 0x1011) and code == 0x08000020 and new not in (b"save", b"load"):
+        return "store/restore take only their signatures 'save'/'load' (CiA 301, 0x1010/0x1011)"
+    mapping = 0x1600 <= var.index <= 0x17FF or 0x1A00 <= var.index <= 0x1BFF
+    if mapping and code in (0x06020000, 0x06040041, 0x06040042):
+        return "a PDO mapping names a mappable object of the dictionary (CiA 301 PDO mapping)"
+    if var.index == 0x6060 and code == 0x06090030:
+        return "0x6060 takes only the modes 0x6502 lists (CiA 402)"
     return None
 
 def main():

@@ -79,6 +79,12 @@ def mappable(od, writable, flagged=True):
             continue
         if not writable and not var.readable:
             continue
+        # CiA 306: rww maps into RPDOs only, rwr and ro into TPDOs only (the node checks it).
+        access = getattr(var, "access_type", "rw")
+        if writable and access in ("rwr", "ro", "const"):
+            continue
+        if not writable and access in ("rww", "wo"):
+            continue
         found.append(var)
     found.sort(key=lambda v: (v.index < 0x2000, v.index, v.subindex))
     return found
@@ -197,9 +203,11 @@ class Run:
         readable = mappable(od, writable=False)
         r["tpdo_mappable_in_eds"] = bool(readable)
         if not readable:
-            # The file flags no object as mappable (Lenze E94AYCCA): the node does not
-            # check the flag (the dictionary trait does not carry it), so map others.
-            readable = mappable(od, writable=False, flagged=False)
+            # The file flags no object as mappable (Lenze E94AYCCA): CiA 301 has the node
+            # refuse any mapping entry (0x06040041); the PDO checks cannot run.
+            others = mappable(od, writable=False, flagged=False)
+            r["unflagged_mapping_refused"] = self.refuses_mapping(0x1A00, others)
+            return
         if not readable:
             self.err("no readable integer object to map")
             return
@@ -263,9 +271,25 @@ class Run:
             t.enabled = False
             t.save()
 
+    def refuses_mapping(self, mapping, candidates):
+        """Whether the node refuses to map the first of `candidates` into `mapping`:1."""
+        if not candidates:
+            return None
+        v = candidates[0]
+        entry = (v.index << 16 | v.subindex << 8 | INT_TYPES[v.data_type] * 8).to_bytes(4, "little")
+        try:
+            self.node.sdo.download(mapping, 0, b"\0")
+            self.node.sdo.download(mapping, 1, entry)
+        except SdoAbortedError as e:
+            return e.code == 0x06040041
+        return False
+
     def rpdo_and_emcy(self):
         r = self.report
         od = self.node.object_dictionary
+        if not mappable(od, writable=False) and not mappable(od, writable=True):
+            # As in tpdo(): nothing flagged mappable, so no RPDO (nor its EMCY) to test.
+            return
         candidates = (
             [v for v in mappable(od, writable=True) if v.index >= 0x2000]
             or mappable(od, writable=True)

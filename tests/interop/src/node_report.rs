@@ -58,6 +58,16 @@ pub fn check(r: &Value, seen: Option<&Seen>) -> Vec<String> {
         want(r[k] == v, format!("{k} = {}", r[k]));
     }
     want(int(&r["tpdo_preop"]) == 0, format!("TPDOs in pre-operational: {}", r["tpdo_preop"]));
+    // A file that flags no object PDOMapping=1 (Lenze E94AYCCA): CiA 301 has the node refuse
+    // every mapping entry (0x06040041), so there is no PDO, and no short-RPDO EMCY, to test.
+    if r["tpdo_mappable_in_eds"] == false {
+        want(
+            r["unflagged_mapping_refused"] == true,
+            format!("mapping an unflagged object: refused {}", r["unflagged_mapping_refused"]),
+        );
+        bad.extend(guarding(r, seen));
+        return bad;
+    }
     // Heartbeat 100 ms over SDO, counted for 1.02 s.
     let hb = int(&r["heartbeat_preop"]);
     want((9..=11).contains(&hb), format!("heartbeats in 1.02 s at 100 ms: {hb}"));
@@ -109,7 +119,18 @@ pub fn check(r: &Value, seen: Option<&Seen>) -> Vec<String> {
         );
         want(r["history_cleared"] == true, "0x1003:0 = 0 did not clear".into());
     }
-    // Node guarding at 100 ms for 1.02 s, in pre-operational.
+    bad.extend(guarding(r, seen));
+    bad
+}
+
+/// Node guarding at 100 ms for 1.02 s, in pre-operational; the failures.
+fn guarding(r: &Value, seen: Option<&Seen>) -> Vec<String> {
+    let mut bad = Vec::new();
+    let mut want = |ok: bool, what: String| {
+        if !ok {
+            bad.push(what);
+        }
+    };
     let g = int(&r["guarding_answers"]);
     want((9..=11).contains(&g), format!("guarding answers {g}"));
     want(

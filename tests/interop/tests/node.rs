@@ -104,7 +104,9 @@ fn our_node_their_nmt_master() {
             notes.push("COB-ID read-only: configured by SDO, not pdo.save()");
         }
         if r["tpdo_mappable_in_eds"] == false {
-            notes.push("no object flagged PDOMapping=1: mapped unflagged ones");
+            notes.push(
+                "no object flagged PDOMapping=1: mapping refused (0x06040041), no PDO tested",
+            );
         }
         if r["event_timer"] == false {
             notes.push("no 0x1800:05");
