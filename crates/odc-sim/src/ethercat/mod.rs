@@ -15,7 +15,7 @@
 //! - [`SubDevice`] runs the firmware stack, [`odc::ethercat::subdevice`] (AL state machine,
 //!   mailbox with CoE, process data), on the emulated ESC through its PDI ([`esc::Pdi`]),
 //!   with a CiA 402 drive when the device is one; [`Chain`]
-//!   runs a frame through several in a line; [`EthercrabLink`] (feature `ethercrab`) wires
+//!   runs a frame through several in a line; `EthercrabLink` (feature `ethercrab`) wires
 //!   a chain to an ethercrab master in the same process.
 //!
 //! Simplifications, each visible to a master only in timing: an ESC answers at once (the
