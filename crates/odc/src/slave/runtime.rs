@@ -307,12 +307,12 @@ impl RuntimeTable {
 
     /// The entries in address order.
     pub fn entries(&self) -> impl Iterator<Item = EntryMeta> + '_ {
-        (0..self.rows.len()).filter_map(|p| Rows(&self.rows).entry_at(p))
+        (0..self.rows.len()).filter_map(|p| Rows(self.rows.as_slice()).entry_at(p))
     }
 
     /// As [`Table::init`](super::Table::init).
     pub fn init(&self, values: &mut [u8], node_id: Option<NodeId>) {
-        Rows(&self.rows).init(values, node_id);
+        Rows(self.rows.as_slice()).init(values, node_id);
     }
 }
 
@@ -352,7 +352,7 @@ impl RuntimeDictionary {
     ///
     /// No such object or sub-index, or [`SdoAbort::LengthMismatch`] for another type.
     pub fn get<T: ObjValue>(&self, index: u16, sub: u8) -> Result<T, SdoAbort> {
-        Rows(&self.table.rows).get(&self.values, index, sub)
+        Rows(self.table.rows.as_slice()).get(&self.values, index, sub)
     }
 
     /// Stores `value` at `index:sub`, for the firmware side: no access or limit check.
@@ -361,7 +361,7 @@ impl RuntimeDictionary {
     ///
     /// As for [`RuntimeDictionary::get`], or the encoding error of a time out of range.
     pub fn set<T: ObjValue>(&mut self, index: u16, sub: u8, value: T) -> Result<(), SdoAbort> {
-        Rows(&self.table.rows).set(&mut self.values, index, sub, value)
+        Rows(self.table.rows.as_slice()).set(&mut self.values, index, sub, value)
     }
 
     /// SDO download of `data` into `index:sub`, telling `hook` before and after.
@@ -376,43 +376,43 @@ impl RuntimeDictionary {
         data: &[u8],
         hook: &mut dyn WriteHook,
     ) -> Result<(), SdoAbort> {
-        Rows(&self.table.rows).write(&mut self.values, index, sub, data, hook)
+        Rows(self.table.rows.as_slice()).write(&mut self.values, index, sub, data, hook)
     }
 }
 
 impl ObjectDictionary for RuntimeDictionary {
     fn read(&self, index: u16, sub: u8, buf: &mut [u8]) -> Result<usize, SdoAbort> {
-        Rows(&self.table.rows).read(&self.values, index, sub, buf)
+        Rows(self.table.rows.as_slice()).read(&self.values, index, sub, buf)
     }
     fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
         self.write_with(index, sub, data, &mut ())
     }
     fn access(&self, index: u16, sub: u8) -> Option<Access> {
-        Rows(&self.table.rows).access(index, sub)
+        Rows(self.table.rows.as_slice()).access(index, sub)
     }
     fn pdo_mappable(&self, index: u16, sub: u8, tx: bool) -> Result<u32, SdoAbort> {
-        Rows(&self.table.rows).pdo_mappable(index, sub, tx)
+        Rows(self.table.rows.as_slice()).pdo_mappable(index, sub, tx)
     }
 }
 
 impl Storage for RuntimeDictionary {
     fn raw(&self, index: u16, sub: u8) -> Option<&[u8]> {
-        Rows(&self.table.rows).raw(&self.values, index, sub)
+        Rows(self.table.rows.as_slice()).raw(&self.values, index, sub)
     }
     fn raw_mut(&mut self, index: u16, sub: u8) -> Option<&mut [u8]> {
-        Rows(&self.table.rows).raw_mut(&mut self.values, index, sub)
+        Rows(self.table.rows.as_slice()).raw_mut(&mut self.values, index, sub)
     }
     fn entry_at(&self, pos: usize) -> Option<EntryMeta> {
-        Rows(&self.table.rows).entry_at(pos)
+        Rows(self.table.rows.as_slice()).entry_at(pos)
     }
     fn position(&self, index: u16, sub: u8) -> usize {
-        Rows(&self.table.rows).position(index, sub)
+        Rows(self.table.rows.as_slice()).position(index, sub)
     }
 }
 
 impl fmt::Debug for RuntimeDictionary {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        Rows(&self.table.rows).fmt_values(&self.values, f)
+        Rows(self.table.rows.as_slice()).fmt_values(&self.values, f)
     }
 }
 
