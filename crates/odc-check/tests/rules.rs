@@ -998,6 +998,21 @@ trips!(
         &[0x7000_0010, 0x7001_0020]
     )
 );
+
+#[test]
+fn a_run_of_gaps_agrees_with_one_gap_of_their_bits() {
+    let d = || {
+        esi_io().edit_pdo(0x1A00, |p| {
+            let gaps = [(0, 0, 4), (0, 0, 4), (0x6000, 0, 16)];
+            p.entries = esi_pdo(Direction::Tx, 0, None, &gaps).entries;
+        })
+    };
+    let out = run(with_mapping(d(), 0x1A00, &[0x0000_0008, 0x6000_0010]));
+    assert!(!out.contains("[T622]"), "{out}");
+    let out = run(with_mapping(d(), 0x1A00, &[0x0000_0004, 0x6000_0010]));
+    assert!(out.contains("sub 2 is 0x6000:00/16 where entry 2 of the TxPdo is gap/4"), "{out}");
+}
+
 trips!(
     t623_esi_pdo_mapping_count,
     "T623",

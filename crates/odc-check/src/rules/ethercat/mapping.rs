@@ -25,6 +25,19 @@ fn word(e: &odc_model::PdoEntry) -> u32 {
     u32::from(e.index) << 16 | u32::from(e.sub) << 8 | u32::from(e.bits & 0xFF)
 }
 
+/// The words with runs of gaps joined into one (four 1-bit gaps map the bits one 4-bit gap
+/// does).
+fn layout(words: &[u32]) -> Vec<u32> {
+    let mut out: Vec<u32> = Vec::with_capacity(words.len());
+    for &w in words {
+        match out.last_mut() {
+            Some(last) if *last >> 16 == 0 && w >> 16 == 0 => *last += w & 0xFF,
+            _ => out.push(w),
+        }
+    }
+    out
+}
+
 /// `0x7000:00/16` (a gap: `gap/4`).
 fn show_word(w: u32) -> String {
     let (index, sub, bits) = (w >> 16, (w >> 8) & 0xFF, w & 0xFF);
@@ -67,7 +80,7 @@ pub(super) fn pdo_mapping_default(dev: &Device, ctx: &mut Ctx) {
         }
         let entries: Vec<u32> = p.entries.iter().map(word).collect();
         let words: Vec<u32> = list.iter().map(|l| l.1).collect();
-        if words == entries {
+        if layout(&words) == layout(&entries) {
             continue;
         }
         let at = words.iter().zip(&entries).position(|(a, b)| a != b);
