@@ -402,6 +402,35 @@ fn a_mapping_made_in_pre_op_carries_process_data_in_op() {
     assert_eq!(d.stack.mapped().len(), 2);
 }
 
+/// A mapping that names an object the dictionary does not have (an ESI's mapping default can:
+/// SDO writes cannot) is refused at SAFE-OP with the code ETG.1000.6 Table 11 gives it:
+/// 0x0025 invalid output mapping, 0x0024 invalid input mapping; not 0x001D/0x001E, which say
+/// the sync manager disagrees with a mapping the device could serve.
+#[test]
+fn a_mapping_of_a_missing_object_is_an_invalid_mapping() {
+    use odc::slave::Storage;
+    for (map, assign, sm, want) in [(0x1600u16, 0x1C12, 2u16, 0x0025), (0x1A00, 0x1C13, 3, 0x0024)]
+    {
+        let mut d = Device::new();
+        d.go(2);
+        for (index, sub, v) in [
+            (map, 0, vec![0]),
+            (assign, 0, vec![0]),
+            (assign, 1, map.to_le_bytes().to_vec()),
+            (assign, 0, vec![1]),
+        ] {
+            let r = d.download(index, sub, &v);
+            assert_eq!(r[2], 0x60, "{index:04X}:{sub}: {r:02X?}");
+        }
+        // As a dictionary loaded with such a default holds it: 0x5FFF:00, 16 bits.
+        d.od.raw_mut(map, 1).unwrap().copy_from_slice(&0x5FFF_0010u32.to_le_bytes());
+        d.od.raw_mut(map, 0).unwrap()[0] = 1;
+        let control = if sm == 2 { 0x64 } else { 0x20 };
+        d.esc.sm(sm, 0x1100, 2, control, true);
+        assert_eq!(d.go(4), (0x0012, want), "{map:04X}");
+    }
+}
+
 #[test]
 fn sdo_information_in_fragments_and_emergencies() {
     let mut d = Device::new();

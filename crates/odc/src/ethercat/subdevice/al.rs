@@ -39,6 +39,10 @@ pub mod code {
     pub const INVALID_OUTPUT_CONFIG: u16 = 0x001D;
     /// Invalid input configuration.
     pub const INVALID_INPUT_CONFIG: u16 = 0x001E;
+    /// Invalid input mapping: the TxPDO mapping names what the device cannot map.
+    pub const INVALID_INPUT_MAPPING: u16 = 0x0024;
+    /// Invalid output mapping: the RxPDO mapping names what the device cannot map.
+    pub const INVALID_OUTPUT_MAPPING: u16 = 0x0025;
 }
 
 /// Usage of a sync manager, by the SII's codes: mailbox out (master → device).

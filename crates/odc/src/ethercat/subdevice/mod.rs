@@ -514,20 +514,25 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
                 let mut bits = [0u32; 16];
                 let mut sink = pdo::Sink { entries: &mut self.mapped, used: 0 };
                 for spec in cfg.sync_managers.iter().filter(|s| is_process_data(s)) {
-                    let err = match spec.kind {
-                        al::OUTPUTS => code::INVALID_OUTPUT_CONFIG,
-                        _ => code::INVALID_INPUT_CONFIG,
+                    let outputs = spec.kind == al::OUTPUTS;
+                    // ETG.1000.6 Table 11: a mapping the device cannot serve is an invalid
+                    // mapping; a process image it has no room for, an invalid configuration.
+                    let err = |r: pdo::Refused| match (r, outputs) {
+                        (pdo::Refused::Mapping, true) => code::INVALID_OUTPUT_MAPPING,
+                        (pdo::Refused::Mapping, false) => code::INVALID_INPUT_MAPPING,
+                        (pdo::Refused::Room, true) => code::INVALID_OUTPUT_CONFIG,
+                        (pdo::Refused::Room, false) => code::INVALID_INPUT_CONFIG,
                     };
                     let n = match pdo::layout(od, spec.number, &mut sink) {
                         Ok(Some(n)) => n,
                         Ok(None) => match pdo::fixed(spec.number, cfg.fixed, &mut sink) {
                             Ok(n) => n,
-                            Err(_) => return Ok(Err(err)),
+                            Err(r) => return Ok(Err(err(r))),
                         },
-                        Err(_) => return Ok(Err(err)),
+                        Err(r) => return Ok(Err(err(r))),
                     };
                     if n.div_ceil(8) > IMG as u32 {
-                        return Ok(Err(err));
+                        return Ok(Err(err(pdo::Refused::Room)));
                     }
                     if let Some(b) = bits.get_mut(usize::from(spec.number)) {
                         *b = n;

@@ -23,7 +23,14 @@ pub struct Mapped {
 
 /// A PDO assignment or mapping the device cannot serve.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Refused;
+pub enum Refused {
+    /// An assigned PDO or a mapped entry the dictionary does not have, or an entry longer
+    /// than its object (AL status 0x0024/0x0025, invalid input/output mapping).
+    Mapping,
+    /// More entries or bits than the device has room for (0x001E/0x001D, invalid
+    /// input/output configuration).
+    Room,
+}
 
 fn read_u8<D: Storage + ?Sized>(od: &D, index: u16, sub: u8) -> Option<u8> {
     od.raw(index, sub)?.first().copied()
@@ -48,8 +55,8 @@ impl Sink<'_> {
         let (index, sub, bits) = ((v >> 16) as u16, (v >> 8) as u8, v as u8);
         // Indices 0–7 are the dummy types of gaps (CiA 301 §7.4.7.1).
         let index = if index < 8 { 0 } else { index };
-        let at = u16::try_from(*bit).map_err(|_| Refused)?;
-        let slot = self.entries.get_mut(self.used).ok_or(Refused)?;
+        let at = u16::try_from(*bit).map_err(|_| Refused::Room)?;
+        let slot = self.entries.get_mut(self.used).ok_or(Refused::Room)?;
         *slot = Mapped { sm, index, sub, bits, bit: at };
         self.used += 1;
         *bit += u32::from(bits);
@@ -74,12 +81,12 @@ pub fn layout<D: Storage + ?Sized>(
     let Some(count) = read_u8(od, assign, 0) else { return Ok(None) };
     let mut bit = 0u32;
     for i in 1..=count {
-        let pdo = read_le(od, assign, i).ok_or(Refused)? as u16;
-        let entries = read_u8(od, pdo, 0).ok_or(Refused)?;
+        let pdo = read_le(od, assign, i).ok_or(Refused::Mapping)? as u16;
+        let entries = read_u8(od, pdo, 0).ok_or(Refused::Mapping)?;
         for e in 1..=entries {
-            let v = read_le(od, pdo, e).ok_or(Refused)?;
+            let v = read_le(od, pdo, e).ok_or(Refused::Mapping)?;
             if !mappable(od, v) {
-                return Err(Refused);
+                return Err(Refused::Mapping);
             }
             sink.push(sm, v, &mut bit)?;
         }
