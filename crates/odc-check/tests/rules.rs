@@ -767,7 +767,7 @@ fn esi_without_dictionary_is_not_checked_as_a_drive() {
     assert_eq!(run(d), "");
 }
 
-// T601–T618: EtherCAT.
+// T601–T625: EtherCAT.
 
 #[test]
 fn esi_device_passes_every_rule() {
@@ -970,6 +970,86 @@ trips!(
         p.entries.insert(0, esi_pdo(Direction::Tx, 0, None, &[(0, 0, 4)]).entries.remove(0));
     })
 );
+
+/// `esi_io` with a mapping object `index` in its dictionary listing `words`.
+fn with_mapping(d: Dev, index: u16, words: &[u32]) -> Dev {
+    let subs: Vec<_> = (1u8..)
+        .zip(words)
+        .map(|(k, &w)| (k, "SubIndex", Unsigned32, Ro, Some(u(u64::from(w)))))
+        .collect();
+    d.remove(index).array(index, "PDO mapping", &subs)
+}
+
+#[test]
+fn mapping_objects_that_agree_with_their_pdos_pass() {
+    let d = with_mapping(esi_io(), 0x1600, &[0x7000_0010]);
+    let d = with_mapping(d, 0x1A00, &[0x6000_0010, 0]);
+    let d = with_mapping(d, 0x1602, &[0x7000_0010, 0x7001_0020]);
+    assert_eq!(run_with(d, &all_rules_on()), "");
+}
+
+trips!(
+    t622_esi_pdo_mapping_default,
+    "T622",
+    // 0x1A00 maps 0x6000 with 8 bits, its TxPdo 16; 0x1600 lists two entries, its RxPdo one.
+    with_mapping(
+        with_mapping(esi_io(), 0x1A00, &[0x6000_0008]),
+        0x1600,
+        &[0x7000_0010, 0x7001_0020]
+    )
+);
+
+#[test]
+fn a_run_of_gaps_agrees_with_one_gap_of_their_bits() {
+    let d = || {
+        esi_io().edit_pdo(0x1A00, |p| {
+            let gaps = [(0, 0, 4), (0, 0, 4), (0x6000, 0, 16)];
+            p.entries = esi_pdo(Direction::Tx, 0, None, &gaps).entries;
+        })
+    };
+    let out = run(with_mapping(d(), 0x1A00, &[0x0000_0008, 0x6000_0010]));
+    assert!(!out.contains("[T622]"), "{out}");
+    let out = run(with_mapping(d(), 0x1A00, &[0x0000_0004, 0x6000_0010]));
+    assert!(out.contains("sub 2 is 0x6000:00/16 where entry 2 of the TxPdo is gap/4"), "{out}");
+}
+
+trips!(
+    t623_esi_pdo_mapping_count,
+    "T623",
+    // The entries agree with the RxPdo's, but sub 0 counts none of them.
+    with_mapping(esi_io(), 0x1600, &[0x7000_0010]).at(0x1600, 0).default(u(0))
+);
+trips!(t624_esi_mailbox_sm_disabled, "T624", esi_io().edit_sm(1, |s| s.enable = false));
+
+#[test]
+fn disabled_mailbox_sync_managers_of_a_device_without_mailbox_pass() {
+    let d = esi_io().edit_sm(1, |s| s.enable = false).ethercat(|e| e.mailbox = None);
+    assert!(!run(d).contains("[T624]"));
+}
+
+trips!(
+    t625_esi_identity_revision,
+    "T625",
+    // 0x1018:03 defaults to 0x00010000.
+    esi_io().with(|d| d.device_info.revision_number = Some(Spanned::synthetic(0x0002_0000)))
+);
+
+#[test]
+fn t625_names_a_byte_swapped_revision() {
+    let d =
+        esi_io().with(|d| d.device_info.revision_number = Some(Spanned::synthetic(0x0000_0100)));
+    let diags = odc_check::check(&d.build(), &odc_check::Config::in_registry(odc_check::rules()));
+    let t625: Vec<_> = diags.iter().filter(|d| d.code == "T625").collect();
+    assert_eq!(t625.len(), 1, "{diags:?}");
+    assert!(t625[0].notes.iter().any(|n| n.contains("bytes are reversed")), "{t625:?}");
+}
+
+#[test]
+fn an_agreeing_revision_passes() {
+    let d =
+        esi_io().with(|d| d.device_info.revision_number = Some(Spanned::synthetic(0x0001_0000)));
+    assert_eq!(run_with(d, &all_rules_on()), "");
+}
 
 #[test]
 fn bit_fields_padded_to_a_byte_are_aligned() {

@@ -373,6 +373,34 @@ fn node_ids_of_several_files() {
     assert!(err.contains("lenze-e94aycca.eds: no node-ID"), "{err}");
 }
 
+/// A PDO entry whose object the ESI's dictionary lacks is named when the file is loaded,
+/// with the AL status code the device will answer at SAFE-OP (#31). The interface does not
+/// exist: the load comes first, then the usage error.
+fn a_mapped_object_missing_from_the_dictionary_is_named_at_load() {
+    let esi = std::fs::read_to_string(repo("esi/servoone.xml")).unwrap();
+    let pdo = "<Name>TxPDO 1 (factory mapping empty)</Name>";
+    assert!(esi.contains(pdo));
+    let entry = "<Entry><Index>#x5FFF</Index><SubIndex>0</SubIndex><BitLen>16</BitLen>\
+                 <Name>Missing</Name><DataType>UINT</DataType></Entry>";
+    let path = std::env::temp_dir().join(format!("odc-unmapped-{}.xml", std::process::id()));
+    std::fs::write(&path, esi.replacen(pdo, &format!("{pdo}{entry}"), 1)).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_odc"))
+        .args(["simulate", path.to_str().unwrap(), "--interface", "odc-no-such0"])
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    let _ = std::fs::remove_file(&path);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_ne!(out.status.code(), Some(0), "{err}");
+    assert!(
+        err.contains(
+            "PDO 0x1A00 maps 0x5FFF:00, which the dictionary does not have: SAFE-OP is refused \
+             with AL status 0x0024 (invalid input mapping) while it is assigned"
+        ),
+        "{err}"
+    );
+}
+
 /// The tests, with what each needs of the machine (odc_tests_support: ignored with the reason
 /// where a need is missing).
 fn main() -> std::process::ExitCode {
@@ -405,6 +433,11 @@ fn main() -> std::process::ExitCode {
         Test {
             name: "simulate_serves_until_sigterm_without_stdin_or_output",
             run: simulate_serves_until_sigterm_without_stdin_or_output,
+            needs: &[],
+        },
+        Test {
+            name: "a_mapped_object_missing_from_the_dictionary_is_named_at_load",
+            run: a_mapped_object_missing_from_the_dictionary_is_named_at_load,
             needs: &[],
         },
         Test {

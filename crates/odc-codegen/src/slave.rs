@@ -284,6 +284,21 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
                 }
             }
 
+            impl #rt::slave::Storage for Dictionary {
+                fn raw(&self, index: u16, sub: u8) -> Option<&[u8]> {
+                    TABLE.raw(&self.values, index, sub)
+                }
+                fn raw_mut(&mut self, index: u16, sub: u8) -> Option<&mut [u8]> {
+                    TABLE.raw_mut(&mut self.values, index, sub)
+                }
+                fn entry_at(&self, pos: usize) -> Option<#rt::slave::EntryMeta> {
+                    TABLE.entry_at(pos)
+                }
+                fn position(&self, index: u16, sub: u8) -> usize {
+                    TABLE.position(index, sub)
+                }
+            }
+
             #drive
         }
     }

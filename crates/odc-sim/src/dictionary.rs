@@ -1,32 +1,16 @@
 //! [`ModelDictionary`]: the object dictionary of a device file, built at run time from the
-//! model, with the semantics of the `slave::Dictionary` odc generates for the same file.
+//! model into the runtime's own table ([`odc::slave::RuntimeTable`]), so that its semantics
+//! are those of the `slave::Dictionary` odc generates for the same file: the same code.
 
 use core::fmt;
 use odc::cob::NodeId;
+use std::collections::BTreeMap;
 
 use odc::cia402::{Controlword, DriveObjects, ModeOfOperation, Statusword};
-use odc::slave::ObjectDictionary;
+use odc::slave::{ObjectDictionary, RuntimeDictionary, Storage, TableBuilder, WriteHook};
 use odc::{Access, DataType, ObjValue, ObjectAddr, SdoAbort};
 use odc_analysis::RustTy;
 use odc_model::Device;
-
-use crate::value::{Slot, slot};
-
-/// One entry: address, access, the typed work of its value, where the value is stored.
-struct Row {
-    addr: ObjectAddr,
-    access: Access,
-    /// The file's PDO mapping flag.
-    mapping: odc_model::PdoMapping,
-    slot: Box<dyn Slot>,
-    at: usize,
-}
-
-impl Row {
-    fn key(&self) -> u32 {
-        u32::from(self.addr.index) << 8 | u32::from(self.addr.sub)
-    }
-}
 
 /// The object dictionary of a device, built from its model when the program runs: what
 /// `odc simulate` serves.
@@ -34,8 +18,8 @@ impl Row {
 /// Its entries are those of the generated `slave::Dictionary` of the same file
 /// ([`odc_analysis::slave_entries`]), and so are their semantics but for DOMAIN entries (the
 /// simulated application keeps their data, [`ModelDictionary::domain`], where firmware's
-/// `WriteHook::write_domain` takes it): the values stored in their SDO encoding, initial values from the default with `$NODEID` applied (else zero moved into
-/// the limits), SDO reads and writes with the same access, length and limit checks and the
+/// `WriteHook::write_domain` takes it): the values stored in their SDO encoding, initial
+/// values from the default with `$NODEID` applied (else zero moved into the limits), SDO reads and writes with the same access, length and limit checks and the
 /// same abort codes. The crate's tests compare the two entry by entry for every CANopen file
 /// of `eds/`.
 ///
@@ -60,49 +44,42 @@ impl Row {
 /// # Ok::<(), odc::SdoAbort>(())
 /// ```
 pub struct ModelDictionary {
-    rows: Vec<Row>,
-    values: Vec<u8>,
-    /// The data last downloaded into each DOMAIN entry (none stored in `values`): the
+    od: RuntimeDictionary,
+    /// The data last downloaded into each DOMAIN entry (the table stores none): the
     /// simulated application keeps it, as firmware would in its `WriteHook::write_domain`,
     /// and a read answers it. At most the SDO server's buffer long
     /// ([`SDO_BUFFER`](crate::SDO_BUFFER)).
-    domains: std::collections::BTreeMap<ObjectAddr, Vec<u8>>,
+    domains: BTreeMap<ObjectAddr, Vec<u8>>,
+    /// The file's default of each DOMAIN entry that has one (CiA 306 hex bytes): its data
+    /// after a reset.
+    domain_defaults: BTreeMap<ObjectAddr, Vec<u8>>,
     drive: bool,
 }
 
 impl ModelDictionary {
     /// The dictionary of `device` on node `node_id`, every entry at its initial value.
     pub fn new(device: &Device, node_id: impl Into<Option<NodeId>>) -> Self {
-        let node_id = node_id.into();
-        let mut rows = Vec::new();
-        let mut at = 0;
+        let mut table = TableBuilder::new();
+        let mut domain_defaults = BTreeMap::new();
         let mut drive = (false, false);
         for e in odc_analysis::slave_entries(device) {
-            let slot = slot(e.sub, e.ty);
-            let len = slot.len();
             match (e.index, e.ty) {
                 (0x6040, RustTy::Controlword) => drive.0 = true,
                 (0x6041, RustTy::Statusword) => drive.1 = true,
                 _ => {}
             }
             let addr = ObjectAddr::new(e.index, e.sub.sub_index);
-            rows.push(Row {
-                addr,
-                access: access(e.sub.access),
-                mapping: e.sub.pdo_mapping,
-                slot,
-                at,
-            });
-            at += len;
+            if e.ty == RustTy::Domain
+                && let Some(d) = e.sub.initial_value()
+                && let Some(bytes) = odc_model::wire::encode(&d.value, odc_model::DataType::Domain)
+            {
+                domain_defaults.insert(addr, bytes);
+            }
+            crate::value::push(&mut table, addr, access(e.sub.access), e.sub, e.ty);
         }
-        let mut od = ModelDictionary {
-            rows,
-            values: vec![0; at],
-            domains: std::collections::BTreeMap::new(),
-            drive: drive.0 && drive.1,
-        };
-        od.reset(node_id);
-        od
+        let od = RuntimeDictionary::new(table.build(), node_id.into());
+        let domains = domain_defaults.clone();
+        ModelDictionary { od, domains, domain_defaults, drive: drive.0 && drive.1 }
     }
 
     /// Every entry back to its initial value on node `node_id` (NMT reset node).
@@ -118,30 +95,25 @@ impl ModelDictionary {
 
     fn reset_where(&mut self, node_id: Option<NodeId>, which: impl Fn(u16) -> bool) {
         self.domains.retain(|addr, _| !which(addr.index));
-        for row in self.rows.iter().filter(|r| which(r.addr.index)) {
-            if let Some(d) = row.slot.domain_default() {
-                self.domains.insert(row.addr, d.to_vec());
-            }
-            if let Some(stored) = self.values.get_mut(row.at..row.at + row.slot.len()) {
-                stored.fill(0);
-                row.slot.init(stored, node_id);
-            }
+        for (addr, data) in self.domain_defaults.iter().filter(|(a, _)| which(a.index)) {
+            self.domains.insert(*addr, data.clone());
         }
+        self.od.reset_where(node_id, which);
     }
 
     /// The number of entries.
     pub fn len(&self) -> usize {
-        self.rows.len()
+        self.od.table().len()
     }
 
     /// Whether it has no entry.
     pub fn is_empty(&self) -> bool {
-        self.rows.is_empty()
+        self.od.table().is_empty()
     }
 
     /// The entries' addresses, access rights and data types, in address order.
     pub fn entries(&self) -> impl Iterator<Item = (ObjectAddr, Access, DataType)> + '_ {
-        self.rows.iter().map(|r| (r.addr, r.access, r.slot.data_type()))
+        self.od.table().entries().map(|e| (e.addr, e.access, e.data_type))
     }
 
     /// Whether the device is a CiA 402 drive this dictionary can run: it has the controlword
@@ -151,25 +123,6 @@ impl ModelDictionary {
         self.drive
     }
 
-    fn row(&self, index: u16, sub: u8) -> Result<&Row, SdoAbort> {
-        let key = u32::from(index) << 8 | u32::from(sub);
-        match self.rows.binary_search_by_key(&key, Row::key) {
-            Ok(pos) => self.rows.get(pos).ok_or(SdoAbort::NoSuchObject),
-            Err(pos) => {
-                let same = |p: usize| self.rows.get(p).is_some_and(|r| r.addr.index == index);
-                if same(pos) || pos.checked_sub(1).is_some_and(same) {
-                    Err(SdoAbort::NoSuchSub)
-                } else {
-                    Err(SdoAbort::NoSuchObject)
-                }
-            }
-        }
-    }
-
-    fn stored(&self, row: &Row) -> Result<&[u8], SdoAbort> {
-        self.values.get(row.at..row.at + row.slot.len()).ok_or(SdoAbort::General)
-    }
-
     /// The value at `index:sub` as `T`, for the firmware side: no access check.
     ///
     /// # Errors
@@ -177,8 +130,7 @@ impl ModelDictionary {
     /// No such object or sub-index, or [`SdoAbort::LengthMismatch`] when the entry has
     /// another type.
     pub fn get<T: ObjValue>(&self, index: u16, sub: u8) -> Result<T, SdoAbort> {
-        let row = self.typed::<T>(index, sub)?;
-        Ok(T::decode(self.stored(row)?)?)
+        self.od.get(index, sub)
     }
 
     /// Stores `value` at `index:sub`, for the firmware side: no access or limit check.
@@ -187,17 +139,12 @@ impl ModelDictionary {
     ///
     /// As for [`ModelDictionary::get`], or the encoding error of a time out of range.
     pub fn set<T: ObjValue>(&mut self, index: u16, sub: u8, value: T) -> Result<(), SdoAbort> {
-        let row = self.typed::<T>(index, sub)?;
-        let (at, len) = (row.at, row.slot.len());
-        let stored = self.values.get_mut(at..at + len).ok_or(SdoAbort::General)?;
-        stored.fill(0);
-        value.encode(stored)?;
-        Ok(())
+        self.od.set(index, sub, value)
     }
 
     /// The bytes the entry's value takes in storage (its type's size; a string's capacity).
     pub fn entry_len(&self, index: u16, sub: u8) -> Option<usize> {
-        self.row(index, sub).ok().map(|r| r.slot.len())
+        self.od.raw(index, sub).map(<[u8]>::len)
     }
 
     /// The data last downloaded into the DOMAIN entry `index:sub` (a program image for
@@ -209,24 +156,13 @@ impl ModelDictionary {
     /// The stored bytes of `index:sub`, for the firmware side (process data): no access
     /// check.
     pub fn raw(&self, index: u16, sub: u8) -> Option<&[u8]> {
-        let row = self.row(index, sub).ok()?;
-        self.stored(row).ok()
+        self.od.raw(index, sub)
     }
 
     /// The stored bytes of `index:sub`, to change in place (process data): no access or
     /// limit check.
     pub fn raw_mut(&mut self, index: u16, sub: u8) -> Option<&mut [u8]> {
-        let row = self.row(index, sub).ok()?;
-        let (at, len) = (row.at, row.slot.len());
-        self.values.get_mut(at..at + len)
-    }
-
-    fn typed<T: ObjValue>(&self, index: u16, sub: u8) -> Result<&Row, SdoAbort> {
-        let row = self.row(index, sub)?;
-        if row.slot.data_type() != T::DATA_TYPE || row.slot.len() != T::MAX_LEN {
-            return Err(SdoAbort::LengthMismatch);
-        }
-        Ok(row)
+        self.od.raw_mut(index, sub)
     }
 }
 
@@ -241,77 +177,58 @@ fn access(a: odc_model::Access) -> Access {
     }
 }
 
-/// Copies checked download `data` into the `stored` bytes of its entry, as the generated
-/// table does: zero-padded to the capacity, a time without the 4 reserved bits.
-fn store(data_type: DataType, data: &[u8], stored: &mut [u8]) {
-    let mut src = data.iter().copied();
-    for d in stored.iter_mut() {
-        *d = src.next().unwrap_or(0);
-    }
-    if matches!(data_type, DataType::TimeOfDay | DataType::TimeDifference)
-        && let Some(ms_high) = stored.get_mut(3)
-    {
-        *ms_high &= 0x0F;
-    }
-}
-
 impl ObjectDictionary for ModelDictionary {
     fn read(&self, index: u16, sub: u8, buf: &mut [u8]) -> Result<usize, SdoAbort> {
-        let row = self.row(index, sub)?;
-        if !row.access.readable() {
-            return Err(SdoAbort::ReadOfWriteOnly);
-        }
-        let stored = match row.slot.data_type() {
-            // Empty until a download.
-            DataType::Domain => self.domains.get(&row.addr).map_or(&[][..], Vec::as_slice),
-            _ => self.stored(row)?,
-        };
-        let len = match row.slot.data_type() {
-            DataType::VisibleString => stored.iter().rposition(|&b| b != 0).map_or(0, |p| p + 1),
-            DataType::UnicodeString => {
-                let mut end = stored.len() & !1;
-                while end >= 2 && stored.get(end - 2..end) == Some(&[0, 0]) {
-                    end -= 2;
-                }
-                end
+        match self.od.read(index, sub, buf) {
+            // A DOMAIN (the table keeps no data of one, the shared path answers `NoData`):
+            // what was last downloaded, empty until a download.
+            Err(SdoAbort::NoData) => {
+                let data =
+                    self.domains.get(&ObjectAddr::new(index, sub)).map_or(&[][..], Vec::as_slice);
+                let dst = buf.get_mut(..data.len()).ok_or(SdoAbort::TooShort)?;
+                dst.copy_from_slice(data);
+                Ok(data.len())
             }
-            _ => stored.len(),
-        };
-        let (Some(src), Some(dst)) = (stored.get(..len), buf.get_mut(..len)) else {
-            return Err(SdoAbort::TooShort);
-        };
-        dst.copy_from_slice(src);
-        Ok(len)
+            other => other,
+        }
     }
 
     fn write(&mut self, index: u16, sub: u8, data: &[u8]) -> Result<(), SdoAbort> {
-        let row = self.row(index, sub)?;
-        if !row.access.writable() {
-            return Err(SdoAbort::WriteOfReadOnly);
-        }
-        row.slot.check(data)?;
-        if row.slot.data_type() == DataType::Domain {
-            self.domains.insert(row.addr, data.to_vec());
-            return Ok(());
-        }
-        let (at, len, data_type) = (row.at, row.slot.len(), row.slot.data_type());
-        let stored = self.values.get_mut(at..at + len).ok_or(SdoAbort::General)?;
-        store(data_type, data, stored);
-        Ok(())
+        self.od.write_with(index, sub, data, &mut KeepDomains(&mut self.domains))
     }
 
     fn access(&self, index: u16, sub: u8) -> Option<odc::Access> {
-        self.row(index, sub).ok().map(|row| row.access)
+        self.od.access(index, sub)
     }
 
     /// As the generated table answers: the file's flag and the access's direction.
     fn pdo_mappable(&self, index: u16, sub: u8, tx: bool) -> Result<u32, SdoAbort> {
-        let row = self.row(index, sub)?;
-        let allowed = if tx { row.access.tpdo_allowed() } else { row.access.rpdo_allowed() };
-        if !row.mapping.is_mappable() || !allowed {
-            return Err(SdoAbort::NotMappable);
-        }
-        Ok(u32::try_from(row.slot.len() * 8).unwrap_or(u32::MAX))
+        self.od.pdo_mappable(index, sub, tx)
+    }
+}
+
+/// The simulated application's [`WriteHook`]: keeps the data of DOMAIN downloads.
+struct KeepDomains<'a>(&'a mut BTreeMap<ObjectAddr, Vec<u8>>);
+
+impl WriteHook for KeepDomains<'_> {
+    fn write_domain(&mut self, addr: ObjectAddr, data: &[u8]) -> Result<(), SdoAbort> {
+        self.0.insert(addr, data.to_vec());
+        Ok(())
+    }
+}
+
+impl Storage for ModelDictionary {
+    fn raw(&self, index: u16, sub: u8) -> Option<&[u8]> {
+        self.od.raw(index, sub)
+    }
+    fn raw_mut(&mut self, index: u16, sub: u8) -> Option<&mut [u8]> {
+        self.od.raw_mut(index, sub)
+    }
+    fn entry_at(&self, pos: usize) -> Option<odc::slave::EntryMeta> {
+        self.od.entry_at(pos)
+    }
+    fn position(&self, index: u16, sub: u8) -> usize {
+        self.od.position(index, sub)
     }
 }
 
@@ -364,11 +281,6 @@ impl DriveObjects for ModelDictionary {
 
 impl fmt::Debug for ModelDictionary {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.debug_map()
-            .entries(self.rows.iter().map(|r| {
-                let bytes = self.stored(r).unwrap_or(&[]);
-                (r.addr.to_string(), bytes)
-            }))
-            .finish()
+        fmt::Debug::fmt(&self.od, f)
     }
 }

@@ -74,3 +74,31 @@ fn a_domain_default_is_its_data_after_reset() {
     assert_eq!(od.read(0x2120, 0, &mut buf), Ok(1));
     assert_eq!(buf[0], 0);
 }
+
+/// A VISIBLE_STRING default with a tab and '€' (as canopensocket's basicDevice.eds 0x2120:07
+/// has) is the entry's value, byte for byte, as `VisibleString::from_default` keeps it in
+/// generated code; a master's write of the same text is refused, as `VisibleString::decode`
+/// refuses it (CiA 301: visible characters only).
+#[test]
+fn a_string_default_with_a_tab_and_utf8_is_kept() {
+    use odc::{ObjValue, VisibleString};
+    use odc_model::{Access, DataType, Device, Object, ObjectKind, Span, Spanned, SubObject, Value};
+    let text = "tab '\t', euro '\u{20AC}'";
+    let mut sub = SubObject::new(0, "String", DataType::VisibleString, Access::Rw);
+    sub.default = Some(Spanned::new(Value::Text(text.into()), Span::DUMMY));
+    let mut object = Object::new(0x2120, "String", ObjectKind::Var, Span::DUMMY);
+    object.subs.insert(0, sub);
+    let mut device = Device::default();
+    device.objects.insert(0x2120, object);
+    let mut od = odc_sim::ModelDictionary::new(&device, odc::node_id!(5));
+    let mut buf = [0u8; 64];
+    let n = od.read(0x2120, 0, &mut buf).unwrap();
+    assert_eq!(&buf[..n], text.as_bytes());
+    let generated = VisibleString::<32>::from_default(text).unwrap();
+    let mut theirs = [0u8; 32];
+    assert_eq!(generated.encode(&mut theirs), Ok(text.len()));
+    assert_eq!(&theirs[..n], &buf[..n]);
+    let want = VisibleString::<32>::decode(text.as_bytes()).map(|_| ());
+    assert!(want.is_err());
+    assert_eq!(od.write(0x2120, 0, text.as_bytes()), want.map_err(odc::SdoAbort::from));
+}

@@ -248,3 +248,29 @@ fn sdo_information_list_in_fragments() {
     let list: Vec<u16> = got.chunks(2).map(|b| u16::from_le_bytes([b[0], b[1]])).collect();
     assert_eq!(list, all);
 }
+
+/// A device whose assignment objects default empty starts with the assignment its ESI gives
+/// (#31: SOEM's default bring-up read the empty 0x1C12 and met 0x001D at SAFE-OP). The
+/// ServoOne's ESI, with `Sm` attributes added to its second RxPDO and first TxPDO here.
+#[test]
+fn empty_assignment_objects_start_with_the_esi_assignment() {
+    use odc::slave::ObjectDictionary;
+    let mut device = servoone();
+    let rx = device.pdos.iter().position(|p| p.mapping_index == 0x1601).unwrap();
+    let tx = device.pdos.iter().position(|p| p.mapping_index == 0x1A00).unwrap();
+    device.pdos[rx].sync_manager = Some(2);
+    device.pdos[tx].sync_manager = Some(3);
+    let sim = SubDevice::new(&device).unwrap();
+    let read = |index: u16, sub: u8| {
+        let mut b = [0u8; 4];
+        let n = sim.dictionary().read(index, sub, &mut b).unwrap();
+        b[..n].to_vec()
+    };
+    assert_eq!((read(0x1C12, 0), read(0x1C12, 1)), (vec![1], vec![0x01, 0x16]));
+    assert_eq!((read(0x1C13, 0), read(0x1C13, 1)), (vec![1], vec![0x00, 0x1A]));
+    // The ESI as it is (no `Sm` on its PDOs): the empty defaults stay.
+    let sim = SubDevice::new(&servoone()).unwrap();
+    let mut b = [0u8; 1];
+    assert_eq!(sim.dictionary().read(0x1C12, 0, &mut b), Ok(1));
+    assert_eq!(b, [0]);
+}

@@ -273,6 +273,57 @@ fn logical_commands_through_the_fmmus() {
     assert_eq!(r[0].1, [0, 0, 0x11, 0x22, 0, 0x33], "LRD leaves output bytes as sent");
 }
 
+/// An FMMU of bits: `len` logical bytes from `start_bit` of the first to `stop_bit` of the
+/// last, onto the physical bits from `phys_bit`.
+fn fmmu_bits(logical: u32, len: u16, bits: (u8, u8), physical: (u16, u8), kind: u8) -> Vec<u8> {
+    let mut v = logical.to_le_bytes().to_vec();
+    v.extend(len.to_le_bytes());
+    v.extend([bits.0, bits.1]);
+    v.extend(physical.0.to_le_bytes());
+    v.extend([physical.1, kind, 1, 0, 0, 0]);
+    v
+}
+
+/// Three devices of 4 output and 4 input bits, packed as SOEM packs them (ecx_config_map: a
+/// device of fewer than 8 bits starts where the previous one's bits end): device 1 in bits
+/// 0–3 of logical byte 0, device 2 in bits 4–7, device 3 in bits 0–3 of byte 1; each one's
+/// bits at bit 0 of its physical byte (#31: byte-granular FMMUs gave device 2 0x5 for 0xA).
+#[test]
+fn fmmus_map_bits_of_shared_bytes() {
+    let mut c = chain(3);
+    address(&mut c);
+    let mut setup = Vec::new();
+    for (k, (byte, start)) in [(0u32, 0u8), (0, 4), (1, 0)].into_iter().enumerate() {
+        let station = 0x1001 + k as u16;
+        let (first, last) = (start, start + 3);
+        setup.push(dg(
+            FPWR,
+            station,
+            0x0600,
+            &fmmu_bits(0x100 + byte, 1, (first, last), (0x1800, 0), 2),
+        ));
+        setup.push(dg(
+            FPWR,
+            station,
+            0x0610,
+            &fmmu_bits(0x200 + byte, 1, (first, last), (0x1900, 0), 1),
+        ));
+        // Inputs 0x9, 0x6, 0x3 in the low nibble, a high nibble the FMMU does not map.
+        setup.push(dg(FPWR, station, 0x1900, &[0xF0 | [0x9, 0x6, 0x3][k]]));
+        setup.push(dg(FPWR, station, 0x1800, &[0xF0]));
+    }
+    run(&mut c, &setup);
+    // Outputs 0x5, 0xA, 0xC; inputs read into bytes whose other bits stay as sent (0x0_).
+    let r = run(&mut c, &[dg(LWR, 0x0100, 0x0000, &[0xA5, 0x0C]), dg(LRD, 0x0200, 0, &[0, 0x00])]);
+    assert_eq!((r[0].2, r[1].2), (3, 3));
+    assert_eq!(r[1].1, [0x69, 0x03]);
+    let reads: Vec<_> = (0..3).map(|k| dg(FPRD, 0x1001 + k, 0x1800, &[0])).collect();
+    let r = run(&mut c, &reads);
+    // Each device's own bits, its high nibble untouched.
+    let got: Vec<u8> = r.iter().map(|d| d.1[0]).collect();
+    assert_eq!(got, [0xF5, 0xFA, 0xFC]);
+}
+
 /// SM registers (ETG.1000.4 Table 58): start, length, control, status, activate, PDI.
 fn sm(start: u16, len: u16, control: u8) -> Vec<u8> {
     let mut v = start.to_le_bytes().to_vec();

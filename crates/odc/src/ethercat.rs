@@ -8,6 +8,8 @@
 
 #[cfg(feature = "ethercrab")]
 pub mod ethercrab;
+#[cfg(feature = "subdevice")]
+pub mod subdevice;
 
 /// Vendor, product and revision as the ESI's `Vendor/Id` and `Type` give them; a SubDevice's
 /// SII carries the same three numbers.

@@ -14,7 +14,8 @@
 //!   any [`slave::ObjectDictionary`]; [`transport`]: the [`transport::Bus`] trait and its
 //!   adapters;
 //! - [`SdoAbort`], [`emcy`], [`cia402`], [`cob`], [`nmt`]: CiA 301 / CiA 402 vocabulary.
-//! - [`ethercat`]: the start-up of an ESI device as data; with the feature `ethercrab`, the
+//! - [`ethercat`]: the start-up of an ESI device as data; with the feature `subdevice`, the
+//!   firmware stack of an EtherCAT device; with the feature `ethercrab`, the
 //!   `ethercrab_wire` traits of generated process images and `configure` on an ethercrab
 //!   SubDevice.
 //!
@@ -84,8 +85,12 @@
 //!   the traits generated code implements are always there);
 //! - with `std`: `master` (`odc::master`), `transport-mem`, `transport-tcp` and `transport-socketcand`.
 //!
-//! Off by default: `std` links std; `embedded-can` and `socketcan` add those transports;
-//! `serde` and `defmt` add derives on the plain data types; `ethercrab`, above.
+//! Off by default: `std` links std; `alloc` adds [`slave::RuntimeTable`], a dictionary
+//! table built at run time (the simulator's; `std` implies it); `subdevice` adds
+//! `ethercat::subdevice`, the device side of EtherCAT (AL states, mailbox with CoE, SDO
+//! Information and FoE, process data) over an ESC's PDI, `no_std` without heap; `embedded-can`
+//! and `socketcan` add those transports; `serde` and `defmt` add derives on the plain data
+//! types; `ethercrab`, above.
 //!
 //! Time is the caller's: every call that needs it takes a [`time::Instant`] of a monotonic
 //! clock, in microseconds.
@@ -94,6 +99,8 @@
 // proven invariant may opt out with an `#[allow]` and a comment saying why.
 #![cfg_attr(not(test), deny(clippy::unwrap_used, clippy::expect_used, clippy::panic))]
 
+#[cfg(feature = "alloc")]
+extern crate alloc;
 #[cfg(feature = "std")]
 extern crate std;
 

@@ -63,8 +63,12 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+#[cfg(feature = "alloc")]
+mod runtime;
 mod table;
 
+#[cfg(feature = "alloc")]
+pub use runtime::{RuntimeDictionary, RuntimeTable, TableBuilder};
 pub use table::{Row, Spec, SpecRef, Table};
 
 use crate::cob::NodeId;
@@ -116,6 +120,35 @@ pub trait ObjectDictionary {
             Err(_) => Ok(64),
         }
     }
+}
+
+/// What an entry is, without its value: address, access, type and the bytes its value takes
+/// in the storage (a string's capacity).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct EntryMeta {
+    /// The address.
+    pub addr: ObjectAddr,
+    /// The access right.
+    pub access: Access,
+    /// The CiA 301 data type.
+    pub data_type: crate::DataType,
+    /// The bytes of the value in the storage.
+    pub len: usize,
+}
+
+/// A dictionary whose values the device's own stacks reach as bytes: process data copies
+/// mapped entries between them and the sync managers, complete access and SDO Information walk
+/// the entries in address order. Generated `Dictionary` types implement it, and so does
+/// [`RuntimeDictionary`] (feature `alloc`).
+pub trait Storage: ObjectDictionary {
+    /// The stored bytes of `index:sub` (no access check).
+    fn raw(&self, index: u16, sub: u8) -> Option<&[u8]>;
+    /// The stored bytes of `index:sub`, to change in place (no access or limit check).
+    fn raw_mut(&mut self, index: u16, sub: u8) -> Option<&mut [u8]>;
+    /// The entry at position `pos` in address order.
+    fn entry_at(&self, pos: usize) -> Option<EntryMeta>;
+    /// The position of the first entry at or after `index:sub`.
+    fn position(&self, index: u16, sub: u8) -> usize;
 }
 
 /// How the application learns about (and may veto) SDO writes into a generated dictionary.

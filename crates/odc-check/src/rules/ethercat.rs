@@ -1,4 +1,4 @@
-//! T601–T621: EtherCAT devices (ETG.2000 ESI, ETG.1000 data link and application layer).
+//! T601–T625: EtherCAT devices (ETG.2000 ESI, ETG.1000 data link and application layer).
 //!
 //! The PDO rules mirror the CANopen ones (C301–C303) on the `<RxPdo>`/`<TxPdo>` elements; the
 //! others check what only an ESI has: sync managers (`<Sm>`), the default PDO assignment (the
@@ -23,13 +23,17 @@ use crate::util::{first_span, idx, initial_u64, is_esi};
 mod assignment;
 mod data_types;
 mod entries;
+mod identity;
 mod mailbox_dc;
+mod mapping;
 mod sync_managers;
 
 pub(crate) use assignment::*;
 pub(crate) use data_types::*;
 pub(crate) use entries::*;
+pub(crate) use identity::*;
 pub(crate) use mailbox_dc::*;
+pub(crate) use mapping::*;
 pub(crate) use sync_managers::*;
 
 /// The EtherCAT part of an ESI device.

@@ -115,4 +115,8 @@ pub(crate) const ALL: &[Rule] = &[
     ethercat::T619,
     ethercat::T620,
     ethercat::T621,
+    ethercat::T622,
+    ethercat::T623,
+    ethercat::T624,
+    ethercat::T625,
 ];

@@ -369,7 +369,7 @@ rule!(
      to its file by the values read from 0x1018; when the file's two statements differ, it \
      matches one of them and not the other. Fix: make the defaults of 0x1018 subs 1–3 equal the \
      [DeviceInfo] numbers. For an ESI the revision is not compared: EtherCAT masters take it from \
-     the EEPROM, and vendor files share one dictionary among many revisions."
+     the EEPROM, and vendor files share one dictionary among many revisions (T625 notes it)."
 );
 
 fn identity_mismatch(dev: &Device, ctx: &mut Ctx) {

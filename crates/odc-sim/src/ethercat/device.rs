@@ -1,18 +1,22 @@
-//! [`SubDevice`]: an ESC with the application a device's firmware runs behind it: the AL
-//! state machine and its checks, the mailbox with the CoE server, process data between the
-//! sync managers and the dictionary, and a CiA 402 drive when the device is one.
+//! [`SubDevice`]: an emulated ESC with the firmware stack a device runs behind it, the
+//! runtime's [`odc::ethercat::subdevice`] (AL state machine and its checks, the mailbox with
+//! CoE, process data between the sync managers and the dictionary), on the runtime's own
+//! dictionary table built from the model, and a CiA 402 drive when the device is one.
 
 use odc::cia402::{DeviceControl, Drive};
+use odc::ethercat::subdevice::{self as stack, Application, Config, SmSpec, al};
 use odc_model::Device;
 use odc_model::ethercat::SmUsage;
 
-use super::al::{self, SmSpec, code, state};
-use super::esc::{Esc, Passing, SM_FULL};
+use super::esc::{Esc, Passing, Pdi};
 use super::frame::Datagram;
-use super::mailbox::Mailbox;
-use super::pdo::{self, Layout};
+use super::info::ModelInfo;
 use super::registers as reg;
 use crate::ModelDictionary;
+
+/// The firmware stack's sizes in the simulator: mailboxes up to 2 KiB served whole, SDO values
+/// up to [`crate::SDO_BUFFER`] bytes, 1024 mapped entries, process images of the whole RAM.
+type Stack = stack::SubDevice<2048, { crate::SDO_BUFFER }, 1024, { reg::RAM_KIB as usize * 1024 }>;
 
 /// A simulated EtherCAT SubDevice built from an ESI device.
 #[derive(Debug)]
@@ -20,20 +24,80 @@ pub struct SubDevice {
     esc: Esc,
     name: String,
     sms: Vec<SmSpec>,
-    mailbox: Mailbox,
+    /// The mapping values the ESI gives the sync managers (for a device without assignment
+    /// objects): `(sm, index << 16 | sub << 8 | bits)`.
+    fixed: Vec<(u8, u32)>,
+    coe: Option<odc_model::ethercat::CoE>,
+    info: Option<ModelInfo>,
+    stack: Box<Stack>,
     od: ModelDictionary,
-    /// The AL state (AL status bits 0–3).
-    state: u8,
-    /// The layouts of the process data sync managers, fixed on entering SAFE-OP.
-    layouts: Vec<(u8, Layout)>,
-    /// The layouts the ESI gives the sync managers (for a device without assignment
-    /// objects).
-    fixed: Vec<(u8, Layout)>,
+    app: Firmware,
+}
+
+/// What the device's application does: a CiA 402 drive when it is one, stepped by the time
+/// between frames.
+#[derive(Debug)]
+struct Firmware {
     drive: Option<Drive>,
-    /// Mailbox replies waiting for the read mailbox (fragments after the first).
-    pending: std::collections::VecDeque<Vec<u8>>,
     last_ns: Option<u64>,
     carry_ns: u64,
+    dt: odc::time::Duration,
+}
+
+impl Application<ModelDictionary> for Firmware {
+    fn cycle(&mut self, od: &mut ModelDictionary, _state: u8) {
+        if let Some(drive) = &mut self.drive {
+            drive.update(od);
+            drive.step(od, self.dt);
+        }
+    }
+
+    fn mailbox_served(&mut self, od: &mut ModelDictionary) {
+        if let Some(drive) = &mut self.drive {
+            drive.update(od);
+        }
+    }
+}
+
+/// The mapping values of the ESI's PDOs of sync manager `sm` (`RxPdo@Sm`, `TxPdo@Sm`, in file
+/// order): what a device without assignment objects serves, and what its SII's PDO
+/// categories tell the master.
+fn fixed_mapping(device: &Device, sm: u8) -> impl Iterator<Item = (u8, u32)> + '_ {
+    device.pdos.iter().filter(move |p| p.sync_manager == Some(sm)).flat_map(move |pdo| {
+        pdo.entries.iter().map(move |e| {
+            let index = if e.is_gap() { 0 } else { u32::from(e.index) };
+            (sm, index << 16 | u32::from(e.sub) << 8 | u32::from(e.bits))
+        })
+    })
+}
+
+/// A device whose dictionary has an assignment object (0x1C10 + n) with an empty default
+/// starts with the assignment its ESI gives (the `Sm` attributes of its PDOs, and its SII's
+/// PDO categories say the same to a master): SOEM's default bring-up reads the assignment
+/// over CoE and would otherwise map nothing and meet 0x001D at SAFE-OP (#31). Written as the
+/// firmware sets its own values (no access check); an object without room for the PDOs keeps
+/// its default.
+fn esi_assignment(device: &Device, od: &mut ModelDictionary) {
+    for (sm, pdos) in odc_analysis::image::default_assignment(device) {
+        let object = 0x1C10 + u16::from(sm);
+        let empty = od.raw(object, 0).is_some_and(|c| c.first() == Some(&0));
+        let Ok(count) = u8::try_from(pdos.len()) else { continue };
+        let room = (1..=count).all(|k| od.raw(object, k).is_some_and(|b| b.len() >= 2));
+        if !empty || count == 0 || !room {
+            continue;
+        }
+        for (k, pdo) in (1..=count).zip(&pdos) {
+            if let Some(b) = od.raw_mut(object, k) {
+                b.fill(0);
+                if let Some(lo) = b.get_mut(..2) {
+                    lo.copy_from_slice(&pdo.to_le_bytes());
+                }
+            }
+        }
+        if let Some(c) = od.raw_mut(object, 0).and_then(|b| b.first_mut()) {
+            *c = count;
+        }
+    }
 }
 
 fn kind(usage: &SmUsage) -> u8 {
@@ -98,12 +162,12 @@ impl SubDevice {
             })
             .collect();
         let with_types = sm_types(device, &ecat.sync_managers);
-        let od = ModelDictionary::new(with_types.as_ref().unwrap_or(device), None);
-        let fixed = ecat
-            .sync_managers
-            .iter()
-            .map(|sm| (sm.number, pdo::fixed_layout(device, sm.number)))
-            .collect();
+        let mut od = ModelDictionary::new(with_types.as_ref().unwrap_or(device), None);
+        esi_assignment(device, &mut od);
+        let fixed =
+            ecat.sync_managers.iter().flat_map(|sm| fixed_mapping(device, sm.number)).collect();
+        let coe = ecat.mailbox.as_ref().and_then(|m| m.coe.clone());
+        let info = coe.as_ref().filter(|c| c.sdo_info).map(|_| ModelInfo::new(device));
         let drive = od.is_drive().then(Drive::new);
         let name = ecat
             .names
@@ -117,15 +181,12 @@ impl SubDevice {
             esc: Esc::new(image, 0, false),
             name,
             sms,
-            mailbox: Mailbox::new(device),
-            od,
-            state: state::INIT,
-            layouts: Vec::new(),
             fixed,
-            drive,
-            pending: Default::default(),
-            last_ns: None,
-            carry_ns: 0,
+            coe,
+            info,
+            stack: Box::new(Stack::new()),
+            od,
+            app: Firmware { drive, last_ns: None, carry_ns: 0, dt: odc::time::Duration::ZERO },
         };
         dev.restart_drive();
         Ok(dev)
@@ -138,7 +199,7 @@ impl SubDevice {
         // Devices power up at different moments: a clock 1.234567 s apart per position.
         let base = 1_234_567_000u64.wrapping_mul(position as u64 + 1);
         self.esc = Esc::new(image, base, downstream);
-        self.state = state::INIT;
+        *self.stack = Stack::new();
         self.deactivate_process_data();
     }
 
@@ -164,7 +225,7 @@ impl SubDevice {
 
     /// The AL state (1 INIT, 2 PRE-OP, 4 SAFE-OP, 8 OP).
     pub fn al_state(&self) -> u8 {
-        self.state
+        self.stack.state()
     }
 
     /// The AL status code (0 without error).
@@ -174,196 +235,70 @@ impl SubDevice {
 
     /// Whether it runs a CiA 402 drive.
     pub fn is_drive(&self) -> bool {
-        self.drive.is_some()
+        self.app.drive.is_some()
     }
 
     fn restart_drive(&mut self) {
-        if let Some(drive) = &mut self.drive {
+        if let Some(drive) = &mut self.app.drive {
             let option = self.od.get::<i16>(0x605A, 0).unwrap_or(2);
             *drive = Drive::new().with_control(DeviceControl::new().with_quick_stop_option(option));
             drive.start(&mut self.od);
         }
     }
 
-    /// Executes one datagram as it passes, then what the application does with it.
+    /// Executes one datagram as it passes, then what the firmware does with it.
     pub(super) fn execute(&mut self, d: &mut Datagram<'_>, at: &Passing) {
         self.esc.execute(d, at);
-        let ev = self.esc.take_events();
-        if ev.al_control {
-            self.al_control();
-        }
-        if ev.mailbox_received {
-            self.mailbox_received();
-        }
-        if ev.mailbox_read {
-            self.send_pending();
+        if self.esc.al_event() != 0 || self.stack.has_pending() {
+            let cfg = Config {
+                sync_managers: &self.sms,
+                fixed: &self.fixed,
+                coe: self.coe.is_some(),
+                complete_access: self.coe.as_ref().is_some_and(|c| c.complete_access),
+                boot: false,
+                foe: false,
+                describe: self.info.as_ref().map(|i| i as &dyn stack::Describe),
+            };
+            let Ok(()) =
+                self.stack.poll(&cfg, &mut Pdi(&mut self.esc), &mut self.od, &mut self.app);
         }
     }
 
     /// After the frame has passed: process data and the drive.
     pub(super) fn after_frame(&mut self, at: &Passing) {
-        if self.state != state::SAFE_OP && self.state != state::OP {
+        let state = self.stack.state();
+        if state != al::state::SAFE_OP && state != al::state::OP {
             return;
         }
-        if self.state == state::OP {
-            for (sm, layout) in &self.layouts {
-                let regs = self.esc.sm(*sm);
-                if regs.master_writes() {
-                    let image = self.esc.bytes(regs.start, usize::from(regs.len));
-                    pdo::image_to_dictionary(layout, image, &mut self.od);
-                }
-            }
-        }
-        let dt = match self.last_ns {
+        let app = &mut self.app;
+        app.dt = match app.last_ns {
             Some(last) => {
-                let ns = at.arrival_ns.saturating_sub(last) + self.carry_ns;
-                self.carry_ns = ns % 1000;
+                let ns = at.arrival_ns.saturating_sub(last) + app.carry_ns;
+                app.carry_ns = ns % 1000;
                 odc::time::Duration::from_micros(ns / 1000)
             }
             None => odc::time::Duration::ZERO,
         };
-        self.last_ns = Some(at.arrival_ns);
-        if let Some(drive) = &mut self.drive {
-            drive.update(&mut self.od);
-            drive.step(&mut self.od, dt);
-        }
-        self.write_inputs();
+        app.last_ns = Some(at.arrival_ns);
+        let cfg = Config {
+            sync_managers: &self.sms,
+            fixed: &self.fixed,
+            coe: self.coe.is_some(),
+            complete_access: self.coe.as_ref().is_some_and(|c| c.complete_access),
+            boot: false,
+            foe: false,
+            describe: None,
+        };
+        let Ok(()) = self.stack.cycle(&cfg, &mut Pdi(&mut self.esc), &mut self.od, &mut self.app);
     }
 
-    fn write_inputs(&mut self) {
-        for (sm, layout) in &self.layouts {
-            let regs = self.esc.sm(*sm);
-            if !regs.master_writes() {
-                let mut image = vec![0u8; usize::from(regs.len)];
-                pdo::dictionary_to_image(layout, &self.od, &mut image);
-                self.esc.set_bytes(regs.start, &image);
-            }
-        }
-    }
-
-    fn set_status(&mut self, error: bool, status_code: u16) {
-        self.esc.set_u16(reg::AL_STATUS, u16::from(self.state) | u16::from(error) << 4);
-        self.esc.set_u16(reg::AL_STATUS_CODE, status_code);
-    }
-
-    /// A write of AL control: the requested state, checked; on failure the device stays
-    /// where it is with the error flag and the status code.
-    fn al_control(&mut self) {
-        let control = self.esc.u16(reg::AL_CONTROL);
-        let requested = (control & 0x0F) as u8;
-        let ack = control & 0x10 != 0;
-        let error = self.esc.u16(reg::AL_STATUS) & 0x10 != 0;
-        // With the error flag set, only an acknowledgement or a step down is taken
-        // (ETG.1000.6 §6.4.1.3).
-        if error && !ack && requested > self.state {
-            return;
-        }
-        match self.transition(requested) {
-            Ok(()) => self.set_status(false, code::NONE),
-            Err(c) => self.set_status(true, c),
-        }
-    }
-
-    fn transition(&mut self, to: u8) -> Result<(), u16> {
-        al::allowed(self.state, to)?;
-        let ram = u32::try_from(reg::MEMORY).unwrap_or(u32::MAX);
-        match to {
-            state::INIT => {
-                self.mailbox.reset();
-                self.pending.clear();
-                self.deactivate_process_data();
-            }
-            state::PRE_OP => {
-                al::check_mailbox(&self.esc, &self.sms, ram)?;
-                if self.state >= state::SAFE_OP {
-                    self.deactivate_process_data();
-                }
-            }
-            state::SAFE_OP if self.state == state::PRE_OP => {
-                al::check_mailbox(&self.esc, &self.sms, ram)?;
-                let mut layouts = Vec::new();
-                for spec in self.sms.iter().filter(|s| matches!(s.kind, al::OUTPUTS | al::INPUTS)) {
-                    let err = match spec.kind {
-                        al::OUTPUTS => code::INVALID_OUTPUT_CONFIG,
-                        _ => code::INVALID_INPUT_CONFIG,
-                    };
-                    let layout = match pdo::layout(&self.od, spec.number).map_err(|_| err)? {
-                        Some(layout) => layout,
-                        None => self
-                            .fixed
-                            .iter()
-                            .find(|(n, _)| *n == spec.number)
-                            .map(|(_, l)| l.clone())
-                            .unwrap_or_default(),
-                    };
-                    layouts.push((spec.number, layout));
-                }
-                let bytes =
-                    |n: u8| layouts.iter().find(|(sm, _)| *sm == n).map_or(0, |(_, l)| l.bytes());
-                al::check_process_data(&self.esc, &self.sms, bytes)?;
-                self.layouts = layouts;
-                for spec in &self.sms {
-                    if matches!(spec.kind, al::OUTPUTS | al::INPUTS) {
-                        self.esc.set_sm_pdi_control(spec.number, 0);
-                    }
-                }
-                self.write_inputs();
-            }
-            state::SAFE_OP | state::OP => {}
-            _ => {}
-        }
-        self.state = to;
-        Ok(())
-    }
-
-    /// Outside SAFE-OP and OP the application keeps the process data sync managers
-    /// deactivated (PDI control bit 0): the master's process data access is not counted.
+    /// At power-on the firmware keeps the process data sync managers deactivated (PDI
+    /// control bit 0): the master's process data access is not counted.
     fn deactivate_process_data(&mut self) {
-        self.layouts.clear();
         for spec in &self.sms {
             if matches!(spec.kind, al::OUTPUTS | al::INPUTS) {
                 self.esc.set_sm_pdi_control(spec.number, 1);
             }
-        }
-    }
-
-    /// The write mailbox is full: read it, answer in the read mailbox.
-    fn mailbox_received(&mut self) {
-        let find = |kind: u8| self.sms.iter().find(|s| s.kind == kind).map(|s| s.number);
-        let (Some(out_sm), Some(in_sm)) = (find(al::MBOX_OUT), find(al::MBOX_IN)) else {
-            return;
-        };
-        let (rx, tx) = (self.esc.sm(out_sm), self.esc.sm(in_sm));
-        let request = self.esc.bytes(rx.start, usize::from(rx.len)).to_vec();
-        // The application has read the mailbox: empty again.
-        self.esc.set_sm_status(out_sm, rx.status & !SM_FULL);
-        if self.state < state::PRE_OP || tx.activate & 1 == 0 {
-            return;
-        }
-        let pre_op = self.state == state::PRE_OP;
-        // PDO assignment and mapping may be written in PRE-OP only (ETG.1000.6 §5.6.7.4).
-        let writable = move |index: u16| pre_op || !pdo::is_pdo_config(index);
-        let replies = self.mailbox.handle(&request, usize::from(tx.len), &mut self.od, &writable);
-        self.pending = replies.into();
-        self.send_pending();
-        if let Some(drive) = &mut self.drive {
-            drive.update(&mut self.od);
-        }
-    }
-
-    /// The next waiting reply into the read mailbox, if it is empty.
-    fn send_pending(&mut self) {
-        let Some(in_sm) = self.sms.iter().find(|s| s.kind == al::MBOX_IN).map(|s| s.number) else {
-            return;
-        };
-        let tx = self.esc.sm(in_sm);
-        if tx.status & SM_FULL != 0 || tx.activate & 1 == 0 {
-            return;
-        }
-        if let Some(mut reply) = self.pending.pop_front() {
-            reply.resize(usize::from(tx.len), 0);
-            self.esc.set_bytes(tx.start, &reply);
-            self.esc.set_sm_status(in_sm, tx.status | SM_FULL);
         }
     }
 }

@@ -8,23 +8,13 @@
 //! managers refuse (a full write mailbox, an empty read mailbox) does nothing and adds 0.
 //!
 //! What the application (the device's firmware) does with what was written is not here: the
-//! ESC reports [`Events`] and the [`SubDevice`](super::SubDevice) acts on them.
+//! ESC raises the AL event request register (0x0220) as a real one does, and the firmware
+//! stack reads it and the rest through [`Pdi`], the application side of the ESC.
 
 use super::dc::Clock;
 use super::frame::{Command, Datagram};
 use super::registers::{self as reg, MEMORY, ecat_writable};
 use super::sii::SiiPort;
-
-/// What a datagram asked of the application.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Events {
-    /// AL control was written.
-    pub al_control: bool,
-    /// A write mailbox became full (its last byte was written).
-    pub mailbox_received: bool,
-    /// A read mailbox was read to its last byte (now empty).
-    pub mailbox_read: bool,
-}
 
 /// A sync manager's registers.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -71,7 +61,6 @@ pub struct Esc {
     mem: Vec<u8>,
     pub(super) sii: SiiPort,
     pub(super) clock: Clock,
-    events: Events,
 }
 
 /// Where the frame meets this device: the times its ports see it (the simulation's ns).
@@ -91,7 +80,6 @@ impl Esc {
             mem: vec![0; MEMORY],
             sii: SiiPort::new(image),
             clock: Clock::new(clock_base_ns),
-            events: Events::default(),
         };
         esc.power_on(downstream);
         esc
@@ -171,14 +159,18 @@ impl Esc {
 
     /// The registers of sync manager `n`.
     pub fn sm(&self, n: u8) -> SmRegs {
-        let at = reg::SM + 8 * u16::from(n);
+        let at = usize::from(reg::SM) + 8 * usize::from(n);
+        let r = match self.mem.get(at..at + 8) {
+            Some(&[a, b, c, d, e, f, g, h]) => [a, b, c, d, e, f, g, h],
+            _ => [0; 8],
+        };
         SmRegs {
-            start: self.u16(at),
-            len: self.u16(at + 2),
-            control: self.u8(at + 4),
-            status: self.u8(at + 5),
-            activate: self.u8(at + 6),
-            pdi_control: self.u8(at + 7),
+            start: u16::from_le_bytes([r[0], r[1]]),
+            len: u16::from_le_bytes([r[2], r[3]]),
+            control: r[4],
+            status: r[5],
+            activate: r[6],
+            pdi_control: r[7],
         }
     }
 
@@ -192,9 +184,20 @@ impl Esc {
         self.set_u8(reg::SM + 8 * u16::from(n) + 7, v);
     }
 
-    /// The events of the datagrams executed since the last call.
-    pub fn take_events(&mut self) -> Events {
-        core::mem::take(&mut self.events)
+    /// The AL event request register (0x0220): bit 0 AL control written, bit 8 + n an event
+    /// of sync manager n.
+    pub fn al_event(&self) -> u32 {
+        self.u32(reg::AL_EVENT)
+    }
+
+    fn raise(&mut self, bit: u32) {
+        let ev = self.u32(reg::AL_EVENT) | 1 << bit;
+        self.set_bytes(reg::AL_EVENT, &ev.to_le_bytes());
+    }
+
+    fn clear(&mut self, bit: u32) {
+        let ev = self.u32(reg::AL_EVENT) & !(1 << bit);
+        self.set_bytes(reg::AL_EVENT, &ev.to_le_bytes());
     }
 
     /// Executes `d` as this device (the frame passing it `at`), and updates its working
@@ -297,7 +300,7 @@ impl Esc {
         if let Some(n) = completes {
             let status = self.sm(n).status & !SM_FULL;
             self.set_sm_status(n, status);
-            self.events.mailbox_read = true;
+            self.raise(8 + u32::from(n));
         }
         1
     }
@@ -319,7 +322,7 @@ impl Esc {
             range.start < a + len && a < range.end
         };
         if touches(reg::AL_CONTROL, 2) {
-            self.events.al_control = true;
+            self.raise(0);
         }
         if touches(reg::SII_CONTROL, 2) {
             self.sii.command(&mut self.mem);
@@ -350,13 +353,16 @@ impl Esc {
         if let Some(n) = completes {
             let status = self.sm(n).status | SM_FULL;
             self.set_sm_status(n, status);
-            self.events.mailbox_received = true;
+            self.raise(8 + u32::from(n));
         }
         1
     }
 
-    /// A logical command through the FMMUs (ETG.1000.4 §6.6; byte-granular: the start and
-    /// stop bits of the FMMUs ethercrab configures are 0 and 7).
+    /// A logical command through the FMMUs (ETG.1000.4 §6.6), at bit granularity: an FMMU
+    /// maps the logical bits from its start bit of its first byte to its stop bit of its last
+    /// onto the physical bits from its physical start bit, so that a master may pack devices
+    /// with fewer than 8 bits into shared bytes (SOEM does); the bits of a shared byte that
+    /// the FMMU does not map are neither read nor written.
     fn logical(&mut self, cmd: Command, addr: u32, data: &mut [u8]) -> u16 {
         let (mut read, mut written) = (false, false);
         let end = u64::from(addr) + data.len() as u64;
@@ -366,37 +372,63 @@ impl Esc {
                 continue;
             }
             let l_start = u64::from(self.u32(f));
-            let l_end = l_start + u64::from(self.u16(f + 4));
-            let (lo, hi) = (l_start.max(u64::from(addr)), l_end.min(end));
+            let l_len = u64::from(self.u16(f + 4));
+            let (start_bit, stop_bit) = (self.u8(f + 6) & 7, self.u8(f + 7) & 7);
+            let phys_bit = self.u8(f + 10) & 7;
+            let kind = self.u8(f + 11);
+            let write = kind & 0x02 != 0 && matches!(cmd, Command::Lwr | Command::Lrw);
+            let read_it = kind & 0x01 != 0 && matches!(cmd, Command::Lrd | Command::Lrw);
+            if l_len == 0 || !(write || read_it) {
+                continue;
+            }
+            // The mapped logical bits [first, last] and the datagram's bits, overlapped.
+            let first = l_start * 8 + u64::from(start_bit);
+            let last = (l_start + l_len - 1) * 8 + u64::from(stop_bit);
+            let (lo, hi) = (first.max(u64::from(addr) * 8), (last + 1).min(end * 8));
             if lo >= hi {
                 continue;
             }
-            let phys = u64::from(self.u16(f + 8)) + (lo - l_start);
-            let (Ok(phys), Ok(in_data), Ok(len)) = (
-                usize::try_from(phys),
-                usize::try_from(lo - u64::from(addr)),
-                usize::try_from(hi - lo),
-            ) else {
+            let p_first = u64::from(self.u16(f + 8)) * 8 + u64::from(phys_bit) + (lo - first);
+            let p_last = p_first + (hi - lo) - 1;
+            let (Ok(p_lo), Ok(p_hi)) = (usize::try_from(p_first / 8), usize::try_from(p_last / 8))
+            else {
                 continue;
             };
-            let kind = self.u8(f + 11);
-            let range = phys..phys + len;
-            if kind & 0x02 != 0
-                && matches!(cmd, Command::Lwr | Command::Lrw)
-                && self.sm_check(range.clone(), true).is_some()
-                && let (Some(dst), Some(src)) =
-                    (self.mem.get_mut(range.clone()), data.get(in_data..in_data + len))
-            {
-                dst.copy_from_slice(src);
+            let range = p_lo..p_hi + 1;
+            if p_hi >= self.mem.len() {
+                continue;
+            }
+            let whole = lo % 8 == 0 && hi % 8 == 0 && p_first % 8 == 0;
+            let d0 = lo - u64::from(addr) * 8;
+            if write && self.sm_check(range.clone(), true).is_some() {
+                if whole {
+                    let (from, n) = ((d0 / 8) as usize, range.len());
+                    if let (Some(dst), Some(src)) =
+                        (self.mem.get_mut(range.clone()), data.get(from..from + n))
+                    {
+                        dst.copy_from_slice(src);
+                    }
+                } else {
+                    for i in 0..hi - lo {
+                        let v = bit(data, d0 + i);
+                        set_bit(&mut self.mem, p_first + i, v);
+                    }
+                }
                 written = true;
             }
-            if kind & 0x01 != 0
-                && matches!(cmd, Command::Lrd | Command::Lrw)
-                && self.sm_check(range.clone(), false).is_some()
-                && let (Some(src), Some(dst)) =
-                    (self.mem.get(range), data.get_mut(in_data..in_data + len))
-            {
-                dst.copy_from_slice(src);
+            if read_it && self.sm_check(range.clone(), false).is_some() {
+                if whole {
+                    let (to, n) = ((d0 / 8) as usize, range.len());
+                    if let (Some(src), Some(dst)) = (self.mem.get(range), data.get_mut(to..to + n))
+                    {
+                        dst.copy_from_slice(src);
+                    }
+                } else {
+                    for i in 0..hi - lo {
+                        let v = bit(&self.mem, p_first + i);
+                        set_bit(data, d0 + i, v);
+                    }
+                }
                 read = true;
             }
         }
@@ -404,5 +436,98 @@ impl Esc {
             Command::Lrw => u16::from(read) + 2 * u16::from(written),
             _ => u16::from(read || written),
         }
+    }
+}
+
+fn overlap(a: &core::ops::Range<usize>, b: &core::ops::Range<usize>) -> bool {
+    a.start < b.end && b.start < a.end
+}
+
+/// Bit `i` of `b` (LSB first), false outside it.
+fn bit(b: &[u8], i: u64) -> bool {
+    usize::try_from(i / 8).ok().and_then(|k| b.get(k)).is_some_and(|x| x >> (i % 8) & 1 != 0)
+}
+
+fn set_bit(b: &mut [u8], i: u64, v: bool) {
+    if let Some(x) = usize::try_from(i / 8).ok().and_then(|k| b.get_mut(k)) {
+        let m = 1u8 << (i % 8);
+        *x = if v { *x | m } else { *x & !m };
+    }
+}
+
+/// The ESC as the device's firmware sees it through its PDI: no write protection, and the
+/// side effects a real ESC has on the application's accesses (ESC datasheets section II,
+/// sync manager and AL event request): reading the last byte of a mailbox the master writes
+/// empties it, writing the last byte of one the master reads fills it, reading AL control
+/// clears its event, reading a sync manager's status or buffer clears that sync manager's.
+#[derive(Debug)]
+pub struct Pdi<'a>(pub &'a mut Esc);
+
+impl Pdi<'_> {
+    fn touched(&mut self, addr: u16, len: usize, write: bool) {
+        let range = usize::from(addr)..usize::from(addr) + len;
+        // Registers other than AL control and the sync managers' have no side effect.
+        let sms = usize::from(reg::SM)..usize::from(reg::SM) + 8 * usize::from(reg::SMS);
+        let registers = range.end <= usize::from(reg::PROCESS_RAM);
+        if registers && !range.contains(&usize::from(reg::AL_CONTROL)) && !overlap(&range, &sms) {
+            return;
+        }
+        let covers = |a: u16| range.contains(&usize::from(a));
+        if !write && covers(reg::AL_CONTROL) {
+            self.0.clear(0);
+        }
+        // Events are raised for mailboxes only; a buffered sync manager's access has no side
+        // effect once no event is pending (the cyclic path).
+        let pending = self.0.al_event() != 0;
+        for n in 0..reg::SMS {
+            let at = reg::SM + 8 * u16::from(n);
+            let mailbox = self.0.u8(at + 4) & 0x03 == 0x02;
+            if !mailbox && !pending {
+                continue;
+            }
+            if !write && covers(at + 5) {
+                self.0.clear(8 + u32::from(n));
+            }
+            let sm = self.0.sm(n);
+            let area = sm.range();
+            if area.is_empty() || sm.activate & 1 == 0 {
+                continue;
+            }
+            if overlap(&range, &area) {
+                self.0.clear(8 + u32::from(n));
+            }
+            if !mailbox || !range.contains(&(area.end - 1)) {
+                continue;
+            }
+            if !write && sm.master_writes() {
+                self.0.set_sm_status(n, sm.status & !SM_FULL);
+            } else if write && !sm.master_writes() {
+                self.0.set_sm_status(n, sm.status | SM_FULL);
+            }
+        }
+    }
+}
+
+impl odc::ethercat::subdevice::Esc for Pdi<'_> {
+    type Error = core::convert::Infallible;
+
+    fn read(&mut self, addr: u16, buf: &mut [u8]) -> Result<(), Self::Error> {
+        let at = usize::from(addr);
+        match self.0.mem.get(at..at + buf.len()) {
+            Some(src) => buf.copy_from_slice(src),
+            None => buf.fill(0),
+        }
+        self.touched(addr, buf.len(), false);
+        Ok(())
+    }
+
+    fn write(&mut self, addr: u16, data: &[u8]) -> Result<(), Self::Error> {
+        self.0.set_bytes(addr, data);
+        self.touched(addr, data.len(), true);
+        Ok(())
+    }
+
+    fn al_event(&mut self) -> Result<u32, Self::Error> {
+        Ok(self.0.al_event())
     }
 }

@@ -11,24 +11,22 @@
 //!   working counter and the position auto-increment; [`registers`] the register map;
 //! - [`sii`]: the EEPROM interface over `odc_sii::write`'s image; [`dc`]: distributed
 //!   clocks as far as a master's set-up reads and writes them;
-//! - [`al`]: the AL state machine and the checks of the sync managers;
-//! - [`mailbox`] and [`coe`]: the mailbox on SM0/SM1 and the CoE SDO server; [`info`] the
-//!   SDO Information service;
-//! - [`pdo`]: process data through the FMMUs into and out of the dictionary;
-//! - [`SubDevice`] joins them (with a CiA 402 drive when the device is one) and [`Chain`]
+//! - [`info`]: the descriptions SDO Information serves, from the model;
+//! - [`SubDevice`] runs the firmware stack, [`odc::ethercat::subdevice`] (AL state machine,
+//!   mailbox with CoE, process data), on the emulated ESC through its PDI ([`esc::Pdi`]),
+//!   with a CiA 402 drive when the device is one; [`Chain`]
 //!   runs a frame through several in a line; `EthercrabLink` (feature `ethercrab`) wires
 //!   a chain to an ethercrab master in the same process.
 //!
 //! Simplifications, each visible to a master only in timing: an ESC answers at once (the
-//! SII is never busy, a mailbox reply is ready when the request is written), FMMUs are byte
-//! granular, process data sync managers have one buffer, and a DC clock takes the
-//! reference's time at the first comparison instead of through a control loop. Not
+//! SII is never busy, a mailbox reply is ready when the request is written), process data
+//! sync managers have one buffer, and a DC clock takes the reference's time at the first
+//! comparison instead of through a control loop. FMMUs map bits (a master may pack devices
+//! of fewer than 8 bits into shared bytes). Not
 //! emulated: the mailbox repeat request (SM activate bit 1), the watchdogs' expiry, SYNC
 //! pulses and latches, EoE/FoE/SoE (answered with the mailbox error "unsupported protocol").
 
-pub mod al;
 mod chain;
-pub mod coe;
 pub mod dc;
 mod device;
 pub mod esc;
@@ -36,8 +34,6 @@ pub mod frame;
 pub mod info;
 #[cfg(feature = "ethercrab")]
 mod link;
-pub mod mailbox;
-pub mod pdo;
 pub mod registers;
 pub mod sii;
 

@@ -31,6 +31,8 @@ pub const AL_CONTROL: u16 = 0x0120;
 pub const AL_STATUS: u16 = 0x0130;
 /// AL status code (2 bytes).
 pub const AL_STATUS_CODE: u16 = 0x0134;
+/// AL event request (4 bytes): bit 0 AL control written, bit 8 + n sync manager n.
+pub const AL_EVENT: u16 = 0x0220;
 /// PDI control (1 byte), from SII word 0.
 pub const PDI_CONTROL: u16 = 0x0140;
 /// PDI configuration (2 bytes), from SII word 1.

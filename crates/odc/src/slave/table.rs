@@ -31,7 +31,7 @@ impl<T: ObjValue> Entry<T> {
 /// Private: a [`Row`] is made only from an `Entry`, so every stored value went through the
 /// entry's type. Every method of a trait object is linked with it: it has only what needs the
 /// type (an upload copies the stored encoding, see [`Table::read`]; no name, no formatting).
-trait Slot: Sync {
+pub(super) trait Slot: Sync {
     /// Decodes `data` as a value of the type and checks it against the limits.
     fn check(&self, data: &[u8]) -> Result<(), SdoAbort>;
     /// Stores the initial value on node `node_id` into zeroed `stored`.
@@ -124,7 +124,7 @@ pub struct Row {
 /// Offsets and lengths in a [`Row`] are below 1 MiB (20 bits).
 const AT_LIMIT: usize = 1 << 20;
 /// [`Row::key`]'s bit for an entry the file allows to map into PDOs.
-const MAPPABLE: u32 = 1 << 31;
+pub(super) const MAPPABLE: u32 = 1 << 31;
 
 /// The access rights by their code in [`Row::key`].
 const ACCESS: [Access; 6] =
@@ -165,12 +165,6 @@ impl Row {
         spec.0
     }
 
-    /// The search key of its address.
-    fn search_key(&self) -> u32 {
-        let key = self.key;
-        key & 0xFF_FFFF
-    }
-
     /// The entry's address.
     pub const fn addr(&self) -> ObjectAddr {
         let key = self.key;
@@ -191,18 +185,6 @@ impl Row {
     pub fn data_type(&self) -> DataType {
         self.spec().data_type()
     }
-
-    /// The stored bytes of this row in `values`.
-    fn of<'v>(&self, values: &'v [u8]) -> Result<&'v [u8], SdoAbort> {
-        let at = self.at();
-        // `values` is a dictionary's storage, `Table::size` bytes long: always `Some`.
-        values.get(at..at + self.spec().len()).ok_or(SdoAbort::General)
-    }
-
-    fn of_mut<'v>(&self, values: &'v mut [u8]) -> Result<&'v mut [u8], SdoAbort> {
-        let at = self.at();
-        values.get_mut(at..at + self.spec().len()).ok_or(SdoAbort::General)
-    }
 }
 
 impl fmt::Debug for Row {
@@ -213,6 +195,60 @@ impl fmt::Debug for Row {
             .field("data_type", &self.data_type())
             .field("at", &self.at())
             .finish()
+    }
+}
+
+/// What the shared read and write paths need of a row: the const [`Row`] of generated code,
+/// and (feature `alloc`) the row of a table built at run time, which owns its [`Slot`].
+pub(super) trait RowLike {
+    /// [`key`] in bits 0–23, the access code in bits 24–26, [`MAPPABLE`] in bit 31 (the
+    /// other bits are the row's own).
+    fn packed(&self) -> u32;
+    /// Offset of the value in the storage.
+    fn at(&self) -> usize;
+    /// The typed work of the value.
+    fn slot(&self) -> &dyn Slot;
+
+    fn addr(&self) -> ObjectAddr {
+        let k = self.packed();
+        ObjectAddr::new((k >> 8) as u16, k as u8)
+    }
+    fn access(&self) -> Access {
+        match ACCESS.get((self.packed() >> 24 & 7) as usize) {
+            Some(&a) => a,
+            // Unreachable: rows store the code of an `Access`.
+            None => Access::Ro,
+        }
+    }
+    /// Whether the file allows mapping the entry into PDOs.
+    fn mappable(&self) -> bool {
+        self.packed() & MAPPABLE != 0
+    }
+    /// The search key of its address ([`key`]).
+    fn search_key(&self) -> u32 {
+        self.packed() & 0xFF_FFFF
+    }
+    fn of<'v>(&self, values: &'v [u8]) -> Result<&'v [u8], SdoAbort> {
+        let at = self.at();
+        // `values` is a dictionary's storage, its table's size long: always `Some`.
+        values.get(at..at + self.slot().len()).ok_or(SdoAbort::General)
+    }
+    fn of_mut<'v>(&self, values: &'v mut [u8]) -> Result<&'v mut [u8], SdoAbort> {
+        let at = self.at();
+        values.get_mut(at..at + self.slot().len()).ok_or(SdoAbort::General)
+    }
+}
+
+impl RowLike for Row {
+    fn packed(&self) -> u32 {
+        // A copy of the packed field, no reference to it.
+        self.key
+    }
+    fn at(&self) -> usize {
+        Row::at(self)
+    }
+    fn slot(&self) -> &dyn Slot {
+        self.spec()
     }
 }
 
@@ -272,16 +308,12 @@ impl<const N: usize> Table<N> {
     /// [`initial`](super::initial)). A node without node-ID (`None`, LSS) takes no `$NODEID`
     /// default.
     pub fn init(&self, values: &mut [u8], node_id: Option<NodeId>) {
-        for row in &self.rows {
-            if let Ok(stored) = row.of_mut(values) {
-                row.spec().init(stored, node_id);
-            }
-        }
+        Rows(&self.rows).init(values, node_id);
     }
 
     /// The access of `index:sub`, if the table has it.
     pub fn access(&self, index: u16, sub: u8) -> Option<Access> {
-        self.row(index, sub).ok().map(Row::access)
+        Rows(&self.rows).access(index, sub)
     }
 
     /// Whether `index:sub` may be mapped into a transmit (`tx`) or receive PDO: its size in
@@ -291,19 +323,7 @@ impl<const N: usize> Table<N> {
     ///
     /// [`SdoAbort::NoSuchObject`], [`SdoAbort::NoSuchSub`] or [`SdoAbort::NotMappable`].
     pub fn pdo_mappable(&self, index: u16, sub: u8, tx: bool) -> Result<u32, SdoAbort> {
-        let row = self.row(index, sub)?;
-        let access = row.access();
-        let allowed = if tx { access.tpdo_allowed() } else { access.rpdo_allowed() };
-        let key = row.key;
-        if key & MAPPABLE == 0 || !allowed {
-            return Err(SdoAbort::NotMappable);
-        }
-        Ok(row.spec().len() as u32 * 8)
-    }
-
-    fn row(&self, index: u16, sub: u8) -> Result<&Row, SdoAbort> {
-        let pos = search(&self.rows, Row::search_key, index, sub)?;
-        self.rows.get(pos).ok_or(SdoAbort::NoSuchObject)
+        Rows(&self.rows).pdo_mappable(index, sub, tx)
     }
 
     /// SDO upload of `index:sub` from `values` into `buf`; returns the length.
@@ -320,25 +340,7 @@ impl<const N: usize> Table<N> {
         sub: u8,
         buf: &mut [u8],
     ) -> Result<usize, SdoAbort> {
-        let row = self.row(index, sub)?;
-        if !row.access().readable() {
-            return Err(SdoAbort::ReadOfWriteOnly);
-        }
-        let stored = row.of(values)?;
-        // The stored bytes are the encoding, but for the zeros that pad a shorter string. A
-        // DOMAIN's data is the application's (`WriteHook::write_domain`): none here.
-        let len = match row.data_type() {
-            DataType::VisibleString => stored.iter().rposition(|&b| b != 0).map_or(0, |p| p + 1),
-            DataType::UnicodeString => crate::value::unicode_len(stored),
-            DataType::Domain => return Err(SdoAbort::NoData),
-            _ => stored.len(),
-        };
-        let (src, dst) = (stored.get(..len), buf.get_mut(..len));
-        let (Some(src), Some(dst)) = (src, dst) else { return Err(SdoAbort::TooShort) };
-        for (d, s) in dst.iter_mut().zip(src) {
-            *d = *s;
-        }
-        Ok(len)
+        Rows(&self.rows).read(values, index, sub, buf)
     }
 
     /// SDO download of `data` into `index:sub` of `values`: the checks, then `hook` before
@@ -360,28 +362,7 @@ impl<const N: usize> Table<N> {
         data: &[u8],
         hook: &mut dyn WriteHook,
     ) -> Result<(), SdoAbort> {
-        let row = self.row(index, sub)?;
-        if !row.access().writable() {
-            return Err(SdoAbort::WriteOfReadOnly);
-        }
-        row.spec().check(data)?;
-        let addr = row.addr();
-        hook.before_write(addr, data)?;
-        if row.data_type() == DataType::Domain {
-            hook.write_domain(addr, data)?;
-        }
-        store(row.data_type(), data, row.of_mut(values)?);
-        hook.after_write(addr);
-        Ok(())
-    }
-
-    /// The row of a typed descriptor, if the table has its address with its type.
-    fn typed<T: ObjValue>(&self, entry: &Entry<T>) -> Result<&Row, SdoAbort> {
-        let row = self.row(entry.addr.index, entry.addr.sub)?;
-        if row.data_type() != T::DATA_TYPE || row.spec().len() != T::MAX_LEN {
-            return Err(SdoAbort::LengthMismatch);
-        }
-        Ok(row)
+        Rows(&self.rows).write(values, index, sub, data, hook)
     }
 
     /// The value of `entry` in `values`, for the firmware: no access check.
@@ -392,7 +373,7 @@ impl<const N: usize> Table<N> {
     /// that address, [`SdoAbort::LengthMismatch`] when it has one of another type: `entry` is
     /// not from this dictionary's `od` module.
     pub fn get<T: ObjValue>(&self, values: &[u8], entry: &Entry<T>) -> Result<T, SdoAbort> {
-        Ok(T::decode(self.typed(entry)?.of(values)?)?)
+        Rows(&self.rows).get(values, entry.addr.index, entry.addr.sub)
     }
 
     /// Stores `value` for `entry` in `values`, for the firmware: no access or limit check,
@@ -407,10 +388,30 @@ impl<const N: usize> Table<N> {
         entry: &Entry<T>,
         value: T,
     ) -> Result<(), SdoAbort> {
-        let stored = self.typed(entry)?.of_mut(values)?;
-        stored.fill(0);
-        value.encode(stored)?;
-        Ok(())
+        Rows(&self.rows).set(values, entry.addr.index, entry.addr.sub, value)
+    }
+
+    /// The stored bytes of `index:sub` in `values`, for the firmware's process data: no
+    /// access check.
+    pub fn raw<'v>(&self, values: &'v [u8], index: u16, sub: u8) -> Option<&'v [u8]> {
+        Rows(&self.rows).raw(values, index, sub)
+    }
+
+    /// The stored bytes of `index:sub` in `values`, to change in place (process data): no
+    /// access or limit check.
+    pub fn raw_mut<'v>(&self, values: &'v mut [u8], index: u16, sub: u8) -> Option<&'v mut [u8]> {
+        Rows(&self.rows).raw_mut(values, index, sub)
+    }
+
+    /// The entry at position `pos` in address order.
+    pub fn entry_at(&self, pos: usize) -> Option<super::EntryMeta> {
+        Rows(&self.rows).entry_at(pos)
+    }
+
+    /// The position of the first entry at or after `index:sub` (the number of entries when
+    /// there is none).
+    pub fn position(&self, index: u16, sub: u8) -> usize {
+        Rows(&self.rows).position(index, sub)
     }
 
     /// Shows `values` as a map from address to typed value, for `Debug`.
@@ -419,10 +420,186 @@ impl<const N: usize> Table<N> {
     ///
     /// The formatter's.
     pub fn fmt_values(&self, values: &[u8], f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        struct Shown<'a>(&'a Row, &'a [u8]);
+        Rows(&self.rows).fmt_values(values, f)
+    }
+}
+
+/// The rows a [`Rows`] path serves: a const table's array, whose length the compiler then
+/// knows (a firmware image's searches and bounds checks come out shorter), or any slice.
+pub(super) trait RowSlice {
+    /// The row type.
+    type Row: RowLike;
+    /// The rows, sorted by address.
+    fn rows(&self) -> &[Self::Row];
+}
+
+impl<const N: usize> RowSlice for [Row; N] {
+    type Row = Row;
+    fn rows(&self) -> &[Row] {
+        self
+    }
+}
+
+impl<R: RowLike> RowSlice for [R] {
+    type Row = R;
+    fn rows(&self) -> &[R] {
+        self
+    }
+}
+
+/// The one read and write path, over the rows of any table.
+///
+/// Taken by value, over the table's own array: a `Table`'s path is a pointer and a constant
+/// length. Behind `&self` over a slice, every caller built the slice on its stack and every
+/// search took its length as a variable (`tests/slave-size`'s `canopennode` image: 22,203 B
+/// that way; `tests/no-std`'s firmware: 50,756 B).
+pub(super) struct Rows<'r, S: ?Sized>(pub(super) &'r S);
+
+impl<S: ?Sized> Clone for Rows<'_, S> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+impl<S: ?Sized> Copy for Rows<'_, S> {}
+
+impl<'r, S: RowSlice + ?Sized> Rows<'r, S> {
+    pub(super) fn init(self, values: &mut [u8], node_id: Option<NodeId>) {
+        for row in self.0.rows() {
+            if let Ok(stored) = row.of_mut(values) {
+                row.slot().init(stored, node_id);
+            }
+        }
+    }
+
+    pub(super) fn access(self, index: u16, sub: u8) -> Option<Access> {
+        self.row(index, sub).ok().map(S::Row::access)
+    }
+
+    pub(super) fn pdo_mappable(self, index: u16, sub: u8, tx: bool) -> Result<u32, SdoAbort> {
+        let row = self.row(index, sub)?;
+        let access = row.access();
+        let allowed = if tx { access.tpdo_allowed() } else { access.rpdo_allowed() };
+        if !row.mappable() || !allowed {
+            return Err(SdoAbort::NotMappable);
+        }
+        Ok(row.slot().len() as u32 * 8)
+    }
+
+    fn row(self, index: u16, sub: u8) -> Result<&'r S::Row, SdoAbort> {
+        let pos = search(self.0.rows(), S::Row::search_key, index, sub)?;
+        self.0.rows().get(pos).ok_or(SdoAbort::NoSuchObject)
+    }
+
+    pub(super) fn read(
+        self,
+        values: &[u8],
+        index: u16,
+        sub: u8,
+        buf: &mut [u8],
+    ) -> Result<usize, SdoAbort> {
+        let row = self.row(index, sub)?;
+        if !row.access().readable() {
+            return Err(SdoAbort::ReadOfWriteOnly);
+        }
+        let stored = row.of(values)?;
+        // The stored bytes are the encoding, but for the zeros that pad a shorter string. A
+        // DOMAIN's data is the application's (`WriteHook::write_domain`): none here.
+        let len = match row.slot().data_type() {
+            DataType::VisibleString => stored.iter().rposition(|&b| b != 0).map_or(0, |p| p + 1),
+            DataType::UnicodeString => crate::value::unicode_len(stored),
+            DataType::Domain => return Err(SdoAbort::NoData),
+            _ => stored.len(),
+        };
+        let (src, dst) = (stored.get(..len), buf.get_mut(..len));
+        let (Some(src), Some(dst)) = (src, dst) else { return Err(SdoAbort::TooShort) };
+        for (d, s) in dst.iter_mut().zip(src) {
+            *d = *s;
+        }
+        Ok(len)
+    }
+
+    pub(super) fn write(
+        self,
+        values: &mut [u8],
+        index: u16,
+        sub: u8,
+        data: &[u8],
+        hook: &mut dyn WriteHook,
+    ) -> Result<(), SdoAbort> {
+        let row = self.row(index, sub)?;
+        if !row.access().writable() {
+            return Err(SdoAbort::WriteOfReadOnly);
+        }
+        row.slot().check(data)?;
+        let addr = row.addr();
+        hook.before_write(addr, data)?;
+        if row.slot().data_type() == DataType::Domain {
+            hook.write_domain(addr, data)?;
+        }
+        store(row.slot().data_type(), data, row.of_mut(values)?);
+        hook.after_write(addr);
+        Ok(())
+    }
+
+    /// The row at `index:sub`, if it holds a `T`.
+    fn typed<T: ObjValue>(self, index: u16, sub: u8) -> Result<&'r S::Row, SdoAbort> {
+        let row = self.row(index, sub)?;
+        if row.slot().data_type() != T::DATA_TYPE || row.slot().len() != T::MAX_LEN {
+            return Err(SdoAbort::LengthMismatch);
+        }
+        Ok(row)
+    }
+
+    pub(super) fn get<T: ObjValue>(
+        self,
+        values: &[u8],
+        index: u16,
+        sub: u8,
+    ) -> Result<T, SdoAbort> {
+        Ok(T::decode(self.typed::<T>(index, sub)?.of(values)?)?)
+    }
+
+    pub(super) fn set<T: ObjValue>(
+        self,
+        values: &mut [u8],
+        index: u16,
+        sub: u8,
+        value: T,
+    ) -> Result<(), SdoAbort> {
+        let stored = self.typed::<T>(index, sub)?.of_mut(values)?;
+        stored.fill(0);
+        value.encode(stored)?;
+        Ok(())
+    }
+
+    pub(super) fn raw(self, values: &[u8], index: u16, sub: u8) -> Option<&[u8]> {
+        self.row(index, sub).ok()?.of(values).ok()
+    }
+
+    pub(super) fn raw_mut(self, values: &mut [u8], index: u16, sub: u8) -> Option<&mut [u8]> {
+        self.row(index, sub).ok()?.of_mut(values).ok()
+    }
+
+    pub(super) fn entry_at(self, pos: usize) -> Option<super::EntryMeta> {
+        let row = self.0.rows().get(pos)?;
+        Some(super::EntryMeta {
+            addr: row.addr(),
+            access: row.access(),
+            data_type: row.slot().data_type(),
+            len: row.slot().len(),
+        })
+    }
+
+    pub(super) fn position(self, index: u16, sub: u8) -> usize {
+        let k = key(index, sub);
+        self.0.rows().partition_point(|r| r.search_key() < k)
+    }
+
+    pub(super) fn fmt_values(self, values: &[u8], f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        struct Shown<'a>(&'a dyn Slot, Result<&'a [u8], SdoAbort>);
         impl fmt::Debug for Shown<'_> {
             fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-                match self.0.of(self.1) {
+                match self.1 {
                     Ok(stored) => show(self.0.data_type(), stored, f),
                     Err(_) => f.write_str("<missing>"),
                 }
@@ -434,7 +611,9 @@ impl<const N: usize> Table<N> {
                 fmt::Display::fmt(&self.0, f)
             }
         }
-        f.debug_map().entries(self.rows.iter().map(|r| (Addr(r.addr()), Shown(r, values)))).finish()
+        f.debug_map()
+            .entries(self.0.rows().iter().map(|r| (Addr(r.addr()), Shown(r.slot(), r.of(values)))))
+            .finish()
     }
 }
 

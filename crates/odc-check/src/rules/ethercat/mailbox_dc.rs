@@ -1,4 +1,4 @@
-//! Mailbox and distributed clocks (T612, T613, T616, T617).
+//! Mailbox and distributed clocks (T612, T613, T616, T617, T624).
 
 use super::*;
 
@@ -83,6 +83,41 @@ pub(super) fn mailbox_size(dev: &Device, ctx: &mut Ctx) {
             Some(_) => continue,
         };
         ctx.report_device(sm.span, problem);
+    }
+}
+
+rule!(
+    T624,
+    "T624",
+    "esi-mailbox-sm-disabled",
+    "etg",
+    Warning,
+    Warn,
+    mailbox_sm_disabled,
+    "a mailbox sync manager is declared Enable=\"0\"",
+    "Enable of an <Sm> is the sync manager's activation (ESC register 0x0806 bit 0) that the \
+     ESI and the SII's sync manager category give the master (ETG.2000; ETG.1000.4 sync \
+     manager). A device whose <Mailbox> declares a protocol needs SM 0 and SM 1 enabled from \
+     PRE-OP on; masters that program them from the SII (SOEM's default bring-up does) leave \
+     them off, and no mailbox request reaches the device (CoE start-up fails, the device \
+     stays in INIT or answers AL status 0x0016). Fix: Enable=\"1\" on the mailbox sync \
+     managers."
+);
+
+pub(super) fn mailbox_sm_disabled(dev: &Device, ctx: &mut Ctx) {
+    let Some(ec) = ec(dev) else { return };
+    if !speaks_mailbox(ec) {
+        return;
+    }
+    for sm in ec.sync_managers.iter().filter(|sm| is_mailbox(&sm.usage) && !sm.enable) {
+        ctx.report_device(
+            sm.span,
+            format!(
+                "mailbox SM {} ({}) is not enabled, but the device declares a mailbox protocol",
+                sm.number,
+                usage_name(&sm.usage)
+            ),
+        );
     }
 }
 

@@ -22,6 +22,7 @@ pub fn run(
         let (path, levels) = split_spec(spec, levels);
         let loaded = input::load(path, &levels)?;
         super::super::gate_bus(&loaded)?;
+        unmapped(spec, &loaded);
         let model = loaded.device()?;
         let Some(ecat) = model.ethercat.as_deref() else {
             bail!("{}: --interface runs EtherCAT devices (ESI); this is a CANopen device", spec)
@@ -39,6 +40,23 @@ pub fn run(
         devices.push(device);
     }
     serve(iface, Chain::new(devices), stop_on_eof)
+}
+
+/// Names at load what the device will refuse at SAFE-OP (#31): a PDO entry whose object the
+/// dictionary does not have (the checker's T601) makes the firmware stack answer AL status
+/// 0x0025 (invalid output mapping, an RxPDO) or 0x0024 (invalid input mapping, a TxPDO)
+/// while that PDO is assigned.
+fn unmapped(spec: &str, loaded: &odc_pipeline::Loaded) {
+    for d in loaded.warnings().filter(|d| d.code == "T601") {
+        let code = match d.object {
+            Some((0x1600..=0x17FF, _)) => "0x0025 (invalid output mapping)",
+            _ => "0x0024 (invalid input mapping)",
+        };
+        elog!(
+            "{spec}: {}: SAFE-OP is refused with AL status {code} while it is assigned",
+            d.message
+        );
+    }
 }
 
 /// `FILE@DEVICE` (when FILE exists) as the file and `--device DEVICE`; anything else as a

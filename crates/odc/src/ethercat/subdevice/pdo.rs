@@ -1,0 +1,261 @@
+//! Process data: the sync managers' images laid out by the current PDO assignment
+//! (0x1C10 + SM) and mapping (0x1600…, 0x1A00…), copied between the images and the dictionary
+//! bit by bit (ETG.1000.6 §5.6.7.4: entries packed in assignment and mapping order, a mapping
+//! value being index << 16 | sub-index << 8 | bit length).
+
+use crate::SdoAbort;
+use crate::slave::Storage;
+
+/// One mapped entry: where its bits are in its sync manager's image.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Mapped {
+    /// The sync manager.
+    pub sm: u8,
+    /// The object (0 for a gap).
+    pub index: u16,
+    /// The sub-index.
+    pub sub: u8,
+    /// Bits.
+    pub bits: u8,
+    /// First bit in the image.
+    pub bit: u16,
+}
+
+/// A PDO assignment or mapping the device cannot serve.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Refused {
+    /// An assigned PDO or a mapped entry the dictionary does not have, or an entry longer
+    /// than its object (AL status 0x0024/0x0025, invalid input/output mapping).
+    Mapping,
+    /// More entries or bits than the device has room for (0x001E/0x001D, invalid
+    /// input/output configuration).
+    Room,
+}
+
+fn read_u8<D: Storage + ?Sized>(od: &D, index: u16, sub: u8) -> Option<u8> {
+    od.raw(index, sub)?.first().copied()
+}
+
+fn read_le<D: Storage + ?Sized>(od: &D, index: u16, sub: u8) -> Option<u32> {
+    let b = od.raw(index, sub)?;
+    Some(b.iter().take(4).rev().fold(0u32, |acc, &x| acc << 8 | u32::from(x)))
+}
+
+/// Where the entries of a layout go: a fixed array, filled in order.
+pub struct Sink<'a> {
+    /// The entries so far.
+    pub entries: &'a mut [Mapped],
+    /// How many are used.
+    pub used: usize,
+}
+
+impl Sink<'_> {
+    /// Adds mapping value `v` for `sm` at `*bit`; `false` when there is no room.
+    fn push(&mut self, sm: u8, v: u32, bit: &mut u32) -> Result<(), Refused> {
+        let (index, sub, bits) = ((v >> 16) as u16, (v >> 8) as u8, v as u8);
+        // Indices 0–7 are the dummy types of gaps (CiA 301 §7.4.7.1).
+        let index = if index < 8 { 0 } else { index };
+        let at = u16::try_from(*bit).map_err(|_| Refused::Room)?;
+        let slot = self.entries.get_mut(self.used).ok_or(Refused::Room)?;
+        *slot = Mapped { sm, index, sub, bits, bit: at };
+        self.used += 1;
+        *bit += u32::from(bits);
+        Ok(())
+    }
+}
+
+/// Lays out sync manager `sm` by the dictionary's current assignment into `sink`; returns its
+/// bits, or `None` when the device has no assignment object for it (its PDOs are then the
+/// fixed ones of its ESI).
+///
+/// # Errors
+///
+/// An assigned PDO or mapped entry the dictionary does not have, or more entries than the
+/// device has room for.
+pub fn layout<D: Storage + ?Sized>(
+    od: &D,
+    sm: u8,
+    sink: &mut Sink<'_>,
+) -> Result<Option<u32>, Refused> {
+    let assign = 0x1C10 + u16::from(sm);
+    let Some(count) = read_u8(od, assign, 0) else { return Ok(None) };
+    let mut bit = 0u32;
+    for i in 1..=count {
+        let pdo = read_le(od, assign, i).ok_or(Refused::Mapping)? as u16;
+        let entries = read_u8(od, pdo, 0).ok_or(Refused::Mapping)?;
+        for e in 1..=entries {
+            let v = read_le(od, pdo, e).ok_or(Refused::Mapping)?;
+            if !mappable(od, v) {
+                return Err(Refused::Mapping);
+            }
+            sink.push(sm, v, &mut bit)?;
+        }
+    }
+    Ok(Some(bit))
+}
+
+/// Lays out sync manager `sm` from the fixed mapping values of its ESI (`(sm, value)` in
+/// order); returns its bits.
+///
+/// # Errors
+///
+/// More entries than the device has room for.
+pub fn fixed(sm: u8, mapping: &[(u8, u32)], sink: &mut Sink<'_>) -> Result<u32, Refused> {
+    let mut bit = 0u32;
+    for &(_, v) in mapping.iter().filter(|(s, _)| *s == sm) {
+        sink.push(sm, v, &mut bit)?;
+    }
+    Ok(bit)
+}
+
+/// Whether `index` is a PDO mapping (0x1600–0x17FF, 0x1A00–0x1BFF) or assignment
+/// (0x1C10–0x1C2F) object.
+pub fn is_pdo_config(index: u16) -> bool {
+    matches!(index, 0x1600..=0x17FF | 0x1A00..=0x1BFF | 0x1C10..=0x1C2F)
+}
+
+fn le(d: &[u8]) -> u32 {
+    d.iter().take(4).rev().fold(0, |a, &x| a << 8 | u32::from(x))
+}
+
+/// The checks a device makes on a download to a PDO mapping or assignment object before it
+/// stores it (ETG.1000.6 §5.6.7.4 and Table 41, CiA 301 §7.5.2.35–36):
+///
+/// - a sub-index other than 0 while sub-index 0 is not 0: 0x06010003;
+/// - an assignment of an object that is no mapping object of the direction: 0x06090030;
+/// - a mapping of an entry the dictionary does not have, or longer than it: 0x06040041;
+/// - a sub-index 0 that enables entries that are not all valid: the first refusal above.
+///
+/// # Errors
+///
+/// The abort code.
+pub fn check_write<D: Storage + ?Sized>(
+    od: &D,
+    index: u16,
+    sub: u8,
+    data: &[u8],
+) -> Result<(), SdoAbort> {
+    if !is_pdo_config(index) {
+        return Ok(());
+    }
+    if sub != 0 {
+        if read_u8(od, index, 0).is_some_and(|n| n != 0) {
+            return Err(SdoAbort::Other(0x0601_0003));
+        }
+        return match index {
+            0x1C10..=0x1C2F => {
+                let pdo = le(data) as u16;
+                let rx = matches!(pdo, 0x1600..=0x17FF);
+                let tx = matches!(pdo, 0x1A00..=0x1BFF);
+                // 0x1C12 takes receive PDOs, 0x1C13 transmit PDOs; other SMs either.
+                let ok = match index {
+                    0x1C12 => rx,
+                    0x1C13 => tx,
+                    _ => rx || tx,
+                };
+                match ok && read_u8(od, pdo, 0).is_some() {
+                    true => Ok(()),
+                    false => Err(SdoAbort::InvalidValue),
+                }
+            }
+            _ => match mappable(od, le(data)) {
+                true => Ok(()),
+                false => Err(SdoAbort::NotMappable),
+            },
+        };
+    }
+    // Sub-index 0: every entry it enables must hold.
+    let n = data.first().copied().unwrap_or(0);
+    for s in 1..=n {
+        let value = od.raw(index, s).ok_or(SdoAbort::InvalidValue)?;
+        match index {
+            0x1C10..=0x1C2F if read_u8(od, le(value) as u16, 0).is_none() => {
+                return Err(SdoAbort::InvalidValue);
+            }
+            0x1C10..=0x1C2F => {}
+            _ if !mappable(od, le(value)) => return Err(SdoAbort::NotMappable),
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
+/// A mapping value (index << 16 | sub-index << 8 | bits) the dictionary can serve: a gap
+/// (dummy type index 1–7, or 0), or an entry at least `bits` long.
+fn mappable<D: Storage + ?Sized>(od: &D, v: u32) -> bool {
+    let (i, s, bits) = ((v >> 16) as u16, (v >> 8) as u8, (v & 0xFF) as usize);
+    i < 8 || od.raw(i, s).is_some_and(|b| b.len() * 8 >= bits && bits > 0)
+}
+
+fn get_bit(b: &[u8], i: usize) -> bool {
+    b.get(i / 8).is_some_and(|x| x >> (i % 8) & 1 != 0)
+}
+
+fn set_bit(b: &mut [u8], i: usize, v: bool) {
+    if let Some(x) = b.get_mut(i / 8) {
+        let m = 1 << (i % 8);
+        *x = if v { *x | m } else { *x & !m };
+    }
+}
+
+/// The entries of sync manager `sm` from its image into the dictionary (outputs in OP).
+pub fn image_to_dictionary<D: Storage + ?Sized>(
+    entries: &[Mapped],
+    sm: u8,
+    image: &[u8],
+    od: &mut D,
+) {
+    for e in entries.iter().filter(|e| e.sm == sm && e.index != 0) {
+        let Some(dst) = od.raw_mut(e.index, e.sub) else { continue };
+        let (bit, bits) = (usize::from(e.bit), usize::from(e.bits));
+        if bit % 8 == 0 && bits % 8 == 0 {
+            let (from, n) = (bit / 8, bits / 8);
+            if let (Some(s), Some(d)) = (image.get(from..from + n), dst.get_mut(..n)) {
+                d.copy_from_slice(s);
+            }
+            continue;
+        }
+        for i in 0..bits {
+            set_bit(dst, i, get_bit(image, bit + i));
+        }
+    }
+}
+
+/// The entries of sync manager `sm` from the dictionary into its image (inputs in SAFE-OP
+/// and OP).
+pub fn dictionary_to_image<D: Storage + ?Sized>(
+    entries: &[Mapped],
+    sm: u8,
+    od: &D,
+    image: &mut [u8],
+) {
+    for e in entries.iter().filter(|e| e.sm == sm && e.index != 0) {
+        let Some(src) = od.raw(e.index, e.sub) else { continue };
+        let (bit, bits) = (usize::from(e.bit), usize::from(e.bits));
+        if bit % 8 == 0 && bits % 8 == 0 {
+            let (to, n) = (bit / 8, bits / 8);
+            if let (Some(d), Some(s)) = (image.get_mut(to..to + n), src.get(..n)) {
+                d.copy_from_slice(s);
+            }
+            continue;
+        }
+        for i in 0..bits {
+            set_bit(image, bit + i, get_bit(src, i));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bits_pack_lsb_first() {
+        // ETG.1000.6: entries packed from bit 0 of the first byte, LSB first.
+        let mut b = [0u8; 2];
+        set_bit(&mut b, 0, true);
+        set_bit(&mut b, 9, true);
+        assert_eq!(b, [0x01, 0x02]);
+        assert!(get_bit(&b, 9) && !get_bit(&b, 8));
+    }
+}
