@@ -1,5 +1,6 @@
 //! tokio adapters of the async master: its [`Clock`] ([`TokioClock`], which follows tokio's
-//! paused test clock too), the TCP virtual bus of `odc simulate --tcp` ([`tcp`]) and, with
+//! paused test clock too), the TCP virtual bus of `odc simulate --tcp` ([`tcp`]), a socketcand
+//! server (`odc simulate --socketcand`, socketcand on a Linux machine: [`socketcand`]) and, with
 //! the `socketcan` feature on Linux, a SocketCAN interface ([`socketcan`]).
 
 use std::future::Future;
@@ -257,6 +258,123 @@ pub mod socketcan {
                 match self.0.async_io(Interest::READABLE, |s| s.read_frame()).await? {
                     ::socketcan::CanFrame::Error(_) => {}
                     f => return Ok(CanFrame::from_frame(&f)),
+                }
+            }
+        }
+    }
+}
+
+/// A socketcand server in raw mode (`odc simulate --socketcand`, socketcand beside a real
+/// adapter) as the two halves of an async bus, on the codec of
+/// [`crate::transport::socketcand`] (the blocking client's). Raw mode has no syntax for a
+/// remote frame: sending one is `InvalidInput`.
+#[cfg(feature = "transport-socketcand")]
+pub mod socketcand {
+    use std::format;
+    use std::io;
+    use std::string::String;
+
+    use ::tokio::io::{AsyncReadExt, AsyncWriteExt};
+    use ::tokio::net::tcp::{OwnedReadHalf, OwnedWriteHalf};
+    use ::tokio::net::{TcpStream, ToSocketAddrs};
+
+    use super::{CanFrame, CanRx, CanTx};
+    use crate::transport::socketcand::{Element, Splitter, check_channel, format_send, parse};
+
+    /// The sending half.
+    #[derive(Debug)]
+    pub struct Tx(OwnedWriteHalf);
+
+    /// The receiving half.
+    #[derive(Debug)]
+    pub struct Rx {
+        stream: OwnedReadHalf,
+        splitter: Splitter,
+        /// Elements received that were no frame (errors, error frames, unknown ones): skipped,
+        /// counted.
+        pub other: u64,
+    }
+
+    /// How long each step of the handshake may take.
+    const HANDSHAKE: std::time::Duration = std::time::Duration::from_secs(5);
+
+    /// Connects to `addr`, opens bus `channel` and switches to raw mode (`< hi >`,
+    /// `< open CHANNEL >`, `< ok >`, `< rawmode >`, `< ok >`).
+    ///
+    /// # Errors
+    ///
+    /// The connection's; `InvalidInput` for a bus name socketcand refuses, `InvalidData` when
+    /// the server answers other than the protocol says (its answer in the message),
+    /// `TimedOut` when it does not answer within 5 s.
+    pub async fn connect(addr: impl ToSocketAddrs, channel: &str) -> io::Result<(Tx, Rx)> {
+        check_channel(channel)?;
+        let stream = TcpStream::connect(addr).await?;
+        stream.set_nodelay(true)?;
+        let (r, w) = stream.into_split();
+        let (mut tx, mut rx) = (Tx(w), Rx { stream: r, splitter: Splitter::new(), other: 0 });
+        rx.expect(&Element::Hi, "the greeting").await?;
+        tx.0.write_all(format!("< open {channel} >").as_bytes()).await?;
+        rx.expect(&Element::Ok, &format!("< open {channel} >")).await?;
+        tx.0.write_all(b"< rawmode >").await?;
+        rx.expect(&Element::Ok, "< rawmode >").await?;
+        Ok((tx, rx))
+    }
+
+    impl Rx {
+        /// The next element, as text.
+        async fn element(&mut self) -> io::Result<String> {
+            let mut buf = [0u8; 1024];
+            loop {
+                if let Some(e) = self.splitter.next_element() {
+                    return e.map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e));
+                }
+                let n = self.stream.read(&mut buf).await?;
+                if n == 0 {
+                    return Err(io::ErrorKind::UnexpectedEof.into());
+                }
+                self.splitter.push(buf.get(..n).unwrap_or(&[]));
+            }
+        }
+
+        /// Reads the next element and fails unless it is `want`.
+        async fn expect(&mut self, want: &Element, after: &str) -> io::Result<()> {
+            let element =
+                ::tokio::time::timeout(HANDSHAKE, self.element()).await.map_err(|_| {
+                    let why = format!("socketcand did not answer {after} within 5 s");
+                    io::Error::new(io::ErrorKind::TimedOut, why)
+                })??;
+            match parse(&element) {
+                Ok(e) if e == *want => Ok(()),
+                _ => {
+                    let why = format!("socketcand answered {after} with `{element}`");
+                    Err(io::Error::new(io::ErrorKind::InvalidData, why))
+                }
+            }
+        }
+    }
+
+    impl CanTx for Tx {
+        type Error = io::Error;
+
+        async fn send(&mut self, frame: &CanFrame) -> io::Result<()> {
+            let line =
+                format_send(frame).map_err(|e| io::Error::new(io::ErrorKind::InvalidInput, e))?;
+            self.0.write_all(line.as_bytes()).await
+        }
+    }
+
+    impl CanRx for Rx {
+        type Error = io::Error;
+
+        /// `Err(UnexpectedEof)` once the server closed the connection, `Err(InvalidData)` for
+        /// a `< frame >` that is no frame.
+        async fn recv(&mut self) -> io::Result<CanFrame> {
+            loop {
+                let element = self.element().await?;
+                match parse(&element) {
+                    Ok(Element::Frame { frame, .. }) => return Ok(frame),
+                    Ok(_) => self.other += 1,
+                    Err(e) => return Err(io::Error::new(io::ErrorKind::InvalidData, e)),
                 }
             }
         }

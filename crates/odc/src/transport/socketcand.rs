@@ -344,6 +344,23 @@ pub struct Socketcand {
     pub last_other: Option<String>,
 }
 
+/// Whether socketcand accepts `channel` as a bus name (1 to [`MAX_CHANNEL`] characters, no
+/// white space or `<` `>`, which would end the element).
+///
+/// # Errors
+///
+/// `InvalidInput`, naming the bus.
+pub fn check_channel(channel: &str) -> io::Result<()> {
+    if channel.is_empty()
+        || channel.len() > MAX_CHANNEL
+        || channel.contains(|c: char| c.is_whitespace() || c == '<' || c == '>')
+    {
+        let why = format!("`{channel}` is no bus name (1 to 16 characters, no spaces)");
+        return Err(io::Error::new(io::ErrorKind::InvalidInput, why));
+    }
+    Ok(())
+}
+
 /// How long the handshake may take at each step.
 const HANDSHAKE: Duration = Duration::from_secs(5);
 
@@ -356,13 +373,7 @@ impl Socketcand {
     /// The connection's; `InvalidData` when the server answers other than the protocol says
     /// (its answer in the message), `TimedOut` when it does not answer within 5 s.
     pub fn connect(addr: impl std::net::ToSocketAddrs, channel: &str) -> io::Result<Self> {
-        if channel.is_empty()
-            || channel.len() > MAX_CHANNEL
-            || channel.contains(|c: char| c.is_whitespace() || c == '<' || c == '>')
-        {
-            let why = format!("`{channel}` is no bus name (1 to 16 characters, no spaces)");
-            return Err(io::Error::new(io::ErrorKind::InvalidInput, why));
-        }
+        check_channel(channel)?;
         let stream = TcpStream::connect(addr)?;
         stream.set_nodelay(true)?;
         let mut link = Self {
