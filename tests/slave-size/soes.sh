@@ -31,29 +31,41 @@ mkdir -p "$out/gen"
 [ -d "$soes/.git" ] || git clone --quiet "$SOES_REPO" "$soes"
 git -C "$soes" checkout --quiet "$SOES_REV"
 [ -x "$odc" ] || cargo build --quiet -p odc-cli
+demo=$soes/applications/linux_lan9252demo
+# SOES's object lists written from odc's model: the ServoOne's, with names and without; the
+# demo device's without names.
 "$odc" dump --format json esi/servoone.xml 2>/dev/null >"$out/servoone.json"
+"$odc" dump --format json "$demo/slave.xml" 2>/dev/null >"$out/demo.json"
+mkdir -p "$out/gen-no-names" "$out/gen-demo-no-names"
 python3 "$src/objects.py" "$out/gen" <"$out/servoone.json"
-mkdir -p "$out/gen-no-names"
-cp "$out/gen/utypes.h" "$out/gen-no-names/"
 python3 "$src/objects.py" "$out/gen-no-names" --no-names <"$out/servoone.json"
+python3 "$src/objects.py" "$out/gen-demo-no-names" --no-names <"$out/demo.json"
 
 cflags=(-mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16 -Os -std=gnu11 -DNDEBUG
   -ffunction-sections -fdata-sections -Wall -Wno-unused-function
-  -I "$src" -I "$src/include" -I "$out/gen" -I "$soes/soes" -I "$soes/soes/include/sys/gcc")
+  -I "$src/include" -I "$soes/soes" -I "$soes/soes/include/sys/gcc")
 ldflags=(-nostartfiles -Wl,--gc-sections -T "$src/link.ld" --specs=nano.specs)
+stack=("$soes"/soes/{esc,esc_coe,esc_foe,esc_eoe,esc_eep,ecat_slv}.c
+  "$soes/soes/hal/rt-kernel-lan9252/esc_hw.c" "$src/startup.c" "$src/board.c")
 arm-none-eabi-gcc "${cflags[@]}" "${ldflags[@]}" -o "$out/empty.elf" \
   "$src/startup.c" "$src/board.c" "$src/empty.c"
-arm-none-eabi-gcc "${cflags[@]}" "${ldflags[@]}" -o "$out/soes.elf" \
-  "$src/startup.c" "$src/board.c" "$src/main.c" "$out/gen/objectlist.c" \
-  "$soes"/soes/{esc,esc_coe,esc_foe,esc_eoe,esc_eep,ecat_slv}.c \
-  "$soes/soes/hal/rt-kernel-lan9252/esc_hw.c"
-nameless=("${cflags[@]/$out\/gen/$out/gen-no-names}")
-arm-none-eabi-gcc "${nameless[@]}" "${ldflags[@]}" -o "$out/soes-no-names.elf" \
-  "$src/startup.c" "$src/board.c" "$src/main.c" "$out/gen-no-names/objectlist.c" \
-  "$soes"/soes/{esc,esc_coe,esc_foe,esc_eoe,esc_eep,ecat_slv}.c \
-  "$soes/soes/hal/rt-kernel-lan9252/esc_hw.c"
+# soes IMAGE OBJECTLIST.c INCLUDE_DIR...: SOES with an object list, options and storage
+# found in the directories (first match wins), and main.c.
+soes_image() {
+  local img=$1 list=$2
+  shift 2
+  local inc=()
+  for d in "$@"; do inc+=(-I "$d"); done
+  arm-none-eabi-gcc "${cflags[@]}" "${inc[@]}" "${ldflags[@]}" -o "$out/$img" \
+    "${stack[@]}" "$src/main.c" "$list"
+}
+soes_image soes.elf "$out/gen/objectlist.c" "$out/gen" "$src"
+soes_image soes-no-names.elf "$out/gen-no-names/objectlist.c" "$out/gen-no-names" "$src"
+soes_image soes-demo.elf "$demo/slave_objectlist.c" "$demo"
+soes_image soes-demo-no-names.elf "$out/gen-demo-no-names/objectlist.c" "$out/gen-demo-no-names" "$demo"
 
-# odc's images: the firmware with and without the CiA 402 drive, and the empty one.
+# odc's images: the ServoOne with and without the CiA 402 drive, the demo device's, the empty
+# one.
 rust=target/slave-size/ethercat
 build() {
   CARGO_PROFILE_RELEASE_OPT_LEVEL=s CARGO_PROFILE_RELEASE_CODEGEN_UNITS=1 \
@@ -67,6 +79,8 @@ build --example firmware --features firmware
 cp "$bin/firmware" "$out/odc-copy.elf"
 build --example firmware --features drive
 cp "$bin/firmware" "$out/odc-drive.elf"
+ODC_FIRMWARE_ESI=$PWD/$demo/slave.xml build --example firmware --features firmware
+cp "$bin/firmware" "$out/odc-demo.elf"
 
 # Bytes of .text, .rodata, .data, .bss (size -A: SysV format).
 sections() {
@@ -85,9 +99,12 @@ row() {
 echo "bytes above each side's empty image; flash = .text + .rodata + .data, RAM = .data + .bss"
 echo "| image | .text | .rodata | .data | .bss | flash | RAM |"
 echo "|---|---:|---:|---:|---:|---:|---:|"
-row "odc, CiA 402 drive (\`drive\`)" "$out/odc-drive.elf" "$out/odc-empty.elf"
-row "odc, process data copied (\`firmware\`)" "$out/odc-copy.elf" "$out/odc-empty.elf"
 rev=$(git -C "$soes" rev-parse --short HEAD)
-row "SOES $rev, process data copied" "$out/soes.elf" "$out/empty.elf"
-row "SOES $rev, process data copied, names empty" "$out/soes-no-names.elf" "$out/empty.elf"
+row "ServoOne: odc, CiA 402 drive (\`drive\`)" "$out/odc-drive.elf" "$out/odc-empty.elf"
+row "ServoOne: odc, process data copied (\`firmware\`)" "$out/odc-copy.elf" "$out/odc-empty.elf"
+row "ServoOne: SOES $rev, process data copied" "$out/soes.elf" "$out/empty.elf"
+row "ServoOne: SOES $rev, process data copied, names empty" "$out/soes-no-names.elf" "$out/empty.elf"
+row "demo: odc, from the demo's slave.xml" "$out/odc-demo.elf" "$out/odc-empty.elf"
+row "demo: SOES $rev, its own object list" "$out/soes-demo.elf" "$out/empty.elf"
+row "demo: SOES $rev, names empty" "$out/soes-demo-no-names.elf" "$out/empty.elf"
 echo "empty images: odc $(sections "$out/odc-empty.elf"), C $(sections "$out/empty.elf") (.text .rodata .data .bss)"

@@ -23,7 +23,7 @@ use odc::ethercat::esc_spi::lan9252::Lan9252;
 use odc::ethercat::subdevice::{Application, SubDevice};
 use odc::time::{Duration, Instant};
 use odc_tests_ethercat_firmware::CONFIG;
-use odc_tests_ethercat_firmware::servoone::slave::Dictionary;
+use odc_tests_ethercat_firmware::device::slave::Dictionary;
 use static_cell::StaticCell;
 
 /// Mailboxes up to 128 bytes (the ESI's `DefaultSize`), SDO values up to 64 bytes in one

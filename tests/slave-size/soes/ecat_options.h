@@ -1,11 +1,11 @@
 /* SOES's options for the device of tests/ethercat-firmware (esi/servoone.xml's Sm elements):
    128-byte mailboxes at 0x1000 and 0x1080, outputs at 0x1100 (control 0x64), inputs at 0x1180
    (control 0x20), up to 32 bytes each, 16 mapped entries each (odc's stack: 32 in all). CoE
-   only: no FoE (the ESI gives it for bootstrap), no EoE. */
+   and FoE, as the ESI's Mailbox says; no EoE. */
 #ifndef __ECAT_OPTIONS_H__
 #define __ECAT_OPTIONS_H__
 #include "cc.h"
-#define USE_FOE          0
+#define USE_FOE          1
 #define USE_EOE          0
 #define MBXSIZE          128
 #define MBXSIZEBOOT      128
