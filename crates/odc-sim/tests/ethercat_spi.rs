@@ -230,6 +230,23 @@ fn lan9252_ready_reads_byte_test_and_hw_cfg() {
 }
 
 #[test]
+fn the_emulated_lan9252_takes_read_without_dummy_and_refuses_other_instructions() {
+    let mut esc = esc();
+    let mut chip = Lan9252Chip::new(Pdi(&mut esc));
+    // READ (0x03): the address, then the data at once (no dummy byte).
+    let mut word = [0u8; 4];
+    chip.transaction(&mut [Operation::Write(&[0x03, 0x00, 0x64]), Operation::Read(&mut word)])
+        .unwrap();
+    assert_eq!(word, [0x21, 0x43, 0x65, 0x87]);
+    // SQI's instructions (0x6B fast read quad, say) are not SPI ones.
+    let r = chip.transaction(&mut [Operation::Write(&[0x6B, 0x00, 0x64])]);
+    assert!(r.unwrap_err().0.contains("instruction"));
+    // A CSR write of 3 bytes: the chip takes sizes 1, 2 and 4.
+    let r = chip.transaction(&mut [Operation::Write(&[0x02, 0x03, 0x04, 0x30, 0x01, 0x03, 0x80])]);
+    assert!(r.unwrap_err().0.contains("size"));
+}
+
+#[test]
 fn lan9252_register_read_is_a_csr_command_polled_then_the_data() {
     let mut esc = esc();
     esc.set_u16(0x0130, 0x0004);
