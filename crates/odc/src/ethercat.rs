@@ -6,6 +6,8 @@
 //! identity to check first; any master can run it, and with the feature `ethercrab` the
 //! `ethercrab` module runs it on an ethercrab SubDevice.
 
+#[cfg(feature = "esc-spi")]
+pub mod esc_spi;
 #[cfg(feature = "ethercrab")]
 pub mod ethercrab;
 #[cfg(feature = "subdevice")]

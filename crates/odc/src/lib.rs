@@ -88,7 +88,8 @@
 //! Off by default: `std` links std; `alloc` adds [`slave::RuntimeTable`], a dictionary
 //! table built at run time (the simulator's; `std` implies it); `subdevice` adds
 //! `ethercat::subdevice`, the device side of EtherCAT (AL states, mailbox with CoE, SDO
-//! Information and FoE, process data) over an ESC's PDI, `no_std` without heap; `embedded-can`
+//! Information and FoE, process data) over an ESC's PDI, `no_std` without heap; `esc-spi` adds
+//! that PDI over SPI for Beckhoff's ESCs and the LAN9252 (`ethercat::esc_spi`); `embedded-can`
 //! and `socketcan` add those transports; `serde` and `defmt` add derives on the plain data
 //! types; `ethercrab`, above.
 //!

@@ -12,6 +12,7 @@ use super::esc::{Esc, Passing, Pdi};
 use super::frame::Datagram;
 use super::info::ModelInfo;
 use super::registers as reg;
+use super::spi::{EscSpiChip, Lan9252Chip, PdiPath};
 use crate::ModelDictionary;
 
 /// The firmware stack's sizes in the simulator: mailboxes up to 2 KiB served whole, SDO values
@@ -32,6 +33,49 @@ pub struct SubDevice {
     stack: Box<Stack>,
     od: ModelDictionary,
     app: Firmware,
+    /// How the firmware stack reaches the ESC, and the first failure on that path.
+    pdi: PdiPath,
+    pdi_error: Option<String>,
+}
+
+/// Runs `$self.stack.$method` with `$cfg` through the PDI path of `$self`; a failure of the
+/// SPI path (the emulated chip refused a frame) is kept, the first one.
+macro_rules! through_pdi {
+    ($self:ident, $method:ident, $cfg:expr) => {{
+        let cfg = $cfg;
+        let result = match $self.pdi {
+            PdiPath::Direct => {
+                let Ok(()) = $self.stack.$method(
+                    &cfg,
+                    &mut Pdi(&mut $self.esc),
+                    &mut $self.od,
+                    &mut $self.app,
+                );
+                Ok(())
+            }
+            PdiPath::EscSpi => {
+                let mut esc = odc::ethercat::esc_spi::beckhoff::EscSpi::new(EscSpiChip::new(Pdi(
+                    &mut $self.esc,
+                )));
+                $self
+                    .stack
+                    .$method(&cfg, &mut esc, &mut $self.od, &mut $self.app)
+                    .map_err(|e| e.to_string())
+            }
+            PdiPath::Lan9252 => {
+                let mut esc = odc::ethercat::esc_spi::lan9252::Lan9252::new(Lan9252Chip::new(Pdi(
+                    &mut $self.esc,
+                )));
+                $self
+                    .stack
+                    .$method(&cfg, &mut esc, &mut $self.od, &mut $self.app)
+                    .map_err(|e| e.to_string())
+            }
+        };
+        if let Err(e) = result {
+            $self.pdi_error.get_or_insert(e);
+        }
+    }};
 }
 
 /// What the device's application does: a CiA 402 drive when it is one, stepped by the time
@@ -187,6 +231,8 @@ impl SubDevice {
             stack: Box::new(Stack::new()),
             od,
             app: Firmware { drive, last_ns: None, carry_ns: 0, dt: odc::time::Duration::ZERO },
+            pdi: PdiPath::Direct,
+            pdi_error: None,
         };
         dev.restart_drive();
         Ok(dev)
@@ -201,6 +247,19 @@ impl SubDevice {
         self.esc = Esc::new(image, base, downstream);
         *self.stack = Stack::new();
         self.deactivate_process_data();
+    }
+
+    /// The device with its firmware stack reaching the ESC through `path` (an SPI adapter of
+    /// odc on an emulated chip, or directly).
+    #[must_use]
+    pub fn with_pdi(mut self, path: PdiPath) -> Self {
+        self.pdi = path;
+        self
+    }
+
+    /// The first frame the emulated SPI chip refused (a fault of the adapter), if any.
+    pub fn pdi_error(&self) -> Option<&str> {
+        self.pdi_error.as_deref()
     }
 
     /// The device's name (the ESI's English `Name`).
@@ -259,8 +318,7 @@ impl SubDevice {
                 foe: false,
                 describe: self.info.as_ref().map(|i| i as &dyn stack::Describe),
             };
-            let Ok(()) =
-                self.stack.poll(&cfg, &mut Pdi(&mut self.esc), &mut self.od, &mut self.app);
+            through_pdi!(self, poll, cfg);
         }
     }
 
@@ -289,7 +347,7 @@ impl SubDevice {
             foe: false,
             describe: None,
         };
-        let Ok(()) = self.stack.cycle(&cfg, &mut Pdi(&mut self.esc), &mut self.od, &mut self.app);
+        through_pdi!(self, cycle, cfg);
     }
 
     /// At power-on the firmware keeps the process data sync managers deactivated (PDI

@@ -16,7 +16,9 @@
 //!   mailbox with CoE, process data), on the emulated ESC through its PDI ([`esc::Pdi`]),
 //!   with a CiA 402 drive when the device is one; [`Chain`]
 //!   runs a frame through several in a line; `EthercrabLink` (feature `ethercrab`) wires
-//!   a chain to an ethercrab master in the same process.
+//!   a chain to an ethercrab master in the same process;
+//! - [`spi`]: the SPI side of two ESC chips (Beckhoff's SPI PDI, the LAN9252) for odc's SPI
+//!   adapters; [`SubDevice::with_pdi`] runs the firmware stack through one.
 //!
 //! Simplifications, each visible to a master only in timing: an ESC answers at once (the
 //! SII is never busy, a mailbox reply is ready when the request is written), process data
@@ -36,6 +38,7 @@ pub mod info;
 mod link;
 pub mod registers;
 pub mod sii;
+pub mod spi;
 
 pub use chain::{Chain, HOP_NS};
 pub use device::SubDevice;
