@@ -398,6 +398,9 @@ def cia301_refusal(var, current, new, code):
     mapping = 0x1600 <= var.index <= 0x17FF or 0x1A00 <= var.index <= 0x1BFF
     if mapping and code in (0x06020000, 0x06040041, 0x06040042):
         return "a PDO mapping names a mappable object of the dictionary (CiA 301 PDO mapping)"
+    if mapping and code == 0x06010000:
+        return ("a PDO's mapping changes only while the PDO is invalid (COB-ID bit 31), its "
+                "entries only while sub 0 is 0 (CiA 301 7.5.2.36/38)")
     if var.index == 0x6060 and code == 0x06090030:
         return "0x6060 takes only the modes 0x6502 lists (CiA 402)"
     return None
