@@ -82,7 +82,9 @@ fn a_domain_default_is_its_data_after_reset() {
 #[test]
 fn a_string_default_with_a_tab_and_utf8_is_kept() {
     use odc::{ObjValue, VisibleString};
-    use odc_model::{Access, DataType, Device, Object, ObjectKind, Span, Spanned, SubObject, Value};
+    use odc_model::{
+        Access, DataType, Device, Object, ObjectKind, Span, Spanned, SubObject, Value,
+    };
     let text = "tab '\t', euro '\u{20AC}'";
     let mut sub = SubObject::new(0, "String", DataType::VisibleString, Access::Rw);
     sub.default = Some(Spanned::new(Value::Text(text.into()), Span::DUMMY));
