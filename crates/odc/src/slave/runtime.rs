@@ -53,6 +53,15 @@ fn packed(addr: ObjectAddr, access: Access, mappable: bool) -> u32 {
     row_key(addr.index, addr.sub) | (access as u32) << 24 | flag
 }
 
+/// `v` zero-padded to `capacity` bytes, when it fits (a string's stored form).
+fn padded(v: Option<&[u8]>, capacity: usize) -> Option<Vec<u8>> {
+    v.filter(|v| v.len() <= capacity).map(|v| {
+        let mut padded = v.to_vec();
+        padded.resize(capacity, 0);
+        padded
+    })
+}
+
 impl TableBuilder {
     /// An empty table.
     pub fn new() -> Self {
@@ -65,8 +74,19 @@ impl TableBuilder {
     where
         T: ObjValue + PartialOrd + Send + Sync + 'static,
     {
-        let key = packed(entry.addr, entry.access, entry.pdo_mappable);
-        self.rows.push(OwnedRow { slot: Box::new(entry.spec()), key, at: 0 });
+        self.push_slot(entry.addr, entry.access, entry.pdo_mappable, entry.spec())
+    }
+
+    /// Adds a row of `slot` at `addr`; its place among the values is laid out by `build`.
+    fn push_slot(
+        &mut self,
+        addr: ObjectAddr,
+        access: Access,
+        mappable: bool,
+        slot: impl Slot + Send + 'static,
+    ) -> &mut Self {
+        let key = packed(addr, access, mappable);
+        self.rows.push(OwnedRow { slot: Box::new(slot), key, at: 0 });
         self
     }
 
@@ -83,13 +103,7 @@ impl TableBuilder {
         default: Option<&[u8]>,
         limits: (Option<&[u8]>, Option<&[u8]>),
     ) -> &mut Self {
-        let fit = |v: Option<&[u8]>| {
-            v.filter(|v| v.len() <= capacity).map(|v| {
-                let mut padded = v.to_vec();
-                padded.resize(capacity, 0);
-                padded
-            })
-        };
+        let fit = |v: Option<&[u8]>| padded(v, capacity);
         let slot = Bytes {
             kind: Kind::Text,
             len: capacity,
@@ -97,12 +111,7 @@ impl TableBuilder {
             low: fit(limits.0),
             high: fit(limits.1),
         };
-        self.rows.push(OwnedRow {
-            slot: Box::new(slot),
-            key: packed(addr, access, mappable),
-            at: 0,
-        });
-        self
+        self.push_slot(addr, access, mappable, slot)
     }
 
     /// Adds an OCTET_STRING of exactly `len` bytes (as `OctetString<len>`), with its default
@@ -126,12 +135,7 @@ impl TableBuilder {
             low: fit(limits.0),
             high: fit(limits.1),
         };
-        self.rows.push(OwnedRow {
-            slot: Box::new(slot),
-            key: packed(addr, access, mappable),
-            at: 0,
-        });
-        self
+        self.push_slot(addr, access, mappable, slot)
     }
 
     /// Adds a UNICODE_STRING of at most `capacity` bytes (as `UnicodeString<N>` with
@@ -145,15 +149,9 @@ impl TableBuilder {
         capacity: usize,
         default: Option<&[u8]>,
     ) -> &mut Self {
-        let default = default.filter(|v| v.len() <= capacity).map(|v| {
-            let mut padded = v.to_vec();
-            padded.resize(capacity, 0);
-            padded
-        });
+        let default = padded(default, capacity);
         let slot = Bytes { kind: Kind::Unicode, len: capacity, default, low: None, high: None };
-        let key = packed(addr, access, mappable);
-        self.rows.push(OwnedRow { slot: Box::new(slot), key, at: 0 });
-        self
+        self.push_slot(addr, access, mappable, slot)
     }
 
     /// Adds a DOMAIN: any bytes, none stored (the shared path hands a download to
@@ -161,9 +159,7 @@ impl TableBuilder {
     /// table does).
     pub fn push_domain(&mut self, addr: ObjectAddr, access: Access, mappable: bool) -> &mut Self {
         let slot = Bytes { kind: Kind::Domain, len: 0, default: None, low: None, high: None };
-        let key = packed(addr, access, mappable);
-        self.rows.push(OwnedRow { slot: Box::new(slot), key, at: 0 });
-        self
+        self.push_slot(addr, access, mappable, slot)
     }
 
     /// The table: rows sorted by address (the last of equal addresses kept), values laid out

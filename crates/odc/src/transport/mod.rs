@@ -26,6 +26,30 @@ pub mod socketcand;
 #[cfg(all(feature = "std", feature = "transport-tcp"))]
 pub mod tcp;
 
+/// One read of a blocking TCP stream that gives up after `wait`: `Some(n)` bytes read into
+/// `buf` (0 after an interrupted read: look at the clock again), `None` when nothing came in
+/// time. The receive loop of the TCP virtual bus and of socketcand.
+///
+/// # Errors
+///
+/// `UnexpectedEof` once the peer closed the connection; the socket's own.
+#[cfg(all(feature = "std", any(feature = "transport-tcp", feature = "transport-socketcand")))]
+fn read_within(
+    stream: &mut std::net::TcpStream,
+    wait: core::time::Duration,
+    buf: &mut [u8],
+) -> std::io::Result<Option<usize>> {
+    use std::io::{ErrorKind, Read};
+    stream.set_read_timeout(Some(wait))?;
+    match stream.read(buf) {
+        Ok(0) => Err(ErrorKind::UnexpectedEof.into()),
+        Ok(n) => Ok(Some(n)),
+        Err(e) if matches!(e.kind(), ErrorKind::WouldBlock | ErrorKind::TimedOut) => Ok(None),
+        Err(e) if e.kind() == ErrorKind::Interrupted => Ok(Some(0)),
+        Err(e) => Err(e),
+    }
+}
+
 /// What the blocking SDO client (and a node's loop) need from a CAN interface and a clock.
 pub trait Bus {
     /// The interface's error.

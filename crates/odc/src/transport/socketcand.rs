@@ -466,18 +466,10 @@ impl Bus for Socketcand {
             if now >= deadline {
                 return Ok(None);
             }
-            self.stream.set_read_timeout(Some((deadline - now).into()))?;
             let mut buf = [0u8; 1024];
-            match self.stream.read(&mut buf) {
-                Ok(0) => return Err(io::ErrorKind::UnexpectedEof.into()),
-                Ok(n) => self.splitter.push(buf.get(..n).unwrap_or(&[])),
-                Err(e)
-                    if matches!(e.kind(), io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut) =>
-                {
-                    return Ok(None);
-                }
-                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
-                Err(e) => return Err(e),
+            match super::read_within(&mut self.stream, (deadline - now).into(), &mut buf)? {
+                Some(n) => self.splitter.push(buf.get(..n).unwrap_or(&[])),
+                None => return Ok(None),
             }
         }
     }

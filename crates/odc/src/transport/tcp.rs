@@ -23,7 +23,7 @@
 //! assert_eq!(decode(&record), Ok(sdo));
 //! ```
 
-use std::io::{self, Read, Write};
+use std::io::{self, Write};
 use std::net::{Shutdown, TcpStream};
 use std::time::Instant;
 use std::vec::Vec;
@@ -200,18 +200,10 @@ impl Bus for TcpCan {
             if now >= deadline {
                 return Ok(None);
             }
-            self.stream.set_read_timeout(Some((deadline - now).into()))?;
             let mut buf = [0u8; 1024];
-            match self.stream.read(&mut buf) {
-                Ok(0) => return Err(io::ErrorKind::UnexpectedEof.into()),
-                Ok(n) => self.decoder.push(buf.get(..n).unwrap_or(&[])),
-                Err(e)
-                    if matches!(e.kind(), io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut) =>
-                {
-                    return Ok(None);
-                }
-                Err(e) if e.kind() == io::ErrorKind::Interrupted => {}
-                Err(e) => return Err(e),
+            match super::read_within(&mut self.stream, (deadline - now).into(), &mut buf)? {
+                Some(n) => self.decoder.push(buf.get(..n).unwrap_or(&[])),
+                None => return Ok(None),
             }
         }
     }
