@@ -227,6 +227,29 @@ fn sii_reads_the_image_of_the_esi() {
     assert_eq!(u16::from_le_bytes([r[1].1[0], r[1].1[1]]) & 0x4000, 0x4000);
 }
 
+/// A device whose ESI announces SoE beside CoE and FoE: its EEPROM's mailbox protocols (word
+/// 0x1C, ETG.2010 Table 2: bit 2 CoE, bit 3 FoE, bit 4 SoE) leave SoE out, which the firmware
+/// stack does not serve (SOEM's config_map read a SoE drive's mapping over it and failed on
+/// the corpus's Beckhoff AX5xxx drives); `odc sii` still writes the ESI's.
+#[test]
+fn the_eeprom_announces_no_soe() {
+    let esi = ESI.replace("</Mailbox>", "<SoE/><FoE/></Mailbox>");
+    let p = odc_esi::parse(&mut Sources::new(), "t.xml", esi.as_bytes());
+    assert!(!p.diagnostics.iter().any(|d| d.is_error()), "{:?}", p.diagnostics);
+    let image = odc_sii::write(&p.devices[0]).unwrap();
+    assert_eq!(image[0x38..0x3A], [0x1C, 0x00], "CoE, FoE and SoE in odc sii's image");
+    let mut c = Chain::new(vec![SubDevice::new(&p.devices[0]).unwrap()]);
+    address(&mut c);
+    let r = run(
+        &mut c,
+        &[
+            dg(FPWR, 0x1001, 0x0502, &[0x00, 0x01, 0x1C, 0x00, 0x00, 0x00]),
+            dg(FPRD, 0x1001, 0x0508, &[0; 2]),
+        ],
+    );
+    assert_eq!(r[1].1, [0x0C, 0x00], "CoE and FoE");
+}
+
 /// FMMU registers (ETG.1000.4 Table 56): logical start, length, start/stop bits, physical
 /// start, physical start bit, type (1 read, 2 write), activate.
 fn fmmu(logical: u32, len: u16, physical: u16, kind: u8) -> Vec<u8> {

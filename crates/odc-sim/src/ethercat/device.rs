@@ -183,6 +183,23 @@ fn sm_types(device: &Device, sms: &[odc_model::ethercat::SyncManager]) -> Option
     Some(device)
 }
 
+/// The byte of SII word 0x001C, the mailbox protocols (ETG.2010 Table 2), with SoE's bit.
+const SII_MAILBOX_PROTOCOLS: usize = 0x1C * 2;
+const SII_SOE: u8 = 0x10;
+
+/// The image with SoE cleared from its mailbox protocols. The firmware stack serves CoE and
+/// not SoE (ETG.1000.6 §5.6, servo drives over EtherCAT): a device that announced it would send
+/// a master that reads a SoE drive's mapping (SOEM's config_map, IDN S-0-0016 and S-0-0024 of
+/// up to 8 drives) into requests answered "protocol not supported" (mailbox error 0x0002),
+/// and SOEM then fails the mapping. Without it, SOEM maps the device from its SII PDO
+/// categories, which hold the ESI's PDOs. `odc sii` still writes the ESI's protocols.
+fn without_soe(mut image: Vec<u8>) -> Vec<u8> {
+    if let Some(b) = image.get_mut(SII_MAILBOX_PROTOCOLS) {
+        *b &= !SII_SOE;
+    }
+    image
+}
+
 impl SubDevice {
     /// The device of an ESI `device`: its EEPROM holds `odc_sii::write`'s image, its
     /// dictionary is the [`ModelDictionary`] of the device.
@@ -192,7 +209,7 @@ impl SubDevice {
     /// The device has no ESI part, or its SII image cannot be written.
     pub fn new(device: &Device) -> Result<Self, odc_sii::Error> {
         let ecat = device.ethercat.as_deref().ok_or(odc_sii::Error::NotEtherCat)?;
-        let image = odc_sii::write(device)?;
+        let image = without_soe(odc_sii::write(device)?);
         let ram = u16::try_from(reg::MEMORY).unwrap_or(u16::MAX);
         let sms = ecat
             .sync_managers
