@@ -353,6 +353,61 @@ fn soem_reads_sii_images_fitted_to_byte_size() {
     }
 }
 
+/// A line of three devices with 4 output and 4 input bits each (tests/fixtures/nibble.xml:
+/// BOOL entries 0x7000:01-04 on SM2, 0x6000:01-04 on SM3). SOEM's config_map packs them
+/// bit by bit into shared bytes of its logical image (the FMMUs' logical start and stop bits,
+/// ETG.1000.4): device 1 bits 0-3 and device 2 bits 4-7 of the first byte, device 3
+/// bits 0-3 of the second. SOEM sends the nibbles 0x5, 0xA, 0xC and each device's firmware
+/// stack takes from its SM2 buffer its own four bits into 0x7000; each device puts the nibble
+/// SOEM wrote into its 0x6000 (0x9, 0x6, 0x3) into SM3, and the input image is their packing.
+fn soem_packs_three_4_bit_devices() {
+    let fixture = repo("crates/odc-cli/tests/fixtures/nibble.xml").to_str().unwrap().to_owned();
+    let bits = |nibble: u8| -> Vec<Value> {
+        (0..4u8).map(|k| json!([0x6000, k + 1, hex(&[nibble >> k & 1])])).collect()
+    };
+    let plan = json!({
+        "inputs": [bits(0x9), bits(0x6), bits(0x3)],
+        // Device 1's 0x5 in the low nibble and device 2's 0xA in the high nibble of byte 0,
+        // device 3's 0xC in the low nibble of byte 1.
+        "outputs": "a50c",
+        "reads": [[0x7000, 1], [0x7000, 2], [0x7000, 3], [0x7000, 4]],
+    });
+    let specs = vec![fixture.clone(), fixture.clone(), fixture];
+    let (report, _) = soem_script('d', "soem_nibbles.py", &specs, plan);
+    assert_eq!(report["found"], 3, "{report}");
+    assert_eq!((&report["safe_op"], &report["op"]), (&json!(true), &json!(true)), "{report}");
+    // 12 bits out, 12 bits in: two bytes each way.
+    assert_eq!(report["io_map_size"], 4, "{report}");
+    let devs = &report["devices"];
+    // FMMU 0 (outputs) and 1 (inputs): [logical start, length, start bit, stop bit].
+    let fmmus: Vec<&Value> = (0..3).map(|k| &devs[k]["fmmu"]).collect();
+    assert_eq!(
+        fmmus,
+        [
+            &json!([[0, 1, 0, 3], [2, 1, 0, 3]]),
+            &json!([[0, 1, 4, 7], [2, 1, 4, 7]]),
+            &json!([[1, 1, 0, 3], [3, 1, 0, 3]]),
+        ],
+        "{report}"
+    );
+    // What each device took from its SM2 buffer: 0x5 = outputs 1 and 3, 0xA = 2 and 4,
+    // 0xC = 3 and 4 (one BOOL byte per SDO upload).
+    let read = |k: usize| -> Vec<&str> {
+        devs[k]["reads"].as_array().unwrap().iter().map(|r| r[2].as_str().unwrap()).collect()
+    };
+    assert_eq!(read(0), ["01", "00", "01", "00"], "{report}");
+    assert_eq!(read(1), ["00", "01", "00", "01"], "{report}");
+    assert_eq!(read(2), ["00", "00", "01", "01"], "{report}");
+    // The input image, as each device's pointer into it sees it: devices 1 and 2 share the
+    // byte 0x69 (0x9 low, 0x6 high), device 3 has 0x03.
+    let inputs: Vec<&Value> = (0..3).map(|k| &devs[k]["input"]).collect();
+    assert_eq!(inputs, [&json!("69"), &json!("69"), &json!("03")], "{report}");
+    // Each of the three devices read and wrote in the LRW: 3 each (ETG.1000.4's working
+    // counter: 1 for a read, 2 for a write). SOEM (pysoem 1.1.13) expects 3 of the whole line, counting
+    // the packed devices once: not odc's to follow.
+    assert_eq!(report["last_wkc"], 9, "{report}");
+}
+
 fn hex_bytes(s: &str) -> Vec<u8> {
     (0..s.len()).step_by(2).map(|i| u8::from_str_radix(&s[i..i + 2], 16).unwrap()).collect()
 }
@@ -372,6 +427,11 @@ fn main() -> std::process::ExitCode {
             name: "soem_runs_a_line_of_three",
             run: soem_runs_a_line_of_three,
             needs: &[Need::Python(&["pysoem"]), Need::Netdevs, Need::Corpus],
+        },
+        Test {
+            name: "soem_packs_three_4_bit_devices",
+            run: soem_packs_three_4_bit_devices,
+            needs: &[Need::Python(&["pysoem"]), Need::Netdevs],
         },
         Test {
             name: "soem_reads_sii_images_fitted_to_byte_size",
