@@ -274,3 +274,66 @@ fn empty_assignment_objects_start_with_the_esi_assignment() {
     assert_eq!(sim.dictionary().read(0x1C12, 0, &mut b), Ok(1));
     assert_eq!(b, [0]);
 }
+
+/// A CoE device whose ESI's dictionary lists only the mapped objects: its firmware still has
+/// what a master
+/// reads before it maps the process data (SOEM's config_map: 0x1C00, then 0x1C12/0x1C13, then
+/// each assigned PDO's mapping object), from the ESI's `Sm` elements and PDOs. Values from
+/// this ESI text.
+#[test]
+fn a_coe_device_has_the_assignment_and_mapping_its_esi_gives() {
+    use odc::slave::ObjectDictionary;
+    const ESI: &str = r##"<?xml version="1.0"?>
+<EtherCATInfo>
+  <Vendor><Id>#x00000099</Id><Name>V</Name></Vendor>
+  <Descriptions>
+    <Groups><Group><Type>IO</Type><Name>IO</Name></Group></Groups>
+    <Devices>
+      <Device Physics="YY">
+        <Type ProductCode="#x00000001" RevisionNo="#x00000001">T1</Type>
+        <Name LcId="1033">Test terminal</Name>
+        <GroupType>IO</GroupType>
+        <Profile><Dictionary>
+          <DataTypes>
+            <DataType><Name>USINT</Name><BitSize>8</BitSize></DataType>
+            <DataType><Name>UINT</Name><BitSize>16</BitSize></DataType>
+          </DataTypes>
+          <Objects>
+            <Object><Index>#x6000</Index><Name>I</Name><Type>UINT</Type><BitSize>16</BitSize><Flags><Access>ro</Access><PdoMapping>T</PdoMapping></Flags></Object>
+            <Object><Index>#x7000</Index><Name>O</Name><Type>USINT</Type><BitSize>8</BitSize><Flags><Access>rw</Access><PdoMapping>R</PdoMapping></Flags></Object>
+          </Objects>
+        </Dictionary></Profile>
+        <Fmmu>Outputs</Fmmu><Fmmu>Inputs</Fmmu>
+        <Sm MinSize="34" MaxSize="128" DefaultSize="128" StartAddress="#x1000" ControlByte="#x26" Enable="1">MBoxOut</Sm>
+        <Sm MinSize="34" MaxSize="128" DefaultSize="128" StartAddress="#x1080" ControlByte="#x22" Enable="1">MBoxIn</Sm>
+        <Sm StartAddress="#x1100" ControlByte="#x64" Enable="1">Outputs</Sm>
+        <Sm StartAddress="#x1180" ControlByte="#x20" Enable="1">Inputs</Sm>
+        <RxPdo Fixed="1" Sm="2"><Index>#x1600</Index><Name>Out</Name>
+          <Entry><Index>#x7000</Index><SubIndex>0</SubIndex><BitLen>8</BitLen><Name>O</Name><DataType>USINT</DataType></Entry>
+        </RxPdo>
+        <TxPdo Fixed="1" Sm="3"><Index>#x1A00</Index><Name>In</Name>
+          <Entry><Index>#x6000</Index><SubIndex>0</SubIndex><BitLen>16</BitLen><Name>I</Name><DataType>UINT</DataType></Entry>
+        </TxPdo>
+        <Mailbox><CoE SdoInfo="false" CompleteAccess="false"/></Mailbox>
+        <Eeprom><ByteSize>2048</ByteSize><ConfigData>0800CC0A</ConfigData></Eeprom>
+      </Device>
+    </Devices>
+  </Descriptions>
+</EtherCATInfo>"##;
+    let p = odc_esi::parse(&mut odc_model::Sources::new(), "t.xml", ESI.as_bytes());
+    assert!(!p.devices[0].objects.contains_key(&0x1C12), "the ESI's dictionary lacks it");
+    let sim = SubDevice::new(&p.devices[0]).unwrap();
+    let read = |index: u16, sub: u8| {
+        let mut b = [0u8; 4];
+        let n = sim.dictionary().read(index, sub, &mut b).unwrap();
+        b[..n].to_vec()
+    };
+    // 0x1C00: 4 sync managers: mailbox out, mailbox in, outputs, inputs.
+    assert_eq!([read(0x1C00, 0), read(0x1C00, 3), read(0x1C00, 4)], [[4], [3], [4]]);
+    // SM2 assigns 0x1600, SM3 0x1A00 (their `Sm` attributes).
+    assert_eq!((read(0x1C12, 0), read(0x1C12, 1)), (vec![1], vec![0x00, 0x16]));
+    assert_eq!((read(0x1C13, 0), read(0x1C13, 1)), (vec![1], vec![0x00, 0x1A]));
+    // 0x7000:00, 8 bits; 0x6000:00, 16 bits.
+    assert_eq!((read(0x1600, 0), read(0x1600, 1)), (vec![1], vec![0x08, 0x00, 0x00, 0x70]));
+    assert_eq!((read(0x1A00, 0), read(0x1A00, 1)), (vec![1], vec![0x10, 0x00, 0x00, 0x60]));
+}
