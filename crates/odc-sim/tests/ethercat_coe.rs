@@ -278,7 +278,8 @@ fn empty_assignment_objects_start_with_the_esi_assignment() {
 /// A CoE device whose ESI's dictionary lists only the mapped objects: its firmware still has
 /// what a master
 /// reads before it maps the process data (SOEM's config_map: 0x1C00, then 0x1C12/0x1C13, then
-/// each assigned PDO's mapping object), from the ESI's `Sm` elements and PDOs. Values from
+/// each assigned PDO's mapping object), from the ESI's `Sm` elements and PDOs, and the mapping
+/// object of every PDO of the ESI. Values from
 /// this ESI text.
 #[test]
 fn a_coe_device_has_the_assignment_and_mapping_its_esi_gives() {
@@ -311,6 +312,9 @@ fn a_coe_device_has_the_assignment_and_mapping_its_esi_gives() {
         <RxPdo Fixed="1" Sm="2"><Index>#x1600</Index><Name>Out</Name>
           <Entry><Index>#x7000</Index><SubIndex>0</SubIndex><BitLen>8</BitLen><Name>O</Name><DataType>USINT</DataType></Entry>
         </RxPdo>
+        <RxPdo Fixed="1"><Index>#x1601</Index><Name>Spare</Name>
+          <Entry><Index>#x7000</Index><SubIndex>0</SubIndex><BitLen>8</BitLen><Name>O</Name><DataType>USINT</DataType></Entry>
+        </RxPdo>
         <TxPdo Fixed="1" Sm="3"><Index>#x1A00</Index><Name>In</Name>
           <Entry><Index>#x6000</Index><SubIndex>0</SubIndex><BitLen>16</BitLen><Name>I</Name><DataType>UINT</DataType></Entry>
         </TxPdo>
@@ -336,4 +340,7 @@ fn a_coe_device_has_the_assignment_and_mapping_its_esi_gives() {
     // 0x7000:00, 8 bits; 0x6000:00, 16 bits.
     assert_eq!((read(0x1600, 0), read(0x1600, 1)), (vec![1], vec![0x08, 0x00, 0x00, 0x70]));
     assert_eq!((read(0x1A00, 0), read(0x1A00, 1)), (vec![1], vec![0x10, 0x00, 0x00, 0x60]));
+    // 0x1601, which no sync manager assigns by default: its mapping object too, as a master
+    // may assign it.
+    assert_eq!((read(0x1601, 0), read(0x1601, 1)), (vec![1], vec![0x08, 0x00, 0x00, 0x70]));
 }

@@ -163,8 +163,9 @@ fn kind(usage: &SmUsage) -> u8 {
 /// - 0x1C10 + n for each outputs or inputs sync manager n, the PDO assignment (ETG.1000.6),
 ///   holding the PDOs the ESI assigns to it (their `Sm` attributes, as the SII's PDO
 ///   categories tell a master that has no CoE), read-only;
-/// - the mapping object (0x1600.., 0x1A00..) of each PDO so assigned, with the ESI's
-///   entries (`index << 16 | sub << 8 | bits`, gaps index 0), read-only.
+/// - the mapping object (0x1600.., 0x1A00..) of each of the ESI's PDOs, with its entries
+///   (`index << 16 | sub << 8 | bits`, gaps index 0), read-only: an assignment object of the
+///   dictionary may name a PDO its ESI does not assign by default.
 fn firmware_objects(device: &Device, sms: &[odc_model::ethercat::SyncManager]) -> Option<Device> {
     use odc_model::{Access, DataType, Object, ObjectKind, Span, Spanned, SubObject, Value};
     let coe = device
@@ -202,20 +203,23 @@ fn firmware_objects(device: &Device, sms: &[odc_model::ethercat::SyncManager]) -
             assignment.get(&sm.number).into_iter().flatten().map(|&p| u64::from(p)).collect();
         let name = format!("Sync manager {} PDO assignment", sm.number);
         added.push(array(index, &name, DataType::Unsigned16, &pdos));
-        for pdo in device.pdos.iter().filter(|p| pdos.contains(&u64::from(p.mapping_index))) {
-            if device.objects.contains_key(&pdo.mapping_index) {
-                continue;
-            }
-            let values: Vec<u64> = pdo
-                .entries
-                .iter()
-                .map(|e| {
-                    let index = if e.is_gap() { 0 } else { u64::from(e.index) };
-                    index << 16 | u64::from(e.sub) << 8 | u64::from(e.bits)
-                })
-                .collect();
-            added.push(array(pdo.mapping_index, "PDO mapping", DataType::Unsigned32, &values));
+    }
+    // Every PDO's mapping object: the assignment objects above, or the master, may name any.
+    for pdo in &device.pdos {
+        if device.objects.contains_key(&pdo.mapping_index)
+            || added.iter().any(|o| o.index == pdo.mapping_index)
+        {
+            continue;
         }
+        let values: Vec<u64> = pdo
+            .entries
+            .iter()
+            .map(|e| {
+                let index = if e.is_gap() { 0 } else { u64::from(e.index) };
+                index << 16 | u64::from(e.sub) << 8 | u64::from(e.bits)
+            })
+            .collect();
+        added.push(array(pdo.mapping_index, "PDO mapping", DataType::Unsigned32, &values));
     }
     if added.is_empty() {
         return None;
