@@ -36,10 +36,6 @@ CACHE_VERSION = 2
 AL_STATES = {1: "INIT", 2: "PRE-OP", 3: "BOOT", 4: "SAFE-OP", 8: "OP"}
 
 
-def hexu32(v):
-    return f"0x{int(v):08X}"
-
-
 def enumerate_devices(odc, corpus, out):
     """Every device of every ESI file of the manifest, from `odc dump --format json` (cached
     in OUT/devices.json by the file's sha256): spec, identity, name, mailbox, process data."""
@@ -98,7 +94,10 @@ def dump(odc, path):
         )
         sms = ecat.get("sync_managers") or []
         mailbox = ecat.get("mailbox") or {}
-        config = bytes.fromhex(((ecat.get("eeprom") or {}).get("config_data") or "").strip() or "")
+        try:
+            config = bytes.fromhex(((ecat.get("eeprom") or {}).get("config_data") or "").strip())
+        except ValueError:
+            config = b""
         listed.append({
             "soe": mailbox.get("soe") is not None,
             # ConfigData word 0 is the PDI control register (0x0140); its bit 8, device
@@ -328,7 +327,7 @@ def main():
     write(out, every, swept, results, time.monotonic() - started, args)
 
 
-def classify(d, ok, stage, code, detail):
+def classify(d, ok, stage, code, detail, sizes=None):
     """The class of one device's verdict (tests/ethercat-sweep/README.md names each)."""
     if ok:
         return "pass"
@@ -343,6 +342,8 @@ def classify(d, ok, stage, code, detail):
             return f"ESI: T601, a mapped object the dictionary lacks (AL 0x{code:04X})"
         if d.get("device_emulation") and not d["mailbox"] and code in (0x001D, 0x001E):
             return f"odc: ESC device emulation not emulated (AL 0x{code:04X})"
+        if sizes == [0, 0] and code in (0x001D, 0x001E):
+            return f"no default PDO (modules), a process data SM with a size (AL 0x{code:04X})"
         return f"unclassified: {stage} AL 0x{code or 0:04X}"
     if stage == "cycles":
         m = re.search(r"(\d+) of \d+ at WKC (-?\d+), other \[([\d, ]*)\].*count (\d+), io map (\d+)",
@@ -383,9 +384,12 @@ def write(out, every, swept, results, seconds, args):
                    "skip", "duplicate", "", "same PRODUCT:REVISION as a later device of the file",
                    "skipped: not selectable"]
         else:
-            _, (ok, stage, code, detail), _ = results.get(
+            _, (ok, stage, code, detail), report = results.get(
                 d["spec"], (d, (False, "tester", None, "no verdict"), None))
-            cls = classify(d, ok, stage, code, detail)
+            # A failing device's report is its own line's (one device) but for config_map.
+            devs = (report or {}).get("devices", [])
+            sizes = devs[0].get("sizes") if len(devs) == 1 else None
+            cls = classify(d, ok, stage, code, detail, sizes)
             if cls.startswith("unclassified"):
                 codes = check_codes(args.odc, d)
                 detail = f"{detail}; odc check: {codes}"
