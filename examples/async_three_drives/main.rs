@@ -135,12 +135,16 @@ fn simulate(
     file: &'static str,
     node: NodeId,
     stop: Arc<AtomicBool>,
+    connected: std::sync::mpsc::Sender<NodeId>,
 ) -> std::io::Result<thread::JoinHandle<Result<(), Error>>> {
     thread::Builder::new().name(format!("sim-{node}")).spawn(move || {
         let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
         let loaded = odc_pipeline::load(&root.join(file), &odc_pipeline::Options::new())?;
         let mut device = odc_sim::SimDevice::new(loaded.device()?, node);
         let mut bus = odc::transport::tcp::TcpCan::connect(addr)?;
+        // The hub accepts connections in order: the master's comes after this one. (A
+        // receiver that gave up waiting is no reason to stop.)
+        let _ = connected.send(node);
         odc_sim::run_on_bus(&mut bus, &mut device, 1, || stop.load(Ordering::Relaxed))?;
         Ok(())
     })
@@ -276,16 +280,27 @@ fn run<C: Clock + Copy + Send + Sync>(clock: C, o: &Options) -> Result<Vec<Repor
             let addr = hub.local_addr();
             let handle = hub.stop_handle();
             thread::Builder::new().name("hub".into()).spawn(move || hub.run_hub(&mut |_| {}))?;
+            let (connected, on_bus) = std::sync::mpsc::channel();
             let devices = DRIVES
                 .iter()
-                .map(|(file, node)| simulate(addr, file, *node, stop.clone()))
+                .map(|(file, node)| simulate(addr, file, *node, stop.clone(), connected.clone()))
                 .collect::<Result<Vec<_>, _>>()?;
+            // The master connects once every device is on the bus: a frame sent before would
+            // reach nobody, and its SDO request wait for an answer that never comes.
+            drop(connected);
+            for _ in DRIVES {
+                if on_bus.recv_timeout(std::time::Duration::from_secs(60)).is_err() {
+                    // A device that failed to load or connect: its thread's error.
+                    stop.store(true, Ordering::Relaxed);
+                    for d in devices {
+                        d.join().map_err(|_| "a device thread panicked")??;
+                    }
+                    return Err("a simulated device did not connect within 60 s".into());
+                }
+            }
             (addr, Some(handle), devices)
         }
     };
-    // Let the devices connect and boot before the master listens.
-    thread::sleep(std::time::Duration::from_millis(200));
-
     let wire = trace::Shared::default();
     let master = Master::new(clock).with_timeout(Duration::from_secs(1));
     let m = &master;
