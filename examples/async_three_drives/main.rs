@@ -16,10 +16,10 @@
 //! on a thread of their own, with a current-thread tokio runtime, the timerfd clock (absolute
 //! deadlines on the period's grid: no drift, microsecond wakes) and a real-time priority
 //! (SCHED_FIFO 40, where allowed); the program's work (SDO configuration, the moves) on
-//! another runtime, sharing the one `Master` by reference. The cycle thread then runs as soon
-//! as its timer fires whatever else the machine does, and an SDO transfer never waits behind
-//! it nor it behind one. The master's futures are plain `core::future`s: the library has no
-//! runtime or thread of its own, the program chooses.
+//! another runtime and thread (SCHED_FIFO 20), sharing the one `Master` by reference. Ordinary
+//! threads then no longer delay the cycle: what is left is the machine's own wake-up latency
+//! (README). The master's futures are plain `core::future`s: the library has no runtime or
+//! thread of its own, the program chooses.
 //!
 //! Environment, for comparison: `ODC_ONE_THREAD=1` runs the cycle, the bus task and the
 //! drives' work on one tokio thread (the layout of the first version); `ODC_NO_RT=1` leaves the
@@ -30,6 +30,7 @@
 //! a period late), SYNC intervals (taken where each SYNC was handed to the socket), the cycles
 //! whose TPDOs did not all come back before the next SYNC, the timer's wake-up latency and how
 //! much of the late wakes the cycle thread spent waiting for a CPU, and each thread's CPU time.
+//! `bash examples/async_three_drives/measure.sh` runs the layouts side by side (README).
 
 mod trace;
 
