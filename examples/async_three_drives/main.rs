@@ -159,7 +159,7 @@ async fn supported_modes<C: Clock>(m: &Master<C>, node: NodeId) -> Result<Suppor
 }
 
 /// One drive's life: its configuration (`configure`, then NMT start), its axis handed to the
-/// cycle through `slot`, enable, profile position, and moves between 0 and `span` until `end`,
+/// cycle through `slot`, enable, profile position, and moves between 0 and `span` until `end` (one at least),
 /// each checked by an SDO read of 0x6064 against the TPDO's position.
 async fn drive<C: Clock, P: DrivePdos>(
     m: &Master<C>,
@@ -179,7 +179,9 @@ async fn drive<C: Clock, P: DrivePdos>(
     axis.enable().await?;
     axis.set_mode(m, ModeOfOperation::ProfilePosition).await?;
     let mut target = span;
-    while m.now() < end {
+    // At least one move, however long the configuration took (a loaded machine, a debug
+    // build), then moves until `end`.
+    loop {
         axis.move_to(target).await?;
         report.moves += 1;
         let p = m.upload(node, 0x6064, 0).await?;
@@ -187,6 +189,9 @@ async fn drive<C: Clock, P: DrivePdos>(
         report.position =
             i32::from_le_bytes(p.as_slice().try_into().map_err(|_| "0x6064 is not 4 bytes")?);
         target = if target == 0 { span } else { 0 };
+        if m.now() >= end {
+            break;
+        }
     }
     report.tpdo_position = axis.inputs().position;
     Ok(report)
