@@ -15,7 +15,7 @@ mod servoone_example;
 mod linmot_example;
 
 // Its `main` parses the command line, which a test does not have: the test calls `program`.
-#[path = "../async_three_drives.rs"]
+#[path = "../async_three_drives/main.rs"]
 #[allow(dead_code)]
 mod async_three_drives_example;
 
@@ -45,7 +45,8 @@ fn linmot_runs_its_control_word_sequence() {
 /// them).
 #[test]
 fn async_three_drives_move_on_one_bus() {
-    let reports = async_three_drives_example::program(1, None, false).unwrap();
+    let reports =
+        async_three_drives_example::program(&async_three_drives_example::Options::new(1)).unwrap();
     assert_eq!(reports.len(), 3);
     for r in reports {
         assert!(r.moves >= 1, "{r:?}");

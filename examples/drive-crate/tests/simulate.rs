@@ -16,8 +16,19 @@ use odc_drive_lxm23a::{HomingMethod, Lxm23a, keypad, od};
 
 const NODE: NodeId = odc::node_id!(1);
 
+/// How long an SDO answer or a state the test waits for may take. The simulated drive answers
+/// within a millisecond or two; on a machine loaded by parallel builds its threads may wait
+/// for a CPU for hundreds of milliseconds, so the deadlines are generous: they only turn a
+/// drive that never answers into a failure instead of a hang.
+const PATIENCE: Duration = Duration::from_secs(10);
+
+/// The whole test's bound: a hang fails it.
+const WHOLE_TEST: std::time::Duration = std::time::Duration::from_secs(120);
+
 /// `odc simulate`'s device for eds/lxm23a.eds at node 1 on a virtual bus; its address and the
-/// flag that stops it.
+/// flag that stops it. Returns once the device is on the bus: a frame the master sends before
+/// is lost (nobody is there to hear it), and its SDO request would then wait for an answer
+/// that never comes, as it did under load when the device's thread started late.
 fn simulated_drive() -> (std::net::SocketAddr, Arc<AtomicBool>, thread::JoinHandle<()>) {
     let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../eds/lxm23a.eds");
     let loaded = odc_pipeline::load(&file, &odc_pipeline::Options::new()).unwrap();
@@ -28,11 +39,15 @@ fn simulated_drive() -> (std::net::SocketAddr, Arc<AtomicBool>, thread::JoinHand
     thread::spawn(move || hub.run_hub(&mut |_| {}));
     let stop = Arc::new(AtomicBool::new(false));
     let stopped = stop.clone();
+    let (connected, on_bus) = std::sync::mpsc::channel();
     let device = thread::spawn(move || {
         let mut bus = odc::transport::tcp::TcpCan::connect(addr).unwrap();
+        // The hub accepts connections in order: the master's comes after this one.
+        connected.send(()).unwrap();
         odc_sim::run_on_bus(&mut bus, &mut device, 1, || stopped.load(Ordering::Relaxed)).unwrap();
         handle.stop();
     });
+    on_bus.recv_timeout(WHOLE_TEST).expect("the device did not connect");
     (addr, stop, device)
 }
 
@@ -40,7 +55,7 @@ fn simulated_drive() -> (std::net::SocketAddr, Arc<AtomicBool>, thread::JoinHand
 async fn enables_homes_moves_and_streams() {
     let (addr, stop, device) = simulated_drive();
     let (tx, rx) = tcp::connect(addr).await.unwrap();
-    let master = Master::new(TokioClock::new()).with_timeout(Duration::from_secs(2));
+    let master = Master::new(TokioClock::new()).with_timeout(PATIENCE);
     let m = &master;
     let done = AtomicBool::new(false);
     let work = async {
@@ -67,23 +82,32 @@ async fn enables_homes_moves_and_streams() {
             // 50 set-points, 100 apart; csp follows each within its cycle.
             let last = home + 20_000 + 50 * 100;
             drive.stream_positions(m, (1..=50).map(|i| home + 20_000 + i * 100)).await.unwrap();
-            // The last set-point went out with the last cycle; give the drive a few cycles.
-            for _ in 0..20 {
-                if drive.position() == Some(last) {
-                    break;
+            // The last set-point went out with the last cycle; the drive reports it within a
+            // cycle or two, however late those cycles run.
+            let reached = async {
+                while drive.position() != Some(last) {
+                    tokio::time::sleep(std::time::Duration::from_millis(2)).await;
                 }
-                tokio::time::sleep(std::time::Duration::from_millis(2)).await;
-            }
-            assert_eq!(drive.position(), Some(last));
+            };
+            let within = std::time::Duration::from_micros(PATIENCE.as_micros());
+            let waited = tokio::time::timeout(within, reached).await;
+            assert!(
+                waited.is_ok(),
+                "position {:?}, not {last}, after {PATIENCE}",
+                drive.position()
+            );
             drive.disable().await.unwrap();
             done.store(true, Ordering::Relaxed);
         };
         tokio::join!(cycle, jobs);
     };
-    tokio::select! {
-        r = m.run(tx, rx) => panic!("bus ended: {r:?}"),
-        () = work => {}
-    }
+    let run = async {
+        tokio::select! {
+            r = m.run(tx, rx) => panic!("bus ended: {r:?}"),
+            () = work => {}
+        }
+    };
+    tokio::time::timeout(WHOLE_TEST, run).await.expect("the test hung");
     stop.store(true, Ordering::Relaxed);
     device.join().unwrap();
 }

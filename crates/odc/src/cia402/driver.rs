@@ -201,10 +201,12 @@ enum Job {
         edge_sent: bool,
     },
     Mode(ModeOfOperation),
-    /// Profile position: set-point until acknowledged, then wait for the target.
+    /// Profile position: set-point acknowledge clear first (`armed`), then the set-point until
+    /// acknowledged, then wait for the target.
     Move {
         target: i32,
         relative: bool,
+        armed: bool,
         acknowledged: bool,
         absolute: Option<i32>,
     },
@@ -341,7 +343,8 @@ impl Driver {
     /// [`DriverError::WrongMode`] when profile position is not the mode asked for.
     pub fn move_to(&mut self, target: i32, relative: bool) -> Result<(), DriverError> {
         self.needs(ModeOfOperation::ProfilePosition)?;
-        self.start(Job::Move { target, relative, acknowledged: false, absolute: None });
+        let job = Job::Move { target, relative, armed: false, acknowledged: false, absolute: None };
+        self.start(job);
         Ok(())
     }
 
@@ -428,6 +431,7 @@ impl Driver {
             Job::QuickStop => "quick stop active",
             Job::FaultReset { .. } => "the fault to clear",
             Job::Mode(_) => "the mode display (0x6061)",
+            Job::Move { armed: false, .. } => "the set-point acknowledge (bit 12) to clear",
             Job::Move { acknowledged: false, .. } => "the set-point acknowledge (bit 12)",
             Job::Move { .. } => "target reached (bit 10)",
             Job::Velocity(_) => "velocity reached (bit 10)",
@@ -495,7 +499,7 @@ impl Driver {
                     self.done();
                 }
             }
-            Job::Move { target, relative, acknowledged, absolute } => {
+            Job::Move { target, relative, armed, acknowledged, absolute } => {
                 if state != Some(State::OperationEnabled) {
                     self.status = DriverStatus::Failed(DriverError::NotEnabled);
                     self.job = Job::None;
@@ -507,10 +511,24 @@ impl Driver {
                     true => inputs.position.map(|p| p.wrapping_add(target)),
                 });
                 self.out.target_position = Some(target);
+                // The hand-shake (CiA 402 figure 19) starts from bit 12 clear: set, it belongs
+                // to something before this move (a set-point not yet released, or "homing
+                // attained" in a statusword sampled before the switch from hm), and taking it
+                // for this set-point's acknowledge would clear bit 4 before the drive saw it.
+                if !armed {
+                    self.out.controlword = run.with_relative(relative);
+                    if sw.setpoint_ack() {
+                        self.job = Job::Move { target, relative, armed, acknowledged, absolute };
+                        return;
+                    }
+                }
+                let armed = true;
                 if !acknowledged {
                     self.out.controlword = run.with_new_setpoint(true).with_relative(relative);
+                    // This statusword was sampled before bit 4 went out when the move was
+                    // armed in this very cycle: its bit 12 is clear.
                     let ack = sw.setpoint_ack();
-                    self.job = Job::Move { target, relative, acknowledged: ack, absolute };
+                    self.job = Job::Move { target, relative, armed, acknowledged: ack, absolute };
                     if ack {
                         // Acknowledged: clear bit 4 (the hand-shake of CiA 402 figure 19).
                         self.out.controlword = run.with_relative(relative);
@@ -518,7 +536,7 @@ impl Driver {
                     return;
                 }
                 self.out.controlword = run.with_relative(relative);
-                self.job = Job::Move { target, relative, acknowledged, absolute };
+                self.job = Job::Move { target, relative, armed, acknowledged, absolute };
                 let there = match (absolute, inputs.position) {
                     (Some(a), Some(p)) => a == p,
                     _ => true,

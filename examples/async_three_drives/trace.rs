@@ -1,0 +1,279 @@
+//! Per-cycle records of the SYNC cycle, and the figures drawn from them: when each cycle's
+//! timer woke against its grid point, how long its thread waited for a CPU meanwhile, when its
+//! SYNC went to the socket, and whether every drive's TPDO came back before the next SYNC.
+
+use std::sync::{Arc, Mutex, PoisonError};
+
+use odc::asynch::{CanRx, CanTx, Clock};
+use odc::can::CanFrame;
+use odc::time::{Duration, Instant};
+
+/// One cycle as its thread saw it.
+#[derive(Clone, Copy, Debug)]
+pub struct Tick {
+    /// The grid point.
+    pub due: Instant,
+    /// When the timer's wait returned.
+    pub woke: Instant,
+    /// During the wait (from before it began until the SYNC was queued), nanoseconds this
+    /// thread spent runnable but not running (other threads had the CPUs) and running (its
+    /// runtime's other tasks, its own code), from `/proc/thread-self/schedstat`. The rest of
+    /// a late wake it was blocked: asleep past its timer, or on a lock.
+    pub queued_ns: Option<u64>,
+    pub ran_ns: Option<u64>,
+}
+
+/// This thread's scheduler statistics (`/proc/thread-self/schedstat`): nanoseconds run and
+/// nanoseconds waited on a run queue; `None` where the kernel does not tell.
+pub fn schedstat() -> Option<(u64, u64)> {
+    let s = std::fs::read_to_string("/proc/thread-self/schedstat").ok()?;
+    let mut f = s.split_whitespace().map(str::parse::<u64>);
+    Some((f.next()?.ok()?, f.next()?.ok()?))
+}
+
+/// The frames the master sent and received, timed on its clock.
+#[derive(Debug, Default)]
+pub struct Wire {
+    /// When each SYNC was handed to the socket (its `send` returned).
+    pub syncs: Vec<Instant>,
+    /// When each TPDO was received, and from which node.
+    pub tpdos: Vec<(Instant, u8)>,
+    /// From each received frame handed to the master until it asked for the next: its
+    /// dispatch under the master's lock, µs (the longest and how many took over 200 µs).
+    pub dispatch_max: u64,
+    pub dispatch_slow: u64,
+}
+
+/// The shared [`Wire`] record.
+pub type Shared = Arc<Mutex<Wire>>;
+
+fn lock(w: &Shared) -> std::sync::MutexGuard<'_, Wire> {
+    w.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// The master's transmit half, noting when each SYNC went out.
+pub struct Tx<T, C> {
+    pub inner: T,
+    pub clock: C,
+    pub wire: Shared,
+}
+
+impl<T: CanTx, C: Clock> CanTx for Tx<T, C> {
+    type Error = T::Error;
+
+    async fn send(&mut self, frame: &CanFrame) -> Result<(), T::Error> {
+        self.inner.send(frame).await?;
+        if frame.id() == 0x080 && !frame.is_extended() {
+            lock(&self.wire).syncs.push(self.clock.now());
+        }
+        Ok(())
+    }
+}
+
+/// The master's receive half, noting when each TPDO came in and how long the master took
+/// to dispatch each frame.
+pub struct Rx<R, C> {
+    pub inner: R,
+    pub clock: C,
+    pub wire: Shared,
+    pub returned: Option<Instant>,
+}
+
+impl<R: CanRx, C: Clock> CanRx for Rx<R, C> {
+    type Error = R::Error;
+
+    async fn recv(&mut self) -> Result<CanFrame, R::Error> {
+        if let Some(t) = self.returned.take() {
+            let us = self.clock.now().saturating_duration_since(t).as_micros();
+            let mut w = lock(&self.wire);
+            w.dispatch_max = w.dispatch_max.max(us);
+            w.dispatch_slow += u64::from(us > 200);
+        }
+        let f = self.inner.recv().await?;
+        self.returned = Some(self.clock.now());
+        // TPDO1..4 of nodes 1..=127 (CiA 301's pre-defined connection set).
+        if !f.is_extended() && matches!(f.id() & 0x780, 0x180 | 0x280 | 0x380 | 0x480) {
+            lock(&self.wire).tpdos.push((self.clock.now(), (f.id() & 0x7F) as u8));
+        }
+        Ok(f)
+    }
+}
+
+/// The load average over the last minute (`/proc/loadavg`).
+pub fn load_average() -> Option<String> {
+    let s = std::fs::read_to_string("/proc/loadavg").ok()?;
+    s.split_whitespace().next().map(str::to_owned)
+}
+
+/// min, mean, p99 (nearest rank) and max of `v`, sorted in place.
+pub fn stats(v: &mut [u64]) -> Option<(u64, f64, u64, u64)> {
+    v.sort_unstable();
+    let (min, max) = (*v.first()?, *v.last()?);
+    let mean = v.iter().sum::<u64>() as f64 / v.len() as f64;
+    // Nearest rank: the smallest value with at least 99 % of the values at or below it.
+    let p99 = v[(v.len() * 99).div_ceil(100).saturating_sub(1)];
+    Some((min, mean, p99, max))
+}
+
+/// The figures of one run.
+#[derive(Debug)]
+pub struct Figures {
+    pub cycles: usize,
+    pub syncs: usize,
+    /// SYNC intervals: min, mean, p99, max, µs.
+    pub interval: (u64, f64, u64, u64),
+    /// Grid points without a SYNC: a SYNC left more than a period after its grid point, so
+    /// the next one skipped (the cycle's own count).
+    pub skipped: u64,
+    /// SYNC intervals of 1.5 periods or more: what a SYNC consumer's timeout flags (CANopenNode
+    /// raises its SYNC timeout EMCY at 1.5 periods).
+    pub long_intervals: usize,
+    /// Cycles (from the first in which every drive answered until the last SYNC) whose TPDOs
+    /// did not all arrive before the next SYNC, and how many such cycles were counted.
+    pub tpdo_late: usize,
+    pub tpdo_cycles: usize,
+    /// Of those, per node: the cycles in which that node's TPDO was not in.
+    pub tpdo_late_by_node: Vec<(u8, usize)>,
+    /// The longest dispatch of a received frame (µs) and how many took over 200 µs.
+    pub dispatch: (u64, u64),
+    /// Timer wake after the grid point: p50, p99, max, µs.
+    pub wake: (u64, u64, u64),
+    /// SYNC on the socket after the wake: p50, p99, max, µs.
+    pub send: (u64, u64, u64),
+    /// Wakes more than half a period late, their lateness (µs, summed), and during their waits
+    /// the time the thread waited for a CPU and the time it ran.
+    pub late_wakes: usize,
+    pub late_us: u64,
+    pub late_queued_us: u64,
+    pub late_ran_us: u64,
+}
+
+fn percentiles(mut v: Vec<u64>) -> (u64, u64, u64) {
+    v.sort_unstable();
+    let at = |q: usize| v.get((v.len() * q).div_ceil(100).saturating_sub(1)).copied().unwrap_or(0);
+    (at(50), at(99), v.last().copied().unwrap_or(0))
+}
+
+/// The figures of `ticks` and `wire` for `nodes` at `period`, with the cycle's own count of
+/// skipped grid points.
+pub fn figures(
+    ticks: &[Tick],
+    wire: &Wire,
+    nodes: &[u8],
+    period: Duration,
+    skipped: u64,
+) -> Option<Figures> {
+    let p = period.as_micros();
+    let s = &wire.syncs;
+    let mut intervals: Vec<u64> = s.windows(2).map(|w| (w[1] - w[0]).as_micros()).collect();
+    let long_intervals = intervals.iter().filter(|i| **i * 2 >= p * 3).count();
+    let interval = stats(&mut intervals)?;
+
+    // TPDOs: for SYNC k, did each node's TPDO arrive in (s[k], s[k+1]]? Counted from the
+    // first SYNC every node answered.
+    let answered = |k: usize, node: u8| {
+        let (from, to) = (s[k], s[k + 1]);
+        wire.tpdos.iter().any(|(t, n)| *n == node && *t > from && *t <= to)
+    };
+    let all = |k: usize| nodes.iter().all(|n| answered(k, *n));
+    let first = (0..s.len().saturating_sub(1)).find(|k| all(*k));
+    let (mut tpdo_late, mut tpdo_cycles) = (0, 0);
+    let mut tpdo_late_by_node: Vec<(u8, usize)> = nodes.iter().map(|n| (*n, 0)).collect();
+    if let Some(first) = first {
+        for k in first..s.len() - 1 {
+            tpdo_cycles += 1;
+            if !all(k) {
+                tpdo_late += 1;
+                for (n, late) in &mut tpdo_late_by_node {
+                    *late += usize::from(!answered(k, *n));
+                }
+            }
+        }
+    }
+
+    let wake: Vec<u64> = ticks.iter().map(|t| (t.woke - t.due).as_micros()).collect();
+    // Ticks and SYNCs pair in order: every tick queues one SYNC.
+    let send: Vec<u64> = ticks
+        .iter()
+        .zip(s)
+        .map(|(t, sent)| sent.saturating_duration_since(t.woke).as_micros())
+        .collect();
+    let late: Vec<&Tick> = ticks.iter().filter(|t| (t.woke - t.due).as_micros() * 2 > p).collect();
+    Some(Figures {
+        cycles: ticks.len(),
+        syncs: s.len(),
+        interval,
+        skipped,
+        long_intervals,
+        tpdo_late,
+        tpdo_cycles,
+        tpdo_late_by_node,
+        dispatch: (wire.dispatch_max, wire.dispatch_slow),
+        wake: percentiles(wake),
+        send: percentiles(send),
+        late_wakes: late.len(),
+        late_us: late.iter().map(|t| (t.woke - t.due).as_micros()).sum(),
+        late_queued_us: late.iter().filter_map(|t| t.queued_ns).sum::<u64>() / 1000,
+        late_ran_us: late.iter().filter_map(|t| t.ran_ns).sum::<u64>() / 1000,
+    })
+}
+
+impl std::fmt::Display for Figures {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let (min, mean, p99, max) = self.interval;
+        writeln!(
+            f,
+            "SYNC: {} cycles, {} sent; interval min {min} / mean {mean:.1} / p99 {p99} / max {max} µs",
+            self.cycles, self.syncs
+        )?;
+        writeln!(
+            f,
+            "missed cycles: {} (grid points without a SYNC: one left more than a period late)",
+            self.skipped
+        )?;
+        writeln!(
+            f,
+            "  SYNC intervals of 1.5 periods or more (a consumer's SYNC timeout): {}",
+            self.long_intervals
+        )?;
+        let nodes: Vec<String> =
+            self.tpdo_late_by_node.iter().map(|(n, _)| n.to_string()).collect();
+        writeln!(
+            f,
+            "  cycles whose synchronous TPDOs (node {}) did not arrive before the next SYNC: {} of {}",
+            nodes.join(", "),
+            self.tpdo_late,
+            self.tpdo_cycles
+        )?;
+        writeln!(
+            f,
+            "received frames dispatched (the master's lock): longest {} µs, {} over 200 µs",
+            self.dispatch.0, self.dispatch.1
+        )?;
+        let (w50, w99, wmax) = self.wake;
+        let (s50, s99, smax) = self.send;
+        writeln!(f, "timer wake after the grid point: p50 {w50} / p99 {w99} / max {wmax} µs")?;
+        writeln!(f, "SYNC on the socket after the wake: p50 {s50} / p99 {s99} / max {smax} µs")?;
+        write!(
+            f,
+            "wakes over half a period late: {}, {} µs late in all; meanwhile the cycle thread waited {} µs for a CPU and ran {} µs",
+            self.late_wakes, self.late_us, self.late_queued_us, self.late_ran_us
+        )
+    }
+}
+
+/// Each thread of this process: name, ms run, ms waited for a CPU (`/proc/self/task`).
+pub fn threads() -> Vec<(String, u64, u64)> {
+    let mut out = Vec::new();
+    let Ok(dir) = std::fs::read_dir("/proc/self/task") else { return out };
+    for e in dir.flatten() {
+        let path = e.path();
+        let name = std::fs::read_to_string(path.join("comm")).unwrap_or_default();
+        let stat = std::fs::read_to_string(path.join("schedstat")).unwrap_or_default();
+        let mut f = stat.split_whitespace().map(|v| v.parse::<u64>().unwrap_or(0));
+        let (run, wait) = (f.next().unwrap_or(0), f.next().unwrap_or(0));
+        out.push((name.trim().to_owned(), run / 1_000_000, wait / 1_000_000));
+    }
+    out.sort();
+    out
+}
