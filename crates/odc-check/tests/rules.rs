@@ -5,7 +5,7 @@ mod common;
 
 use common::*;
 use odc_model::ethercat::SmUsage;
-use odc_model::{Direction, PdoMapping, Spanned};
+use odc_model::{Direction, PdoMapping, Spanned, Value};
 
 /// Asserts that `dev` trips `code` and snapshots the whole output.
 macro_rules! trips {
@@ -282,6 +282,22 @@ trips!(
 fn c209_domain_files_with_matching_access_pass() {
     let d = with_files(base().var(0x2000, "Image", Domain, Const), 0x2000, Some("a.bin"), None);
     let d = with_files(d.var(0x2001, "Log", Domain, Wo), 0x2001, None, Some("b.bin"));
+    assert_eq!(run_with(d, &all_rules_on()), "");
+}
+
+trips!(
+    c210_visible_string_not_visible,
+    "C210",
+    base()
+        .var(0x2000, "Unit", VisibleString, Ro)
+        .default(Value::Text("\u{b5}m".into()))
+        .var(0x2001, "Label", VisibleString, Rw)
+        .default(Value::Text("a\tb".into()))
+);
+
+#[test]
+fn c210_visible_ascii_passes() {
+    let d = base().var(0x2000, "Unit", VisibleString, Ro).default(Value::Text(" um ~".into()));
     assert_eq!(run_with(d, &all_rules_on()), "");
 }
 

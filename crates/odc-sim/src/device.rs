@@ -146,13 +146,13 @@ impl SimDevice {
                 let option = self.od.get::<i16>(0x605A, 0).unwrap_or(2);
                 *drive = drive.with_control(drive.control().with_quick_stop_option(option));
             }
-            // A lost heartbeat (0x1016) or life guarding: the abort connection option code
-            // (0x6007, CiA 402-2 6.5.1) 1 is a fault (transitions 13, then 14 at the next
-            // step). Codes 2 and 3 (disable voltage, quick stop) are not simulated.
-            if (events.heartbeat_lost != 0 || events.life_guarding_lost)
-                && self.od.get::<i16>(0x6007, 0) == Ok(1)
-            {
-                drive.fault(&mut self.od);
+            // A lost heartbeat (0x1016) or life guarding: what the abort connection option
+            // code (0x6007, CiA 402-2 6.5.1) commands (1 fault, 2 disable voltage, 3 quick
+            // stop); a drive without 0x6007 takes no action.
+            if events.heartbeat_lost != 0 || events.life_guarding_lost {
+                if let Ok(code) = self.od.get::<i16>(0x6007, 0) {
+                    drive.connection_lost(&mut self.od, code);
+                }
             }
             drive.update(&mut self.od);
         }

@@ -136,15 +136,18 @@ fn state(sim: &mut SimDevice, now: u64) -> u16 {
 /// The simulated MDrive, with the abort connection option code 0x6007 = 1 (CiA 402-2
 /// 6.5.1): a heartbeat it consumes (0x1016) that stops is a fault, transitions 13 and 14 to
 /// "fault" (0x08); a fault reset (controlword bit 7 rising) is transition 15 to "switch on
-/// disabled". With 0x6007 = 0 (its default) the same loss leaves it enabled.
+/// disabled". With 0x6007 = 0 (its default) the same loss leaves it enabled; with 2
+/// (disable voltage) it is in "switch on disabled" (9); with 3 (quick stop) in "quick stop
+/// active" (11), where quick stop option code 6 (0x605A) keeps it.
 #[test]
 fn a_lost_heartbeat_faults_the_drive_as_0x6007_says() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../eds/lexium-mdrive.eds");
     let loaded = odc_pipeline::load(&path, &odc_pipeline::Options::new()).unwrap();
-    for option in [1i16, 0] {
+    for option in [1i16, 0, 2, 3] {
         let mut sim = SimDevice::new(loaded.device().unwrap(), NODE);
         sim.start(0, &mut |_| {});
         assert_eq!(download(&mut sim, 0, 0x6007, 0, &option.to_le_bytes()).data()[0], 0x60);
+        assert_eq!(download(&mut sim, 0, 0x605A, 0, &6i16.to_le_bytes()).data()[0], 0x60);
         // Consume node 0x7E's heartbeat, 100 ms (CiA 301 0x1016: node << 16 | time).
         let entry = 0x007E_0064u32.to_le_bytes();
         assert_eq!(download(&mut sim, 0, 0x1016, 1, &entry).data()[0], 0x60);
@@ -156,8 +159,13 @@ fn a_lost_heartbeat_faults_the_drive_as_0x6007_says() {
         for t in (20..=300).step_by(10) {
             sim.poll(t, &mut |_| {});
         }
-        if option == 0 {
-            assert_eq!(state(&mut sim, 300), 0x27, "0x6007 = 0: no action");
+        match option {
+            0 => assert_eq!(state(&mut sim, 300), 0x27, "0x6007 = 0: no action"),
+            2 => assert_eq!(state(&mut sim, 300) & 0x4F, 0x40, "2: 9, switch on disabled"),
+            3 => assert_eq!(state(&mut sim, 300), 0x07, "3: 11, quick stop active"),
+            _ => {}
+        }
+        if option != 1 {
             continue;
         }
         assert_eq!(state(&mut sim, 300) & 0x4F, 0x08, "fault");

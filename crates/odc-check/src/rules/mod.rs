@@ -58,6 +58,7 @@ pub(crate) const ALL: &[Rule] = &[
     values::C207,
     values::C208,
     values::C209,
+    values::C210,
     pdo::C301,
     pdo::C302,
     pdo::C303,

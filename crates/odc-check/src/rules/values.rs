@@ -1,4 +1,4 @@
-//! C201–C209: values, types and limits; mandatory objects; identity (CiA 306 §4.5.2,
+//! C201–C210: values, types and limits; mandatory objects; identity (CiA 306 §4.5.2,
 //! CiA 301 §7.4, §7.5).
 
 use odc_model::{DataType, Device, ObjectKind, Spanned, SubObject, Value, ValueClass};
@@ -500,6 +500,46 @@ fn upload_download_file(dev: &Device, ctx: &mut Ctx) {
                     ),
                 );
             }
+        }
+    }
+}
+
+rule!(
+    C210,
+    "C210",
+    "visible-string-not-visible",
+    "cia301",
+    Warning,
+    Warn,
+    visible_string_not_visible,
+    "a VISIBLE_STRING default or parameter value holds characters other than visible ASCII",
+    "CiA 301 builds VISIBLE_STRING from VISIBLE_CHAR, the ISO 646 characters 0x20..=0x7E (and 0 \
+     as padding). Real files put tabs, line breaks or UTF-8 ('µm', '€') in such defaults. odc \
+     keeps the file's text as the device's value, so an SDO upload returns those bytes, but a \
+     master that decodes the string as ASCII shows them garbled, and the same text written back \
+     by a master is refused (odc's `VisibleString::new` accepts visible ASCII only). Fix: write \
+     the text in visible ASCII, or make the object an OCTET_STRING or UNICODE_STRING if it \
+     really holds other characters."
+);
+
+fn visible_string_not_visible(dev: &Device, ctx: &mut Ctx) {
+    for (o, s) in all_subs(dev).filter(|(_, s)| s.data_type == DataType::VisibleString) {
+        for (key, v) in [("DefaultValue", &s.default), ("ParameterValue", &s.parameter_value)] {
+            let Some(v) = v else { continue };
+            let Value::Text(text) = &v.value else { continue };
+            let Some(bad) = text.chars().find(|c| !matches!(c, ' '..='~')) else { continue };
+            ctx.report(
+                o.index,
+                sub_of(o, s.sub_index),
+                value_span(o, s, Some(v)),
+                format!(
+                    "{} {key} {:?} holds {:?} (U+{:04X}), not visible ASCII",
+                    addr(o, s.sub_index),
+                    text,
+                    bad,
+                    u32::from(bad)
+                ),
+            );
         }
     }
 }

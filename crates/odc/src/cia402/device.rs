@@ -124,6 +124,9 @@ pub struct DeviceControl {
     state: State,
     last: Controlword,
     quick_stop_option: i16,
+    /// After a lost connection stopped the drive: the master's last controlword is not acted
+    /// on again until it changes (a stale "enable operation" would undo the stop).
+    held: bool,
 }
 
 #[cfg(feature = "cia402")]
@@ -142,6 +145,7 @@ impl DeviceControl {
             state: State::NotReadyToSwitchOn,
             last: Controlword::DISABLE_VOLTAGE,
             quick_stop_option: 2,
+            held: false,
         }
     }
 
@@ -177,6 +181,10 @@ impl DeviceControl {
     /// current value: a repeated controlword takes no transition, and fault reset acts on the
     /// rising edge of bit 7 only). Returns the number of the transition taken.
     pub fn controlword(&mut self, cw: Controlword) -> Option<u8> {
+        if self.held && cw == self.last {
+            return None;
+        }
+        self.held = false;
         let edge = cw.bit(7) && !self.last.bit(7);
         self.last = cw;
         let to = self.state.after(cw, edge);
@@ -196,6 +204,23 @@ impl DeviceControl {
             State::FaultReactionActive | State::Fault => None,
             _ => self.go(State::FaultReactionActive),
         }
+    }
+
+    /// The connection to the master was lost (a heartbeat the node consumes, life guarding):
+    /// the abort connection option code (0x6007, CiA 402-2 §6.5.1) says what follows. 1: a
+    /// fault (transition 13); 2: the "disable voltage" command; 3: the "quick stop" command;
+    /// 0 (no action) and the manufacturer-specific negative codes: nothing here. After 2 or
+    /// 3 the master's last controlword is held until it changes. Returns the transition.
+    pub fn connection_lost(&mut self, code: i16) -> Option<u8> {
+        let command = match code {
+            1 => return self.fault(),
+            2 => Controlword::DISABLE_VOLTAGE,
+            3 => Controlword::QUICK_STOP,
+            _ => return None,
+        };
+        self.held = true;
+        let to = self.state.after(command, false);
+        if to == self.state { None } else { self.go(to) }
     }
 
     /// The drive has come to a standstill: the fault reaction ends in "fault" (14); a quick
@@ -591,6 +616,19 @@ impl Drive {
     pub fn fault<D: DriveObjects + ?Sized>(&mut self, od: &mut D) -> Option<u8> {
         let taken = self.control.fault();
         self.axis.stop();
+        self.publish(od);
+        taken
+    }
+
+    /// The connection to the master was lost: what the abort connection option `code`
+    /// (0x6007) commands, as [`DeviceControl::connection_lost`]; a quick stop completes in
+    /// the next [`Drive::step`].
+    pub fn connection_lost<D: DriveObjects + ?Sized>(&mut self, od: &mut D, code: i16) -> Option<u8> {
+        if code == 1 {
+            return self.fault(od);
+        }
+        let taken = self.control.connection_lost(code);
+        self.axis.command(od, self.control.state());
         self.publish(od);
         taken
     }

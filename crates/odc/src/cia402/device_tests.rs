@@ -205,6 +205,45 @@ fn fault_reaction_fault_and_reset() {
 }
 
 #[test]
+fn a_lost_connection_does_what_the_abort_connection_option_code_says() {
+    let enabled = [SHUTDOWN, SWITCH_ON, ENABLE_OPERATION];
+    // 0 and manufacturer-specific codes: no action here.
+    for code in [0, -1] {
+        let (mut drive, mut od) = after(&enabled, 2);
+        assert_eq!(drive.connection_lost(&mut od, code), None, "code {code}");
+        assert!(coded(od.sw, OPERATION_ENABLED));
+    }
+    // 1: fault (13, then 14).
+    let (mut drive, mut od) = after(&enabled, 2);
+    assert_eq!(drive.connection_lost(&mut od, 1), Some(13));
+    assert!(coded(od.sw, FAULT_REACTION_ACTIVE));
+    // 2: disable voltage (9); the stale "enable operation" in the controlword is held.
+    let (mut drive, mut od) = after(&enabled, 2);
+    assert_eq!(drive.connection_lost(&mut od, 2), Some(9));
+    assert!(coded(od.sw, SWITCH_ON_DISABLED));
+    assert_eq!(drive.update(&mut od), None);
+    // A new command from the master acts again.
+    od.cw = Controlword(SHUTDOWN);
+    assert_eq!(drive.update(&mut od), Some(2));
+    // 3: quick stop (11), ending by the quick stop option code (2: transition 12).
+    let (mut drive, mut od) = after(&enabled, 2);
+    assert_eq!(drive.connection_lost(&mut od, 3), Some(11));
+    assert!(coded(od.sw, QUICK_STOP_ACTIVE));
+    assert_eq!(drive.step(&mut od, Duration::from_millis(10)), Some(12));
+    // With option code 6 the drive stays in "quick stop active", and the held "enable
+    // operation" does not take transition 16; the master's next command does.
+    let (mut drive, mut od) = after(&enabled, 6);
+    assert_eq!(drive.connection_lost(&mut od, 3), Some(11));
+    assert_eq!(drive.step(&mut od, Duration::from_millis(10)), None);
+    assert_eq!(drive.update(&mut od), None);
+    assert!(coded(od.sw, QUICK_STOP_ACTIVE));
+    od.cw = Controlword(DISABLE_OPERATION);
+    assert_eq!(drive.update(&mut od), None);
+    od.cw = Controlword(ENABLE_OPERATION);
+    assert_eq!(drive.update(&mut od), Some(16));
+}
+
+#[test]
 fn statusword_values_of_a_controlword_sequence() {
     // Whole statuswords: state coding, voltage enabled (bit 4) with the power stage on,
     // remote (bit 9), target reached (bit 10) with no mode running.
