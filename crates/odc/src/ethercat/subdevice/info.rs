@@ -92,13 +92,14 @@ struct Window<'a, 'b> {
 }
 
 impl Window<'_, '_> {
+    /// `bytes` at the payload's current position: the part inside the window goes out.
     fn push(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            if self.total >= self.skip && self.total < self.skip + self.take {
-                self.out.push(&[b]);
-            }
-            self.total += 1;
+        let from = self.skip.saturating_sub(self.total);
+        let to = (self.skip + self.take).saturating_sub(self.total).min(bytes.len());
+        if let Some(part) = bytes.get(from..to) {
+            self.out.push(part);
         }
+        self.total += bytes.len();
     }
 }
 
