@@ -162,13 +162,18 @@ fn description(ctx: &Ctx<'_>, n: &Literal) -> TokenStream {
             object_names.push_str(&object.name);
             object_ends.push(object_names.len());
         }
+        // An entry named as its object (a VAR's) points at the object's name.
+        let same = entry.name == object.name;
         let f = flag(index, sub);
         let bits = u8::from(entry.pdo_mapping.allows(entry.access, Direction::Rx))
             | u8::from(entry.pdo_mapping.allows(entry.access, Direction::Tx)) << 1
             | u8::from(f.and_then(|f| f.backup).unwrap_or(false)) << 2
-            | u8::from(f.and_then(|f| f.setting).unwrap_or(false)) << 3;
+            | u8::from(f.and_then(|f| f.setting).unwrap_or(false)) << 3
+            | u8::from(same) << 4;
         flags.push(Literal::u8_unsuffixed(bits));
-        entry_names.push_str(&entry.name);
+        if !same {
+            entry_names.push_str(&entry.name);
+        }
         entry_ends.push(entry_names.len());
     }
     let base = object_names.len();

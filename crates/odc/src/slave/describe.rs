@@ -7,7 +7,8 @@
 //! `Config::describe`): otherwise the linker drops it. Compact, because it sits in flash:
 //! the names are one string pool with a 2-byte end per name (no `&str` of 8 bytes each), the
 //! data type, bit length and access of an entry are read from its row, and an entry adds 3
-//! bytes (its name's end and its flags), an object 6.
+//! bytes (its name's end and its flags), an object 6. An entry named as its object (a VAR)
+//! keeps no copy of the name.
 
 use super::Row;
 
@@ -34,6 +35,9 @@ pub mod entry_flag {
     pub const BACKUP: u8 = 1 << 2;
     /// Setting (`Flags/Setting`).
     pub const SETTING: u8 = 1 << 3;
+    /// The entry's name is its object's (a VAR's, mostly): the pool holds it once, and the
+    /// entry's own name there is empty.
+    pub const OBJECT_NAME: u8 = 1 << 4;
 }
 
 /// The descriptions SDO Information serves for a dictionary of [`Row`]s: objects in index
@@ -84,6 +88,11 @@ impl<'a> Description<'a> {
 
     /// The name of the entry at row `row`.
     pub fn entry_name(&self, row: usize) -> &'a str {
+        if self.entry_flags(row) & entry_flag::OBJECT_NAME != 0 {
+            // The object whose rows begin at or before `row`: the last such.
+            let pos = self.objects.partition_point(|o| usize::from(o.row) <= row);
+            return self.name(pos.saturating_sub(1));
+        }
         self.name(self.objects.len() + row)
     }
 
@@ -191,9 +200,9 @@ mod tests {
             ObjectRow { row: 1, max_sub: 2, code: 9 },
             ObjectRow { row: 3, max_sub: 0, code: 7 },
         ],
-        &[0, 0, 0, entry_flag::RX | entry_flag::BACKUP],
-        &[4, 11, 18, 22, 27, 32, 37],
-        "NameMappingControlNameCountFirstValue",
+        &[entry_flag::OBJECT_NAME, 0, 0, entry_flag::RX | entry_flag::BACKUP],
+        &[4, 11, 18, 18, 23, 28, 33],
+        "NameMappingControlCountFirstValue",
     );
 
     #[test]
