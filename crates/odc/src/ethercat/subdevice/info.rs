@@ -54,7 +54,8 @@ pub struct EntryDescription<'a> {
 }
 
 /// What SDO Information serves: the descriptions of the dictionary's objects (generated from
-/// the ESI, or built from the model in the simulator).
+/// the ESI: [`crate::slave::Description`], a generated module's `slave::DESCRIPTION`; or
+/// built from the model in the simulator).
 pub trait Describe {
     /// The object at position `pos` in index order.
     fn object_at(&self, pos: usize) -> Option<ObjectDescription<'_>>;
