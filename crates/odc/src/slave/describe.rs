@@ -66,6 +66,11 @@ impl<'a> Description<'a> {
         Description { rows, objects, flags, ends, names }
     }
 
+    /// The rows it describes (the dictionary's table's).
+    pub fn rows(&self) -> &'a [Row] {
+        self.rows
+    }
+
     /// The number of objects.
     pub fn objects(&self) -> usize {
         self.objects.len()
