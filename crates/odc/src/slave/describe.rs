@@ -110,10 +110,10 @@ impl<'a> Description<'a> {
 #[cfg(feature = "subdevice")]
 mod serve {
     use super::{Description, ObjectRow};
+    use crate::Access;
     use crate::ethercat::subdevice::{Describe, EntryDescription, ObjectDescription};
     use crate::slave::table::RowLike;
     use crate::slave::{Row, search};
-    use crate::{Access, DataType};
 
     /// ETG.1000.6 Table 48: read in PRE-OP, SAFE-OP, OP (bits 0–2), write in them (3–5),
     /// RxPDO and TxPDO mappable (6, 7), backup (8), setting (9).
@@ -143,20 +143,22 @@ mod serve {
             let index = self.index_of(o)?;
             let rows = self.rows.get(first..)?;
             let own = rows.iter().take_while(|r| r.addr().index == index);
-            let mut lists = 0u8;
-            let mut typed: Option<DataType> = None;
-            for (i, r) in own.enumerate() {
-                // The lists besides "all": bit 2 RxPDO, 3 TxPDO, 4 backup, 5 settings.
-                lists |= (self.entry_flags(first + i) & 0x0F) << 2;
-                // A VAR's type is its value's; an ARRAY's or RECORD's its first entry's.
-                if typed.is_none() && (o.code == 7 || r.addr().sub > 0) {
-                    typed = Some(r.data_type());
-                }
+            // The lists besides "all": bit 2 RxPDO, 3 TxPDO, 4 backup, 5 settings.
+            let flags = self.flags.get(first..).unwrap_or(&[]);
+            let lists = own.zip(flags).fold(0u8, |l, (_, f)| l | (f & 0x0F) << 2);
+            // A VAR's type is its value's; an ARRAY's or RECORD's its first entry's (after
+            // sub-index 0), else sub-index 0's.
+            let mut typed = rows.first()?;
+            if o.code != 7
+                && typed.addr().sub == 0
+                && let Some(next) = rows.get(1).filter(|r| r.addr().index == index)
+            {
+                typed = next;
             }
-            let data_type = typed.or_else(|| rows.first().map(Row::data_type));
+            let data_type = typed.data_type();
             Some(ObjectDescription {
                 index,
-                data_type: data_type.map_or(0, |t| t as u16),
+                data_type: data_type as u16,
                 max_sub: o.max_sub,
                 code: o.code,
                 name: self.object_name(pos),
@@ -170,6 +172,7 @@ mod serve {
         }
 
         fn entry(&self, index: u16, sub: u8) -> Option<EntryDescription<'_>> {
+            // The dictionary's own search, linked already.
             let pos = search(self.rows, RowLike::search_key, index, sub).ok()?;
             let row = self.rows.get(pos)?;
             let flags = self.entry_flags(pos);
