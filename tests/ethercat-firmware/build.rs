@@ -79,8 +79,8 @@ fn config(device: &odc_model::Device, ecat: &odc_model::ethercat::EtherCat) -> S
         s,
         "/// The device as the stack serves it: CoE and FoE as the ESI's `Mailbox` says,\n\
          /// complete access as `CoE@CompleteAccess` says, the PDOs of sync managers without an\n\
-         /// assignment object fixed. Not served: SDO Information (the generated dictionary\n\
-         /// carries no names to describe) and BOOT.\n\
+         /// assignment object fixed, SDO Information from the generated `DESCRIPTION` as\n\
+         /// `CoE@SdoInfo` says. Not served: BOOT.\n\
          pub const CONFIG: Config<'static> = Config {{\n    \
              sync_managers: &SYNC_MANAGERS,\n    \
              fixed: &[{fixed}],\n    \
@@ -88,11 +88,12 @@ fn config(device: &odc_model::Device, ecat: &odc_model::ethercat::EtherCat) -> S
              complete_access: {},\n    \
              boot: false,\n    \
              foe: {},\n    \
-             describe: None,\n\
+             describe: {},\n\
          }};\n",
         coe.is_some(),
         coe.is_some_and(|c| c.complete_access),
         mailbox.is_some_and(|m| m.foe),
+        if coe.is_some_and(|c| c.sdo_info) { "Some(&device::slave::DESCRIPTION)" } else { "None" },
     );
     s
 }

@@ -408,6 +408,50 @@ fn soem_packs_three_4_bit_devices() {
     assert_eq!(report["last_wkc"], 9, "{report}");
 }
 
+/// SOEM reads the ServoOne's dictionary by SDO Information (pysoem's `od`: the object list,
+/// then each object's and entry's description, in fragments where a reply is longer than the
+/// 128-byte mailbox): every object of the ESI, with the ESI's names, object codes (ETG.1000.6
+/// Table 44: 7 VAR, 8 ARRAY, 9 RECORD), data types (CiA 301 codes) and bit lengths.
+fn soem_reads_the_dictionary_by_sdo_information() {
+    let path = repo("esi/servoone.xml");
+    let loaded = odc_pipeline::load(&path, &odc_pipeline::Options::new()).unwrap();
+    let device = loaded.device().unwrap();
+    let esi = path.to_str().unwrap().to_owned();
+    let (report, _) = soem_script('i', "soem_sdo_info.py", &[esi], json!({}));
+    assert_eq!(report["found"], 1);
+    let objects = report["objects"].as_array().unwrap();
+    let indexes: Vec<u64> = objects.iter().map(|o| o["index"].as_u64().unwrap()).collect();
+    let expected: Vec<u64> = device.objects.keys().map(|&i| u64::from(i)).collect();
+    assert_eq!(indexes, expected);
+    // SOEM keeps 40 bytes of a name (EC_MAXNAME); the device sends it whole.
+    let soem_name = |name: &str| json!(name.get(..40).unwrap_or(name));
+    for (o, object) in objects.iter().zip(device.objects.values()) {
+        let at = format!("{:04X}", object.index);
+        assert_eq!(o["name"], soem_name(&object.name), "{at}");
+        let code = match object.kind {
+            odc_model::ObjectKind::Var => 7,
+            odc_model::ObjectKind::Array => 8,
+            _ => 9,
+        };
+        assert_eq!(o["code"], code, "{at}");
+        let entries = o["entries"].as_array().unwrap();
+        for sub in object.subs.values() {
+            let bits = sub.bit_size.or(sub.data_type.bit_size()).unwrap();
+            let (name, data_type, bit_length) = if code == 7 {
+                // SOEM keeps a VAR's one entry in the object (its name is the object's).
+                (&o["name"], &o["data_type"], &o["bits"])
+            } else {
+                let e = &entries[usize::from(sub.sub_index)];
+                assert_eq!(e[0], soem_name(&sub.name), "{at}:{}", sub.sub_index);
+                (&e[0], &e[1], &e[2])
+            };
+            assert!(name.is_string(), "{at}:{}", sub.sub_index);
+            assert_eq!(data_type, &json!(sub.data_type.code()), "{at}:{}", sub.sub_index);
+            assert_eq!(bit_length, &json!(bits), "{at}:{}", sub.sub_index);
+        }
+    }
+}
+
 fn hex_bytes(s: &str) -> Vec<u8> {
     (0..s.len()).step_by(2).map(|i| u8::from_str_radix(&s[i..i + 2], 16).unwrap()).collect()
 }
@@ -431,6 +475,11 @@ fn main() -> std::process::ExitCode {
         Test {
             name: "soem_packs_three_4_bit_devices",
             run: soem_packs_three_4_bit_devices,
+            needs: &[Need::Python(&["pysoem"]), Need::Netdevs],
+        },
+        Test {
+            name: "soem_reads_the_dictionary_by_sdo_information",
+            run: soem_reads_the_dictionary_by_sdo_information,
             needs: &[Need::Python(&["pysoem"]), Need::Netdevs],
         },
         Test {

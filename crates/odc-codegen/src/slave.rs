@@ -123,6 +123,89 @@ fn drive_objects(ctx: &Ctx<'_>) -> TokenStream {
     }
 }
 
+/// `DESCRIPTION`, what EtherCAT's SDO Information serves beyond `TABLE` (names, object codes,
+/// PDO directions, backup and setting flags), for an EtherCAT device; nothing for a CANopen
+/// one, or when the names would not fit a 64 KiB pool. Data only: a firmware that does not
+/// name it in its stack's `Config` does not link it.
+fn description(ctx: &Ctx<'_>, n: &Literal) -> TokenStream {
+    use odc_model::{Direction, ObjectKind};
+    let rt = &ctx.rt;
+    let device = ctx.device;
+    let Some(ecat) = device.ethercat.as_deref() else { return TokenStream::new() };
+    let flag =
+        |index: u16, sub: u8| ecat.object_flags.iter().find(|f| f.index == index && f.sub == sub);
+    let mut objects = Vec::new();
+    let mut flags = Vec::new();
+    let mut object_names = String::new();
+    let mut object_ends = Vec::new();
+    let mut entry_names = String::new();
+    let mut entry_ends = Vec::new();
+    let mut last = None;
+    for (row, &(index, sub)) in ctx.names.entries.keys().enumerate() {
+        let Some(object) = device.objects.get(&index) else { return TokenStream::new() };
+        let Some(entry) = object.subs.get(&sub) else { return TokenStream::new() };
+        if last != Some(index) {
+            last = Some(index);
+            let code: u8 = match object.kind {
+                ObjectKind::Var => 7,
+                ObjectKind::Array => 8,
+                ObjectKind::Record => 9,
+                ObjectKind::Domain => 2,
+                ObjectKind::DefType => 5,
+                ObjectKind::DefStruct => 6,
+                ObjectKind::Null => 0,
+            };
+            let max_sub = object.subs.keys().copied().max().unwrap_or(0);
+            let Ok(row) = u16::try_from(row) else { return TokenStream::new() };
+            objects
+                .push(quote!(#rt::slave::ObjectRow { row: #row, max_sub: #max_sub, code: #code }));
+            object_names.push_str(&object.name);
+            object_ends.push(object_names.len());
+        }
+        // An entry named as its object (a VAR's) points at the object's name.
+        let same = entry.name == object.name;
+        let f = flag(index, sub);
+        let bits = u8::from(entry.pdo_mapping.allows(entry.access, Direction::Rx))
+            | u8::from(entry.pdo_mapping.allows(entry.access, Direction::Tx)) << 1
+            | u8::from(f.and_then(|f| f.backup).unwrap_or(false)) << 2
+            | u8::from(f.and_then(|f| f.setting).unwrap_or(false)) << 3
+            | u8::from(same) << 4;
+        flags.push(Literal::u8_unsuffixed(bits));
+        if !same {
+            entry_names.push_str(&entry.name);
+        }
+        entry_ends.push(entry_names.len());
+    }
+    let base = object_names.len();
+    let ends: Option<Vec<u16>> = object_ends
+        .into_iter()
+        .chain(entry_ends.into_iter().map(|e| base + e))
+        .map(|e| u16::try_from(e).ok())
+        .collect();
+    let Some(ends) = ends else { return TokenStream::new() };
+    let ends = ends.into_iter().map(Literal::u16_unsuffixed);
+    let names = object_names + &entry_names;
+    let n_objects = Literal::usize_unsuffixed(objects.len());
+    quote! {
+        /// What EtherCAT's SDO Information serves beyond `TABLE`: the name of every object
+        /// and entry (one pool), object codes, highest sub-indexes, PDO directions, backup
+        /// and setting flags. Name it in the stack's `Config` (`describe:
+        /// Some(&slave::DESCRIPTION)`) to serve Get OD List, Get Object Description and Get
+        /// Entry Description; unnamed, it is not linked.
+        pub static DESCRIPTION: #rt::slave::Description<'static> = #rt::slave::Description::new(
+            TABLE.rows(),
+            &OBJECTS,
+            &FLAGS,
+            &ENDS,
+            #names,
+        );
+
+        const OBJECTS: [#rt::slave::ObjectRow; #n_objects] = [#(#objects),*];
+        const FLAGS: [u8; #n] = [#(#flags),*];
+        const ENDS: [u16; #n_objects + #n] = [#(#ends),*];
+    }
+}
+
 /// The `slave` module.
 pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
     let rt = &ctx.rt;
@@ -157,6 +240,7 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
         ctx.device.name()
     ));
     let drive = drive_objects(ctx);
+    let description = description(ctx, &n);
     let lss = ctx.device.device_info.lss_supported.as_ref().is_some_and(|v| v.value);
     quote! {
         #docs
@@ -298,6 +382,8 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
                     TABLE.position(index, sub)
                 }
             }
+
+            #description
 
             #drive
         }

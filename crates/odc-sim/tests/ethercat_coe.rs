@@ -44,7 +44,12 @@ fn sm(start: u16, len: u16, control: u8) -> [u8; 8] {
 
 /// A device in PRE-OP with mailboxes of `mbx` bytes at the ESI's addresses.
 fn pre_op(device: &odc_model::Device, mbx: u16) -> Chain {
-    let mut c = Chain::new(vec![SubDevice::new(device).unwrap()]);
+    pre_op_device(SubDevice::new(device).unwrap(), mbx)
+}
+
+/// [`pre_op`] of a device built by the caller.
+fn pre_op_device(device: SubDevice, mbx: u16) -> Chain {
+    let mut c = Chain::new(vec![device]);
     datagram(&mut c, APWR, 0, 0x0010, &ADDR.to_le_bytes());
     datagram(&mut c, FPWR, ADDR, 0x0800, &sm(0x1000, mbx, 0x26));
     datagram(&mut c, FPWR, ADDR, 0x0808, &sm(0x1080, mbx, 0x22));
@@ -343,4 +348,62 @@ fn a_coe_device_has_the_assignment_and_mapping_its_esi_gives() {
     // 0x1601, which no sync manager assigns by default: its mapping object too, as a master
     // may assign it.
     assert_eq!((read(0x1601, 0), read(0x1601, 1)), (vec![1], vec![0x08, 0x00, 0x00, 0x70]));
+}
+
+/// The slave side odc generates for the ServoOne: its `slave::DESCRIPTION` is what a firmware
+/// serves SDO Information from.
+mod generated {
+    odc_macros::include_device!("../../esi/servoone.xml", role = "slave");
+}
+
+/// Every answer of SDO Information from the generated `DESCRIPTION` (names in one pool, types
+/// and access read from the table's rows) is the answer served from the model (which the
+/// tests above and ethercrab's in ethercat_ethercrab.rs check against ETG.1000.6), byte for
+/// byte: Get OD of every object, Get ED of every entry and of one that is not there, and the
+/// object lists of every type, all fragments.
+#[test]
+fn generated_description_answers_as_the_model() {
+    let device = servoone();
+    let mut model = pre_op(&device, 128);
+    let firmware = SubDevice::new(&device).unwrap().with_description(generated::slave::DESCRIPTION);
+    let mut firmware = pre_op_device(firmware, 128);
+    let mut chains = [&mut model, &mut firmware];
+    let both = |chains: &mut [&mut Chain; 2], request: Vec<u8>| both_answer(chains, &request);
+    let mut entries = 0;
+    for (&index, object) in &device.objects {
+        let [lo, hi] = index.to_le_bytes();
+        let r = both(&mut chains, info_request(0x03, &[lo, hi]));
+        assert_eq!(r[8], 0x04, "{index:04X}: a description, not an error");
+        for &sub in object.subs.keys() {
+            let r = both(&mut chains, info_request(0x05, &[lo, hi, sub, 0]));
+            assert_eq!(r[8], 0x06, "{index:04X}:{sub}");
+            entries += 1;
+        }
+        both(&mut chains, info_request(0x05, &[lo, hi, 0xFE, 0]));
+    }
+    assert_eq!((device.objects.len(), entries), (100, 247));
+    // Get OD List of each type: the first fragment here, the rest as the master reads them.
+    for list in 0..=5u8 {
+        let first = both(&mut chains, info_request(0x01, &[list, 0]));
+        let mut left = u16::from_le_bytes([first[10], first[11]]);
+        while left > 0 {
+            let read = |c: &mut Chain| {
+                assert_eq!(datagram(c, FPRD, ADDR, 0x080D, &[0]).0[0] & 0x08, 0x08);
+                datagram(c, FPRD, ADDR, 0x1080, &[0; 128]).0
+            };
+            let [model, firmware] = &mut chains;
+            let (a, b) = (read(model), read(firmware));
+            assert_eq!(a, b, "list {list}, {left} fragments left");
+            left = u16::from_le_bytes([a[10], a[11]]);
+        }
+    }
+}
+
+/// The reply of both chains to `request`, which must be the same.
+fn both_answer(chains: &mut [&mut Chain; 2], request: &[u8]) -> Vec<u8> {
+    let [model, firmware] = chains;
+    let a = exchange(model, 128, request);
+    let b = exchange(firmware, 128, request);
+    assert_eq!(a, b, "request {request:02X?}");
+    a
 }

@@ -63,10 +63,12 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod describe;
 #[cfg(feature = "alloc")]
 mod runtime;
 mod table;
 
+pub use describe::{Description, ObjectRow, entry_flag};
 #[cfg(feature = "alloc")]
 pub use runtime::{RuntimeDictionary, RuntimeTable, TableBuilder};
 pub use table::{Row, Spec, SpecRef, Table};

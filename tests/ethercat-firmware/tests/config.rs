@@ -1,6 +1,6 @@
 //! The firmware's `SYNC_MANAGERS` and `CONFIG` (written by build.rs) say what the ESI says
 //! (esi/servoone.xml: two 34–256-byte mailboxes, process data up to 32 bytes, CoE without
-//! complete access, FoE).
+//! complete access, FoE, SDO Information).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use odc::ethercat::subdevice::al;
@@ -33,6 +33,8 @@ fn sync_managers_and_mailbox_are_the_esi_s() {
     assert_eq!(CONFIG.coe, coe.is_some());
     assert_eq!(CONFIG.complete_access, coe.unwrap().complete_access);
     assert_eq!(CONFIG.foe, ecat.mailbox.as_ref().is_some_and(|m| m.foe));
+    // SDO Information from the generated `slave::DESCRIPTION` where the ESI says `SdoInfo`.
+    assert_eq!(CONFIG.describe.is_some(), coe.unwrap().sdo_info);
     assert!(CONFIG.fixed.is_empty(), "the ServoOne assigns every PDO through 0x1C12/0x1C13");
     if option_env!("ODC_FIRMWARE_ESI").is_none() {
         // esi/servoone.xml, `Device/Sm`, as the datasheet of this firmware says.

@@ -6,7 +6,8 @@ PDO mapping flags and defaults as the dictionary odc generates for the firmware 
     odc dump --format json esi/servoone.xml | objects.py OUTDIR [--no-names]
 
 With --no-names every object and entry is named by one empty string: SOES without the names
-its SDO Information serves (odc's example serves no SDO Information and carries no names).
+its SDO Information serves (a reference row; odc's example serves SDO Information with the
+ESI's names, from the generated `slave::DESCRIPTION`).
 
 SOES's conventions (its applications' slave_objectlist.c): an `_objd` array per object, an
 `acName` string per object and sub-object, a constant entry served from its `value` field

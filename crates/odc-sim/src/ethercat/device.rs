@@ -29,13 +29,31 @@ pub struct SubDevice {
     /// objects): `(sm, index << 16 | sub << 8 | bits)`.
     fixed: Vec<(u8, u32)>,
     coe: Option<odc_model::ethercat::CoE>,
-    info: Option<ModelInfo>,
+    info: Option<Info>,
     stack: Box<Stack>,
     od: ModelDictionary,
     app: Firmware,
     /// How the firmware stack reaches the ESC, and the first failure on that path.
     pdi: PdiPath,
     pdi_error: Option<String>,
+}
+
+/// What the device's SDO Information serves.
+#[derive(Debug)]
+enum Info {
+    /// The descriptions of the model the device was built from.
+    Model(ModelInfo),
+    /// A generated dictionary's `slave::DESCRIPTION`, as a firmware serves it.
+    Generated(odc::slave::Description<'static>),
+}
+
+impl Info {
+    fn describe(&self) -> &dyn stack::Describe {
+        match self {
+            Info::Model(m) => m,
+            Info::Generated(d) => d,
+        }
+    }
 }
 
 /// Runs `$self.stack.$method` with `$cfg` through the PDI path of `$self`; a failure of the
@@ -276,7 +294,7 @@ impl SubDevice {
         let fixed =
             ecat.sync_managers.iter().flat_map(|sm| fixed_mapping(device, sm.number)).collect();
         let coe = ecat.mailbox.as_ref().and_then(|m| m.coe.clone());
-        let info = coe.as_ref().filter(|c| c.sdo_info).map(|_| ModelInfo::new(device));
+        let info = coe.as_ref().filter(|c| c.sdo_info).map(|_| Info::Model(ModelInfo::new(device)));
         let drive = od.is_drive().then(Drive::new);
         let name = ecat
             .names
@@ -319,6 +337,17 @@ impl SubDevice {
     #[must_use]
     pub fn with_pdi(mut self, path: PdiPath) -> Self {
         self.pdi = path;
+        self
+    }
+
+    /// The device serving SDO Information from `description` (the `slave::DESCRIPTION` that
+    /// odc generates for the same ESI) instead of from the model, as its firmware would; a
+    /// device whose ESI says no SDO Information (`CoE@SdoInfo`) still serves none.
+    #[must_use]
+    pub fn with_description(mut self, description: odc::slave::Description<'static>) -> Self {
+        if self.info.is_some() {
+            self.info = Some(Info::Generated(description));
+        }
         self
     }
 
@@ -381,7 +410,7 @@ impl SubDevice {
                 complete_access: self.coe.as_ref().is_some_and(|c| c.complete_access),
                 boot: false,
                 foe: false,
-                describe: self.info.as_ref().map(|i| i as &dyn stack::Describe),
+                describe: self.info.as_ref().map(Info::describe),
             };
             through_pdi!(self, poll, cfg);
         }

@@ -104,6 +104,7 @@ impl SmRegs {
     /// # Errors
     ///
     /// The ESC access's.
+    #[inline(never)]
     pub fn read<E: Esc + ?Sized>(esc: &mut E, n: u8) -> Result<Self, E::Error> {
         let mut b = [0u8; 8];
         esc.read(register::SM + 8 * u16::from(n), &mut b)?;

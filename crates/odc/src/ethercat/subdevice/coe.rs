@@ -48,6 +48,7 @@ pub(super) struct Out<'a> {
 }
 
 impl Out<'_> {
+    #[inline(never)]
     pub(super) fn push(&mut self, bytes: &[u8]) {
         for &b in bytes {
             if let Some(d) = self.buf.get_mut(self.len) {

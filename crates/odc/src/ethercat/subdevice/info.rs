@@ -54,7 +54,8 @@ pub struct EntryDescription<'a> {
 }
 
 /// What SDO Information serves: the descriptions of the dictionary's objects (generated from
-/// the ESI, or built from the model in the simulator).
+/// the ESI: [`crate::slave::Description`], a generated module's `slave::DESCRIPTION`; or
+/// built from the model in the simulator).
 pub trait Describe {
     /// The object at position `pos` in index order.
     fn object_at(&self, pos: usize) -> Option<ObjectDescription<'_>>;
@@ -92,13 +93,14 @@ struct Window<'a, 'b> {
 }
 
 impl Window<'_, '_> {
+    /// `bytes` at the payload's current position: the part inside the window goes out.
     fn push(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            if self.total >= self.skip && self.total < self.skip + self.take {
-                self.out.push(&[b]);
-            }
-            self.total += 1;
+        let from = self.skip.saturating_sub(self.total);
+        let to = (self.skip + self.take).saturating_sub(self.total).min(bytes.len());
+        if let Some(part) = bytes.get(from..to) {
+            self.out.push(part);
         }
+        self.total += bytes.len();
     }
 }
 
@@ -109,10 +111,15 @@ fn payload(p: &Pending, d: &dyn Describe, w: &mut Window<'_, '_>) -> Result<u8, 
             w.push(&list_type.to_le_bytes());
             let on = |o: &ObjectDescription<'_>, t: u16| t == 1 || o.lists >> t & 1 != 0;
             if list_type == 0 {
-                // The number of objects in each list, types 1 to 5.
-                for t in 1..=5 {
-                    let n = (0..).map_while(|i| d.object_at(i)).filter(|o| on(o, t)).count();
-                    w.push(&u16::try_from(n).unwrap_or(u16::MAX).to_le_bytes());
+                // The number of objects in each list, types 1 to 5, in one pass.
+                let mut counts = [0u16; 5];
+                for o in (0..).map_while(|i| d.object_at(i)) {
+                    for (t, n) in (1..).zip(counts.iter_mut()) {
+                        *n = n.saturating_add(u16::from(on(&o, t)));
+                    }
+                }
+                for n in counts {
+                    w.push(&n.to_le_bytes());
                 }
             } else if list_type <= 5 {
                 for o in (0..).map_while(|i| d.object_at(i)).filter(|o| on(o, list_type)) {
@@ -125,21 +132,21 @@ fn payload(p: &Pending, d: &dyn Describe, w: &mut Window<'_, '_>) -> Result<u8, 
         }
         GET_OD => {
             let o = d.object(p.index).ok_or(SdoAbort::NoSuchObject)?;
-            w.push(&p.index.to_le_bytes());
-            w.push(&o.data_type.to_le_bytes());
-            w.push(&[o.max_sub, o.code]);
+            let [i0, i1] = p.index.to_le_bytes();
+            let [t0, t1] = o.data_type.to_le_bytes();
+            w.push(&[i0, i1, t0, t1, o.max_sub, o.code]);
             w.push(o.name.as_bytes());
             Ok(GET_OD_RESPONSE)
         }
         GET_ED => {
             d.object(p.index).ok_or(SdoAbort::NoSuchObject)?;
             let e = d.entry(p.index, p.sub).ok_or(SdoAbort::NoSuchSub)?;
-            w.push(&p.index.to_le_bytes());
+            let [i0, i1] = p.index.to_le_bytes();
+            let [t0, t1] = e.data_type.to_le_bytes();
+            let [b0, b1] = e.bits.to_le_bytes();
+            let [a0, a1] = e.access.to_le_bytes();
             // Value info 0: the description and the name, no unit, default or limits.
-            w.push(&[p.sub, 0]);
-            w.push(&e.data_type.to_le_bytes());
-            w.push(&e.bits.to_le_bytes());
-            w.push(&e.access.to_le_bytes());
+            w.push(&[i0, i1, p.sub, 0, t0, t1, b0, b1, a0, a1]);
             w.push(e.name.as_bytes());
             Ok(GET_ED_RESPONSE)
         }

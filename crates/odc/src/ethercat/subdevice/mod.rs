@@ -274,6 +274,7 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize> core
 }
 
 /// The mailbox sync managers of `cfg` (out, in).
+#[inline(never)]
 fn mailboxes(cfg: &Config<'_>) -> (Option<u8>, Option<u8>) {
     let find = |kind: u8| cfg.sync_managers.iter().find(|s| s.kind == kind).map(|s| s.number);
     (find(al::MBOX_OUT), find(al::MBOX_IN))
@@ -334,6 +335,7 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
     /// # Errors
     ///
     /// The ESC access's.
+    #[inline(never)]
     pub fn poll<E, D, A>(
         &mut self,
         cfg: &Config<'_>,
@@ -367,6 +369,7 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
     /// # Errors
     ///
     /// The ESC access's.
+    #[inline(never)]
     pub fn cycle<E, D, A>(
         &mut self,
         cfg: &Config<'_>,
@@ -417,6 +420,7 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
         Ok(())
     }
 
+    #[inline(never)]
     fn set_status<E: Esc + ?Sized>(&mut self, esc: &mut E, status: u16) -> Result<(), E::Error> {
         self.error = status != code::NONE;
         let s = u16::from(self.state) | u16::from(self.error) << 4;
@@ -426,6 +430,7 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
 
     /// A write of AL control: the requested state, checked; on failure the device stays
     /// where it is with the error flag and the status code.
+    #[inline(never)]
     fn al_control<E, D, A>(
         &mut self,
         cfg: &Config<'_>,
@@ -470,6 +475,7 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
     }
 
     /// The checks and work of entering `to`; `Ok(Err(code))` when refused.
+    #[inline(never)]
     fn transition<E, D>(
         &mut self,
         cfg: &Config<'_>,
@@ -571,6 +577,7 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
     }
 
     /// The write mailbox is full: read it, answer in the read mailbox.
+    #[inline(never)]
     fn mailbox_received<E, D, A>(
         &mut self,
         cfg: &Config<'_>,
@@ -610,6 +617,7 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
 
     /// The reply (header included) to mailbox `request` in `self.reply`, at most `room`
     /// bytes; returns its length (0: none).
+    #[inline(never)]
     fn handle<D: Storage + ?Sized, A: Application<D> + ?Sized>(
         &mut self,
         cfg: &Config<'_>,
@@ -666,6 +674,7 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
 
     /// Writes the mailbox header before `n` bytes of data in `self.reply`; returns the
     /// length.
+    #[inline(never)]
     fn frame(&mut self, kind: u8, n: usize) -> usize {
         // The counter runs 1..=7 (ETG.1000.4 §5.6: 0 is reserved for the first mailbox).
         self.counter = self.counter % 7 + 1;
@@ -690,6 +699,7 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
     }
 
     /// The waiting reply into the read mailbox if it is empty, then the next one ready.
+    #[inline(never)]
     fn send_pending<E: Esc + ?Sized, D: Storage + ?Sized>(
         &mut self,
         cfg: &Config<'_>,
