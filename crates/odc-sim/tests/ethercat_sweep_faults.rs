@@ -1,0 +1,106 @@
+//! Faults of odc that the ethercrab sweep of the corpus found (tests/ethercat-sweep/ethercrab.md),
+//! each as the smallest ESI that shows it, driven by datagrams as a master sends them
+//! (ETG.1000.4 Table 6 layout, registers of ETG.1000.4 §6: SM 0x0800 + 8n, AL control 0x0120,
+//! AL status 0x0130, AL status code 0x0134).
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
+
+use odc_model::Sources;
+use odc_sim::ethercat::{Chain, SubDevice};
+
+const APWR: u8 = 2;
+const FPRD: u8 = 4;
+const FPWR: u8 = 5;
+const ADDR: u16 = 0x1001;
+
+/// One datagram in a frame, run through the chain: (data, WKC).
+fn datagram(c: &mut Chain, cmd: u8, adp: u16, ado: u16, data: &[u8]) -> (Vec<u8>, u16) {
+    let mut f = vec![0xFF; 6];
+    f.extend([0x02, 0, 0, 0, 0, 0, 0x88, 0xA4]);
+    f.extend(((12 + data.len()) as u16 | 0x1000).to_le_bytes());
+    f.extend([cmd, 0]);
+    f.extend(adp.to_le_bytes());
+    f.extend(ado.to_le_bytes());
+    f.extend((data.len() as u16).to_le_bytes());
+    f.extend([0, 0]);
+    f.extend(data);
+    f.extend([0, 0]);
+    c.process(&mut f, 0).unwrap();
+    let d = f[26..26 + data.len()].to_vec();
+    let w = 26 + data.len();
+    (d, u16::from_le_bytes([f[w], f[w + 1]]))
+}
+
+/// An SM register block: start, length, control, status, activate (enable), PDI control.
+fn sm(start: u16, len: u16, control: u8) -> [u8; 8] {
+    let [s0, s1] = start.to_le_bytes();
+    let [l0, l1] = len.to_le_bytes();
+    [s0, s1, l0, l1, control, 0, u8::from(len > 0), 0]
+}
+
+fn device(esi: &str) -> Chain {
+    let p = odc_esi::parse(&mut Sources::new(), "t.xml", esi.as_bytes());
+    assert!(!p.diagnostics.iter().any(|d| d.is_error()), "{:?}", p.diagnostics);
+    Chain::new(vec![SubDevice::new(&p.devices[0]).unwrap()])
+}
+
+/// Requests `state` and returns (AL status, AL status code).
+fn request(c: &mut Chain, state: u8) -> (u8, u16) {
+    datagram(c, FPWR, ADDR, 0x0120, &[state, 0]);
+    let status = datagram(c, FPRD, ADDR, 0x0130, &[0, 0]).0[0];
+    let code = datagram(c, FPRD, ADDR, 0x0134, &[0, 0]).0;
+    (status, u16::from_le_bytes([code[0], code[1]]))
+}
+
+/// An SoE drive as Beckhoff's AX5103 describes itself (corpus
+/// `beckhoff__Beckhoff_AX5xxx.xml`): no CoE, PDOs whose `Index` and entries are SoE IDNs
+/// (the AT S-0-0016 and MDT S-0-0024 telegrams, entries S-0-0134 and so on), not dictionary
+/// objects. `{INPUTS}` is its inputs' SM control byte (the AX5103's: 0x22).
+const SOE_DRIVE: &str = r##"<?xml version="1.0"?>
+<EtherCATInfo>
+  <Vendor><Id>#x00000002</Id><Name>V</Name></Vendor>
+  <Descriptions>
+    <Groups><Group><Type>Drive</Type><Name>Drive</Name></Group></Groups>
+    <Devices>
+      <Device Physics="YY">
+        <Type ProductCode="#x13ef6012" RevisionNo="#x00CA0000">AX5103-0000-0202</Type>
+        <Name LcId="1033">SoE drive</Name>
+        <GroupType>Drive</GroupType>
+        <Fmmu>Outputs</Fmmu><Fmmu>Inputs</Fmmu><Fmmu>MBoxState</Fmmu>
+        <Sm MinSize="128" MaxSize="128" DefaultSize="128" StartAddress="#x1800" ControlByte="#x26" Enable="1">MBoxOut</Sm>
+        <Sm MinSize="128" MaxSize="128" DefaultSize="128" StartAddress="#x1a00" ControlByte="#x22" Enable="1">MBoxIn</Sm>
+        <Sm StartAddress="#x1000" ControlByte="#x24" Enable="1">Outputs</Sm>
+        <Sm StartAddress="#x1100" ControlByte="#x{INPUTS}" Enable="1">Inputs</Sm>
+        <RxPdo Mandatory="1" Sm="2"><Index>24</Index><Name>MDT</Name>
+          <Entry><Index>134</Index><BitLen>16</BitLen><Name>Master control word</Name><DataType>UINT</DataType></Entry>
+          <Entry><Index>47</Index><BitLen>32</BitLen><Name>Position command value</Name><DataType>DINT</DataType></Entry>
+        </RxPdo>
+        <TxPdo Mandatory="1" Sm="3"><Index>16</Index><Name>AT</Name>
+          <Entry><Index>135</Index><BitLen>16</BitLen><Name>Drive status word</Name><DataType>UINT</DataType></Entry>
+          <Entry><Index>51</Index><BitLen>32</BitLen><Name>Position feedback 1 value</Name><DataType>DINT</DataType></Entry>
+        </TxPdo>
+        <Mailbox DataLinkLayer="true"><SoE/></Mailbox>
+        <Eeprom><ByteSize>2048</ByteSize><ConfigData>080C0000</ConfigData></Eeprom>
+      </Device>
+    </Devices>
+  </Descriptions>
+</EtherCATInfo>"##;
+
+/// A device without CoE has no assignment or mapping objects a master could read or change:
+/// its process data is what its SII's PDO categories say (ETG.2010), as a master sizes it. An
+/// SoE drive's PDO indices are IDNs; odc's model gives them assignment objects (0x1C12 →
+/// 0x0018), and the stack laid out SM2 from those, found no object 0x0086 and refused
+/// SAFE-OP with 0x0025 (invalid output mapping). It now takes the ESI's fixed PDOs.
+#[test]
+fn a_device_without_coe_runs_the_pdos_of_its_esi() {
+    // Inputs buffered (0x20) here: the AX5103's single buffer is the next test's.
+    let mut c = device(&SOE_DRIVE.replace("{INPUTS}", "20"));
+    datagram(&mut c, APWR, 0, 0x0010, &ADDR.to_le_bytes());
+    datagram(&mut c, FPWR, ADDR, 0x0800, &sm(0x1800, 128, 0x26));
+    datagram(&mut c, FPWR, ADDR, 0x0808, &sm(0x1A00, 128, 0x22));
+    assert_eq!(request(&mut c, 2), (0x02, 0));
+    // MDT: 16 + 32 bits; AT: 16 + 32 bits (the ESI's entries).
+    datagram(&mut c, FPWR, ADDR, 0x0810, &sm(0x1000, 6, 0x24));
+    datagram(&mut c, FPWR, ADDR, 0x0818, &sm(0x1100, 6, 0x20));
+    assert_eq!(request(&mut c, 4), (0x04, 0));
+    assert_eq!(request(&mut c, 8), (0x08, 0));
+}
