@@ -104,3 +104,33 @@ fn a_device_without_coe_runs_the_pdos_of_its_esi() {
     assert_eq!(request(&mut c, 4), (0x04, 0));
     assert_eq!(request(&mut c, 8), (0x08, 0));
 }
+
+/// Process data in one buffer: the AX5103's inputs SM has `ControlByte` 0x22 (mode 2, the
+/// master reads), which ETG.1000.4 allows for process data and masters set from the SII. The
+/// stack wanted every process data SM buffered and refused SAFE-OP with 0x001E (invalid input
+/// configuration); it now wants the mode and direction the ESI gives, and still refuses
+/// another.
+#[test]
+fn process_data_in_the_single_buffer_mode_its_esi_gives() {
+    let to_pre_op = || {
+        let mut c = device(&SOE_DRIVE.replace("{INPUTS}", "22"));
+        datagram(&mut c, APWR, 0, 0x0010, &ADDR.to_le_bytes());
+        datagram(&mut c, FPWR, ADDR, 0x0800, &sm(0x1800, 128, 0x26));
+        datagram(&mut c, FPWR, ADDR, 0x0808, &sm(0x1A00, 128, 0x22));
+        assert_eq!(request(&mut c, 2), (0x02, 0));
+        datagram(&mut c, FPWR, ADDR, 0x0810, &sm(0x1000, 6, 0x24));
+        c
+    };
+    let mut c = to_pre_op();
+    datagram(&mut c, FPWR, ADDR, 0x0818, &sm(0x1100, 6, 0x22));
+    assert_eq!(request(&mut c, 4), (0x04, 0));
+    assert_eq!(request(&mut c, 8), (0x08, 0));
+    // Buffered where the ESI says one buffer: not what the device is built for.
+    let mut c = to_pre_op();
+    datagram(&mut c, FPWR, ADDR, 0x0818, &sm(0x1100, 6, 0x20));
+    assert_eq!(request(&mut c, 4), (0x12, 0x001E));
+    // The master writing the inputs: refused too.
+    let mut c = to_pre_op();
+    datagram(&mut c, FPWR, ADDR, 0x0818, &sm(0x1100, 6, 0x26));
+    assert_eq!(request(&mut c, 4), (0x12, 0x001E));
+}
