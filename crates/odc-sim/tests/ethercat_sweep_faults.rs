@@ -134,3 +134,54 @@ fn process_data_in_the_single_buffer_mode_its_esi_gives() {
     datagram(&mut c, FPWR, ADDR, 0x0818, &sm(0x1100, 6, 0x26));
     assert_eq!(request(&mut c, 4), (0x12, 0x001E));
 }
+
+/// A coupler without a microcontroller, as Beckhoff's EK1101 describes itself (corpus
+/// `beckhoff__Beckhoff_EKxxxx.xml`): `ConfigData` 0401… puts PDI control 0x04 (digital I/O)
+/// and ESC configuration 0x01 (device emulation) in registers 0x0140/0x0141, its one sync
+/// manager is disabled (`Enable="0"`), and its ID switch is a 16-bit input at 0x1000.
+const COUPLER: &str = r##"<?xml version="1.0"?>
+<EtherCATInfo>
+  <Vendor><Id>#x00000002</Id><Name>V</Name></Vendor>
+  <Descriptions>
+    <Groups><Group><Type>Coupler</Type><Name>Coupler</Name></Group></Groups>
+    <Devices>
+      <Device Physics="YY">
+        <Type ProductCode="#x044d2c52" RevisionNo="#x00100000">EK1101</Type>
+        <Name LcId="1033">Coupler with ID switch</Name>
+        <GroupType>Coupler</GroupType>
+        <Fmmu>Inputs</Fmmu>
+        <Sm StartAddress="#x1000" ControlByte="0" Enable="0">Inputs</Sm>
+        <TxPdo Fixed="1" Sm="0"><Index>#x1a00</Index><Name>ID</Name>
+          <Entry><Index>#x6000</Index><SubIndex>1</SubIndex><BitLen>16</BitLen><Name>ID</Name><DataType>UINT</DataType></Entry>
+        </TxPdo>
+        <Eeprom><ByteSize>2048</ByteSize><ConfigData>040100000000c000</ConfigData></Eeprom>
+      </Device>
+    </Devices>
+  </Descriptions>
+</EtherCATInfo>"##;
+
+/// ESC datasheets (register 0x0141 bit 0, device emulation): AL status is set to what the
+/// master writes to AL control, by the ESC; there is no firmware to check sync managers.
+/// The simulated device ran the firmware stack's checks anyway and refused SAFE-OP with
+/// 0x001E (its only SM disabled while a PDO is assigned to it). It now follows AL control,
+/// and its inputs reach the master through the FMMU.
+#[test]
+fn an_esc_without_a_microcontroller_follows_al_control() {
+    use odc::slave::Storage;
+    let mut c = device(COUPLER);
+    // The ID switch at 0x0123 (the dictionary stands for the pins; the entry is read-only
+    // to a master, so set as the hardware sets it).
+    let id = c.devices_mut()[0].dictionary_mut().raw_mut(0x6000, 1).unwrap();
+    id.copy_from_slice(&[0x23, 0x01]);
+    datagram(&mut c, APWR, 0, 0x0010, &ADDR.to_le_bytes());
+    assert_eq!(request(&mut c, 2), (0x02, 0));
+    // SM0 as the SII gives it: 2 bytes, disabled; an FMMU reads them to logical 0.
+    datagram(&mut c, FPWR, ADDR, 0x0800, &[0x00, 0x10, 2, 0, 0x00, 0, 0, 0]);
+    let fmmu = [0u8, 0, 0, 0, 2, 0, 0, 7, 0x00, 0x10, 0, 1, 1, 0, 0, 0];
+    datagram(&mut c, FPWR, ADDR, 0x0600, &fmmu);
+    assert_eq!(request(&mut c, 4), (0x04, 0));
+    assert_eq!(request(&mut c, 8), (0x08, 0));
+    assert_eq!(c.devices()[0].al_state(), 8);
+    // LRD of logical 0, 2 bytes: the ID, working counter 1.
+    assert_eq!(datagram(&mut c, 10, 0, 0, &[0, 0]), (vec![0x23, 0x01], 1));
+}
