@@ -185,3 +185,50 @@ fn an_esc_without_a_microcontroller_follows_al_control() {
     // LRD of logical 0, 2 bytes: the ID, working counter 1.
     assert_eq!(datagram(&mut c, 10, 0, 0, &[0, 0]), (vec![0x23, 0x01], 1));
 }
+
+/// A CoE device whose ESI has no dictionary and only input PDOs, as NI's 9144 chassis
+/// (corpus `ni__NI9144.xml`, device 1): odc synthesises its dictionary from the PDOs, with
+/// 0x1C13 but no 0x1C12, though it declares an outputs sync manager. ethercrab reads 0x1C12:00
+/// of every CoE device with one (0x1C10 + n, ETG.1000.6 Table 67) and stopped at the abort
+/// 0x06020000 (object does not exist). The simulated firmware now has it, empty.
+#[test]
+fn a_coe_device_has_an_assignment_object_for_each_process_data_sm() {
+    use odc::slave::ObjectDictionary;
+    let esi = r##"<?xml version="1.0"?>
+<EtherCATInfo>
+  <Vendor><Id>#x00001DC5</Id><Name>V</Name></Vendor>
+  <Descriptions>
+    <Groups><Group><Type>Chassis</Type><Name>Chassis</Name></Group></Groups>
+    <Devices>
+      <Device Physics="YY">
+        <Type ProductCode="#x23b8" RevisionNo="#x2">NI 9144</Type>
+        <Name LcId="1033">Chassis</Name>
+        <GroupType>Chassis</GroupType>
+        <Fmmu>Outputs</Fmmu><Fmmu>Inputs</Fmmu>
+        <Sm StartAddress="#x1F00" DefaultSize="#x100" MinSize="#x40" MaxSize="#x100" ControlByte="#x26" Enable="1">MBoxOut</Sm>
+        <Sm StartAddress="#x1C00" DefaultSize="#x300" MinSize="#x40" MaxSize="#x300" ControlByte="#x22" Enable="1">MBoxIn</Sm>
+        <Sm StartAddress="#x1000" DefaultSize="#x200" MinSize="#x0" MaxSize="#x200" ControlByte="#x64" Enable="1">Outputs</Sm>
+        <Sm StartAddress="#x1600" DefaultSize="#x200" MinSize="#x0" MaxSize="#x200" ControlByte="#x20" Enable="1">Inputs</Sm>
+        <TxPdo Fixed="1" Sm="3"><Index>#x1a00</Index><Name>Status</Name>
+          <Entry><Index>#x6000</Index><SubIndex>1</SubIndex><BitLen>16</BitLen><Name>Status</Name><DataType>UINT</DataType></Entry>
+        </TxPdo>
+        <Mailbox><CoE SdoInfo="1" CompleteAccess="1" PdoAssign="1"/></Mailbox>
+        <Eeprom><ByteSize>2048</ByteSize><ConfigData>080C0000</ConfigData></Eeprom>
+      </Device>
+    </Devices>
+  </Descriptions>
+</EtherCATInfo>"##;
+    let c = device(esi);
+    let od = c.devices()[0].dictionary();
+    let read = |index: u16, sub: u8| {
+        let mut b = [0u8; 4];
+        od.read(index, sub, &mut b).map(|n| b[..n].to_vec())
+    };
+    // SM2 (outputs): nothing assigned; SM3 (inputs): the ESI's TxPDO.
+    assert_eq!(read(0x1C12, 0), Ok(vec![0]));
+    assert_eq!(read(0x1C13, 0), Ok(vec![1]));
+    assert_eq!(read(0x1C13, 1), Ok(vec![0x00, 0x1A]));
+    // 0x1C00, the sync manager types of the four SMs (ETG.1000.6: 1, 2, 3, 4).
+    assert_eq!(read(0x1C00, 0), Ok(vec![4]));
+    assert_eq!((1..=4).map(|s| read(0x1C00, s).unwrap()[0]).collect::<Vec<_>>(), [1, 2, 3, 4]);
+}

@@ -177,6 +177,10 @@ fn kind(usage: &SmUsage) -> u8 {
 /// out, 2 mailbox in, 3 outputs, 4 inputs, 0 unused), built from the ESI's `Sm` elements when
 /// a CoE device's dictionary leaves it out. The firmware of such a device has it, and masters
 /// read it: SOEM's `config_map` asks for 0x1C00 before it reads a CoE device's PDO assignment.
+/// Likewise an assignment object (0x1C10 + n, ETG.1000.6 Table 67) for each process data sync
+/// manager, empty, where the dictionary has none (a dictionary synthesised from the PDOs has
+/// 0x1C12 only with an RxPDO): ethercrab reads 0x1C12 and 0x1C13 of every CoE device with
+/// sync managers for outputs and inputs, and stops at an abort.
 /// `None` when there is nothing to add.
 fn sm_types(device: &Device, sms: &[odc_model::ethercat::SyncManager]) -> Option<Device> {
     use odc_model::{Access, DataType, Object, ObjectKind, Span, Spanned, SubObject, Value};
@@ -184,8 +188,26 @@ fn sm_types(device: &Device, sms: &[odc_model::ethercat::SyncManager]) -> Option
         .ethercat
         .as_deref()
         .is_some_and(|e| e.mailbox.as_ref().is_some_and(|m| m.coe.is_some()));
-    if !coe || sms.is_empty() || device.objects.contains_key(&0x1C00) {
+    let missing_assign = |sm: &&odc_model::ethercat::SyncManager| {
+        matches!(sm.usage, SmUsage::Outputs | SmUsage::Inputs)
+            && !device.objects.contains_key(&(0x1C10 + u16::from(sm.number)))
+    };
+    let assign: Vec<_> = sms.iter().filter(missing_assign).collect();
+    if !coe || sms.is_empty() || (device.objects.contains_key(&0x1C00) && assign.is_empty()) {
         return None;
+    }
+    let mut device = device.clone();
+    for sm in assign {
+        let index = 0x1C10 + u16::from(sm.number);
+        let name = format!("Sync manager {} PDO assignment", sm.number);
+        let mut object = Object::new(index, name, ObjectKind::Array, Span::DUMMY);
+        let mut s0 = SubObject::new(0, "SubIndex 000", DataType::Unsigned8, Access::Rw);
+        s0.default = Some(Spanned::synthetic(Value::Unsigned(0)));
+        object.subs.insert(0, s0);
+        device.objects.insert(index, object);
+    }
+    if device.objects.contains_key(&0x1C00) {
+        return Some(device);
     }
     let mut object = Object::new(0x1C00, "Sync manager type", ObjectKind::Array, Span::DUMMY);
     let count = u8::try_from(sms.len()).unwrap_or(u8::MAX);
@@ -197,7 +219,6 @@ fn sm_types(device: &Device, sms: &[odc_model::ethercat::SyncManager]) -> Option
         s.default = Some(Spanned::synthetic(Value::Unsigned(u64::from(kind(&sm.usage)))));
         object.subs.insert(n, s);
     }
-    let mut device = device.clone();
     device.objects.insert(0x1C00, object);
     Some(device)
 }
