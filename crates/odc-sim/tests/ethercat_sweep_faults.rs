@@ -167,7 +167,6 @@ const COUPLER: &str = r##"<?xml version="1.0"?>
 /// and its inputs reach the master through the FMMU.
 #[test]
 fn an_esc_without_a_microcontroller_follows_al_control() {
-    use odc::slave::Storage;
     let mut c = device(COUPLER);
     // The ID switch at 0x0123 (the dictionary stands for the pins; the entry is read-only
     // to a master, so set as the hardware sets it).
