@@ -10,7 +10,7 @@
 //! Each cycle is one `tx_rx` (ethercrab's LRW of the whole image and its AL status reads),
 //! started on the period's tick. Reported: cycles, missed cycles (an exchange not finished
 //! within its period, or one whose working counter is not 3 a device), and the distribution of
-//! the exchange times. The drives are led to operation enabled and follow a ramp, so the
+//! the exchange times and of the wake-ups' lateness (the executor's timer). The drives are led to operation enabled and follow a ramp, so the
 //! firmware does its whole cyclic work.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
@@ -59,21 +59,26 @@ fn main() {
         ..Timeouts::default()
     };
     let maindevice = MainDevice::new(pdu_loop, timeouts, MainDeviceConfig::default());
-    let (exchanges, late, wrong_wkc, enabled) = smol::block_on(async {
+    let (exchanges, mut wakeups, late, wrong_wkc, enabled) = smol::block_on(async {
+        let t = Instant::now();
         let group = maindevice.init_single_group::<128, 4096>(now).await.unwrap();
         assert_eq!(group.len(), n);
+        eprintln!("{n} devices in PRE-OP after {:?}", t.elapsed());
         let group = group.into_op(&maindevice).await.unwrap();
+        eprintln!("in OP after {:?}", t.elapsed());
         for sd in group.iter(&maindevice) {
             assert_eq!((sd.outputs_raw().len(), sd.inputs_raw().len()), common::IMAGE);
         }
         let cycles = seconds * 1_000_000 / period.as_micros() as u64;
         let mut exchanges = Vec::with_capacity(cycles as usize);
+        let mut wakeups = Vec::with_capacity(cycles as usize);
         let (mut late, mut wrong_wkc) = (0u64, 0u64);
         let mut targets = vec![None::<i32>; n];
         let mut tick = Instant::now() + period;
         for _ in 0..cycles {
             smol::Timer::at(tick).await;
             let start = Instant::now();
+            wakeups.push(start.saturating_duration_since(tick));
             let r = group.tx_rx(&maindevice).await.unwrap();
             let done = Instant::now();
             exchanges.push(done - start);
@@ -84,9 +89,14 @@ fn main() {
                 wrong_wkc += 1;
             }
             for (sd, target) in group.iter(&maindevice).zip(&mut targets) {
-                let i = sd.inputs_raw();
-                let status = Statusword(u16::from_le_bytes([i[0], i[1]]));
-                let actual = i32::from_le_bytes([i[2], i[3], i[4], i[5]]);
+                // The inputs' guard goes before the outputs' is taken (one lock on the image).
+                let (status, actual) = {
+                    let i = sd.inputs_raw();
+                    (
+                        Statusword(u16::from_le_bytes([i[0], i[1]])),
+                        i32::from_le_bytes([i[2], i[3], i[4], i[5]]),
+                    )
+                };
                 let state = status.state();
                 let next = match (state, *target) {
                     (Some(State::OperationEnabled), Some(t)) => t + 10,
@@ -110,7 +120,7 @@ fn main() {
                     == Some(State::OperationEnabled)
             })
             .count();
-        (exchanges, late, wrong_wkc, enabled)
+        (exchanges, wakeups, late, wrong_wkc, enabled)
     });
     let carried = link.stop();
     let mut sorted = exchanges.clone();
@@ -132,5 +142,12 @@ fn main() {
         sorted.last().copied().unwrap_or_default(),
         carried.frames,
         carried.dropped
+    );
+    wakeups.sort();
+    println!(
+        "wake-up after the tick: p50 {:?}, p99 {:?}, max {:?}",
+        percentile(&wakeups, 0.5),
+        percentile(&wakeups, 0.99),
+        wakeups.last().copied().unwrap_or_default()
     );
 }

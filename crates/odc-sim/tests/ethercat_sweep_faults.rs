@@ -231,3 +231,22 @@ fn a_coe_device_has_an_assignment_object_for_each_process_data_sm() {
     assert_eq!(read(0x1C00, 0), Ok(vec![4]));
     assert_eq!((1..=4).map(|s| read(0x1C00, s).unwrap()[0]).collect::<Vec<_>>(), [1, 2, 3, 4]);
 }
+
+/// Device emulation with a mailbox (pollen-robotics' Orbita devices, corpus
+/// `pollen-robotics__Orbita3d.xml`: `ConfigData` 8003…, an on-chip-bus PDI with device
+/// emulation set, and CoE): a microcontroller serves the mailbox, so its firmware still runs.
+/// After the previous fix the simulated device had none and never answered (ethercrab:
+/// `Timeout(MailboxResponse)`); its firmware's checks and answers are back.
+#[test]
+fn device_emulation_with_a_mailbox_still_runs_the_firmware() {
+    let esi = SOE_DRIVE.replace("{INPUTS}", "20").replace("080C0000", "8003006EFF00FF000000");
+    let mut c = device(&esi);
+    datagram(&mut c, APWR, 0, 0x0010, &ADDR.to_le_bytes());
+    // A write mailbox shorter than MinSize (128): the firmware refuses PRE-OP (0x0016); an
+    // ESC alone would have copied the state.
+    datagram(&mut c, FPWR, ADDR, 0x0800, &sm(0x1800, 16, 0x26));
+    datagram(&mut c, FPWR, ADDR, 0x0808, &sm(0x1A00, 128, 0x22));
+    assert_eq!(request(&mut c, 2), (0x11, 0x0016));
+    datagram(&mut c, FPWR, ADDR, 0x0800, &sm(0x1800, 128, 0x26));
+    assert_eq!(request(&mut c, 0x12), (0x02, 0));
+}

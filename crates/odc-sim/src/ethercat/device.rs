@@ -275,7 +275,7 @@ impl SubDevice {
             pdi: PdiPath::Direct,
             pdi_error: None,
         };
-        if dev.esc.device_emulation() {
+        if dev.no_firmware() {
             dev.pins = pins(&dev.sms, &dev.fixed);
         }
         dev.restart_drive();
@@ -326,9 +326,17 @@ impl SubDevice {
         &self.esc
     }
 
+    /// An ESC without a microcontroller: device emulation set by its SII and no mailbox
+    /// (a device with one has a microcontroller serving it, which runs the firmware stack;
+    /// an XMC4800 or TMC8462 set-up may set device emulation too).
+    fn no_firmware(&self) -> bool {
+        self.esc.device_emulation()
+            && !self.sms.iter().any(|s| matches!(s.kind, al::MBOX_OUT | al::MBOX_IN))
+    }
+
     /// The AL state (1 INIT, 2 PRE-OP, 4 SAFE-OP, 8 OP).
     pub fn al_state(&self) -> u8 {
-        match self.esc.device_emulation() {
+        match self.no_firmware() {
             true => self.esc.u8(reg::AL_STATUS) & 0x0F,
             false => self.stack.state(),
         }
@@ -355,7 +363,7 @@ impl SubDevice {
     /// Executes one datagram as it passes, then what the firmware does with it.
     pub(super) fn execute(&mut self, d: &mut Datagram<'_>, at: &Passing) {
         self.esc.execute(d, at);
-        if self.esc.device_emulation() {
+        if self.no_firmware() {
             return;
         }
         if self.esc.al_event() != 0 || self.stack.has_pending() {
@@ -374,7 +382,7 @@ impl SubDevice {
 
     /// After the frame has passed: process data and the drive.
     pub(super) fn after_frame(&mut self, at: &Passing) {
-        if self.esc.device_emulation() {
+        if self.no_firmware() {
             self.drive_pins();
             return;
         }
@@ -431,7 +439,7 @@ impl SubDevice {
     /// control bit 0): the master's process data access is not counted. An ESC without a
     /// microcontroller has no firmware to do so.
     fn deactivate_process_data(&mut self) {
-        if self.esc.device_emulation() {
+        if self.no_firmware() {
             return;
         }
         for spec in &self.sms {

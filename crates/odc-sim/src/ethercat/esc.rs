@@ -330,13 +330,12 @@ impl Esc {
         };
         if touches(reg::AL_CONTROL, 2) {
             if self.device_emulation() {
-                // No application behind the ESC: AL status follows AL control (the state;
-                // the acknowledge bit is not an error indication).
+                // AL status follows AL control (the state; the acknowledge bit is not an
+                // error indication). A microcontroller behind the ESC still gets the event.
                 let state = self.u8(reg::AL_CONTROL) & 0x0F;
                 self.set_u16(reg::AL_STATUS, u16::from(state));
-            } else {
-                self.raise(0);
             }
+            self.raise(0);
         }
         if touches(reg::SII_CONTROL, 2) {
             self.sii.command(&mut self.mem);
