@@ -4,6 +4,7 @@
 //! dictionary table built from the model, and a CiA 402 drive when the device is one.
 
 use odc::cia402::{DeviceControl, Drive};
+use odc::ethercat::subdevice::pdo::{self, Mapped};
 use odc::ethercat::subdevice::{self as stack, Application, Config, SmSpec, al};
 use odc_model::Device;
 use odc_model::ethercat::SmUsage;
@@ -33,6 +34,10 @@ pub struct SubDevice {
     stack: Box<Stack>,
     od: ModelDictionary,
     app: Firmware,
+    /// The process data of an ESC without a microcontroller (device emulation, see
+    /// [`Esc::device_emulation`]): no firmware runs, its fixed PDOs stand for the I/O pins
+    /// the ESC's digital I/O PDI drives. Empty for a device with firmware.
+    pins: Vec<Mapped>,
     /// How the firmware stack reaches the ESC, and the first failure on that path.
     pdi: PdiPath,
     pdi_error: Option<String>,
@@ -160,6 +165,20 @@ fn esi_assignment(device: &Device, od: &mut ModelDictionary) {
             *c = count;
         }
     }
+}
+
+/// The fixed PDOs of the process data sync managers, laid out as the firmware stack lays them
+/// out (for an ESC without a microcontroller, whose I/O they describe).
+fn pins(sms: &[SmSpec], fixed: &[(u8, u32)]) -> Vec<Mapped> {
+    let mut entries = vec![Mapped::default(); fixed.len()];
+    let mut sink = pdo::Sink { entries: &mut entries, used: 0 };
+    for spec in sms.iter().filter(|s| matches!(s.kind, al::OUTPUTS | al::INPUTS)) {
+        // Room for every fixed entry was made above: a refusal cannot happen.
+        let _ = pdo::fixed(spec.number, fixed, &mut sink);
+    }
+    let used = sink.used;
+    entries.truncate(used);
+    entries
 }
 
 fn kind(usage: &SmUsage) -> u8 {
@@ -314,9 +333,13 @@ impl SubDevice {
             stack: Box::new(Stack::new()),
             od,
             app: Firmware { drive, last_ns: None, carry_ns: 0, dt: odc::time::Duration::ZERO },
+            pins: Vec::new(),
             pdi: PdiPath::Direct,
             pdi_error: None,
         };
+        if dev.no_firmware() {
+            dev.pins = pins(&dev.sms, &dev.fixed);
+        }
         dev.restart_drive();
         Ok(dev)
     }
@@ -376,9 +399,20 @@ impl SubDevice {
         &self.esc
     }
 
+    /// An ESC without a microcontroller: device emulation set by its SII and no mailbox
+    /// (a device with one has a microcontroller serving it, which runs the firmware stack;
+    /// an XMC4800 or TMC8462 set-up may set device emulation too).
+    fn no_firmware(&self) -> bool {
+        self.esc.device_emulation()
+            && !self.sms.iter().any(|s| matches!(s.kind, al::MBOX_OUT | al::MBOX_IN))
+    }
+
     /// The AL state (1 INIT, 2 PRE-OP, 4 SAFE-OP, 8 OP).
     pub fn al_state(&self) -> u8 {
-        self.stack.state()
+        match self.no_firmware() {
+            true => self.esc.u8(reg::AL_STATUS) & 0x0F,
+            false => self.stack.state(),
+        }
     }
 
     /// The AL status code (0 without error).
@@ -402,6 +436,9 @@ impl SubDevice {
     /// Executes one datagram as it passes, then what the firmware does with it.
     pub(super) fn execute(&mut self, d: &mut Datagram<'_>, at: &Passing) {
         self.esc.execute(d, at);
+        if self.no_firmware() {
+            return;
+        }
         if self.esc.al_event() != 0 || self.stack.has_pending() {
             let cfg = Config {
                 sync_managers: &self.sms,
@@ -418,6 +455,10 @@ impl SubDevice {
 
     /// After the frame has passed: process data and the drive.
     pub(super) fn after_frame(&mut self, at: &Passing) {
+        if self.no_firmware() {
+            self.drive_pins();
+            return;
+        }
         let state = self.stack.state();
         if state != al::state::SAFE_OP && state != al::state::OP {
             return;
@@ -444,9 +485,36 @@ impl SubDevice {
         through_pdi!(self, cycle, cfg);
     }
 
+    /// An ESC without a microcontroller in SAFE-OP or OP: its inputs (pins) into the process
+    /// RAM where the master's sync manager puts them, and in OP the outputs onto its pins.
+    fn drive_pins(&mut self) {
+        let state = self.esc.u8(reg::AL_STATUS) & 0x0F;
+        if state != al::state::SAFE_OP && state != al::state::OP {
+            return;
+        }
+        for spec in self.sms.iter().filter(|s| matches!(s.kind, al::OUTPUTS | al::INPUTS)) {
+            let n = spec.number;
+            let bits = self.pins.iter().filter(|e| e.sm == n).map(|e| e.bit + u16::from(e.bits));
+            let len = usize::from(bits.max().unwrap_or(0).div_ceil(8));
+            let start = self.esc.sm(n).start;
+            if spec.kind == al::INPUTS {
+                let mut image = self.esc.bytes(start, len).to_vec();
+                pdo::dictionary_to_image(&self.pins, n, &self.od, &mut image);
+                self.esc.set_bytes(start, &image);
+            } else if state == al::state::OP {
+                let image = self.esc.bytes(start, len).to_vec();
+                pdo::image_to_dictionary(&self.pins, n, &image, &mut self.od);
+            }
+        }
+    }
+
     /// At power-on the firmware keeps the process data sync managers deactivated (PDI
-    /// control bit 0): the master's process data access is not counted.
+    /// control bit 0): the master's process data access is not counted. An ESC without a
+    /// microcontroller has no firmware to do so.
     fn deactivate_process_data(&mut self) {
+        if self.no_firmware() {
+            return;
+        }
         for spec in &self.sms {
             if matches!(spec.kind, al::OUTPUTS | al::INPUTS) {
                 self.esc.set_sm_pdi_control(spec.number, 1);

@@ -184,6 +184,13 @@ impl Esc {
         self.set_u8(reg::SM + 8 * u16::from(n) + 7, v);
     }
 
+    /// Device emulation (ESC configuration 0x0141 bit 0, loaded from the SII's word 0, as
+    /// the ESC datasheets define it): an ESC without a microcontroller (a digital I/O PDI)
+    /// sets AL status to the state written to AL control itself.
+    pub fn device_emulation(&self) -> bool {
+        self.u8(reg::PDI_CONTROL + 1) & 0x01 != 0
+    }
+
     /// The AL event request register (0x0220): bit 0 AL control written, bit 8 + n an event
     /// of sync manager n.
     pub fn al_event(&self) -> u32 {
@@ -322,6 +329,12 @@ impl Esc {
             range.start < a + len && a < range.end
         };
         if touches(reg::AL_CONTROL, 2) {
+            if self.device_emulation() {
+                // AL status follows AL control (the state; the acknowledge bit is not an
+                // error indication). A microcontroller behind the ESC still gets the event.
+                let state = self.u8(reg::AL_CONTROL) & 0x0F;
+                self.set_u16(reg::AL_STATUS, u16::from(state));
+            }
             self.raise(0);
         }
         if touches(reg::SII_CONTROL, 2) {

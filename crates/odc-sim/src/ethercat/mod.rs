@@ -12,7 +12,9 @@
 //! - [`sii`]: the EEPROM interface over `odc_sii::write`'s image; [`dc`]: distributed
 //!   clocks as far as a master's set-up reads and writes them;
 //! - [`info`]: the descriptions SDO Information serves, from the model;
-//! - [`SubDevice`] runs the firmware stack, [`odc::ethercat::subdevice`] (AL state machine,
+//! - [`SubDevice`] runs the firmware stack (or, for an ESC without a microcontroller, whose
+//!   SII sets device emulation, none: AL status follows AL control and the fixed PDOs stand
+//!   for its I/O pins), [`odc::ethercat::subdevice`] (AL state machine,
 //!   mailbox with CoE, process data), on the emulated ESC through its PDI ([`esc::Pdi`]),
 //!   with a CiA 402 drive when the device is one; [`Chain`]
 //!   runs a frame through several in a line; `EthercrabLink` (feature `ethercrab`) wires

@@ -173,8 +173,11 @@ pub fn check_mailbox<E: Esc + ?Sized>(
 
 /// The process data sync managers against the sizes the current PDO assignment and mapping
 /// give (ETG.2000 §4.4, on PRE-OP → SAFE-OP): a sync manager with data must be enabled,
-/// buffered, in the ESI's direction, exactly as long as its PDOs; one without data must be
-/// disabled or empty. Failures: 0x001D for outputs, 0x001E for inputs.
+/// exactly as long as its PDOs, with the mode and direction of the ESI's `ControlByte`
+/// (as SOES compares them with its own settings; ETG.1000.4 allows process data in one
+/// buffer, mode 2, which SoE drives use for their inputs), or buffered in its kind's direction
+/// where the ESI gives none; one without data must be disabled or empty. Failures: 0x001D for
+/// outputs, 0x001E for inputs.
 ///
 /// # Errors
 ///
@@ -195,6 +198,9 @@ pub fn check_process_data<E: Esc + ?Sized>(
             (0, false) => true,
             (0, true) => sm.len == 0,
             (_, false) => false,
+            (n, true) if spec.control != 0 => {
+                sm.len == n && sm.control & 0x0E == spec.control & 0x0E
+            }
             (n, true) => {
                 sm.len == n && !sm.is_mailbox() && sm.master_writes() == (spec.kind == OUTPUTS)
             }

@@ -106,8 +106,9 @@ pub struct SmSpec {
 pub struct Config<'a> {
     /// The sync managers.
     pub sync_managers: &'a [SmSpec],
-    /// For sync managers without an assignment object (0x1C10 + n): the mapping values of
-    /// their fixed PDOs, `(sm, index << 16 | sub << 8 | bits)`, in order.
+    /// For sync managers without an assignment object (0x1C10 + n), and for every sync
+    /// manager of a device without CoE: the mapping values of their fixed PDOs,
+    /// `(sm, index << 16 | sub << 8 | bits)`, in order.
     pub fixed: &'a [(u8, u32)],
     /// The device serves CoE (`Mailbox/CoE`).
     pub coe: bool,
@@ -529,7 +530,13 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
                         (pdo::Refused::Room, true) => code::INVALID_OUTPUT_CONFIG,
                         (pdo::Refused::Room, false) => code::INVALID_INPUT_CONFIG,
                     };
-                    let n = match pdo::layout(od, spec.number, &mut sink) {
+                    // Without CoE no master can read or change an assignment: the device
+                    // runs the PDOs its SII gives (ETG.2010 PDO categories, the ESI's fixed
+                    // PDOs), whatever assignment objects its model has (an SoE drive's PDO
+                    // indices are IDNs, not objects).
+                    let laid =
+                        if cfg.coe { pdo::layout(od, spec.number, &mut sink) } else { Ok(None) };
+                    let n = match laid {
                         Ok(Some(n)) => n,
                         Ok(None) => match pdo::fixed(spec.number, cfg.fixed, &mut sink) {
                             Ok(n) => n,
