@@ -1,7 +1,7 @@
 //! Levels, strict mode and per-object allowances applied to diagnostics.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
-mod common;
+use crate::common;
 
 use common::*;
 use odc_check::{Config, Level};

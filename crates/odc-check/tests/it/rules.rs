@@ -1,7 +1,7 @@
 //! One failing and one passing device per rule, with snapshots of the short rendering.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
-mod common;
+use crate::common;
 
 use common::*;
 use odc_model::ethercat::SmUsage;

@@ -1,6 +1,6 @@
 //! `odc convert` as a user runs it: the output of every shipped device file passes `odc check`
 //! as the input did, and a DCF's values are never left out without a word. (Every corpus file:
-//! `tests/corpus/tests/convert.rs`.)
+//! `tests/corpus/tests/it/convert.rs`.)
 #![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers: a failure is the test failing
 
 use std::collections::BTreeSet;

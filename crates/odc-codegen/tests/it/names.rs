@@ -2,7 +2,7 @@
 //! names stay one word.
 #![allow(clippy::expect_used)] // a failure is the test failing
 
-mod common;
+use crate::common;
 
 use odc_codegen::{Options, generate};
 

@@ -8,7 +8,7 @@ use odc_model::{Device, Direction, Sources};
 
 /// A made-up terminal: two process-data SMs, padding, a virtual SM, `Exclude`, an
 /// alternative mapping, an oversampled DC op-mode, CoE init commands.
-const ESI: &str = include_str!("fixtures/pdi-terminal.xml");
+const ESI: &str = include_str!("../fixtures/pdi-terminal.xml");
 
 fn device() -> Device {
     parse(ESI)

@@ -2,7 +2,7 @@
 //! diagnostics for rules that cannot be generated.
 #![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers: a failure is the test failing
 
-mod common;
+use crate::common;
 
 use odc_codegen::{Options, Overlay, generate};
 

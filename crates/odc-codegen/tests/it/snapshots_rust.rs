@@ -1,6 +1,6 @@
 //! Snapshots of the code generated for devices built in Rust.
 
-mod common;
+use crate::common;
 
 use odc_codegen::{Options, Role, generate};
 

@@ -4,7 +4,7 @@
 //! documented module normalisations aside; see tests/round_trip/mod.rs), and the
 //! writer is stable.
 
-mod round_trip;
+use crate::round_trip;
 use odc_model::{Format, Sources};
 use round_trip::round_trip;
 

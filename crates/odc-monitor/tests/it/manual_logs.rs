@@ -81,13 +81,13 @@ fn candump_frame(printed: &str) -> String {
 fn log_of(tests: &[&str], manual: &str) -> String {
     let mut log = format!(
         "# {manual}: the frames the manual prints, as the tests of tests/devices compare them\n\
-         # ({}); made by crates/odc-monitor/tests/manual_logs.rs.\n",
+         # ({}); made by crates/odc-monitor/tests/it/manual_logs.rs.\n",
         tests.join(", ")
     );
     let mut t = 0.0f64;
     for file in tests {
         let source =
-            std::fs::read_to_string(root().join(format!("tests/devices/tests/{file}.rs"))).unwrap();
+            std::fs::read_to_string(root().join(format!("tests/devices/tests/it/{file}.rs"))).unwrap();
         for (name, doc, frames) in sections(&source) {
             log.push_str(&format!("# {file}::{name}: {doc}\n"));
             t = t.floor() + 1.0;

@@ -355,5 +355,5 @@ macro_rules! layout_case {
 }
 
 #[rustfmt::skip]
-#[path = "gen/layout_cases.rs"]
+#[path = "../gen/layout_cases.rs"]
 mod layout_cases;

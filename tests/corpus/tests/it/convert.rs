@@ -1,6 +1,6 @@
 //! What `odc convert` writes passes `odc check` whenever the input did: every corpus file
 //! (EDS, DCF, each device of an ESI) without error-level diagnostics, written as EDS and as DCF
-//! and read back. (The shipped files, through the binary: `crates/odc-cli/tests/convert.rs`.)
+//! and read back. (The shipped files, through the binary: `crates/odc-cli/tests/it/convert.rs`.)
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
 use std::collections::{BTreeMap, BTreeSet};

@@ -31,8 +31,8 @@
 //!   trusted.
 //! - The identifier tables (7.1.1, 8.1, 9.1) give identifiers, not frames.
 
-mod common;
-mod node_bench;
+use crate::common;
+use crate::node_bench;
 
 use common::{Bench, Records, printed};
 use odc::ObjValue;

@@ -33,8 +33,8 @@
 //! 2704h (UNSIGNED8 in the file): the frame is rebuilt as printed; and "Stop homing" writes
 //! controlword 0000h, which is "disable voltage", not a homing stop.
 
-mod common;
-mod node_bench;
+use crate::common;
+use crate::node_bench;
 
 use common::{Bench, Records, printed};
 use odc::Pdo;

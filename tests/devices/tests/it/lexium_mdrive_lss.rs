@@ -25,7 +25,7 @@
 
 #![allow(clippy::unwrap_used)]
 
-mod common;
+use crate::common;
 
 use common::{Records, printed};
 use odc::can::CanFrame;

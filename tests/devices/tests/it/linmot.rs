@@ -30,7 +30,7 @@
 //! - The TxPDO 4 picture of 9.1.3 (`xxh zzh`) and the "Read Command" screenshot of 7.1 print
 //!   placeholders and the values of the frames above, not frames of their own.
 
-mod common;
+use crate::common;
 
 use common::{Bench, Printed, Records, printed};
 use odc::can::CanFrame;

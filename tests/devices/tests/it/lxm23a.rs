@@ -23,8 +23,8 @@
 //! `master::Master` against odc's `node::Node` on the generated slave dictionary
 //! (`node_bench`).
 
-mod common;
-mod node_bench;
+use crate::common;
+use crate::node_bench;
 
 use common::{Bench, Printed, Records, printed, status};
 use odc::can::CanFrame;

@@ -32,7 +32,7 @@
 //! - Table 13.1 (EMCY layout: error number, location, operating hours) and Table 8.3 (data
 //!   bytes) are layouts without bytes.
 
-mod common;
+use crate::common;
 
 use common::{Bench, Records, printed};
 use odc::SdoAbort;

@@ -4,7 +4,7 @@
 //! Each counted row's `printed` and `reproduced` are the numbers of records with its key (the
 //! `where` cell up to its first colon) from the test file it names, and its tests are the
 //! ones that recorded them; every record has its row; each manual's `Counted:` line is the sum
-//! of its rows. `ODC_RECORDS=write cargo test -p odc-tests-devices --test table` writes the
+//! of its rows. `ODC_RECORDS=write cargo test -p odc-tests-devices --test it table::` writes the
 //! numbers from the records; without it, any difference fails. The records themselves are
 //! checked by the tests that make them (each test's block must equal what it compared).
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
@@ -35,8 +35,8 @@ fn records() -> Tally {
         let path = entry.unwrap().path();
         let stem = path.file_stem().unwrap().to_string_lossy().into_owned();
         assert!(MANUALS.iter().any(|(f, _)| *f == stem), "records/{stem}.tsv: no manual");
-        let source = std::fs::read_to_string(dir().join("tests").join(format!("{stem}.rs")))
-            .unwrap_or_else(|e| panic!("records/{stem}.tsv without tests/{stem}.rs: {e}"));
+        let source = std::fs::read_to_string(dir().join("tests/it").join(format!("{stem}.rs")))
+            .unwrap_or_else(|e| panic!("records/{stem}.tsv without tests/it/{stem}.rs: {e}"));
         for (k, line) in std::fs::read_to_string(&path).unwrap().lines().enumerate() {
             let at = format!("records/{stem}.tsv line {}", k + 1);
             let cells: Vec<&str> = line.split('\t').collect();

@@ -14,17 +14,17 @@ fn front_end(path: &Path, xml: bool) {
 
 #[test]
 fn eds_files() {
-    insta::glob!("../files", "eds/*", |path| front_end(path, false));
+    insta::glob!("../../files", "eds/*", |path| front_end(path, false));
 }
 
 #[test]
 fn esi_files() {
-    insta::glob!("../files", "esi/*", |path| front_end(path, true));
+    insta::glob!("../../files", "esi/*", |path| front_end(path, true));
 }
 
 #[test]
 fn xdd_files() {
-    insta::glob!("../files", "xdd/*", |path| {
+    insta::glob!("../../files", "xdd/*", |path| {
         let bytes = std::fs::read(path).unwrap();
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
         let outcome = odc_tests_malformed::run_as(&name, &bytes, "case.xdd", true);

@@ -87,14 +87,20 @@ pub fn show(f: &CanFrame) -> String {
 /// bytes on the wire. On drop (a test that passed), the records are compared with the test's
 /// block in `records/<test file>.tsv`; with `ODC_RECORDS=write` that block is rewritten.
 pub struct Records {
+    /// The stem of the test file (`lenze`): its records file. Taken from the caller, since the
+    /// files are modules of one test binary.
+    file: &'static str,
     test: &'static str,
     lines: Vec<String>,
 }
 
 impl Records {
-    /// The records of test function `test` of this test file.
+    /// The records of test function `test` of the calling test file.
+    #[track_caller]
     pub fn new(test: &'static str) -> Self {
-        Records { test, lines: Vec::new() }
+        let caller = std::panic::Location::caller().file();
+        let file = std::path::Path::new(caller).file_stem().and_then(|s| s.to_str());
+        Records { file: file.unwrap_or(caller), test, lines: Vec::new() }
     }
 
     /// Compares the frames library code put on the wire with the manual's, one by one, at
@@ -140,7 +146,7 @@ impl Records {
     }
 }
 
-/// Serialises the rewrites of one records file by the tests of one binary.
+/// Serialises the rewrites of the records files by the tests of the binary.
 static RECORDS_FILE: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 impl Drop for Records {
@@ -150,7 +156,7 @@ impl Drop for Records {
         }
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("records")
-            .join(format!("{}.tsv", env!("CARGO_CRATE_NAME")));
+            .join(format!("{}.tsv", self.file));
         let _guard = RECORDS_FILE.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
         let text = std::fs::read_to_string(&path).unwrap_or_default();
         let prefix = format!("{}\t", self.test);
@@ -168,7 +174,7 @@ impl Drop for Records {
                 committed,
                 self.lines,
                 "{}: the test's comparisons and {} differ (rerun with ODC_RECORDS=write, then \
-                 `ODC_RECORDS=write cargo test -p odc-tests-devices --test table`)",
+                 `ODC_RECORDS=write cargo test -p odc-tests-devices --test it table::`)",
                 self.test,
                 path.display()
             );
