@@ -1,8 +1,14 @@
-//! Compile errors of `include_device!`, with their reviewed output in `tests/ui/*.stderr`.
+//! The compile errors odc promises, each with its reviewed output beside it (`.stderr`): a
+//! typed entry refuses a value of the wrong type (`tests/ui/entry_wrong_type.rs`);
+//! `#[derive(Pdo)]` and `#[derive(PdoValue)]` point at the offending key or field
+//! (`tests/ui/fail/`; `tests/ui/pass/` compiles and runs); `include_device!` names the bad
+//! argument, value or file (`bad_args`, `bad_value`, `missing_file`). One `TestCases`, so
+//! trybuild builds the dependencies once for all of them (#33). Re-bless with
+//! `TRYBUILD=overwrite` after a deliberate toolchain bump (rustc 1.95 here).
 //!
-//! trybuild compiles each case in a crate at `<target dir>/tests/trybuild/odc-tests-macros/`,
-//! which is the `CARGO_MANIFEST_DIR` the macro resolves paths from. The device files the cases
-//! name are copied into `fixtures/` there first, so the cases (and their expected output) name
+//! trybuild compiles the cases in a crate at `<target dir>/tests/trybuild/odc-tests-ui/`, which
+//! is the `CARGO_MANIFEST_DIR` the macro resolves paths from. The device files the cases name
+//! are copied into `fixtures/` there first, so the cases (and their expected output) name
 //! `fixtures/servoone.xml` wherever the target directory is (`CARGO_TARGET_DIR`, a shared
 //! cache).
 #![allow(clippy::unwrap_used, clippy::expect_used)] // test code: a failure is the test failing
@@ -35,4 +41,6 @@ fn ui() {
     }
     let t = trybuild::TestCases::new();
     t.compile_fail("tests/ui/*.rs");
+    t.compile_fail("tests/ui/fail/*.rs");
+    t.pass("tests/ui/pass/*.rs");
 }

@@ -2,7 +2,7 @@
 //! module was a test file of its own. One module's tests:
 //! `cargo test -p odc-eds --test it MODULE::`.
 
-mod round_trip;
 mod diagnostics;
 mod fuzz_regressions;
+mod round_trip;
 mod snapshots;

@@ -87,7 +87,8 @@ fn log_of(tests: &[&str], manual: &str) -> String {
     let mut t = 0.0f64;
     for file in tests {
         let source =
-            std::fs::read_to_string(root().join(format!("tests/devices/tests/it/{file}.rs"))).unwrap();
+            std::fs::read_to_string(root().join(format!("tests/devices/tests/it/{file}.rs")))
+                .unwrap();
         for (name, doc, frames) in sections(&source) {
             log.push_str(&format!("# {file}::{name}: {doc}\n"));
             t = t.floor() + 1.0;

@@ -9,4 +9,3 @@ mod derive;
 mod node;
 mod pdo_prop;
 mod subdevice;
-mod typed_entry;

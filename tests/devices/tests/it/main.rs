@@ -3,12 +3,12 @@
 //! `cargo test -p odc-tests-devices --test it MODULE::`.
 
 mod common;
-mod node_bench;
 mod lenze;
 mod lexium_mdrive;
 mod lexium_mdrive_lss;
 mod linmot;
 mod lxm23a;
+mod node_bench;
 mod schemes;
 mod servoone;
 mod table;

@@ -1,6 +1,0 @@
-//! `odc-tests-macros`'s integration tests as one binary (one link, one file on disk: #33); each
-//! module was a test file of its own. One module's tests:
-//! `cargo test -p odc-tests-macros --test it MODULE::`.
-
-mod lxm23a;
-mod ui;
