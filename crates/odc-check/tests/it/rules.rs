@@ -19,11 +19,11 @@ macro_rules! trips {
     };
 }
 
-/// Every rule has a device above or below that trips it (a `rules__<code>_*` snapshot holding
-/// its code); the devices `base`, `io`, `drive`, `dcf` and `esi_io` pass every rule.
+/// Every rule has a device above or below that trips it (an `it__rules__<code>_*` snapshot
+/// holding its code); the devices `base`, `io`, `drive`, `dcf` and `esi_io` pass every rule.
 #[test]
 fn every_rule_has_a_tripping_fixture() {
-    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/snapshots");
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/it/snapshots");
     let snaps: Vec<(String, String)> = std::fs::read_dir(&dir)
         .unwrap()
         .map(|e| {
@@ -34,7 +34,7 @@ fn every_rule_has_a_tripping_fixture() {
         .collect();
     let mut missing = Vec::new();
     for r in odc_check::RULES {
-        let prefix = format!("rules__{}_", r.info.code.to_lowercase());
+        let prefix = format!("it__rules__{}_", r.info.code.to_lowercase());
         let tag = format!("[{}]", r.info.code);
         if !snaps.iter().any(|(n, text)| n.starts_with(&prefix) && text.contains(&tag)) {
             missing.push(r.info.code);
