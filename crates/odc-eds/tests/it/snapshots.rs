@@ -22,7 +22,7 @@ fn round_trip(name: &str, dev: &odc_model::Device) {
 
 #[test]
 fn fixtures() {
-    insta::glob!("../fixtures", "*", |path| {
+    insta::glob!("..", "fixtures/*", |path| {
         let (sources, parsed, name) = read(path);
         let diags = odc_model::diag::render_short(&sources, &parsed.diagnostics);
         insta::assert_yaml_snapshot!(parsed.device);
@@ -33,7 +33,7 @@ fn fixtures() {
 
 #[test]
 fn invalid() {
-    insta::glob!("../invalid", "*", |path| {
+    insta::glob!("..", "invalid/*", |path| {
         let (sources, parsed, name) = read(path);
         let human = odc_model::diag::render_human(&sources, &parsed.diagnostics, false);
         let short = odc_model::diag::render_short(&sources, &parsed.diagnostics);

@@ -6,7 +6,7 @@ use odc_model::{Sources, diag};
 
 #[test]
 fn fixtures() {
-    insta::glob!("../fixtures", "*.xml", |path| {
+    insta::glob!("..", "fixtures/*.xml", |path| {
         let bytes = std::fs::read(path).unwrap();
         let name = path.file_name().unwrap().to_string_lossy().into_owned();
         let mut sources = Sources::new();
