@@ -155,7 +155,7 @@ fn the_checked_rows_name_tests() {
     for (k, line) in readme.lines().enumerate() {
         for t in line.split('`').skip(1).step_by(2) {
             let Some((file, f)) = t.split_once(".rs::") else { continue };
-            let source = std::fs::read_to_string(dir().join("tests").join(format!("{file}.rs")))
+            let source = std::fs::read_to_string(dir().join("tests/it").join(format!("{file}.rs")))
                 .unwrap_or_else(|e| panic!("README.md line {}: {file}.rs: {e}", k + 1));
             assert!(source.contains(&format!("fn {f}(")), "README.md line {}: no {t}", k + 1);
         }
