@@ -67,12 +67,18 @@ fn peak_memory_is_bounded() {
         return;
     }
     let exe = std::env::current_exe().unwrap();
+    // The harness's name of [`child`]: its module path without the crate (`memory::child` in
+    // the tests/it binary), or `child` in a binary of its own.
+    let child = match module_path!().split_once("::") {
+        Some((_, module)) => format!("{module}::child"),
+        None => "child".to_owned(),
+    };
     let mut worst = (0u64, String::new(), 0u64);
     let mut table = String::new();
     let cases = cases();
     for (name, _, _) in &cases {
         let out = Command::new(&exe)
-            .args(["--exact", "child", "--nocapture", "--test-threads=1"])
+            .args(["--exact", &child, "--nocapture", "--test-threads=1"])
             .env(CASE, name)
             .output()
             .unwrap();
