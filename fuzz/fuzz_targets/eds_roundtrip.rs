@@ -1,11 +1,11 @@
 //! The EDS writer: parse → write → parse gives the same model, and the writer is stable. The
-//! property (and what "the same" leaves out) is crates/odc-eds/tests/round_trip/mod.rs, shared
+//! property (and what "the same" leaves out) is crates/odc-eds/tests/it/round_trip/mod.rs, shared
 //! with the regression tests of what this target found.
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
 
-#[path = "../../crates/odc-eds/tests/round_trip/mod.rs"]
+#[path = "../../crates/odc-eds/tests/it/round_trip/mod.rs"]
 mod round_trip;
 
 fuzz_target!(|data: &[u8]| {

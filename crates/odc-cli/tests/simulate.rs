@@ -86,7 +86,7 @@ fn python_canopen_masters_the_simulated_device() {
 
 /// The node test of tests/interop (NMT, heartbeat, TPDO types 1/5/254, a remap, an RPDO,
 /// EMCY 0x8210, node guarding) through the CLI: python-canopen's checks of what it sees on the
-/// bus, as `tests/interop/tests/node.rs` makes them of a node it runs itself.
+/// bus, as `tests/interop/tests/it/node.rs` makes them of a node it runs itself.
 fn python_canopen_drives_the_simulated_node() {
     use odc_tests_interop::node_report::{check, int};
     let python = PathBuf::from(std::env::var_os("ODC_INTEROP_PYTHON").unwrap_or("python3".into()));

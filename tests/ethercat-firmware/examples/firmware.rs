@@ -9,7 +9,7 @@
 //! ```
 //!
 //! It is built, not run: QEMU's boards have no EtherCAT chip (the stack and adapter run
-//! against the emulated ESC and LAN9252 in crates/odc-sim/tests/ethercat_spi.rs).
+//! against the emulated ESC and LAN9252 in crates/odc-sim/tests/it/ethercat_spi.rs).
 #![no_std]
 #![no_main]
 

@@ -1,4 +1,4 @@
-"""python-canopen's SDO client in block mode against odc's server (tests/interop/tests/block.rs).
+"""python-canopen's SDO client in block mode against odc's server (tests/interop/tests/it/block.rs).
 
 Block-uploads every object of --read, block-downloads the given bytes to every object of
 --write and block-uploads them back, with `SdoClient.open(..., block_transfer=True)` (CRC

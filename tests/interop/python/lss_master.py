@@ -1,4 +1,4 @@
-"""python-canopen's LssMaster (`network.lss`) against odc's LssSlave (tests/interop/tests/lss.rs).
+"""python-canopen's LssMaster (`network.lss`) against odc's LssSlave (tests/interop/tests/it/lss.rs).
 
 One session on a slave without node-ID: identify non-configured, fastscan, inquire the address
 and node-ID, configure node-ID, bit timing (a supported and an unsupported index), store,

@@ -1,4 +1,4 @@
-"""python-canopen as the master of an odc-generated slave (tests/interop/tests/python.rs).
+"""python-canopen as the master of an odc-generated slave (tests/interop/tests/it/python.rs).
 
 Connects to the Rust test's socket, loads the same device file into a `canopen.RemoteNode` and
 checks, object by object, what the slave answers. Prints one JSON line (counts, the PDO

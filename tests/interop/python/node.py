@@ -1,4 +1,4 @@
-"""python-canopen as the NMT master of an odc `node::Node` (tests/interop/tests/node.rs).
+"""python-canopen as the NMT master of an odc `node::Node` (tests/interop/tests/it/node.rs).
 
 Loads the device file into a `canopen.RemoteNode` and drives the node the Rust test runs on the
 loopback socket: NMT (reset, states and what the node answers in each), heartbeat written over

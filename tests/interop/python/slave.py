@@ -1,4 +1,4 @@
-"""python-canopen's LocalNode as the slave of odc's SDO client (tests/interop/tests/python.rs).
+"""python-canopen's LocalNode as the slave of odc's SDO client (tests/interop/tests/it/python.rs).
 
 Serves the device file on the Rust test's socket until the test closes it, then prints its data
 store (what SDO downloads changed) as one JSON line on stdout.

@@ -1,5 +1,5 @@
 //! What `python/node.py` reports of an odc node, and the checks of that report: shared by the
-//! test that runs `odc::node::Node` itself (`tests/node.rs`) and the one that runs it in
+//! test that runs `odc::node::Node` itself (`tests/it/node.rs`) and the one that runs it in
 //! `odc simulate` (`crates/odc-cli/tests/simulate.rs`), where only the bus is seen.
 
 use odc::node::Events;

@@ -9,7 +9,7 @@
 //!   instructions and system registers (indirect CSR access, process RAM FIFOs).
 //!
 //! Each is tested against an emulation of its chip on odc-sim's ESC
-//! (`crates/odc-sim/tests/ethercat_spi.rs`), frames checked against the datasheets' tables.
+//! (`crates/odc-sim/tests/it/ethercat_spi.rs`), frames checked against the datasheets' tables.
 
 pub mod beckhoff;
 pub mod lan9252;

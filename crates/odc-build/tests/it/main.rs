@@ -1,0 +1,6 @@
+//! `odc-build`'s integration tests as one binary (one link, one file on disk: #33); each
+//! module was a test file of its own. One module's tests:
+//! `cargo test -p odc-build --test it MODULE::`.
+
+mod atomic;
+mod data_sheet;

@@ -1,0 +1,7 @@
+//! `odc-tests-malformed`'s integration tests as one binary (one link, one file on disk: #33); each
+//! module was a test file of its own. One module's tests:
+//! `cargo test -p odc-tests-malformed --test it MODULE::`.
+
+mod files;
+mod generated;
+mod memory;
