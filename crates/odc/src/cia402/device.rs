@@ -623,7 +623,11 @@ impl Drive {
     /// The connection to the master was lost: what the abort connection option `code`
     /// (0x6007) commands, as [`DeviceControl::connection_lost`]; a quick stop completes in
     /// the next [`Drive::step`].
-    pub fn connection_lost<D: DriveObjects + ?Sized>(&mut self, od: &mut D, code: i16) -> Option<u8> {
+    pub fn connection_lost<D: DriveObjects + ?Sized>(
+        &mut self,
+        od: &mut D,
+        code: i16,
+    ) -> Option<u8> {
         if code == 1 {
             return self.fault(od);
         }
