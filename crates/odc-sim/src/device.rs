@@ -149,10 +149,10 @@ impl SimDevice {
             // A lost heartbeat (0x1016) or life guarding: what the abort connection option
             // code (0x6007, CiA 402-2 6.5.1) commands (1 fault, 2 disable voltage, 3 quick
             // stop); a drive without 0x6007 takes no action.
-            if events.heartbeat_lost != 0 || events.life_guarding_lost {
-                if let Ok(code) = self.od.get::<i16>(0x6007, 0) {
-                    drive.connection_lost(&mut self.od, code);
-                }
+            if (events.heartbeat_lost != 0 || events.life_guarding_lost)
+                && let Ok(code) = self.od.get::<i16>(0x6007, 0)
+            {
+                drive.connection_lost(&mut self.od, code);
             }
             drive.update(&mut self.od);
         }
