@@ -7,39 +7,12 @@
 
 use odc_sim::ethercat::{Chain, SubDevice};
 
+use super::frames::{ADDR, APWR, FPRD, FPWR, datagram, sm};
+
 fn servoone() -> odc_model::Device {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../esi/servoone.xml");
     let loaded = odc_pipeline::load(&path, &odc_pipeline::Options::new()).unwrap();
     loaded.device().unwrap().clone()
-}
-
-/// One datagram in a frame, run through the chain: (data, WKC).
-fn datagram(c: &mut Chain, cmd: u8, adp: u16, ado: u16, data: &[u8]) -> (Vec<u8>, u16) {
-    let mut f = vec![0xFF; 6];
-    f.extend([0x02, 0, 0, 0, 0, 0, 0x88, 0xA4]);
-    f.extend(((12 + data.len()) as u16 | 0x1000).to_le_bytes());
-    f.extend([cmd, 0]);
-    f.extend(adp.to_le_bytes());
-    f.extend(ado.to_le_bytes());
-    f.extend((data.len() as u16).to_le_bytes());
-    f.extend([0, 0]);
-    f.extend(data);
-    f.extend([0, 0]);
-    c.process(&mut f, 0).unwrap();
-    let d = f[26..26 + data.len()].to_vec();
-    let w = 26 + data.len();
-    (d, u16::from_le_bytes([f[w], f[w + 1]]))
-}
-
-const FPRD: u8 = 4;
-const FPWR: u8 = 5;
-const APWR: u8 = 2;
-const ADDR: u16 = 0x1001;
-
-fn sm(start: u16, len: u16, control: u8) -> [u8; 8] {
-    let [s0, s1] = start.to_le_bytes();
-    let [l0, l1] = len.to_le_bytes();
-    [s0, s1, l0, l1, control, 0, 1, 0]
 }
 
 /// A device in PRE-OP with mailboxes of `mbx` bytes at the ESI's addresses.

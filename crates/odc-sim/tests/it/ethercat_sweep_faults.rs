@@ -7,35 +7,7 @@
 use odc_model::Sources;
 use odc_sim::ethercat::{Chain, SubDevice};
 
-const APWR: u8 = 2;
-const FPRD: u8 = 4;
-const FPWR: u8 = 5;
-const ADDR: u16 = 0x1001;
-
-/// One datagram in a frame, run through the chain: (data, WKC).
-fn datagram(c: &mut Chain, cmd: u8, adp: u16, ado: u16, data: &[u8]) -> (Vec<u8>, u16) {
-    let mut f = vec![0xFF; 6];
-    f.extend([0x02, 0, 0, 0, 0, 0, 0x88, 0xA4]);
-    f.extend(((12 + data.len()) as u16 | 0x1000).to_le_bytes());
-    f.extend([cmd, 0]);
-    f.extend(adp.to_le_bytes());
-    f.extend(ado.to_le_bytes());
-    f.extend((data.len() as u16).to_le_bytes());
-    f.extend([0, 0]);
-    f.extend(data);
-    f.extend([0, 0]);
-    c.process(&mut f, 0).unwrap();
-    let d = f[26..26 + data.len()].to_vec();
-    let w = 26 + data.len();
-    (d, u16::from_le_bytes([f[w], f[w + 1]]))
-}
-
-/// An SM register block: start, length, control, status, activate (enable), PDI control.
-fn sm(start: u16, len: u16, control: u8) -> [u8; 8] {
-    let [s0, s1] = start.to_le_bytes();
-    let [l0, l1] = len.to_le_bytes();
-    [s0, s1, l0, l1, control, 0, u8::from(len > 0), 0]
-}
+use super::frames::{ADDR, APWR, FPRD, FPWR, datagram, sm};
 
 fn device(esi: &str) -> Chain {
     let p = odc_esi::parse(&mut Sources::new(), "t.xml", esi.as_bytes());

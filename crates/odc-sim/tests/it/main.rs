@@ -8,4 +8,5 @@ mod ethercat_coe;
 mod ethercat_esc;
 mod ethercat_spi;
 mod ethercat_sweep_faults;
+mod frames;
 mod virtual_bus;
