@@ -8,11 +8,11 @@ any SOEM application does (config_init, config_map, SAFE-OP, OP, cyclic process 
 prints one JSON line of what it found as the last line of stdout; the Rust test decides.
 """
 
-import json
-import sys
 import time
 
 import pysoem
+
+from soem_report import report
 
 
 def hexb(b):
@@ -20,17 +20,7 @@ def hexb(b):
 
 
 def main():
-    plan = json.load(sys.stdin)
-    out = {"devices": [], "errors": []}
-    master = pysoem.Master()
-    master.open(plan["iface"])
-    try:
-        run(master, plan, out)
-    except Exception as e:  # the report says what failed; the Rust test fails on it
-        out["errors"].append(f"{type(e).__name__}: {e}")
-    finally:
-        master.close()
-    print(json.dumps(out))
+    report(run, {"devices": []})
 
 
 def run(master, plan, out):

@@ -10,11 +10,11 @@ stop bit), its slice of the input image, and the reads. The Rust test decides
 (crates/odc-cli/tests/simulate_soem.rs).
 """
 
-import json
-import sys
 import time
 
 import pysoem
+
+from soem_report import report
 
 
 def fmmu(raw):
@@ -23,17 +23,7 @@ def fmmu(raw):
 
 
 def main():
-    plan = json.load(sys.stdin)
-    out = {"devices": [], "errors": []}
-    master = pysoem.Master()
-    master.open(plan["iface"])
-    try:
-        run(master, plan, out)
-    except Exception as e:  # the report says what failed; the Rust test fails on it
-        out["errors"].append(f"{type(e).__name__}: {e}")
-    finally:
-        master.close()
-    print(json.dumps(out))
+    report(run, {"devices": []})
 
 
 def run(master, plan, out):

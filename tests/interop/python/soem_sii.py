@@ -6,40 +6,31 @@ Prints one JSON line: per device what SOEM made of the SII in config_init (name,
 the EEPROM's bytes as read word by word over the ESC's EEPROM interface; the Rust test decides.
 """
 
-import json
-import sys
-
-import pysoem
+from soem_report import report
 
 
 def main():
-    plan = json.load(sys.stdin)
-    out = {"devices": [], "errors": []}
-    master = pysoem.Master()
-    master.open(plan["iface"])
-    try:
-        out["found"] = master.config_init()
-        for k, slave in enumerate(master.slaves):
-            size = plan["devices"][k]["bytes"] if k < len(plan["devices"]) else 0
-            image = bytearray()
-            # eeprom_read answers 4 bytes (2 words) from a word address.
-            for word in range(0, size // 2, 2):
-                image += slave.eeprom_read(word, 20_000)
-            name = slave.name
-            if isinstance(name, bytes):
-                name = name.decode("latin-1")
-            out["devices"].append(
-                {
-                    "name": name,
-                    "identity": [slave.man, slave.id, slave.rev],
-                    "eeprom": bytes(image[:size]).hex(),
-                }
-            )
-    except Exception as e:  # the report says what failed; the Rust test fails on it
-        out["errors"].append(f"{type(e).__name__}: {e}")
-    finally:
-        master.close()
-    print(json.dumps(out))
+    report(run, {"devices": []})
+
+
+def run(master, plan, out):
+    out["found"] = master.config_init()
+    for k, slave in enumerate(master.slaves):
+        size = plan["devices"][k]["bytes"] if k < len(plan["devices"]) else 0
+        image = bytearray()
+        # eeprom_read answers 4 bytes (2 words) from a word address.
+        for word in range(0, size // 2, 2):
+            image += slave.eeprom_read(word, 20_000)
+        name = slave.name
+        if isinstance(name, bytes):
+            name = name.decode("latin-1")
+        out["devices"].append(
+            {
+                "name": name,
+                "identity": [slave.man, slave.id, slave.rev],
+                "eeprom": bytes(image[:size]).hex(),
+            }
+        )
 
 
 if __name__ == "__main__":
