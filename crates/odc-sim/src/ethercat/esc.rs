@@ -16,44 +16,14 @@ use super::frame::{Command, Datagram};
 use super::registers::{self as reg, MEMORY, ecat_writable};
 use super::sii::SiiPort;
 
-/// A sync manager's registers.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct SmRegs {
-    /// Physical start address.
-    pub start: u16,
-    /// Length in bytes.
-    pub len: u16,
-    /// Control: bits 0–1 mode (0 buffered, 2 mailbox), bits 2–3 direction (0 the master
-    /// reads, 1 the master writes).
-    pub control: u8,
-    /// Status: bit 3 mailbox full.
-    pub status: u8,
-    /// Activate: bit 0 enable.
-    pub activate: u8,
-    /// PDI control: bit 0 deactivated by the application.
-    pub pdi_control: u8,
-}
+/// A sync manager's registers (0x0800 + 8n) and its status bit "mailbox full": the same
+/// layout the device stack reads.
+pub use odc::ethercat::subdevice::al::{SM_FULL, SmRegs};
 
-impl SmRegs {
-    /// A mailbox (mode 2), else buffered.
-    pub fn is_mailbox(&self) -> bool {
-        self.control & 0x03 == 0x02
-    }
-    /// The master writes it.
-    pub fn master_writes(&self) -> bool {
-        self.control & 0x0C == 0x04
-    }
-    /// Enabled by the master and not deactivated by the application.
-    pub fn active(&self) -> bool {
-        self.activate & 1 != 0 && self.pdi_control & 1 == 0
-    }
-    fn range(&self) -> core::ops::Range<usize> {
-        usize::from(self.start)..usize::from(self.start) + usize::from(self.len)
-    }
+/// The process memory a sync manager covers.
+fn sm_range(sm: &SmRegs) -> core::ops::Range<usize> {
+    usize::from(sm.start)..usize::from(sm.start) + usize::from(sm.len)
 }
-
-/// Bit 3 of an SM status: mailbox full.
-pub const SM_FULL: u8 = 0x08;
 
 /// The ESC of one device: 4 KiB of registers and the process RAM.
 #[derive(Debug)]
@@ -164,14 +134,7 @@ impl Esc {
             Some(&[a, b, c, d, e, f, g, h]) => [a, b, c, d, e, f, g, h],
             _ => [0; 8],
         };
-        SmRegs {
-            start: u16::from_le_bytes([r[0], r[1]]),
-            len: u16::from_le_bytes([r[2], r[3]]),
-            control: r[4],
-            status: r[5],
-            activate: r[6],
-            pdi_control: r[7],
-        }
+        SmRegs::from_bytes(r)
     }
 
     /// Sets the status byte of sync manager `n`.
@@ -266,7 +229,7 @@ impl Esc {
         let mut completes = None;
         for n in 0..reg::SMS {
             let sm = self.sm(n);
-            let area = sm.range();
+            let area = sm_range(&sm);
             if sm.activate & 1 == 0 || area.is_empty() {
                 continue;
             }
@@ -502,7 +465,7 @@ impl Pdi<'_> {
                 self.0.clear(8 + u32::from(n));
             }
             let sm = self.0.sm(n);
-            let area = sm.range();
+            let area = sm_range(&sm);
             if area.is_empty() || sm.activate & 1 == 0 {
                 continue;
             }

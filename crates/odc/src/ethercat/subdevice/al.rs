@@ -108,14 +108,18 @@ impl SmRegs {
     pub fn read<E: Esc + ?Sized>(esc: &mut E, n: u8) -> Result<Self, E::Error> {
         let mut b = [0u8; 8];
         esc.read(register::SM + 8 * u16::from(n), &mut b)?;
-        Ok(Self {
+        Ok(Self::from_bytes(b))
+    }
+    /// The registers from their 8 bytes as the ESC holds them (little-endian words).
+    pub const fn from_bytes(b: [u8; 8]) -> Self {
+        Self {
             start: u16::from_le_bytes([b[0], b[1]]),
             len: u16::from_le_bytes([b[2], b[3]]),
             control: b[4],
             status: b[5],
             activate: b[6],
             pdi_control: b[7],
-        })
+        }
     }
     /// A mailbox (mode 2), else buffered.
     pub fn is_mailbox(&self) -> bool {
@@ -128,6 +132,10 @@ impl SmRegs {
     /// Enabled by the master.
     pub fn enabled(&self) -> bool {
         self.activate & 1 != 0
+    }
+    /// Enabled by the master and not deactivated by the application (what the ESC acts on).
+    pub fn active(&self) -> bool {
+        self.enabled() && self.pdi_control & 1 == 0
     }
     fn overlaps(&self, other: &SmRegs) -> bool {
         let (a0, a1) = (u32::from(self.start), u32::from(self.start) + u32::from(self.len));
