@@ -128,7 +128,7 @@ fn drive_objects(ctx: &Ctx<'_>) -> TokenStream {
 /// one, or when the names would not fit a 64 KiB pool. Data only: a firmware that does not
 /// name it in its stack's `Config` does not link it.
 fn description(ctx: &Ctx<'_>, n: &Literal) -> TokenStream {
-    use odc_model::{Direction, ObjectKind};
+    use odc_model::Direction;
     let rt = &ctx.rt;
     let device = ctx.device;
     let Some(ecat) = device.ethercat.as_deref() else { return TokenStream::new() };
@@ -146,15 +146,7 @@ fn description(ctx: &Ctx<'_>, n: &Literal) -> TokenStream {
         let Some(entry) = object.subs.get(&sub) else { return TokenStream::new() };
         if last != Some(index) {
             last = Some(index);
-            let code: u8 = match object.kind {
-                ObjectKind::Var => 7,
-                ObjectKind::Array => 8,
-                ObjectKind::Record => 9,
-                ObjectKind::Domain => 2,
-                ObjectKind::DefType => 5,
-                ObjectKind::DefStruct => 6,
-                ObjectKind::Null => 0,
-            };
+            let code = object.kind.code();
             let max_sub = object.subs.keys().copied().max().unwrap_or(0);
             let Ok(row) = u16::try_from(row) else { return TokenStream::new() };
             objects
