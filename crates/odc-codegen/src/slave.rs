@@ -175,6 +175,7 @@ fn description(ctx: &Ctx<'_>, n: &Literal) -> TokenStream {
         .map(|e| u16::try_from(e).ok())
         .collect();
     let Some(ends) = ends else { return TokenStream::new() };
+    let n_ends = Literal::usize_unsuffixed(ends.len());
     let ends = ends.into_iter().map(Literal::u16_unsuffixed);
     let names = object_names + &entry_names;
     let n_objects = Literal::usize_unsuffixed(objects.len());
@@ -194,7 +195,7 @@ fn description(ctx: &Ctx<'_>, n: &Literal) -> TokenStream {
 
         const OBJECTS: [#rt::slave::ObjectRow; #n_objects] = [#(#objects),*];
         const FLAGS: [u8; #n] = [#(#flags),*];
-        const ENDS: [u16; #n_objects + #n] = [#(#ends),*];
+        const ENDS: [u16; #n_ends] = [#(#ends),*];
     }
 }
 
