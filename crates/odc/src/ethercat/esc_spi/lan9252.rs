@@ -94,6 +94,12 @@ impl<E: core::fmt::Debug> core::fmt::Display for Error<E> {
 
 impl<E: core::fmt::Debug> core::error::Error for Error<E> {}
 
+/// The firmware's side of a process RAM transfer: the buffer read into, or the data written.
+enum Ram<'a> {
+    Read(&'a mut [u8]),
+    Write(&'a [u8]),
+}
+
 /// A LAN9252 on an SPI device.
 #[derive(Debug)]
 pub struct Lan9252<S> {
@@ -234,46 +240,45 @@ impl<S: SpiDevice> Lan9252<S> {
         self.write_register(cmd, PRAM_BUSY)
     }
 
-    fn read_ram(&mut self, addr: u16, buf: &mut [u8]) -> Result<(), Error<S::Error>> {
+    /// A process RAM transfer through the read or the write FIFO: one loop for both
+    /// directions (the firmware links it once).
+    fn ram(&mut self, addr: u16, mut io: Ram<'_>) -> Result<(), Error<S::Error>> {
+        use register::{
+            ECAT_PRAM_RD_ADDR_LEN, ECAT_PRAM_RD_CMD, ECAT_PRAM_WR_ADDR_LEN, ECAT_PRAM_WR_CMD,
+        };
+        let (len, addr_len, cmd_reg) = match &io {
+            Ram::Read(buf) => (buf.len(), ECAT_PRAM_RD_ADDR_LEN, ECAT_PRAM_RD_CMD),
+            Ram::Write(data) => (data.len(), ECAT_PRAM_WR_ADDR_LEN, ECAT_PRAM_WR_CMD),
+        };
         let lead = usize::from(addr & 3);
-        let total = (lead + buf.len()).div_ceil(4);
-        self.start(register::ECAT_PRAM_RD_ADDR_LEN, register::ECAT_PRAM_RD_CMD, addr, buf.len())?;
+        let total = (lead + len).div_ceil(4);
+        self.start(addr_len, cmd_reg, addr, len)?;
         let mut done = 0usize;
         while done < total {
-            let cmd = self.poll(register::ECAT_PRAM_RD_CMD, |v| v & PRAM_AVAILABLE != 0)?;
+            // The count field: words the read FIFO holds, or the write FIFO has room for.
+            let cmd = self.poll(cmd_reg, |v| v & PRAM_AVAILABLE != 0)?;
             let available = usize::try_from(cmd >> 8 & 0x1F).unwrap_or(0).max(1);
             let n = available.min(total - done).min(PORT_WORDS);
             let mut words = [0u8; 4 * PORT_WORDS];
             let words = words.get_mut(..4 * n).unwrap_or(&mut []);
-            self.read_words(register::PRAM_READ_FIFO, words)?;
             // The stream's byte k is the data's byte k - lead.
-            for (k, &b) in words.iter().enumerate() {
-                let pos = (4 * done + k).checked_sub(lead);
-                if let Some(dst) = pos.and_then(|p| buf.get_mut(p)) {
-                    *dst = b;
+            let pos = |k: usize| (4 * done + k).checked_sub(lead);
+            match &mut io {
+                Ram::Read(buf) => {
+                    self.read_words(register::PRAM_READ_FIFO, words)?;
+                    for (k, &b) in words.iter().enumerate() {
+                        if let Some(dst) = pos(k).and_then(|p| buf.get_mut(p)) {
+                            *dst = b;
+                        }
+                    }
+                }
+                Ram::Write(data) => {
+                    for (k, w) in words.iter_mut().enumerate() {
+                        *w = pos(k).and_then(|p| data.get(p)).copied().unwrap_or(0);
+                    }
+                    self.write_words(register::PRAM_WRITE_FIFO, words)?;
                 }
             }
-            done += n;
-        }
-        Ok(())
-    }
-
-    fn write_ram(&mut self, addr: u16, data: &[u8]) -> Result<(), Error<S::Error>> {
-        let lead = usize::from(addr & 3);
-        let total = (lead + data.len()).div_ceil(4);
-        self.start(register::ECAT_PRAM_WR_ADDR_LEN, register::ECAT_PRAM_WR_CMD, addr, data.len())?;
-        let mut done = 0usize;
-        while done < total {
-            let cmd = self.poll(register::ECAT_PRAM_WR_CMD, |v| v & PRAM_AVAILABLE != 0)?;
-            let space = usize::try_from(cmd >> 8 & 0x1F).unwrap_or(0).max(1);
-            let n = space.min(total - done).min(PORT_WORDS);
-            let mut words = [0u8; 4 * PORT_WORDS];
-            let words = words.get_mut(..4 * n).unwrap_or(&mut []);
-            for (k, w) in words.iter_mut().enumerate() {
-                let pos = (4 * done + k).checked_sub(lead);
-                *w = pos.and_then(|p| data.get(p)).copied().unwrap_or(0);
-            }
-            self.write_words(register::PRAM_WRITE_FIFO, words)?;
             done += n;
         }
         Ok(())
@@ -291,7 +296,7 @@ impl<S: SpiDevice> Esc for Lan9252<S> {
             self.registers(addr, regs, true)?;
         }
         if !ram.is_empty() {
-            self.read_ram(addr.max(PROCESS_RAM), ram)?;
+            self.ram(addr.max(PROCESS_RAM), Ram::Read(ram))?;
         }
         Ok(())
     }
@@ -309,7 +314,7 @@ impl<S: SpiDevice> Esc for Lan9252<S> {
             at = at.wrapping_add(u16::try_from(part.len()).unwrap_or(4));
         }
         if !ram.is_empty() {
-            self.write_ram(addr.max(PROCESS_RAM), ram)?;
+            self.ram(addr.max(PROCESS_RAM), Ram::Write(ram))?;
         }
         Ok(())
     }
