@@ -188,21 +188,20 @@ impl<S: SpiDevice> Lan9252<S> {
     /// One indirect access of 1, 2 or 4 bytes to the ESC's registers; `data` in and out.
     fn csr(&mut self, addr: u16, data: &mut [u8], read: bool) -> Result<(), Error<S::Error>> {
         let size = u32::try_from(data.len()).unwrap_or(0) & 0x7;
-        let mut word = [0u8; 4];
+        // The 1, 2 or 4 bytes as the low bytes of the data register, little-endian (shifts,
+        // not slice copies: no `memcpy` call for 4 bytes).
         if !read {
-            if let Some(w) = word.get_mut(..data.len()) {
-                w.copy_from_slice(data);
-            }
-            self.write_register(register::ECAT_CSR_DATA, u32::from_le_bytes(word))?;
+            let word = data.iter().rev().fold(0u32, |w, &b| w << 8 | u32::from(b));
+            self.write_register(register::ECAT_CSR_DATA, word)?;
         }
         let direction = if read { CSR_READ } else { 0 };
         let command = CSR_BUSY | direction | size << 16 | u32::from(addr);
         self.write_register(register::ECAT_CSR_CMD, command)?;
         self.poll(register::ECAT_CSR_CMD, |v| v & CSR_BUSY == 0)?;
         if read {
-            let value = self.read_register(register::ECAT_CSR_DATA)?.to_le_bytes();
-            if let Some(src) = value.get(..data.len()) {
-                data.copy_from_slice(src);
+            let value = self.read_register(register::ECAT_CSR_DATA)?;
+            for (k, d) in data.iter_mut().enumerate() {
+                *d = (value >> (8 * (k % 4))) as u8;
             }
         }
         Ok(())
@@ -215,11 +214,13 @@ impl<S: SpiDevice> Lan9252<S> {
         let mut at = addr;
         let mut rest = data;
         while !rest.is_empty() {
-            let size = [4usize, 2, 1]
-                .into_iter()
-                .find(|&s| usize::from(at) % s == 0 && s <= rest.len())
-                .unwrap_or(1);
-            let (chunk, tail) = rest.split_at_mut(size);
+            let size = match (at % 4, at % 2, rest.len()) {
+                (0, _, 4..) => 4,
+                (_, 0, 2..) => 2,
+                _ => 1,
+            };
+            // `size` is at most `rest.len()` (not empty): always `Some`.
+            let Some((chunk, tail)) = rest.split_at_mut_checked(size) else { break };
             self.csr(at, chunk, read)?;
             at = at.wrapping_add(u16::try_from(size).unwrap_or(1));
             rest = tail;
