@@ -693,6 +693,7 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
         HEADER + n
     }
 
+    #[inline(never)]
     fn error(&mut self, detail: u16, room: usize) -> usize {
         let d = detail.to_le_bytes();
         let data = [0x01, 0x00, d[0], d[1]];
