@@ -310,6 +310,12 @@ fn subs<D: Storage + ?Sized>(od: &D, index: u16) -> impl Iterator<Item = (u8, us
         .map(|e| (e.addr.sub, e.len))
 }
 
+/// Whether the dictionary has an entry of object `index`.
+#[inline(never)]
+fn has_object<D: Storage + ?Sized>(od: &D, index: u16) -> bool {
+    subs(od, index).next().is_some()
+}
+
 /// A complete-access upload from `first` (0 or 1) into `buf`: sub-index 0 as 16 bits (its
 /// byte and a padding byte, ETG.1000.6 §5.6.2.1.1), then sub-indices 1 to the value of
 /// sub-index 0, each in its bytes. Returns the length.
@@ -319,7 +325,7 @@ fn read_complete<D: Storage + ?Sized>(
     first: u8,
     buf: &mut [u8],
 ) -> Result<usize, SdoAbort> {
-    if subs(od, index).next().is_none() {
+    if !has_object(od, index) {
         return Err(SdoAbort::NoSuchObject);
     }
     let mut count = [0u8; 1];
@@ -346,7 +352,7 @@ fn write<D: Storage + ?Sized>(
     data: &[u8],
     pdo_writable: bool,
 ) -> Result<(), SdoAbort> {
-    let has_subs = subs(od, index).next().is_some();
+    let has_subs = has_object(od, index);
     if (!ca || !has_subs) && od.access(index, sub).is_none() {
         // No such object or sub-index: the dictionary's own answer.
         od.read(index, sub, &mut [])?;
