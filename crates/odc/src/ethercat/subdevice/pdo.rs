@@ -232,7 +232,7 @@ pub fn dictionary_to_image<D: Storage + ?Sized>(
 /// the firmware links it once.
 #[inline(never)]
 fn copy_bits(src: &[u8], from: usize, dst: &mut [u8], to: usize, bits: usize) {
-    if from % 8 == 0 && to % 8 == 0 && bits % 8 == 0 {
+    if from.is_multiple_of(8) && to.is_multiple_of(8) && bits.is_multiple_of(8) {
         let (s, d, n) = (from / 8, to / 8, bits / 8);
         if let (Some(s), Some(d)) = (src.get(s..s + n), dst.get_mut(d..d + n)) {
             d.copy_from_slice(s);
