@@ -2,7 +2,9 @@
 # The EtherCAT firmware's flash and RAM against SOES's for the same device on the same core
 # (tests/slave-size/README.md, "EtherCAT"). Run by hand, not by CI:
 #
-#   tests/slave-size/soes.sh [--odc PATH] [--soes-repo URL|DIR]
+#   tests/slave-size/soes.sh [--odc PATH] [--soes-repo URL|DIR] [--opt-level s|z]
+#
+# --opt-level: the Rust images' (default s, as gcc's -Os; z for LLVM's smallest, README).
 #
 # Needs arm-none-eabi-gcc with newlib (Debian: gcc-arm-none-eabi libnewlib-arm-none-eabi),
 # git, python3, the thumbv7em-none-eabihf Rust target. Writes under target/slave-size/
@@ -16,11 +18,13 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 odc=target/debug/odc
 SOES_REPO=https://github.com/OpenEtherCATsociety/SOES
+opt=s
 while [ $# -gt 0 ]; do
   case "$1" in
     --odc) odc=$2; shift 2 ;;
     --soes-repo) SOES_REPO=$2; shift 2 ;;
-    *) echo "usage: $0 [--odc PATH] [--soes-repo URL|DIR]" >&2; exit 2 ;;
+    --opt-level) opt=$2; shift 2 ;;
+    *) echo "usage: $0 [--odc PATH] [--soes-repo URL|DIR] [--opt-level s|z]" >&2; exit 2 ;;
   esac
 done
 SOES_REV=6ef7b9415e936c061ad30626ca00004bdde2ac62
@@ -68,7 +72,7 @@ soes_image soes-demo-no-names.elf "$out/gen-demo-no-names/objectlist.c" "$out/ge
 # one.
 rust=target/slave-size/ethercat
 build() {
-  CARGO_PROFILE_RELEASE_OPT_LEVEL=s CARGO_PROFILE_RELEASE_CODEGEN_UNITS=1 \
+  CARGO_PROFILE_RELEASE_OPT_LEVEL=$opt CARGO_PROFILE_RELEASE_CODEGEN_UNITS=1 \
   CARGO_PROFILE_RELEASE_LTO=true CARGO_PROFILE_RELEASE_PANIC=abort CARGO_TARGET_DIR="$rust" \
     cargo build --quiet --locked -p odc-tests-ethercat-firmware --release --target thumbv7em-none-eabihf "$@"
 }

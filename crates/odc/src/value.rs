@@ -326,15 +326,23 @@ impl<const N: usize> ObjValue for VisibleString<N> {
     fn encode(&self, buf: &mut [u8]) -> Result<usize, ValueError> {
         put(buf, self.bytes.get(..self.len).ok_or(ValueError::Invalid)?)
     }
-    /// Trailing NULs are dropped: many devices pad strings to a fixed width.
+    /// Trailing NULs are dropped: many devices pad strings to a fixed width. Longer than `N`
+    /// is too long whatever the bytes; the rest must be visible ASCII, checked byte by byte
+    /// (no UTF-8 validation, whose 368 B a firmware would link only for this).
     fn decode(buf: &[u8]) -> Result<Self, ValueError> {
         let end = buf.iter().rposition(|&b| b != 0).map_or(0, |p| p + 1);
-        let s =
-            buf.get(..end).and_then(|b| core::str::from_utf8(b).ok()).ok_or(ValueError::Invalid)?;
-        if s.len() > N {
+        let text = buf.get(..end).unwrap_or(&[]);
+        if text.len() > N {
             return Err(ValueError::TooLong);
         }
-        Self::new(s).ok_or(ValueError::Invalid)
+        let mut bytes = [0u8; N];
+        for (d, &b) in bytes.iter_mut().zip(text) {
+            if !(0x20..=0x7E).contains(&b) {
+                return Err(ValueError::Invalid);
+            }
+            *d = b;
+        }
+        Ok(Self { bytes, len: text.len() })
     }
 }
 
@@ -543,6 +551,11 @@ mod tests {
         assert!(VisibleString::<4>::from_default("ab\u{20AC}").is_none());
         assert_eq!(VisibleString::<8>::decode(b"ab\0\0").map(|s| s.len()), Ok(2));
         assert_eq!(VisibleString::<2>::decode(b"abc"), Err(ValueError::TooLong));
+        // Too long whatever the bytes; within the length, only visible ASCII.
+        assert_eq!(VisibleString::<2>::decode(b"a\xFFc"), Err(ValueError::TooLong));
+        assert_eq!(VisibleString::<8>::decode(b"a\xFFc"), Err(ValueError::Invalid));
+        assert_eq!(VisibleString::<8>::decode(b"a\tc"), Err(ValueError::Invalid));
+        assert_eq!(VisibleString::<8>::decode(b"a~ ").map(|s| s.as_str() == "a~ "), Ok(true));
         let o = OctetString([1u8, 2, 3]);
         assert_eq!(OctetString::<3>::decode(&[1, 2, 3]), Ok(o));
         let t = TimeOfDay { ms: 1000, days: 2 };

@@ -233,9 +233,6 @@ impl Slot for Bytes {
         // As `VisibleString::<N>::decode`: zeros at the end pad, the rest is visible ASCII.
         let end = data.iter().rposition(|&b| b != 0).map_or(0, |p| p + 1);
         let text = data.get(..end).unwrap_or(&[]);
-        if core::str::from_utf8(text).is_err() {
-            return Err(ValueError::Invalid.into());
-        }
         if text.len() > self.len {
             return Err(ValueError::TooLong.into());
         }

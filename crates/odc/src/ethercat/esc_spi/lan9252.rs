@@ -94,6 +94,12 @@ impl<E: core::fmt::Debug> core::fmt::Display for Error<E> {
 
 impl<E: core::fmt::Debug> core::error::Error for Error<E> {}
 
+/// The firmware's side of a process RAM transfer: the buffer read into, or the data written.
+enum Ram<'a> {
+    Read(&'a mut [u8]),
+    Write(&'a [u8]),
+}
+
 /// A LAN9252 on an SPI device.
 #[derive(Debug)]
 pub struct Lan9252<S> {
@@ -182,21 +188,20 @@ impl<S: SpiDevice> Lan9252<S> {
     /// One indirect access of 1, 2 or 4 bytes to the ESC's registers; `data` in and out.
     fn csr(&mut self, addr: u16, data: &mut [u8], read: bool) -> Result<(), Error<S::Error>> {
         let size = u32::try_from(data.len()).unwrap_or(0) & 0x7;
-        let mut word = [0u8; 4];
+        // The 1, 2 or 4 bytes as the low bytes of the data register, little-endian (shifts,
+        // not slice copies: no `memcpy` call for 4 bytes).
         if !read {
-            if let Some(w) = word.get_mut(..data.len()) {
-                w.copy_from_slice(data);
-            }
-            self.write_register(register::ECAT_CSR_DATA, u32::from_le_bytes(word))?;
+            let word = data.iter().rev().fold(0u32, |w, &b| w << 8 | u32::from(b));
+            self.write_register(register::ECAT_CSR_DATA, word)?;
         }
         let direction = if read { CSR_READ } else { 0 };
         let command = CSR_BUSY | direction | size << 16 | u32::from(addr);
         self.write_register(register::ECAT_CSR_CMD, command)?;
         self.poll(register::ECAT_CSR_CMD, |v| v & CSR_BUSY == 0)?;
         if read {
-            let value = self.read_register(register::ECAT_CSR_DATA)?.to_le_bytes();
-            if let Some(src) = value.get(..data.len()) {
-                data.copy_from_slice(src);
+            let value = self.read_register(register::ECAT_CSR_DATA)?;
+            for (k, d) in data.iter_mut().enumerate() {
+                *d = (value >> (8 * (k % 4))) as u8;
             }
         }
         Ok(())
@@ -209,11 +214,13 @@ impl<S: SpiDevice> Lan9252<S> {
         let mut at = addr;
         let mut rest = data;
         while !rest.is_empty() {
-            let size = [4usize, 2, 1]
-                .into_iter()
-                .find(|&s| usize::from(at) % s == 0 && s <= rest.len())
-                .unwrap_or(1);
-            let (chunk, tail) = rest.split_at_mut(size);
+            let size = match (at % 4, at % 2, rest.len()) {
+                (0, _, 4..) => 4,
+                (_, 0, 2..) => 2,
+                _ => 1,
+            };
+            // `size` is at most `rest.len()` (not empty): always `Some`.
+            let Some((chunk, tail)) = rest.split_at_mut_checked(size) else { break };
             self.csr(at, chunk, read)?;
             at = at.wrapping_add(u16::try_from(size).unwrap_or(1));
             rest = tail;
@@ -234,46 +241,45 @@ impl<S: SpiDevice> Lan9252<S> {
         self.write_register(cmd, PRAM_BUSY)
     }
 
-    fn read_ram(&mut self, addr: u16, buf: &mut [u8]) -> Result<(), Error<S::Error>> {
+    /// A process RAM transfer through the read or the write FIFO: one loop for both
+    /// directions (the firmware links it once).
+    fn ram(&mut self, addr: u16, mut io: Ram<'_>) -> Result<(), Error<S::Error>> {
+        use register::{
+            ECAT_PRAM_RD_ADDR_LEN, ECAT_PRAM_RD_CMD, ECAT_PRAM_WR_ADDR_LEN, ECAT_PRAM_WR_CMD,
+        };
+        let (len, addr_len, cmd_reg) = match &io {
+            Ram::Read(buf) => (buf.len(), ECAT_PRAM_RD_ADDR_LEN, ECAT_PRAM_RD_CMD),
+            Ram::Write(data) => (data.len(), ECAT_PRAM_WR_ADDR_LEN, ECAT_PRAM_WR_CMD),
+        };
         let lead = usize::from(addr & 3);
-        let total = (lead + buf.len()).div_ceil(4);
-        self.start(register::ECAT_PRAM_RD_ADDR_LEN, register::ECAT_PRAM_RD_CMD, addr, buf.len())?;
+        let total = (lead + len).div_ceil(4);
+        self.start(addr_len, cmd_reg, addr, len)?;
         let mut done = 0usize;
         while done < total {
-            let cmd = self.poll(register::ECAT_PRAM_RD_CMD, |v| v & PRAM_AVAILABLE != 0)?;
+            // The count field: words the read FIFO holds, or the write FIFO has room for.
+            let cmd = self.poll(cmd_reg, |v| v & PRAM_AVAILABLE != 0)?;
             let available = usize::try_from(cmd >> 8 & 0x1F).unwrap_or(0).max(1);
             let n = available.min(total - done).min(PORT_WORDS);
             let mut words = [0u8; 4 * PORT_WORDS];
             let words = words.get_mut(..4 * n).unwrap_or(&mut []);
-            self.read_words(register::PRAM_READ_FIFO, words)?;
             // The stream's byte k is the data's byte k - lead.
-            for (k, &b) in words.iter().enumerate() {
-                let pos = (4 * done + k).checked_sub(lead);
-                if let Some(dst) = pos.and_then(|p| buf.get_mut(p)) {
-                    *dst = b;
+            let pos = |k: usize| (4 * done + k).checked_sub(lead);
+            match &mut io {
+                Ram::Read(buf) => {
+                    self.read_words(register::PRAM_READ_FIFO, words)?;
+                    for (k, &b) in words.iter().enumerate() {
+                        if let Some(dst) = pos(k).and_then(|p| buf.get_mut(p)) {
+                            *dst = b;
+                        }
+                    }
+                }
+                Ram::Write(data) => {
+                    for (k, w) in words.iter_mut().enumerate() {
+                        *w = pos(k).and_then(|p| data.get(p)).copied().unwrap_or(0);
+                    }
+                    self.write_words(register::PRAM_WRITE_FIFO, words)?;
                 }
             }
-            done += n;
-        }
-        Ok(())
-    }
-
-    fn write_ram(&mut self, addr: u16, data: &[u8]) -> Result<(), Error<S::Error>> {
-        let lead = usize::from(addr & 3);
-        let total = (lead + data.len()).div_ceil(4);
-        self.start(register::ECAT_PRAM_WR_ADDR_LEN, register::ECAT_PRAM_WR_CMD, addr, data.len())?;
-        let mut done = 0usize;
-        while done < total {
-            let cmd = self.poll(register::ECAT_PRAM_WR_CMD, |v| v & PRAM_AVAILABLE != 0)?;
-            let space = usize::try_from(cmd >> 8 & 0x1F).unwrap_or(0).max(1);
-            let n = space.min(total - done).min(PORT_WORDS);
-            let mut words = [0u8; 4 * PORT_WORDS];
-            let words = words.get_mut(..4 * n).unwrap_or(&mut []);
-            for (k, w) in words.iter_mut().enumerate() {
-                let pos = (4 * done + k).checked_sub(lead);
-                *w = pos.and_then(|p| data.get(p)).copied().unwrap_or(0);
-            }
-            self.write_words(register::PRAM_WRITE_FIFO, words)?;
             done += n;
         }
         Ok(())
@@ -291,7 +297,7 @@ impl<S: SpiDevice> Esc for Lan9252<S> {
             self.registers(addr, regs, true)?;
         }
         if !ram.is_empty() {
-            self.read_ram(addr.max(PROCESS_RAM), ram)?;
+            self.ram(addr.max(PROCESS_RAM), Ram::Read(ram))?;
         }
         Ok(())
     }
@@ -309,7 +315,7 @@ impl<S: SpiDevice> Esc for Lan9252<S> {
             at = at.wrapping_add(u16::try_from(part.len()).unwrap_or(4));
         }
         if !ram.is_empty() {
-            self.write_ram(addr.max(PROCESS_RAM), ram)?;
+            self.ram(addr.max(PROCESS_RAM), Ram::Write(ram))?;
         }
         Ok(())
     }

@@ -108,11 +108,10 @@ impl Server<'_> {
         if let Err(((index, sub), abort)) = reply {
             *self.transfer = Transfer::None;
             out.len = 0;
-            out.push(&SDO_ABORT);
-            out.push(&[0x80]);
-            out.push(&index.to_le_bytes());
-            out.push(&[sub]);
-            out.push(&abort.to_u32().to_le_bytes());
+            let [i0, i1] = index.to_le_bytes();
+            let [a0, a1, a2, a3] = abort.to_u32().to_le_bytes();
+            // One push of the whole frame: fewer call sites than one per field.
+            out.push(&[SDO_ABORT[0], SDO_ABORT[1], 0x80, i0, i1, sub, a0, a1, a2, a3]);
         }
     }
 
@@ -140,21 +139,20 @@ impl Server<'_> {
         };
         let data = self.buf.get(..len).unwrap_or(&[]);
         let ca_bit = if ca { 0x10 } else { 0 };
-        out.push(&SDO_RESPONSE);
+        let [i0, i1] = index.to_le_bytes();
+        let [r0, r1] = SDO_RESPONSE;
         if len <= 4 && len > 0 {
             // Expedited: e = 1, s = 1, n = bytes of the 4 without data.
             let n = (4 - len) as u8;
-            out.push(&[0x43 | n << 2 | ca_bit]);
-            push_addr(out, index, sub);
+            out.push(&[r0, r1, 0x43 | n << 2 | ca_bit, i0, i1, sub]);
             out.push(data);
             out.pad_to(2 + 8);
             *self.transfer = Transfer::None;
             return Ok(());
         }
         // Normal: the size, then as much data as the mailbox holds.
-        out.push(&[0x41 | ca_bit]);
-        push_addr(out, index, sub);
-        out.push(&u32::try_from(len).unwrap_or(u32::MAX).to_le_bytes());
+        let [l0, l1, l2, l3] = u32::try_from(len).unwrap_or(u32::MAX).to_le_bytes();
+        out.push(&[r0, r1, 0x41 | ca_bit, i0, i1, sub, l0, l1, l2, l3]);
         let first = len.min(out.room());
         out.push(data.get(..first).unwrap_or(&[]));
         *self.transfer = match first < len {
@@ -175,10 +173,10 @@ impl Server<'_> {
         let rest = self.buf.get(*at..*len).unwrap_or(&[]);
         let n = rest.len().min(out.room().saturating_sub(3));
         let last = n == rest.len();
-        out.push(&SDO_RESPONSE);
         // A segment shorter than 7 bytes is padded to 7 and says how many are unused.
         let unused = 7usize.saturating_sub(n) as u8;
-        out.push(&[u8::from(t) << 4 | unused << 1 | u8::from(last)]);
+        let [r0, r1] = SDO_RESPONSE;
+        out.push(&[r0, r1, u8::from(t) << 4 | unused << 1 | u8::from(last)]);
         out.push(rest.get(..n).unwrap_or(&[]));
         out.pad_to(3 + 7);
         *at += n;
@@ -266,8 +264,8 @@ impl Server<'_> {
             }
             self.write_buffered(od, index, sub, ca, size).map_err(|e| (at, e))?;
         }
-        out.push(&SDO_RESPONSE);
-        out.push(&[0x20 | u8::from(t) << 4]);
+        let [r0, r1] = SDO_RESPONSE;
+        out.push(&[r0, r1, 0x20 | u8::from(t) << 4]);
         out.pad_to(2 + 8);
         Ok(())
     }
@@ -297,15 +295,10 @@ impl Server<'_> {
     }
 }
 
-fn push_addr(out: &mut Out<'_>, index: u16, sub: u8) {
-    out.push(&index.to_le_bytes());
-    out.push(&[sub]);
-}
-
 fn download_response(out: &mut Out<'_>, index: u16, sub: u8) {
-    out.push(&SDO_RESPONSE);
-    out.push(&[0x60]);
-    push_addr(out, index, sub);
+    let [i0, i1] = index.to_le_bytes();
+    let [r0, r1] = SDO_RESPONSE;
+    out.push(&[r0, r1, 0x60, i0, i1, sub]);
     out.pad_to(2 + 8);
 }
 
@@ -317,6 +310,12 @@ fn subs<D: Storage + ?Sized>(od: &D, index: u16) -> impl Iterator<Item = (u8, us
         .map(|e| (e.addr.sub, e.len))
 }
 
+/// Whether the dictionary has an entry of object `index`.
+#[inline(never)]
+fn has_object<D: Storage + ?Sized>(od: &D, index: u16) -> bool {
+    subs(od, index).next().is_some()
+}
+
 /// A complete-access upload from `first` (0 or 1) into `buf`: sub-index 0 as 16 bits (its
 /// byte and a padding byte, ETG.1000.6 §5.6.2.1.1), then sub-indices 1 to the value of
 /// sub-index 0, each in its bytes. Returns the length.
@@ -326,7 +325,7 @@ fn read_complete<D: Storage + ?Sized>(
     first: u8,
     buf: &mut [u8],
 ) -> Result<usize, SdoAbort> {
-    if subs(od, index).next().is_none() {
+    if !has_object(od, index) {
         return Err(SdoAbort::NoSuchObject);
     }
     let mut count = [0u8; 1];
@@ -353,7 +352,7 @@ fn write<D: Storage + ?Sized>(
     data: &[u8],
     pdo_writable: bool,
 ) -> Result<(), SdoAbort> {
-    let has_subs = subs(od, index).next().is_some();
+    let has_subs = has_object(od, index);
     if (!ca || !has_subs) && od.access(index, sub).is_none() {
         // No such object or sub-index: the dictionary's own answer.
         od.read(index, sub, &mut [])?;

@@ -174,9 +174,8 @@ pub(super) fn start(data: &[u8], d: &dyn Describe, out: &mut Out<'_>) -> Option<
     let mut none = Out { buf: &mut [], len: 0 };
     let mut w = Window { out: &mut none, skip: 0, take: 0, total: 0 };
     if let Err(abort) = payload(&p, d, &mut w) {
-        out.push(&INFO);
-        out.push(&[ERROR, 0, 0, 0]);
-        out.push(&abort.to_u32().to_le_bytes());
+        let [a0, a1, a2, a3] = abort.to_u32().to_le_bytes();
+        out.push(&[INFO[0], INFO[1], ERROR, 0, 0, 0, a0, a1, a2, a3]);
         return None;
     }
     let per = per_fragment(out);
@@ -194,11 +193,10 @@ pub(super) fn next(p: &mut Pending, d: &dyn Describe, out: &mut Out<'_>) {
     let per = per_fragment(out);
     let left = p.count.saturating_sub(p.next + 1);
     let incomplete = if left > 0 { 0x80 } else { 0 };
-    out.push(&INFO);
-    // The reply's opcode is the request's plus one; written after the payload decided it.
-    let at = out.len;
-    out.push(&[0, 0]);
-    out.push(&left.to_le_bytes());
+    // The reply's opcode (the request's plus one) is written after the payload decided it.
+    let at = out.len + INFO.len();
+    let [l0, l1] = left.to_le_bytes();
+    out.push(&[INFO[0], INFO[1], 0, 0, l0, l1]);
     let skip = usize::from(p.next) * per;
     let mut w = Window { out, skip, take: per, total: 0 };
     let opcode = payload(p, d, &mut w).unwrap_or(ERROR);

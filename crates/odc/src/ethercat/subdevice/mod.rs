@@ -387,33 +387,33 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
             return Ok(());
         }
         if self.state == state::OP {
-            for spec in cfg.sync_managers.iter().filter(|s| s.kind == al::OUTPUTS) {
-                let regs = SmRegs::read(esc, spec.number)?;
-                let n = usize::from(regs.len).min(IMG);
-                if let Some(image) = self.image.get_mut(..n) {
-                    esc.read(regs.start, image)?;
-                    let mapped = self.mapped.get(..self.used).unwrap_or(&[]);
-                    pdo::image_to_dictionary(mapped, spec.number, image, od);
-                }
-            }
+            self.exchange(cfg, esc, od, al::OUTPUTS)?;
         }
         app.cycle(od, self.state);
-        self.write_inputs(cfg, esc, od)
+        self.exchange(cfg, esc, od, al::INPUTS)
     }
 
-    fn write_inputs<E: Esc + ?Sized, D: Storage + ?Sized>(
+    /// The process data of the sync managers of `kind`: [`al::OUTPUTS`] from the ESC into
+    /// the dictionary, [`al::INPUTS`] from the dictionary (gaps and unmapped bits as zeros)
+    /// to the ESC. One loop for both directions: the firmware links it once.
+    #[inline(never)]
+    fn exchange<E: Esc + ?Sized, D: Storage + ?Sized>(
         &mut self,
         cfg: &Config<'_>,
         esc: &mut E,
-        od: &D,
+        od: &mut D,
+        kind: u8,
     ) -> Result<(), E::Error> {
-        for spec in cfg.sync_managers.iter().filter(|s| s.kind == al::INPUTS) {
+        for spec in cfg.sync_managers.iter().filter(|s| s.kind == kind) {
             let regs = SmRegs::read(esc, spec.number)?;
             let n = usize::from(regs.len).min(IMG);
-            if let Some(image) = self.image.get_mut(..n) {
-                // Gaps and unmapped bits go out as zeros.
+            let Some(image) = self.image.get_mut(..n) else { continue };
+            let mapped = self.mapped.get(..self.used).unwrap_or(&[]);
+            if kind == al::OUTPUTS {
+                esc.read(regs.start, image)?;
+                pdo::image_to_dictionary(mapped, spec.number, image, od);
+            } else {
                 image.fill(0);
-                let mapped = self.mapped.get(..self.used).unwrap_or(&[]);
                 pdo::dictionary_to_image(mapped, spec.number, od, image);
                 esc.write(regs.start, image)?;
             }
@@ -462,7 +462,7 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
             Ok(()) => {
                 self.state = requested;
                 if matches!(requested, state::SAFE_OP) {
-                    self.write_inputs(cfg, esc, od)?;
+                    self.exchange(cfg, esc, od, al::INPUTS)?;
                 }
                 self.set_status(esc, code::NONE)
             }
@@ -693,6 +693,7 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
         HEADER + n
     }
 
+    #[inline(never)]
     fn error(&mut self, detail: u16, room: usize) -> usize {
         let d = detail.to_le_bytes();
         let data = [0x01, 0x00, d[0], d[1]];

@@ -206,17 +206,8 @@ pub fn image_to_dictionary<D: Storage + ?Sized>(
     od: &mut D,
 ) {
     for e in entries.iter().filter(|e| e.sm == sm && e.index != 0) {
-        let Some(dst) = od.raw_mut(e.index, e.sub) else { continue };
-        let (bit, bits) = (usize::from(e.bit), usize::from(e.bits));
-        if bit % 8 == 0 && bits % 8 == 0 {
-            let (from, n) = (bit / 8, bits / 8);
-            if let (Some(s), Some(d)) = (image.get(from..from + n), dst.get_mut(..n)) {
-                d.copy_from_slice(s);
-            }
-            continue;
-        }
-        for i in 0..bits {
-            set_bit(dst, i, get_bit(image, bit + i));
+        if let Some(dst) = od.raw_mut(e.index, e.sub) {
+            copy_bits(image, usize::from(e.bit), dst, 0, usize::from(e.bits));
         }
     }
 }
@@ -230,18 +221,26 @@ pub fn dictionary_to_image<D: Storage + ?Sized>(
     image: &mut [u8],
 ) {
     for e in entries.iter().filter(|e| e.sm == sm && e.index != 0) {
-        let Some(src) = od.raw(e.index, e.sub) else { continue };
-        let (bit, bits) = (usize::from(e.bit), usize::from(e.bits));
-        if bit % 8 == 0 && bits % 8 == 0 {
-            let (to, n) = (bit / 8, bits / 8);
-            if let (Some(d), Some(s)) = (image.get_mut(to..to + n), src.get(..n)) {
-                d.copy_from_slice(s);
-            }
-            continue;
+        if let Some(src) = od.raw(e.index, e.sub) {
+            copy_bits(src, 0, image, usize::from(e.bit), usize::from(e.bits));
         }
-        for i in 0..bits {
-            set_bit(image, bit + i, get_bit(src, i));
+    }
+}
+
+/// Copies `bits` bits of `src` from bit `from` into `dst` from bit `to`, LSB first; whole
+/// bytes at byte boundaries as one slice copy. One copy for both directions, not generic:
+/// the firmware links it once.
+#[inline(never)]
+fn copy_bits(src: &[u8], from: usize, dst: &mut [u8], to: usize, bits: usize) {
+    if from.is_multiple_of(8) && to.is_multiple_of(8) && bits.is_multiple_of(8) {
+        let (s, d, n) = (from / 8, to / 8, bits / 8);
+        if let (Some(s), Some(d)) = (src.get(s..s + n), dst.get_mut(d..d + n)) {
+            d.copy_from_slice(s);
         }
+        return;
+    }
+    for i in 0..bits {
+        set_bit(dst, to + i, get_bit(src, from + i));
     }
 }
 
@@ -257,5 +256,18 @@ mod tests {
         set_bit(&mut b, 9, true);
         assert_eq!(b, [0x01, 0x02]);
         assert!(get_bit(&b, 9) && !get_bit(&b, 8));
+    }
+
+    #[test]
+    fn copy_bits_within_and_across_bytes() {
+        // Bits 4..12 of the source (0xBA: A from byte 0's high nibble, B from byte 1's low
+        // one) to bit 2 of a zeroed destination: 0xBA << 2 = 0x2E8.
+        let mut d = [0u8; 2];
+        copy_bits(&[0xA0, 0x0B], 4, &mut d, 2, 8);
+        assert_eq!(d, [0xE8, 0x02]);
+        // Whole bytes at byte boundaries, the rest of the destination untouched.
+        let mut d = [0xFFu8; 3];
+        copy_bits(&[1, 2, 3], 8, &mut d, 8, 16);
+        assert_eq!(d, [0xFF, 2, 3]);
     }
 }
