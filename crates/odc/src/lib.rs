@@ -85,7 +85,7 @@
 //!   the traits generated code implements are always there);
 //! - with `std`: `master` (`odc::master`), `transport-mem`, `transport-tcp` and `transport-socketcand`.
 //!
-//! Off by default: `std` links std; `alloc` adds [`slave::RuntimeTable`], a dictionary
+//! Off by default: `std` links std; `alloc` adds `slave::RuntimeTable`, a dictionary
 //! table built at run time (the simulator's; `std` implies it); `subdevice` adds
 //! `ethercat::subdevice`, the device side of EtherCAT (AL states, mailbox with CoE, SDO
 //! Information and FoE, process data) over an ESC's PDI, `no_std` without heap; `esc-spi` adds

@@ -141,7 +141,7 @@ pub struct EntryMeta {
 /// A dictionary whose values the device's own stacks reach as bytes: process data copies
 /// mapped entries between them and the sync managers, complete access and SDO Information walk
 /// the entries in address order. Generated `Dictionary` types implement it, and so does
-/// [`RuntimeDictionary`] (feature `alloc`).
+/// `RuntimeDictionary` (feature `alloc`).
 pub trait Storage: ObjectDictionary {
     /// The stored bytes of `index:sub` (no access check).
     fn raw(&self, index: u16, sub: u8) -> Option<&[u8]>;
