@@ -387,7 +387,7 @@ fn run<C: Clock + Copy + Send + Sync>(clock: C, o: &Options) -> Result<Vec<Repor
     if let Some(Err(e)) = &rt {
         println!("no real-time priority for the cycle thread ({e}): it ran at normal priority");
     }
-    let (ticks, skipped) = cycled?;
+    let (ticks, skipped, counters) = cycled?;
 
     println!(
         "three drives on one bus ({}), {elapsed} of a {PERIOD} SYNC cycle; load average {} at the end:",
@@ -409,6 +409,7 @@ fn run<C: Clock + Copy + Send + Sync>(clock: C, o: &Options) -> Result<Vec<Repor
     let f = trace::figures(&ticks, &wire, &[SYNC_TPDO_NODE.get()], PERIOD, skipped)
         .ok_or("no SYNC went out")?;
     println!("{f}");
+    println!("{counters}");
     println!("threads (CPU ms run / ms waiting for a CPU):");
     for (name, run, wait) in threads {
         println!("  {name}: {run} / {wait}");
@@ -422,13 +423,15 @@ async fn cycle<C: Clock>(
     m: &Master<C>,
     axes: &Axes,
     finished: &AtomicBool,
-) -> Result<(Vec<trace::Tick>, u64), Error> {
+) -> Result<(Vec<trace::Tick>, u64, trace::Counters), Error> {
     let mut ticks = Vec::with_capacity(16_384);
     let mut cycle = m.cycle(PERIOD);
+    let counters = trace::Counters::read();
     while !finished.load(Ordering::Relaxed) {
         let before = trace::schedstat();
         let due = cycle.tick().await;
         let woke = m.now();
+        let mono_us = trace::monotonic_us();
         if let Some(a) = axes.a1.get() {
             a.cycle(m)?;
         }
@@ -442,9 +445,9 @@ async fn cycle<C: Clock>(
         let after = trace::schedstat();
         let delta = |f: fn((u64, u64)) -> u64| Some(f(after?).saturating_sub(f(before?)));
         let (ran_ns, queued_ns) = (delta(|s| s.0), delta(|s| s.1));
-        ticks.push(trace::Tick { due, woke, queued_ns, ran_ns });
+        ticks.push(trace::Tick { due, woke, queued_ns, ran_ns, mono_us });
     }
-    Ok((ticks, cycle.missed()))
+    Ok((ticks, cycle.missed(), trace::Counters::read().since(&counters)))
 }
 
 /// The three drives' lives, at once.
