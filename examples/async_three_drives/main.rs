@@ -100,6 +100,9 @@ pub struct Options {
     pub realtime: Option<u8>,
     /// The work thread's, or none.
     pub work_realtime: Option<u8>,
+    /// All of the process's memory locked in RAM and faulted in, now and as it grows
+    /// (`mlockall`), so that no page fault stalls the cycle thread.
+    pub lock_memory: bool,
 }
 
 impl Options {
@@ -113,6 +116,7 @@ impl Options {
             one_thread: false,
             realtime: Some(RT_PRIORITY),
             work_realtime: Some(WORK_RT_PRIORITY),
+            lock_memory: true,
         }
     }
 }
@@ -216,6 +220,7 @@ pub fn main() -> Result<(), Error> {
     if let Some(p) = priority("ODC_WORK_RT_PRIORITY")? {
         o.work_realtime = p;
     }
+    o.lock_memory = !set("ODC_NO_MLOCK");
     if set("ODC_NO_RT") {
         (o.realtime, o.work_realtime) = (None, None);
     }
@@ -252,10 +257,24 @@ pub fn program(o: &Options) -> Result<Vec<Report>, Error> {
         if o.tokio_timer { "tokio's timer" } else { "timerfd" },
         trace::load_average().as_deref().unwrap_or("?"),
     );
-    if o.tokio_timer {
-        return run(TokioClock::new(), o);
+    // Locked before the threads start, so that their stacks are faulted in as they are mapped.
+    let locked = o.lock_memory.then(|| {
+        use rustix::mm::{MlockAllFlags, mlockall};
+        mlockall(MlockAllFlags::CURRENT | MlockAllFlags::FUTURE)
+    });
+    if let Some(Err(e)) = locked {
+        println!("memory not locked ({e}): the cycle thread may take page faults");
     }
-    run(odc::asynch::tokio::TimerfdClock::new(), o)
+    let r = if o.tokio_timer {
+        run(TokioClock::new(), o)
+    } else {
+        run(odc::asynch::tokio::TimerfdClock::new(), o)
+    };
+    if let Some(Ok(())) = locked {
+        // The process goes on (a test, say): its memory need not stay locked.
+        let _ = rustix::mm::munlockall();
+    }
+    r
 }
 
 /// A current-thread tokio runtime with its reactor and timer.
@@ -307,7 +326,10 @@ fn run<C: Clock + Copy + Send + Sync>(clock: C, o: &Options) -> Result<Vec<Repor
             (addr, Some(handle), devices)
         }
     };
-    let wire = trace::Shared::default();
+    // Room for every cycle's record from the start (and some for the configuration's
+    // seconds): a record that grew during the cycle would map new memory on the cycle thread.
+    let cycles = usize::try_from((o.seconds + 30) * 1_000_000 / PERIOD.as_micros())?;
+    let wire = trace::Wire::shared(cycles);
     let master = Master::new(clock).with_timeout(Duration::from_secs(1));
     let m = &master;
     let axes = Axes::default();
@@ -334,7 +356,7 @@ fn run<C: Clock + Copy + Send + Sync>(clock: C, o: &Options) -> Result<Vec<Repor
                 (d, t)
             };
             let threads = async {
-                let (c, (d, t)) = tokio::join!(cycle(m, &axes, &finished), work);
+                let (c, (d, t)) = tokio::join!(cycle(m, &axes, &finished, cycles), work);
                 ((c, d), t)
             };
             tokio::select! {
@@ -350,7 +372,7 @@ fn run<C: Clock + Copy + Send + Sync>(clock: C, o: &Options) -> Result<Vec<Repor
                 runtime()?.block_on(async {
                     let (tx, rx) = connect.await?;
                     tokio::select! {
-                        c = cycle(m, &axes, &finished) => Ok::<_, Error>((c, rt)),
+                        c = cycle(m, &axes, &finished, cycles) => Ok::<_, Error>((c, rt)),
                         r = m.run(tx, rx) => Err(bus_ended(r)),
                     }
                 })
@@ -418,13 +440,14 @@ fn run<C: Clock + Copy + Send + Sync>(clock: C, o: &Options) -> Result<Vec<Repor
 }
 
 /// The cycle: each configured axis's RPDO, then the SYNC, every period until `finished`; each
-/// tick's record and the grid points it skipped.
+/// tick's record (room for `cycles`), the grid points it skipped, and the counters' growth.
 async fn cycle<C: Clock>(
     m: &Master<C>,
     axes: &Axes,
     finished: &AtomicBool,
+    cycles: usize,
 ) -> Result<(Vec<trace::Tick>, u64, trace::Counters), Error> {
-    let mut ticks = Vec::with_capacity(16_384);
+    let mut ticks = Vec::with_capacity(cycles);
     let mut cycle = m.cycle(PERIOD);
     let counters = trace::Counters::read();
     while !finished.load(Ordering::Relaxed) {

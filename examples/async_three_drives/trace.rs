@@ -56,9 +56,8 @@ pub fn parse_faults(stat: &str) -> Option<(u64, u64)> {
 
 /// A thread's voluntary and involuntary context switches in its `/proc/…/status` text.
 pub fn parse_switches(status: &str) -> Option<(u64, u64)> {
-    let field = |name: &str| {
-        status.lines().find_map(|l| l.strip_prefix(name)?.trim().parse::<u64>().ok())
-    };
+    let field =
+        |name: &str| status.lines().find_map(|l| l.strip_prefix(name)?.trim().parse::<u64>().ok());
     Some((field("voluntary_ctxt_switches:")?, field("nonvoluntary_ctxt_switches:")?))
 }
 
@@ -152,6 +151,17 @@ pub struct Wire {
 
 /// The shared [`Wire`] record.
 pub type Shared = Arc<Mutex<Wire>>;
+
+impl Wire {
+    /// An empty record with room for `cycles` SYNCs and three TPDOs each.
+    pub fn shared(cycles: usize) -> Shared {
+        Arc::new(Mutex::new(Self {
+            syncs: Vec::with_capacity(cycles),
+            tpdos: Vec::with_capacity(cycles * 3),
+            ..Self::default()
+        }))
+    }
+}
 
 fn lock(w: &Shared) -> std::sync::MutexGuard<'_, Wire> {
     w.lock().unwrap_or_else(PoisonError::into_inner)
@@ -433,7 +443,8 @@ mod tests {
 
     #[test]
     fn switches_come_from_both_status_lines() {
-        let status = "Name:\tcycle\nvoluntary_ctxt_switches:\t10051\nnonvoluntary_ctxt_switches:\t2\n";
+        let status =
+            "Name:\tcycle\nvoluntary_ctxt_switches:\t10051\nnonvoluntary_ctxt_switches:\t2\n";
         assert_eq!(parse_switches(status), Some((10051, 2)));
         assert_eq!(parse_switches("voluntary_ctxt_switches:\t1\n"), None);
     }
