@@ -16,21 +16,34 @@
 //! on a thread of their own, with a current-thread tokio runtime, the timerfd clock (absolute
 //! deadlines on the period's grid: no drift, microsecond wakes) and a real-time priority
 //! (SCHED_FIFO 40, where allowed); the program's work (SDO configuration, the moves) on
-//! another runtime and thread (SCHED_FIFO 20), sharing the one `Master` by reference. Ordinary
-//! threads then no longer delay the cycle: what is left is the machine's own wake-up latency
-//! (README). The master's futures are plain `core::future`s: the library has no runtime or
-//! thread of its own, the program chooses.
+//! another runtime and thread (SCHED_FIFO 20), sharing the one `Master` by reference; the
+//! process's memory locked and faulted in before the threads start (`mlockall`, current and
+//! future) and the cycle's records sized for the whole run up front, so that the cycle thread
+//! takes no page fault and maps no memory while it runs. Ordinary threads then no longer delay
+//! the cycle: what is left is the machine's own wake-up latency (README). The master's futures
+//! are plain `core::future`s: the library has no runtime or thread of its own, the program
+//! chooses.
 //!
 //! Environment, for comparison: `ODC_ONE_THREAD=1` runs the cycle, the bus task and the
 //! drives' work on one tokio thread (the layout of the first version); `ODC_NO_RT=1` leaves the
-//! cycle thread at normal priority, `ODC_RT_PRIORITY=N` gives it another; `ODC_TOKIO_TIMER=1` times the cycle with tokio's own timer
-//! (whole milliseconds, rounded up) instead of a timerfd.
+//! cycle thread at normal priority, `ODC_RT_PRIORITY=N` gives it another; `ODC_TOKIO_TIMER=1`
+//! times the cycle with tokio's own timer (whole milliseconds, rounded up) instead of a
+//! timerfd; `ODC_NO_MLOCK=1` leaves memory unlocked.
 //!
 //! Printed: the cycles, the missed ones (grid points without a SYNC, because one left more than
 //! a period late), SYNC intervals (taken where each SYNC was handed to the socket), the cycles
 //! whose TPDOs did not all come back before the next SYNC, the timer's wake-up latency and how
-//! much of the late wakes the cycle thread spent waiting for a CPU, and each thread's CPU time.
-//! `bash examples/async_three_drives/measure.sh` runs the layouts side by side (README).
+//! much of the late wakes the cycle thread spent waiting for a CPU, the five latest wakes (with
+//! their `CLOCK_MONOTONIC` time), the steal time `/proc/stat` counted on each CPU during the
+//! cycle, the cycle thread's page faults and context switches, and each thread's CPU time.
+//!
+//! Telling the machine from the program: a late wake in which the thread neither ran nor
+//! waited for a CPU was asleep while its timer was due. Steal time says when the hypervisor
+//! admits to having run something else; on the VM this was measured on, it often does not
+//! (README). `python3 examples/async_three_drives/vmpause.py -- COMMAND` (root) runs a program
+//! under a kernel trace and says, for each late wake printed, whether the virtual CPUs were
+//! paused meanwhile. `bash examples/async_three_drives/measure.sh` runs the layouts side by
+//! side, each under it, with `cyclictest` for the machine alone (README).
 
 mod trace;
 

@@ -11,10 +11,13 @@ switches: a busy CPU with no event at all for longer than that ran no kernel cod
 interrupts on in the meantime. In a virtual machine that is the hypervisor not running the
 virtual CPU (or, on one CPU only, the guest kernel with interrupts off for that long).
 
-Prints COMMAND's output, then: those silences per CPU (how many, the longest, how many on
+VMPAUSE_KEEP=FILE keeps the trace in FILE. Prints COMMAND's output, then: those silences per CPU (how many, the longest, how many on
 every CPU at once), the steal time /proc/stat counted over the same run (what the hypervisor
 admits to), and, for the late wakes COMMAND listed as async_three_drives prints them
-("  SECONDS.MICROS: LATE = ..." under "latest wakes"), whether each fell in a silence.
+("  SECONDS.MICROS: LATE = ..." under "latest wakes"), whether each fell in a silence, how late
+its thread's timer interrupt came and which task the interrupt found, and how long the thread
+then waited for the CPU and behind which task (a kernel built with preempt=none lets a task in
+a system call keep the CPU from a real-time thread until the call ends or yields).
 """
 
 import gzip
@@ -24,8 +27,11 @@ import subprocess
 import sys
 
 TRACING = "/sys/kernel/tracing"
-EVENTS = ["sched/sched_switch", "irq_vectors/local_timer_entry", "power/cpu_idle"]
-LINE = re.compile(r"^\s*.+?-\d+\s+\[(\d+)\]\s+\S+\s+([\d.]+):\s+(\w+):\s*(.*)$")
+EVENTS = ["sched/sched_switch", "irq_vectors/local_timer_entry", "power/cpu_idle",
+          "timer/hrtimer_start", "timer/hrtimer_expire_entry"]
+# The thread whose timer wakes are followed (async_three_drives' cycle thread).
+THREAD = "cycle"
+LINE = re.compile(r"^\s*(.+?)-(\d+)\s+\[(\d+)\]\s+\S+\s+([\d.]+):\s+(\w+):\s*(.*)$")
 WAKE = re.compile(r"^\s+(\d+)\.(\d{6}): (\d+) = ")
 
 
@@ -67,7 +73,7 @@ def silences(lines, limit_us):
         m = LINE.match(line)
         if not m:
             continue
-        cpu, t, name, rest = int(m.group(1)), float(m.group(2)), m.group(3), m.group(4)
+        cpu, t, name, rest = int(m.group(3)), float(m.group(4)), m.group(5), m.group(6)
         first = t if first is None else first
         end = t
         if cpu in last and not idle.get(cpu) and (t - last[cpu]) * 1e6 > limit_us:
@@ -77,6 +83,42 @@ def silences(lines, limit_us):
             # state=4294967295 (-1) is the exit from idle.
             idle[cpu] = not rest.startswith("state=4294967295")
     return found, (first, end)
+
+
+def timer_wakes(lines):
+    """The followed thread's timerfd wakes: (due, irq, cpu, running at the irq, on CPU, held
+    the CPU meanwhile), CLOCK_MONOTONIC s: when the timer was due, when its interrupt came,
+    which task the interrupt found, and when the thread ran after it and who ran before."""
+    armed, pending, out = {}, {}, []
+    # Task names by pid, from the switches (the trace writes "<...>" for a name it did not keep).
+    names = {}
+    for line in lines:
+        for comm, pid in re.findall(r"(?:prev|next)_comm=(.*?) (?:prev|next)_pid=(\d+)", line):
+            names[pid] = comm
+    for line in lines:
+        m = LINE.match(line)
+        if not m:
+            continue
+        cpu, t, name, rest = int(m.group(3)), float(m.group(4)), m.group(5), m.group(6)
+        if name == "hrtimer_start" and "function=timerfd_tmrproc" in rest:
+            f = dict(kv.split("=", 1) for kv in rest.split() if "=" in kv)
+            armed[f["hrtimer"]] = int(f["expires"]) / 1e9
+        elif name == "hrtimer_expire_entry":
+            f = dict(kv.split("=", 1) for kv in rest.split() if "=" in kv)
+            due = armed.pop(f.get("hrtimer"), None)
+            if due is not None:
+                task = f"{names.get(m.group(2), m.group(1))}, pid {m.group(2)}"
+                pending[cpu] = [due, t, cpu, task]
+        elif name == "sched_switch" and cpu in pending:
+            nxt = re.search(r"next_comm=(.*?) next_pid", rest)
+            if nxt and nxt.group(1) == THREAD:
+                prev = re.search(r"prev_comm=(.*?) prev_pid", rest)
+                out.append((*pending.pop(cpu), t, prev.group(1) if prev else "?"))
+            elif re.search(r"prev_comm=(.*?) prev_pid", rest).group(1) == THREAD:
+                # The thread leaves the CPU and no switch to it was recorded (the trace keeps
+                # none for some tasks): it ran by then at the latest.
+                out.append((*pending.pop(cpu), t, "at the latest; the switch to it not traced"))
+    return out
 
 
 def main():
@@ -98,6 +140,8 @@ def main():
     try:
         write(f"{inst}/trace_clock", "mono")
         write(f"{inst}/buffer_size_kb", "65536")
+        # Only the followed thread's timers are armed in the trace.
+        write(f"{inst}/events/timer/hrtimer_start/filter", f'comm == "{THREAD}"')
         for e in EVENTS:
             if os.path.exists(f"{inst}/events/{e}"):
                 write(f"{inst}/events/{e}/enable", "1")
@@ -113,6 +157,9 @@ def main():
         write(f"{inst}/tracing_on", "0")
         with open(f"{inst}/trace") as f:
             lines = f.readlines()
+        if os.environ.get("VMPAUSE_KEEP"):
+            with open(os.environ["VMPAUSE_KEEP"], "w") as f:
+                f.writelines(lines)
         overrun = 0
         for cpu in sorted(os.listdir(f"{inst}/per_cpu")):
             with open(f"{inst}/per_cpu/{cpu}/stats") as f:
@@ -138,14 +185,22 @@ def main():
     print("  steal time over the same run (/proc/stat): " + ", ".join(
         f"cpu{c} {after[c] - before.get(c, 0)} ms" for c in cpus))
     wakes = [m for m in map(WAKE.match, out) if m]
+    timers = timer_wakes(lines)
     if wakes:
-        print("  the program's latest wakes (due .. woke, CLOCK_MONOTONIC s):")
+        print(f"  the program's latest wakes (due .. woke, CLOCK_MONOTONIC s), its timer "
+              f"interrupt (after due, the task it found) and the thread on a CPU (after the "
+              f"interrupt, the task that had the CPU until then):")
     for m in wakes:
         woke = int(m.group(1)) + int(m.group(2)) / 1e6
         due = woke - int(m.group(3)) / 1e6
         hit = [(c, s, e) for c, s, e in found if s < woke and due < e]
         where = "; ".join(f"cpu{c} silent {s:.6f} .. {e:.6f} ({(e - s) * 1000:.1f} ms)"
                           for c, s, e in hit) or "no CPU silent"
+        timer = min(timers, key=lambda w: abs(w[0] - due), default=None)
+        if timer and abs(timer[0] - due) < 100e-6:
+            d, irq, cpu, found_task, ran, held = timer
+            where += (f"; interrupt +{(irq - d) * 1e6:.0f} µs on cpu{cpu} ({found_task}), "
+                      f"on CPU +{(ran - irq) * 1e6:.0f} µs ({held})")
         print(f"    {due:.6f} .. {woke:.6f}: {where}")
     sys.exit(rc)
 
