@@ -16,21 +16,34 @@
 //! on a thread of their own, with a current-thread tokio runtime, the timerfd clock (absolute
 //! deadlines on the period's grid: no drift, microsecond wakes) and a real-time priority
 //! (SCHED_FIFO 40, where allowed); the program's work (SDO configuration, the moves) on
-//! another runtime and thread (SCHED_FIFO 20), sharing the one `Master` by reference. Ordinary
-//! threads then no longer delay the cycle: what is left is the machine's own wake-up latency
-//! (README). The master's futures are plain `core::future`s: the library has no runtime or
-//! thread of its own, the program chooses.
+//! another runtime and thread (SCHED_FIFO 20), sharing the one `Master` by reference; the
+//! process's memory locked and faulted in before the threads start (`mlockall`, current and
+//! future) and the cycle's records sized for the whole run up front, so that the cycle thread
+//! takes no page fault and maps no memory while it runs. Ordinary threads then no longer delay
+//! the cycle: what is left is the machine's own wake-up latency (README). The master's futures
+//! are plain `core::future`s: the library has no runtime or thread of its own, the program
+//! chooses.
 //!
 //! Environment, for comparison: `ODC_ONE_THREAD=1` runs the cycle, the bus task and the
 //! drives' work on one tokio thread (the layout of the first version); `ODC_NO_RT=1` leaves the
-//! cycle thread at normal priority, `ODC_RT_PRIORITY=N` gives it another; `ODC_TOKIO_TIMER=1` times the cycle with tokio's own timer
-//! (whole milliseconds, rounded up) instead of a timerfd.
+//! cycle thread at normal priority, `ODC_RT_PRIORITY=N` gives it another; `ODC_TOKIO_TIMER=1`
+//! times the cycle with tokio's own timer (whole milliseconds, rounded up) instead of a
+//! timerfd; `ODC_NO_MLOCK=1` leaves memory unlocked.
 //!
 //! Printed: the cycles, the missed ones (grid points without a SYNC, because one left more than
 //! a period late), SYNC intervals (taken where each SYNC was handed to the socket), the cycles
 //! whose TPDOs did not all come back before the next SYNC, the timer's wake-up latency and how
-//! much of the late wakes the cycle thread spent waiting for a CPU, and each thread's CPU time.
-//! `bash examples/async_three_drives/measure.sh` runs the layouts side by side (README).
+//! much of the late wakes the cycle thread spent waiting for a CPU, the five latest wakes (with
+//! their `CLOCK_MONOTONIC` time), the steal time `/proc/stat` counted on each CPU during the
+//! cycle, the cycle thread's page faults and context switches, and each thread's CPU time.
+//!
+//! Telling the machine from the program: a late wake in which the thread neither ran nor
+//! waited for a CPU was asleep while its timer was due. Steal time says when the hypervisor
+//! admits to having run something else; on the VM this was measured on, it often does not
+//! (README). `python3 examples/async_three_drives/vmpause.py -- COMMAND` (root) runs a program
+//! under a kernel trace and says, for each late wake printed, whether the virtual CPUs were
+//! paused meanwhile. `bash examples/async_three_drives/measure.sh` runs the layouts side by
+//! side, each under it, with `cyclictest` for the machine alone (README).
 
 mod trace;
 
@@ -100,6 +113,9 @@ pub struct Options {
     pub realtime: Option<u8>,
     /// The work thread's, or none.
     pub work_realtime: Option<u8>,
+    /// All of the process's memory locked in RAM and faulted in, now and as it grows
+    /// (`mlockall`), so that no page fault stalls the cycle thread.
+    pub lock_memory: bool,
 }
 
 impl Options {
@@ -113,6 +129,7 @@ impl Options {
             one_thread: false,
             realtime: Some(RT_PRIORITY),
             work_realtime: Some(WORK_RT_PRIORITY),
+            lock_memory: true,
         }
     }
 }
@@ -216,6 +233,7 @@ pub fn main() -> Result<(), Error> {
     if let Some(p) = priority("ODC_WORK_RT_PRIORITY")? {
         o.work_realtime = p;
     }
+    o.lock_memory = !set("ODC_NO_MLOCK");
     if set("ODC_NO_RT") {
         (o.realtime, o.work_realtime) = (None, None);
     }
@@ -252,10 +270,24 @@ pub fn program(o: &Options) -> Result<Vec<Report>, Error> {
         if o.tokio_timer { "tokio's timer" } else { "timerfd" },
         trace::load_average().as_deref().unwrap_or("?"),
     );
-    if o.tokio_timer {
-        return run(TokioClock::new(), o);
+    // Locked before the threads start, so that their stacks are faulted in as they are mapped.
+    let locked = o.lock_memory.then(|| {
+        use rustix::mm::{MlockAllFlags, mlockall};
+        mlockall(MlockAllFlags::CURRENT | MlockAllFlags::FUTURE)
+    });
+    if let Some(Err(e)) = locked {
+        println!("memory not locked ({e}): the cycle thread may take page faults");
     }
-    run(odc::asynch::tokio::TimerfdClock::new(), o)
+    let r = if o.tokio_timer {
+        run(TokioClock::new(), o)
+    } else {
+        run(odc::asynch::tokio::TimerfdClock::new(), o)
+    };
+    if let Some(Ok(())) = locked {
+        // The process goes on (a test, say): its memory need not stay locked.
+        let _ = rustix::mm::munlockall();
+    }
+    r
 }
 
 /// A current-thread tokio runtime with its reactor and timer.
@@ -307,7 +339,10 @@ fn run<C: Clock + Copy + Send + Sync>(clock: C, o: &Options) -> Result<Vec<Repor
             (addr, Some(handle), devices)
         }
     };
-    let wire = trace::Shared::default();
+    // Room for every cycle's record from the start (and some for the configuration's
+    // seconds): a record that grew during the cycle would map new memory on the cycle thread.
+    let cycles = usize::try_from((o.seconds + 30) * 1_000_000 / PERIOD.as_micros())?;
+    let wire = trace::Wire::shared(cycles);
     let master = Master::new(clock).with_timeout(Duration::from_secs(1));
     let m = &master;
     let axes = Axes::default();
@@ -334,7 +369,7 @@ fn run<C: Clock + Copy + Send + Sync>(clock: C, o: &Options) -> Result<Vec<Repor
                 (d, t)
             };
             let threads = async {
-                let (c, (d, t)) = tokio::join!(cycle(m, &axes, &finished), work);
+                let (c, (d, t)) = tokio::join!(cycle(m, &axes, &finished, cycles), work);
                 ((c, d), t)
             };
             tokio::select! {
@@ -350,7 +385,7 @@ fn run<C: Clock + Copy + Send + Sync>(clock: C, o: &Options) -> Result<Vec<Repor
                 runtime()?.block_on(async {
                     let (tx, rx) = connect.await?;
                     tokio::select! {
-                        c = cycle(m, &axes, &finished) => Ok::<_, Error>((c, rt)),
+                        c = cycle(m, &axes, &finished, cycles) => Ok::<_, Error>((c, rt)),
                         r = m.run(tx, rx) => Err(bus_ended(r)),
                     }
                 })
@@ -387,7 +422,7 @@ fn run<C: Clock + Copy + Send + Sync>(clock: C, o: &Options) -> Result<Vec<Repor
     if let Some(Err(e)) = &rt {
         println!("no real-time priority for the cycle thread ({e}): it ran at normal priority");
     }
-    let (ticks, skipped) = cycled?;
+    let (ticks, skipped, counters) = cycled?;
 
     println!(
         "three drives on one bus ({}), {elapsed} of a {PERIOD} SYNC cycle; load average {} at the end:",
@@ -409,6 +444,7 @@ fn run<C: Clock + Copy + Send + Sync>(clock: C, o: &Options) -> Result<Vec<Repor
     let f = trace::figures(&ticks, &wire, &[SYNC_TPDO_NODE.get()], PERIOD, skipped)
         .ok_or("no SYNC went out")?;
     println!("{f}");
+    println!("{counters}");
     println!("threads (CPU ms run / ms waiting for a CPU):");
     for (name, run, wait) in threads {
         println!("  {name}: {run} / {wait}");
@@ -417,18 +453,21 @@ fn run<C: Clock + Copy + Send + Sync>(clock: C, o: &Options) -> Result<Vec<Repor
 }
 
 /// The cycle: each configured axis's RPDO, then the SYNC, every period until `finished`; each
-/// tick's record and the grid points it skipped.
+/// tick's record (room for `cycles`), the grid points it skipped, and the counters' growth.
 async fn cycle<C: Clock>(
     m: &Master<C>,
     axes: &Axes,
     finished: &AtomicBool,
-) -> Result<(Vec<trace::Tick>, u64), Error> {
-    let mut ticks = Vec::with_capacity(16_384);
+    cycles: usize,
+) -> Result<(Vec<trace::Tick>, u64, trace::Counters), Error> {
+    let mut ticks = Vec::with_capacity(cycles);
     let mut cycle = m.cycle(PERIOD);
+    let counters = trace::Counters::read();
     while !finished.load(Ordering::Relaxed) {
         let before = trace::schedstat();
         let due = cycle.tick().await;
         let woke = m.now();
+        let mono_us = trace::monotonic_us();
         if let Some(a) = axes.a1.get() {
             a.cycle(m)?;
         }
@@ -442,9 +481,9 @@ async fn cycle<C: Clock>(
         let after = trace::schedstat();
         let delta = |f: fn((u64, u64)) -> u64| Some(f(after?).saturating_sub(f(before?)));
         let (ran_ns, queued_ns) = (delta(|s| s.0), delta(|s| s.1));
-        ticks.push(trace::Tick { due, woke, queued_ns, ran_ns });
+        ticks.push(trace::Tick { due, woke, queued_ns, ran_ns, mono_us });
     }
-    Ok((ticks, cycle.missed()))
+    Ok((ticks, cycle.missed(), trace::Counters::read().since(&counters)))
 }
 
 /// The three drives' lives, at once.

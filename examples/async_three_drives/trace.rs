@@ -21,6 +21,111 @@ pub struct Tick {
     /// a late wake it was blocked: asleep past its timer, or on a lock.
     pub queued_ns: Option<u64>,
     pub ran_ns: Option<u64>,
+    /// `woke` on `CLOCK_MONOTONIC`, µs: the clock of a kernel trace taken with ftrace's
+    /// `mono` clock (`vmpause.py`), so that a late wake can be found in it.
+    pub mono_us: u64,
+}
+
+/// `CLOCK_MONOTONIC` now, µs.
+pub fn monotonic_us() -> u64 {
+    let t = rustix::time::clock_gettime(rustix::time::ClockId::Monotonic);
+    let (s, ns) = (u64::try_from(t.tv_sec).unwrap_or(0), u64::try_from(t.tv_nsec).unwrap_or(0));
+    s * 1_000_000 + ns / 1000
+}
+
+/// Steal time per CPU in `/proc/stat`'s text (`cpuN` lines, the eighth number), in its clock
+/// ticks: the time the hypervisor says it ran something else while a virtual CPU wanted to run.
+pub fn parse_steal(stat: &str) -> Vec<(u32, u64)> {
+    stat.lines()
+        .filter_map(|l| {
+            let mut f = l.split_whitespace();
+            let cpu = f.next()?.strip_prefix("cpu")?.parse().ok()?;
+            Some((cpu, f.nth(7)?.parse().ok()?))
+        })
+        .collect()
+}
+
+/// A thread's minor and major page faults in its `/proc/…/stat` text (fields 10 and 12, counted
+/// after the parenthesised name, which may hold spaces).
+pub fn parse_faults(stat: &str) -> Option<(u64, u64)> {
+    let mut f = stat.get(stat.rfind(')')? + 1..)?.split_whitespace();
+    let minor = f.nth(7)?.parse().ok()?;
+    let major = f.nth(1)?.parse().ok()?;
+    Some((minor, major))
+}
+
+/// A thread's voluntary and involuntary context switches in its `/proc/…/status` text.
+pub fn parse_switches(status: &str) -> Option<(u64, u64)> {
+    let field =
+        |name: &str| status.lines().find_map(|l| l.strip_prefix(name)?.trim().parse::<u64>().ok());
+    Some((field("voluntary_ctxt_switches:")?, field("nonvoluntary_ctxt_switches:")?))
+}
+
+/// Counters read before and after the cycle, to tell the machine's delays from the program's:
+/// steal time per CPU, and the cycle thread's page faults (a fault that reads a page from disk
+/// blocks the thread) and context switches (a blocking call adds voluntary ones).
+#[derive(Clone, Debug, Default)]
+pub struct Counters {
+    /// Steal time per CPU, ms.
+    pub steal_ms: Vec<(u32, u64)>,
+    /// Minor and major page faults of the calling thread.
+    pub faults: Option<(u64, u64)>,
+    /// Voluntary and involuntary context switches of the calling thread.
+    pub switches: Option<(u64, u64)>,
+}
+
+impl Counters {
+    /// The counters now, for the calling thread.
+    pub fn read() -> Self {
+        let read = |p: &str| std::fs::read_to_string(p).ok();
+        let hz = rustix::param::clock_ticks_per_second().max(1);
+        let steal = read("/proc/stat").map(|s| parse_steal(&s)).unwrap_or_default();
+        Self {
+            steal_ms: steal.into_iter().map(|(c, t)| (c, t * 1000 / hz)).collect(),
+            faults: read("/proc/thread-self/stat").as_deref().and_then(parse_faults),
+            switches: read("/proc/thread-self/status").as_deref().and_then(parse_switches),
+        }
+    }
+
+    /// What the counters grew by since `before`.
+    pub fn since(&self, before: &Self) -> Self {
+        let pair = |a: Option<(u64, u64)>, b: Option<(u64, u64)>| {
+            let ((a0, a1), (b0, b1)) = (a?, b?);
+            Some((a0.saturating_sub(b0), a1.saturating_sub(b1)))
+        };
+        let steal_ms = self
+            .steal_ms
+            .iter()
+            .filter_map(|(c, t)| {
+                let (_, t0) = before.steal_ms.iter().find(|(c0, _)| c0 == c)?;
+                Some((*c, t.saturating_sub(*t0)))
+            })
+            .collect();
+        Self {
+            steal_ms,
+            faults: pair(self.faults, before.faults),
+            switches: pair(self.switches, before.switches),
+        }
+    }
+}
+
+impl std::fmt::Display for Counters {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let steal: Vec<String> =
+            self.steal_ms.iter().map(|(c, ms)| format!("cpu{c} {ms} ms")).collect();
+        let or_q = |v: Option<(u64, u64)>, i: usize| {
+            v.map_or("?".to_owned(), |v| if i == 0 { v.0 } else { v.1 }.to_string())
+        };
+        write!(
+            f,
+            "steal time during the cycle (/proc/stat, 10 ms steps): {}; the cycle thread: {} minor / {} major page faults, {} voluntary / {} involuntary context switches",
+            if steal.is_empty() { "?".to_owned() } else { steal.join(", ") },
+            or_q(self.faults, 0),
+            or_q(self.faults, 1),
+            or_q(self.switches, 0),
+            or_q(self.switches, 1),
+        )
+    }
 }
 
 /// This thread's scheduler statistics (`/proc/thread-self/schedstat`): nanoseconds run and
@@ -46,6 +151,17 @@ pub struct Wire {
 
 /// The shared [`Wire`] record.
 pub type Shared = Arc<Mutex<Wire>>;
+
+impl Wire {
+    /// An empty record with room for `cycles` SYNCs and three TPDOs each.
+    pub fn shared(cycles: usize) -> Shared {
+        Arc::new(Mutex::new(Self {
+            syncs: Vec::with_capacity(cycles),
+            tpdos: Vec::with_capacity(cycles * 3),
+            ..Self::default()
+        }))
+    }
+}
 
 fn lock(w: &Shared) -> std::sync::MutexGuard<'_, Wire> {
     w.lock().unwrap_or_else(PoisonError::into_inner)
@@ -146,6 +262,8 @@ pub struct Figures {
     pub late_us: u64,
     pub late_queued_us: u64,
     pub late_ran_us: u64,
+    /// The latest wakes over half a period late, latest first (five at most).
+    pub worst: Vec<Tick>,
 }
 
 fn percentiles(mut v: Vec<u64>) -> (u64, u64, u64) {
@@ -215,6 +333,12 @@ pub fn figures(
         late_us: late.iter().map(|t| (t.woke - t.due).as_micros()).sum(),
         late_queued_us: late.iter().filter_map(|t| t.queued_ns).sum::<u64>() / 1000,
         late_ran_us: late.iter().filter_map(|t| t.ran_ns).sum::<u64>() / 1000,
+        worst: {
+            let mut w: Vec<Tick> = late.iter().map(|t| **t).collect();
+            w.sort_by_key(|t| std::cmp::Reverse(t.woke - t.due));
+            w.truncate(5);
+            w
+        },
     })
 }
 
@@ -258,7 +382,25 @@ impl std::fmt::Display for Figures {
             f,
             "wakes over half a period late: {}, {} µs late in all; meanwhile the cycle thread waited {} µs for a CPU and ran {} µs",
             self.late_wakes, self.late_us, self.late_queued_us, self.late_ran_us
-        )
+        )?;
+        if !self.worst.is_empty() {
+            write!(
+                f,
+                "\nlatest wakes (CLOCK_MONOTONIC s: µs late = waited for a CPU + ran + neither, that is asleep while its timer was due):"
+            )?;
+        }
+        for t in &self.worst {
+            let late = (t.woke - t.due).as_micros();
+            let (q, r) = (t.queued_ns.unwrap_or(0) / 1000, t.ran_ns.unwrap_or(0) / 1000);
+            write!(
+                f,
+                "\n  {}.{:06}: {late} = {q} + {r} + {}",
+                t.mono_us / 1_000_000,
+                t.mono_us % 1_000_000,
+                late.saturating_sub(q + r)
+            )?;
+        }
+        Ok(())
     }
 }
 
@@ -276,4 +418,51 @@ pub fn threads() -> Vec<(String, u64, u64)> {
     }
     out.sort();
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn steal_is_the_eighth_number_of_each_cpu_line() {
+        // This machine's /proc/stat (the total line "cpu " has no number after "cpu").
+        let stat = "cpu  4473794 690389 1189761 2250844 69914 0 55727 6662 0 0\n\
+                    cpu0 2213025 313193 567086 1220892 25142 0 24547 3284 0 0\n\
+                    cpu1 2260769 377195 622674 1029952 44771 0 31179 3378 0 0\n\
+                    intr 1 2 3\n";
+        assert_eq!(parse_steal(stat), vec![(0, 3284), (1, 3378)]);
+    }
+
+    #[test]
+    fn faults_are_counted_after_the_name_even_with_spaces_and_parentheses() {
+        let stat = "825 (a (b) c) R 822 822 12579 0 -1 4194304 102 7 3 9 0 0 0 0 20 0";
+        assert_eq!(parse_faults(stat), Some((102, 3)));
+        assert_eq!(parse_faults("825 (cat"), None);
+    }
+
+    #[test]
+    fn switches_come_from_both_status_lines() {
+        let status =
+            "Name:\tcycle\nvoluntary_ctxt_switches:\t10051\nnonvoluntary_ctxt_switches:\t2\n";
+        assert_eq!(parse_switches(status), Some((10051, 2)));
+        assert_eq!(parse_switches("voluntary_ctxt_switches:\t1\n"), None);
+    }
+
+    #[test]
+    fn counters_since_subtract_per_cpu() {
+        let before = Counters {
+            steal_ms: vec![(0, 100), (1, 50)],
+            faults: Some((10, 1)),
+            switches: Some((5, 0)),
+        };
+        let after = Counters {
+            steal_ms: vec![(0, 130), (1, 50)],
+            faults: Some((12, 1)),
+            switches: Some((9005, 3)),
+        };
+        let d = after.since(&before);
+        assert_eq!(d.steal_ms, vec![(0, 30), (1, 0)]);
+        assert_eq!((d.faults, d.switches), (Some((2, 0)), Some((9000, 3))));
+    }
 }
