@@ -272,6 +272,24 @@ fn firmware_objects(device: &Device, sms: &[odc_model::ethercat::SyncManager]) -
 const SII_MAILBOX_PROTOCOLS: usize = 0x1C * 2;
 const SII_SOE: u8 = 0x10;
 
+/// The process RAM of the device's ESC in KiB: the default ([`reg::RAM_KIB`], an ET1100's)
+/// or, where the ESI places a sync manager beyond it, enough to hold it (up to
+/// [`reg::MAX_RAM_KIB`], an IP core's). The ESI does not name the ESC, but its sync managers
+/// sit in its RAM: Beckhoff's EL6695 has its inputs at 0x8E00, which an 8 KiB ESC does not
+/// have, and the FMMU reading them counted nothing (working counter 0).
+fn ram_kib(sms: &[odc_model::ethercat::SyncManager]) -> u8 {
+    let end = sms
+        .iter()
+        .filter_map(|sm| {
+            let start = u32::from(sm.start_address.as_ref()?.value);
+            Some(start.saturating_add(sm.default_size.unwrap_or(0).max(sm.min_size.unwrap_or(0))))
+        })
+        .max()
+        .unwrap_or(0);
+    let kib = end.saturating_sub(u32::from(reg::PROCESS_RAM)).div_ceil(1024);
+    u8::try_from(kib).unwrap_or(u8::MAX).clamp(reg::RAM_KIB, reg::MAX_RAM_KIB)
+}
+
 /// The image with SoE cleared from its mailbox protocols. The firmware stack serves CoE and
 /// not SoE (ETG.1000.6 §5.6, servo drives over EtherCAT): a device that announced it would send
 /// a master that reads a SoE drive's mapping (SOEM's config_map, IDN S-0-0016 and S-0-0024 of
@@ -295,7 +313,9 @@ impl SubDevice {
     pub fn new(device: &Device) -> Result<Self, odc_sii::Error> {
         let ecat = device.ethercat.as_deref().ok_or(odc_sii::Error::NotEtherCat)?;
         let image = without_soe(odc_sii::write(device)?);
-        let ram = u16::try_from(reg::MEMORY).unwrap_or(u16::MAX);
+        let ram_kib = ram_kib(&ecat.sync_managers);
+        let ram = u16::try_from(usize::from(reg::PROCESS_RAM) + usize::from(ram_kib) * 1024)
+            .unwrap_or(u16::MAX);
         let sms = ecat
             .sync_managers
             .iter()
@@ -324,7 +344,7 @@ impl SubDevice {
             .or_else(|| device.device_info.product_name.as_ref().map(|n| n.value.clone()))
             .unwrap_or_default();
         let mut dev = Self {
-            esc: Esc::new(image, 0, false),
+            esc: Esc::new(image, 0, false).with_ram_kib(ram_kib),
             name,
             sms,
             fixed,
@@ -350,7 +370,7 @@ impl SubDevice {
         let image = self.esc.sii.image().to_vec();
         // Devices power up at different moments: a clock 1.234567 s apart per position.
         let base = 1_234_567_000u64.wrapping_mul(position as u64 + 1);
-        self.esc = Esc::new(image, base, downstream);
+        self.esc = Esc::new(image, base, downstream).with_ram_kib(self.esc.ram_kib());
         *self.stack = Stack::new();
         self.deactivate_process_data();
     }

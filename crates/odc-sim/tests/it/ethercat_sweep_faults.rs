@@ -222,3 +222,54 @@ fn device_emulation_with_a_mailbox_still_runs_the_firmware() {
     datagram(&mut c, FPWR, ADDR, 0x0800, &sm(0x1800, 128, 0x26));
     assert_eq!(request(&mut c, 0x12), (0x02, 0));
 }
+
+/// Inputs beyond an ET1100's 8 KiB of process RAM, as Beckhoff's EL6695 bridge terminals
+/// place them (corpus `beckhoff__Beckhoff_EL66xx.xml`: `<Sm DefaultSize="2"
+/// StartAddress="#x8E00" ControlByte="#x20">Inputs</Sm>`; their ESC has the RAM). The
+/// emulated ESC had 8 KiB (0x1000–0x2FFF) for every device: the firmware's inputs at 0x8E00
+/// went nowhere and the FMMU reading them counted nothing, so ethercrab saw working counter 0
+/// (expected 1) from the first cycle in OP. The ESC now has the RAM the ESI's sync managers
+/// need (register 0x0006, process RAM size in KiB) and the LRD counts 1 (ETG.1000.4 Table 7).
+#[test]
+fn inputs_where_the_esi_places_them_beyond_8_kib() {
+    let esi = r##"<?xml version="1.0"?>
+<EtherCATInfo>
+  <Vendor><Id>#x00000002</Id><Name>V</Name></Vendor>
+  <Descriptions>
+    <Groups><Group><Type>Bridge</Type><Name>Bridge</Name></Group></Groups>
+    <Devices>
+      <Device Physics="YY">
+        <Type ProductCode="#x1a273052" RevisionNo="#x00010000">EL6695</Type>
+        <Name LcId="1033">Bridge</Name>
+        <GroupType>Bridge</GroupType>
+        <Fmmu>Outputs</Fmmu><Fmmu>Inputs</Fmmu>
+        <Sm DefaultSize="0" StartAddress="#x1C00" ControlByte="#x64" Enable="1">Outputs</Sm>
+        <Sm DefaultSize="2" StartAddress="#x8E00" ControlByte="#x20" Enable="1">Inputs</Sm>
+        <TxPdo Fixed="1" Sm="1"><Index>#x1a01</Index><Name>Status</Name>
+          <Entry><Index>#x6000</Index><SubIndex>1</SubIndex><BitLen>16</BitLen><Name>Status</Name><DataType>UINT</DataType></Entry>
+        </TxPdo>
+        <Eeprom><ByteSize>2048</ByteSize><ConfigData>080C0000</ConfigData></Eeprom>
+      </Device>
+    </Devices>
+  </Descriptions>
+</EtherCATInfo>"##;
+    let mut c = device(esi);
+    let status = c.devices_mut()[0].dictionary_mut().raw_mut(0x6000, 1).unwrap();
+    status.copy_from_slice(&[0x95, 0x66]);
+    datagram(&mut c, APWR, 0, 0x0010, &ADDR.to_le_bytes());
+    // 0x8E02 - 0x1000 bytes of process RAM: 32 KiB.
+    assert_eq!(datagram(&mut c, FPRD, ADDR, 0x0006, &[0]), (vec![32], 1));
+    assert_eq!(request(&mut c, 2), (0x02, 0));
+    datagram(&mut c, FPWR, ADDR, 0x0808, &sm(0x8E00, 2, 0x20));
+    // FMMU 0: logical 0, 2 bytes, bits 0–7, physical 0x8E00, read, enabled.
+    let fmmu = [0u8, 0, 0, 0, 2, 0, 0, 7, 0x00, 0x8E, 0, 1, 1, 0, 0, 0];
+    datagram(&mut c, FPWR, ADDR, 0x0600, &fmmu);
+    assert_eq!(request(&mut c, 4), (0x04, 0));
+    assert_eq!(request(&mut c, 8), (0x08, 0));
+    // LRD of logical 0, 2 bytes: the status, working counter 1.
+    assert_eq!(datagram(&mut c, 10, 0, 0, &[0, 0]), (vec![0x95, 0x66], 1));
+    // A device whose sync managers sit in 8 KiB keeps an ET1100's RAM.
+    let mut c = device(COUPLER);
+    datagram(&mut c, APWR, 0, 0x0010, &ADDR.to_le_bytes());
+    assert_eq!(datagram(&mut c, FPRD, ADDR, 0x0006, &[0]), (vec![8], 1));
+}
