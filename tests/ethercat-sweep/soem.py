@@ -358,10 +358,12 @@ def classify(d, ok, stage, code, detail, sizes=None):
     if stage == "tester":
         return "tester"
     if stage in ("safe_op", "op"):
-        if d.get("soe"):
-            return "odc: SoE drive, its process data are IDNs (SoE not served)"
+        # Before the SoE rule: a device that also lists SoE (kickcat's test file lists every
+        # protocol) is refused for its missing objects, not for its IDNs.
         if "T601" in detail:
             return f"ESI: T601, a mapped object the dictionary lacks (AL 0x{code:04X})"
+        if d.get("soe"):
+            return "odc: SoE drive, its process data are IDNs (SoE not served)"
         if d.get("device_emulation") and not d["mailbox"] and code in (0x001D, 0x001E):
             return f"odc: ESC device emulation not emulated (AL 0x{code:04X})"
         # SOEM mapped nothing in the direction the device refuses (0x001D outputs, 0x001E
