@@ -372,7 +372,7 @@ def classify(d, ok, stage, code, detail, sizes=None):
             return f"no default PDO (modules), a process data SM with a size (AL 0x{code:04X})"
         return f"unclassified: {stage} AL 0x{code or 0:04X}"
     if stage == "config_map" and "does not exist in the object directory" in detail:
-        return "modules: the default assignment names a PDO the device lacks (SDO 0x06020000)"
+        return "ESI: an assigned PDO the dictionary lacks (SDO abort 0x06020000)"
     if stage == "cycles":
         m = re.search(r"(\d+) of \d+ at WKC (-?\d+), other \[([\d, ]*)\].*count (\d+), io map (\d+)",
                       detail)
