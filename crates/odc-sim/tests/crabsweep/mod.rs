@@ -289,7 +289,8 @@ pub fn classify(row: &Row, device: &Device) -> &'static str {
     };
     let fmmus = ecat.map_or(&[][..], |e| &e.fmmus[..]);
     let odd_fmmu = fmmus.iter().any(|f| matches!(f.usage, SmUsage::Other(_)));
-    // A process data SM declared disabled that carries a default PDO, on a device with firmware.
+    // A process data SM not declared enabled (`Enable="0"`, or no `Enable`: odc reads it as
+    // 0 and the SII says disabled) that carries a default PDO, on a device with firmware.
     let emulation = eeprom.is_some_and(|e| e.config_data.get(1).is_some_and(|b| b & 1 != 0));
     let disabled_pd = ecat.is_some_and(|e| {
         e.sync_managers.iter().any(|sm| {
@@ -339,8 +340,8 @@ pub fn classify(row: &Row, device: &Device) -> &'static str {
         Stage::SafeOp if mapping && code("T622") => {
             "ESI: T622, a mapping object's default differs from its PDO (AL 0x0024/0x0025)"
         }
-        Stage::SafeOp if row.al_code == 0x001E && disabled_pd => {
-            "ESI: a process data SM declared disabled carries a default PDO (AL 0x001E)"
+        Stage::SafeOp if matches!(row.al_code, 0x001D | 0x001E) && disabled_pd => {
+            "ESI: a process data SM not declared enabled carries a default PDO (AL 0x001D/0x001E)"
         }
         _ if timed_out(row) => "tester: a timeout of a loaded machine, twice",
         _ => "unclassified",
