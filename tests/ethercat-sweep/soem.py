@@ -244,6 +244,12 @@ def main():
         "ODC_INTEROP_PYTHON", str(ROOT / "target/interop-venv/bin/python")))
     ap.add_argument("--sample", type=int, default=0, help="this many devices, spread evenly")
     ap.add_argument("--only", default="", help="devices whose spec contains this text")
+    ap.add_argument("--failed-in", default="",
+                    help="only the devices that a previous run's OUT dir (its results.tsv) "
+                    "failed with a class matching --class")
+    ap.add_argument("--class", dest="cls", default="unclassified",
+                    help="regular expression on the class of --failed-in's rows "
+                    "(default: unclassified)")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--line", type=int, default=8, help="devices of one file per line")
     ap.add_argument("--limit", type=int, default=300, help="seconds for one line's SOEM run")
@@ -254,10 +260,13 @@ def main():
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     args.rt = realtime()
-    # The peers: without them every device would be a tester's failure.
-    if subprocess.run([args.python, "-c", "import pysoem"], capture_output=True).returncode:
+    # The peers: without them every device would be a tester's failure (--reclassify runs
+    # nothing and needs neither).
+    if args.reclassify:
+        pass
+    elif subprocess.run([args.python, "-c", "import pysoem"], capture_output=True).returncode:
         sys.exit(f"soem.py: {args.python} cannot import pysoem (set ODC_INTEROP_PYTHON)")
-    if os.geteuid() != 0:
+    elif os.geteuid() != 0:
         sys.exit("soem.py: needs root (network namespaces and veth pairs)")
     corpus = Path(args.corpus)
     started = time.monotonic()
@@ -265,6 +274,9 @@ def main():
     swept = [d for d in every if "load_error" in d or d["mailbox"] or d["process_data"]]
     if args.only:
         swept = [d for d in swept if args.only in d["spec"]]
+    if args.failed_in:
+        wanted = failed_in(Path(args.failed_in) / "results.tsv", args.cls)
+        swept = [d for d in swept if (d["file"], d.get("select")) in wanted]
     if args.sample:
         step = max(1, len(swept) / args.sample)
         swept = [swept[int(k * step)] for k in range(min(args.sample, len(swept)))]
@@ -327,6 +339,16 @@ def main():
     write(out, every, swept, results, time.monotonic() - started, args)
 
 
+def failed_in(tsv, pattern):
+    """(file, PRODUCT:REVISION) of the failed rows of a previous run's results.tsv whose
+    class matches `pattern`."""
+    with open(tsv) as f:
+        head = f.readline().rstrip("\n").split("\t")
+        rows = [dict(zip(head, l.rstrip("\n").split("\t"))) for l in f]
+    return {(r["file"], r["device"]) for r in rows
+            if r["verdict"] == "fail" and re.search(pattern, r["class"])}
+
+
 def classify(d, ok, stage, code, detail, sizes=None):
     """The class of one device's verdict (tests/ethercat-sweep/README.md names each)."""
     if ok:
@@ -336,15 +358,21 @@ def classify(d, ok, stage, code, detail, sizes=None):
     if stage == "tester":
         return "tester"
     if stage in ("safe_op", "op"):
-        if d.get("soe"):
-            return "odc: SoE drive, its process data are IDNs (SoE not served)"
+        # Before the SoE rule: a device that also lists SoE (kickcat's test file lists every
+        # protocol) is refused for its missing objects, not for its IDNs.
         if "T601" in detail:
             return f"ESI: T601, a mapped object the dictionary lacks (AL 0x{code:04X})"
+        if d.get("soe"):
+            return "odc: SoE drive, its process data are IDNs (SoE not served)"
         if d.get("device_emulation") and not d["mailbox"] and code in (0x001D, 0x001E):
             return f"odc: ESC device emulation not emulated (AL 0x{code:04X})"
-        if sizes == [0, 0] and code in (0x001D, 0x001E):
+        # SOEM mapped nothing in the direction the device refuses (0x001D outputs, 0x001E
+        # inputs) but programmed that sync manager with the SII's size.
+        if sizes and ((code == 0x001D and sizes[0] == 0) or (code == 0x001E and sizes[1] == 0)):
             return f"no default PDO (modules), a process data SM with a size (AL 0x{code:04X})"
         return f"unclassified: {stage} AL 0x{code or 0:04X}"
+    if stage == "config_map" and "does not exist in the object directory" in detail:
+        return "ESI: an assigned PDO the dictionary lacks (SDO abort 0x06020000)"
     if stage == "cycles":
         m = re.search(r"(\d+) of \d+ at WKC (-?\d+), other \[([\d, ]*)\].*count (\d+), io map (\d+)",
                       detail)
@@ -355,19 +383,55 @@ def classify(d, ok, stage, code, detail, sizes=None):
     return f"unclassified: {stage}"
 
 
-def classify_by_check(cls, code, codes):
-    """A failure classify() did not name, by what `odc check` says of the ESI."""
+def classify_by_check(cls, code, codes, detail=""):
+    """A failure classify() did not name, by what `odc check` (and `odc sii`, S7xx) says of
+    the ESI."""
     if code == 0x0016 and "T624" in codes:
         return "ESI: T624, mailbox sync managers declared disabled (AL 0x0016)"
+    # Every frame at working counter 0: no process data SM was ever activated. With T624 the
+    # firmware refused PRE-OP (0x0016), but the ESC's device emulation (register 0x0141 bit 0,
+    # from ConfigData) copied each requested state into AL status, so SOEM saw OP.
+    if cls == "unclassified: cycles" and "T624" in codes and re.match(r"0 of .*other \[0\]",
+                                                                       detail):
+        return ("ESI: T624, mailbox sync managers declared disabled (AL 0x0016), "
+                "hidden by device emulation")
+    if code in (0x001D, 0x001E) and "S702-info-only" in codes:
+        return f"ESI: Eeprom/ByteSize holds the SII info area only (S702) (AL 0x{code:04X})"
+    if code == 0x0016 and "SII-cat41-not-8-byte-records" in codes:
+        return "ESI: its own SyncManager category (CatNo 41) not in 8-byte records (AL 0x0016)"
+    if code in (0x0024, 0x0025) and "T622" in codes:
+        return f"ESI: T622, a mapping object's default differs from its PDO (AL 0x{code:04X})"
+    if code in (0x0024, 0x0025) and "T608" in codes:
+        return f"ESI: T608, an assignment default counting PDO 0x0000 (AL 0x{code:04X})"
     return cls
 
 
 def check_codes(odc, d):
-    """The codes `odc check` gives the device (warnings and errors), for a failure no rule of
-    classify() names."""
+    """The codes `odc check` gives the device (warnings and errors), and those of `odc sii`
+    (S7xx: what its EEPROM image leaves out), for a failure no rule of classify() names.
+    `S702-info-only`: `Eeprom/ByteSize` holds the 64-word info area and no category."""
     path, _, select = d["spec"].rpartition("@")
     run = subprocess.run([odc, "check", path, "--device", select], capture_output=True, text=True)
-    return " ".join(sorted(set(re.findall(r"^(?:warning|error)\[(\w+)\]", run.stderr, re.M))))
+    codes = set(re.findall(r"^(?:warning|error)\[(\w+)\]", run.stderr, re.M))
+    sii = subprocess.run([odc, "sii", path, "--device", select, "-o", os.devnull],
+                         capture_output=True, text=True)
+    for code, rest in re.findall(r"^(?:warning|error)\[(S7\d\d)\]: (.*)$", sii.stderr, re.M):
+        codes.add(code)
+        if code == "S702" and rest.endswith("`Eeprom/ByteSize` 128: optional parts left out"):
+            codes.add("S702-info-only")
+    # The ESI's own SyncManager category (`Eeprom/Category`, CatNo 41), written into the SII as
+    # given: ETG.2010 gives each sync manager 8 bytes.
+    dump = subprocess.run([odc, "dump", "--format", "json", "-A", "all", path, "--device", select],
+                          capture_output=True, text=True)
+    try:
+        model = json.loads(dump.stdout)
+    except json.JSONDecodeError:
+        model = {}
+    for m in model if isinstance(model, list) else [model]:
+        for c in (((m.get("ethercat") or {}).get("eeprom") or {}).get("categories") or []):
+            if c.get("cat_no") == 41 and len(c.get("data") or "") % 16:
+                codes.add("SII-cat41-not-8-byte-records")
+    return " ".join(sorted(codes))
 
 
 def write(out, every, swept, results, seconds, args):
@@ -393,7 +457,7 @@ def write(out, every, swept, results, seconds, args):
             if cls.startswith("unclassified"):
                 codes = check_codes(args.odc, d)
                 detail = f"{detail}; odc check: {codes}"
-                cls = classify_by_check(cls, code, codes.split())
+                cls = classify_by_check(cls, code, codes.split(), detail)
             row = [d["file"], d["select"], d["name"], d["mailbox"], d["process_data"],
                    "pass" if ok else "fail", stage,
                    "" if code is None else f"0x{code:04X}", detail, cls]

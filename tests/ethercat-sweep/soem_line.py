@@ -87,14 +87,16 @@ def run(master, plan, out):
 
 def cycles(master, n, out):
     """`n` cycles whose frame came back; one that did not within 20 ms (a loaded machine) is
-    counted as lost and the cycle repeated, up to `n` losses."""
+    counted as lost and the cycle repeated, up to `n` losses. SOEM returns EC_NOFRAME (-1)
+    for a frame that did not come back; a frame that came back with working counter 0 (no
+    device counted it) is a wrong counter, not a lost frame."""
     good, lost, wrong = 0, 0, []
     while good + len(wrong) < n and lost < n:
         master.send_processdata()
         wkc = master.receive_processdata(20_000)
         if wkc == master.expected_wkc:
             good += 1
-        elif wkc <= 0:
+        elif wkc < 0:
             lost += 1
         else:
             wrong.append(wkc)

@@ -667,6 +667,9 @@ fn crabsweep_sample() {
         ("esi/ni__NI9144.xml", 1, crabsweep::Stage::Done, 0),
         // A CoE drive with its default assignment: OP.
         ("esi/ingenia__ecat402-drive.xml", 0, crabsweep::Stage::Done, 0),
+        // An EL6695 bridge terminal, inputs at 0x8E00 beyond an ET1100's 8 KiB: OP, and the
+        // LRW counted (was working counter 0).
+        ("esi/beckhoff__Beckhoff_EL66xx.xml", 42, crabsweep::Stage::Done, 0),
         // The ESI's mailbox DefaultSize 54 below its MinSize 64 (odc check T606): ethercrab
         // sets 54 from the SII, the device refuses PRE-OP with 0x0016.
         ("esi/beckhoff__Beckhoff_EL2xxx.xml", 38, crabsweep::Stage::Init, 0x0016),
@@ -679,6 +682,10 @@ fn crabsweep_sample() {
         assert_eq!((row.stage, row.al_code), (stage, code), "{}", row.tsv());
         if stage == crabsweep::Stage::Done {
             assert_eq!(row.cycles_ok, crabsweep::CYCLES);
+        } else {
+            // The failure's class names the ESI's fault and the rule that flags it.
+            let want = "ESI: T606, mailbox DefaultSize outside MinSize..MaxSize (AL 0x0016)";
+            assert_eq!(row.class, want);
         }
     }
 }

@@ -167,6 +167,42 @@ fn esi_assignment(device: &Device, od: &mut ModelDictionary) {
     }
 }
 
+/// A mapping object of the dictionary whose sub-index 0 has no default (Weidmüller's UR20-FBC-EC
+/// declares 0x16FF with no `Info`) starts with the entries its ESI's PDO of that index lists,
+/// as an assignment object does with [`esi_assignment`]: the PDO element is the ESI's word on
+/// that mapping, and its SII's PDO categories tell a master the same. Without it the device
+/// mapped nothing, SOEM sized the sync manager from the SII and met 0x001D at SAFE-OP. Written
+/// as the firmware sets its own values; an object without room for the entries keeps its
+/// (empty) default.
+fn esi_mapping(device: &Device, od: &mut ModelDictionary) {
+    for pdo in &device.pdos {
+        let index = pdo.mapping_index;
+        let unset = device
+            .objects
+            .get(&index)
+            .and_then(|o| o.subs.get(&0))
+            .is_some_and(|s| s.initial_value().is_none());
+        let Ok(count) = u8::try_from(pdo.entries.len()) else { continue };
+        let room = (1..=count).all(|k| od.raw(index, k).is_some_and(|b| b.len() >= 4));
+        if !unset || count == 0 || !room {
+            continue;
+        }
+        for (k, e) in (1..=count).zip(&pdo.entries) {
+            let object = if e.is_gap() { 0 } else { u32::from(e.index) };
+            let value = object << 16 | u32::from(e.sub) << 8 | u32::from(e.bits);
+            if let Some(b) = od.raw_mut(index, k) {
+                b.fill(0);
+                if let Some(lo) = b.get_mut(..4) {
+                    lo.copy_from_slice(&value.to_le_bytes());
+                }
+            }
+        }
+        if let Some(c) = od.raw_mut(index, 0).and_then(|b| b.first_mut()) {
+            *c = count;
+        }
+    }
+}
+
 /// The fixed PDOs of the process data sync managers, laid out as the firmware stack lays them
 /// out (for an ESC without a microcontroller, whose I/O they describe).
 fn pins(sms: &[SmSpec], fixed: &[(u8, u32)]) -> Vec<Mapped> {
@@ -272,6 +308,24 @@ fn firmware_objects(device: &Device, sms: &[odc_model::ethercat::SyncManager]) -
 const SII_MAILBOX_PROTOCOLS: usize = 0x1C * 2;
 const SII_SOE: u8 = 0x10;
 
+/// The process RAM of the device's ESC in KiB: the default ([`reg::RAM_KIB`], an ET1100's)
+/// or, where the ESI places a sync manager beyond it, enough to hold it (up to
+/// [`reg::MAX_RAM_KIB`], an IP core's). The ESI does not name the ESC, but its sync managers
+/// sit in its RAM: Beckhoff's EL6695 has its inputs at 0x8E00, which an 8 KiB ESC does not
+/// have, and the FMMU reading them counted nothing (working counter 0).
+fn ram_kib(sms: &[odc_model::ethercat::SyncManager]) -> u8 {
+    let end = sms
+        .iter()
+        .filter_map(|sm| {
+            let start = u32::from(sm.start_address.as_ref()?.value);
+            Some(start.saturating_add(sm.default_size.unwrap_or(0).max(sm.min_size.unwrap_or(0))))
+        })
+        .max()
+        .unwrap_or(0);
+    let kib = end.saturating_sub(u32::from(reg::PROCESS_RAM)).div_ceil(1024);
+    u8::try_from(kib).unwrap_or(u8::MAX).clamp(reg::RAM_KIB, reg::MAX_RAM_KIB)
+}
+
 /// The image with SoE cleared from its mailbox protocols. The firmware stack serves CoE and
 /// not SoE (ETG.1000.6 §5.6, servo drives over EtherCAT): a device that announced it would send
 /// a master that reads a SoE drive's mapping (SOEM's config_map, IDN S-0-0016 and S-0-0024 of
@@ -295,7 +349,9 @@ impl SubDevice {
     pub fn new(device: &Device) -> Result<Self, odc_sii::Error> {
         let ecat = device.ethercat.as_deref().ok_or(odc_sii::Error::NotEtherCat)?;
         let image = without_soe(odc_sii::write(device)?);
-        let ram = u16::try_from(reg::MEMORY).unwrap_or(u16::MAX);
+        let ram_kib = ram_kib(&ecat.sync_managers);
+        let ram = u16::try_from(usize::from(reg::PROCESS_RAM) + usize::from(ram_kib) * 1024)
+            .unwrap_or(u16::MAX);
         let sms = ecat
             .sync_managers
             .iter()
@@ -310,6 +366,7 @@ impl SubDevice {
         let with_types = firmware_objects(device, &ecat.sync_managers);
         let mut od = ModelDictionary::new(with_types.as_ref().unwrap_or(device), None);
         esi_assignment(device, &mut od);
+        esi_mapping(device, &mut od);
         let fixed =
             ecat.sync_managers.iter().flat_map(|sm| fixed_mapping(device, sm.number)).collect();
         let coe = ecat.mailbox.as_ref().and_then(|m| m.coe.clone());
@@ -324,7 +381,7 @@ impl SubDevice {
             .or_else(|| device.device_info.product_name.as_ref().map(|n| n.value.clone()))
             .unwrap_or_default();
         let mut dev = Self {
-            esc: Esc::new(image, 0, false),
+            esc: Esc::new(image, 0, false).with_ram_kib(ram_kib),
             name,
             sms,
             fixed,
@@ -350,7 +407,7 @@ impl SubDevice {
         let image = self.esc.sii.image().to_vec();
         // Devices power up at different moments: a clock 1.234567 s apart per position.
         let base = 1_234_567_000u64.wrapping_mul(position as u64 + 1);
-        self.esc = Esc::new(image, base, downstream);
+        self.esc = Esc::new(image, base, downstream).with_ram_kib(self.esc.ram_kib());
         *self.stack = Stack::new();
         self.deactivate_process_data();
     }
@@ -487,6 +544,10 @@ impl SubDevice {
 
     /// An ESC without a microcontroller in SAFE-OP or OP: its inputs (pins) into the process
     /// RAM where the master's sync manager puts them, and in OP the outputs onto its pins.
+    /// The digital I/O PDI writes the inputs as any PDI does, so a sync manager in one-buffer
+    /// (mailbox) mode, as Beckhoff's EL1252 has for its inputs (`ControlByte` 0x22), is full
+    /// and the master's read is served (ESC datasheets, section I, sync manager one-buffer
+    /// mode: the master reads a buffer only after the PDI wrote it).
     fn drive_pins(&mut self) {
         let state = self.esc.u8(reg::AL_STATUS) & 0x0F;
         if state != al::state::SAFE_OP && state != al::state::OP {
@@ -500,7 +561,8 @@ impl SubDevice {
             if spec.kind == al::INPUTS {
                 let mut image = self.esc.bytes(start, len).to_vec();
                 pdo::dictionary_to_image(&self.pins, n, &self.od, &mut image);
-                self.esc.set_bytes(start, &image);
+                // The emulated ESC's PDI cannot fail (`Infallible`).
+                let Ok(()) = stack::Esc::write(&mut Pdi(&mut self.esc), start, &image);
             } else if state == al::state::OP {
                 let image = self.esc.bytes(start, len).to_vec();
                 pdo::image_to_dictionary(&self.pins, n, &image, &mut self.od);

@@ -55,6 +55,23 @@ impl Esc {
         esc
     }
 
+    /// The ESC with `kib` KiB of process RAM (1 to [`reg::MAX_RAM_KIB`]) instead of the
+    /// default [`reg::RAM_KIB`], as it powers on: register 0x0006 says the size, and the
+    /// memory behind the sync managers and FMMUs ends there (an access beyond it is not
+    /// counted in the working counter).
+    #[must_use]
+    pub fn with_ram_kib(mut self, kib: u8) -> Self {
+        let kib = kib.clamp(1, reg::MAX_RAM_KIB);
+        self.mem.resize(usize::from(reg::PROCESS_RAM) + usize::from(kib) * 1024, 0);
+        self.set_u8(reg::RAM_SIZE, kib);
+        self
+    }
+
+    /// The process RAM in KiB (register 0x0006).
+    pub fn ram_kib(&self) -> u8 {
+        self.u8(reg::RAM_SIZE)
+    }
+
     fn power_on(&mut self, downstream: bool) {
         self.mem.fill(0);
         self.set_u8(reg::TYPE, 0x11);

@@ -76,9 +76,13 @@ pub const PROCESS_RAM: u16 = 0x1000;
 pub const FMMUS: u8 = 8;
 /// Sync managers the simulated ESC has.
 pub const SMS: u8 = 8;
-/// Process RAM in KiB.
+/// Process RAM in KiB, unless the device needs more (ET1100: 8 KiB).
 pub const RAM_KIB: u8 = 8;
-/// Bytes of the address space the simulated ESC implements (registers and process RAM).
+/// The most process RAM an ESC has (Beckhoff's ESC IP core: 60 KiB, 0x1000–0xFFFF, the whole
+/// 16-bit physical address space above the registers).
+pub const MAX_RAM_KIB: u8 = 60;
+/// Bytes of the address space the simulated ESC implements by default (registers and process
+/// RAM).
 pub const MEMORY: usize = PROCESS_RAM as usize + RAM_KIB as usize * 1024;
 
 /// Whether the EtherCAT side may write the byte at `addr` (a write to another register byte

@@ -87,19 +87,21 @@ pub struct Row {
     /// For a device that failed: the codes `odc check` gives it (distinct, sorted), to name
     /// the rule that flags an ESI's fault.
     pub check: String,
+    /// For a device that failed: its class ([`classify`], tests/ethercat-sweep/ethercrab.md).
+    pub class: String,
 }
 
 impl Row {
     /// The TSV header.
     pub const HEADER: &str = "file\tindex\tname\tproduct\trevision\tstage\tal_status\tal_code\t\
-                              out_bytes\tin_bytes\texpected_wkc\tcycles_ok\tms\terror\tcheck";
+                              out_bytes\tin_bytes\texpected_wkc\tcycles_ok\tms\terror\tcheck\tclass";
 
     /// The row as TSV (tabs and newlines of the error text made spaces).
     pub fn tsv(&self) -> String {
         let error: String =
             self.error.chars().map(|c| if c == '\t' || c == '\n' { ' ' } else { c }).collect();
         format!(
-            "{}\t{}\t{}\t{:#010x}\t{:#010x}\t{}\t{:#04x}\t{:#06x}\t{}\t{}\t{}\t{}\t{}\t{}\t{}",
+            "{}\t{}\t{}\t{:#010x}\t{:#010x}\t{}\t{:#04x}\t{:#06x}\t{}\t{}\t{}\t{}\t{}\t{}\t{}\t{}",
             self.file,
             self.index,
             self.name,
@@ -114,7 +116,8 @@ impl Row {
             self.cycles_ok,
             self.millis,
             error,
-            self.check
+            self.check,
+            self.class
         )
     }
 
@@ -221,6 +224,7 @@ pub fn run(file: &str, index: usize, device: &Device) -> Row {
         cycles_ok: 0,
         millis: 0,
         check: String::new(),
+        class: String::new(),
     };
     *last_panic().lock().unwrap_or_else(|e| e.into_inner()) = None;
     let built = std::panic::catch_unwind(|| SubDevice::new(device));
@@ -254,8 +258,94 @@ pub fn run(file: &str, index: usize, device: &Device) -> Row {
     row.millis = started.elapsed().as_millis();
     if row.stage != Stage::Done {
         row.check = check_codes(device);
+        row.class = classify(&row, device).into();
     }
     row
+}
+
+/// Whether ethercrab's error is a timeout a loaded machine explains (a PDU or the EEPROM not
+/// answered within 500 ms): the device is run once more.
+pub fn timed_out(row: &Row) -> bool {
+    ["Timeout(Pdu)", "Timeout(Eeprom)", "Timeout(MailboxResponse)"]
+        .iter()
+        .any(|t| row.error.contains(t))
+}
+
+/// The class of a failed device, with the standard's words (tests/ethercat-sweep/ethercrab.md
+/// names each): from the stage it stopped at, the AL status code the simulated device gave
+/// (ETG.1000.6 Table 11), ethercrab's error, the `odc check` codes of its ESI and what the ESI
+/// declares. `unclassified: …` for a failure no rule explains.
+pub fn classify(row: &Row, device: &Device) -> &'static str {
+    use odc_model::ethercat::SmUsage;
+    let code = |c: &str| row.check.split(',').any(|x| x == c);
+    let ecat = device.ethercat.as_deref();
+    let eeprom = ecat.and_then(|e| e.eeprom.as_ref());
+    // `Eeprom/ByteSize` 128: the 64-word info area and no category (odc sii: S702).
+    let info_only = eeprom.and_then(|e| e.byte_size).is_some_and(|b| b <= 128);
+    // The ESI's own categories, written as given (ETG.2000), in another layout than ETG.2010's:
+    // a SyncManager category (41) not in 8-byte records, a General one (30) under 32 bytes.
+    let own = |cat: u16, bad: &dyn Fn(usize) -> bool| {
+        eeprom.is_some_and(|e| e.categories.iter().any(|c| c.cat_no == cat && bad(c.data.len())))
+    };
+    let fmmus = ecat.map_or(&[][..], |e| &e.fmmus[..]);
+    let odd_fmmu = fmmus.iter().any(|f| matches!(f.usage, SmUsage::Other(_)));
+    // A process data SM not declared enabled (`Enable="0"`, or no `Enable`: odc reads it as
+    // 0 and the SII says disabled) that carries a default PDO, on a device with firmware.
+    let emulation = eeprom.is_some_and(|e| e.config_data.get(1).is_some_and(|b| b & 1 != 0));
+    let disabled_pd = ecat.is_some_and(|e| {
+        e.sync_managers.iter().any(|sm| {
+            matches!(sm.usage, SmUsage::Outputs | SmUsage::Inputs)
+                && !sm.enable
+                && device.pdos.iter().any(|p| p.sync_manager == Some(sm.number))
+        })
+    }) && !emulation;
+    let mapping = matches!(row.al_code, 0x0024 | 0x0025);
+    match row.stage {
+        Stage::Init if row.error.contains("SectionOverrun") && own(30, &|n| n < 32) => {
+            "ESI: its own General category (CatNo 30) shorter than ETG.2010's 32 bytes"
+        }
+        Stage::Init if row.al_code == 0x0016 && info_only => {
+            "ESI: Eeprom/ByteSize holds the SII info area only (S702): no mailbox SM (AL 0x0016)"
+        }
+        Stage::Init if row.al_code == 0x0016 && code("T624") => {
+            "ESI: T624, mailbox sync managers declared disabled (AL 0x0016)"
+        }
+        Stage::Init if row.al_code == 0x0016 && code("T606") => {
+            "ESI: T606, mailbox DefaultSize outside MinSize..MaxSize (AL 0x0016)"
+        }
+        Stage::Init if row.al_code == 0x0016 && (code("T613") || code("T614")) => {
+            "ESI: T613/T614, a mailbox SM without a size or with another type (AL 0x0016)"
+        }
+        Stage::Init if row.al_code == 0x0016 && own(41, &|n| n % 8 != 0) => {
+            "ESI: its own SyncManager category (CatNo 41) not in 8-byte records (AL 0x0016)"
+        }
+        Stage::Pdi if row.error.contains("item: Fmmu") && odd_fmmu => {
+            "ESI: FMMU types other than ETG.2000's Outputs, Inputs, MBoxState"
+        }
+        Stage::Pdi if row.error.contains("item: Fmmu") => {
+            "ethercrab: requires an FMMU category where ETG.2000 makes Fmmu optional"
+        }
+        Stage::Pdi if row.error.contains("Aborted") && row.error.contains("address: 0,") => {
+            "ESI: T608, an assignment default counting PDO 0x0000"
+        }
+        Stage::Pdi if row.error.contains("Aborted") => {
+            "ESI: an assigned PDO or mapped entry the dictionary lacks (SDO abort)"
+        }
+        Stage::Pdi if row.error.contains("ReadBufferTooShort") => {
+            "ESI: F218, mapping entries typed UNSIGNED8, not UNSIGNED32"
+        }
+        Stage::SafeOp if mapping && code("T601") => {
+            "ESI: T601, a mapped object the dictionary lacks (AL 0x0024/0x0025)"
+        }
+        Stage::SafeOp if mapping && code("T622") => {
+            "ESI: T622, a mapping object's default differs from its PDO (AL 0x0024/0x0025)"
+        }
+        Stage::SafeOp if matches!(row.al_code, 0x001D | 0x001E) && disabled_pd => {
+            "ESI: a process data SM not declared enabled carries a default PDO (AL 0x001D/0x001E)"
+        }
+        _ if timed_out(row) => "tester: a timeout of a loaded machine, twice",
+        _ => "unclassified",
+    }
 }
 
 /// The distinct codes of `odc check`'s warnings and errors for `device`.

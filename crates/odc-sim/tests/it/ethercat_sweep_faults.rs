@@ -222,3 +222,155 @@ fn device_emulation_with_a_mailbox_still_runs_the_firmware() {
     datagram(&mut c, FPWR, ADDR, 0x0800, &sm(0x1800, 128, 0x26));
     assert_eq!(request(&mut c, 0x12), (0x02, 0));
 }
+
+/// Inputs beyond an ET1100's 8 KiB of process RAM, as Beckhoff's EL6695 bridge terminals
+/// place them (corpus `beckhoff__Beckhoff_EL66xx.xml`: `<Sm DefaultSize="2"
+/// StartAddress="#x8E00" ControlByte="#x20">Inputs</Sm>`; their ESC has the RAM). The
+/// emulated ESC had 8 KiB (0x1000–0x2FFF) for every device: the firmware's inputs at 0x8E00
+/// went nowhere and the FMMU reading them counted nothing, so ethercrab saw working counter 0
+/// (expected 1) from the first cycle in OP. The ESC now has the RAM the ESI's sync managers
+/// need (register 0x0006, process RAM size in KiB) and the LRD counts 1 (ETG.1000.4 Table 7).
+#[test]
+fn inputs_where_the_esi_places_them_beyond_8_kib() {
+    let esi = r##"<?xml version="1.0"?>
+<EtherCATInfo>
+  <Vendor><Id>#x00000002</Id><Name>V</Name></Vendor>
+  <Descriptions>
+    <Groups><Group><Type>Bridge</Type><Name>Bridge</Name></Group></Groups>
+    <Devices>
+      <Device Physics="YY">
+        <Type ProductCode="#x1a273052" RevisionNo="#x00010000">EL6695</Type>
+        <Name LcId="1033">Bridge</Name>
+        <GroupType>Bridge</GroupType>
+        <Fmmu>Outputs</Fmmu><Fmmu>Inputs</Fmmu>
+        <Sm DefaultSize="0" StartAddress="#x1C00" ControlByte="#x64" Enable="1">Outputs</Sm>
+        <Sm DefaultSize="2" StartAddress="#x8E00" ControlByte="#x20" Enable="1">Inputs</Sm>
+        <TxPdo Fixed="1" Sm="1"><Index>#x1a01</Index><Name>Status</Name>
+          <Entry><Index>#x6000</Index><SubIndex>1</SubIndex><BitLen>16</BitLen><Name>Status</Name><DataType>UINT</DataType></Entry>
+        </TxPdo>
+        <Eeprom><ByteSize>2048</ByteSize><ConfigData>080C0000</ConfigData></Eeprom>
+      </Device>
+    </Devices>
+  </Descriptions>
+</EtherCATInfo>"##;
+    let mut c = device(esi);
+    let status = c.devices_mut()[0].dictionary_mut().raw_mut(0x6000, 1).unwrap();
+    status.copy_from_slice(&[0x95, 0x66]);
+    datagram(&mut c, APWR, 0, 0x0010, &ADDR.to_le_bytes());
+    // 0x8E02 - 0x1000 bytes of process RAM: 32 KiB.
+    assert_eq!(datagram(&mut c, FPRD, ADDR, 0x0006, &[0]), (vec![32], 1));
+    assert_eq!(request(&mut c, 2), (0x02, 0));
+    datagram(&mut c, FPWR, ADDR, 0x0808, &sm(0x8E00, 2, 0x20));
+    // FMMU 0: logical 0, 2 bytes, bits 0–7, physical 0x8E00, read, enabled.
+    let fmmu = [0u8, 0, 0, 0, 2, 0, 0, 7, 0x00, 0x8E, 0, 1, 1, 0, 0, 0];
+    datagram(&mut c, FPWR, ADDR, 0x0600, &fmmu);
+    assert_eq!(request(&mut c, 4), (0x04, 0));
+    assert_eq!(request(&mut c, 8), (0x08, 0));
+    // LRD of logical 0, 2 bytes: the status, working counter 1.
+    assert_eq!(datagram(&mut c, 10, 0, 0, &[0, 0]), (vec![0x95, 0x66], 1));
+    // A device whose sync managers sit in 8 KiB keeps an ET1100's RAM.
+    let mut c = device(COUPLER);
+    datagram(&mut c, APWR, 0, 0x0010, &ADDR.to_le_bytes());
+    assert_eq!(datagram(&mut c, FPRD, ADDR, 0x0006, &[0]), (vec![8], 1));
+}
+
+/// Inputs of an ESC without a microcontroller in a one-buffer sync manager, as Beckhoff's
+/// EL1252 has them (corpus `beckhoff__etc-Beckhoff_EL1xxx.xml`: `ConfigData` 0401…, device
+/// emulation with the digital I/O PDI; `<Sm DefaultSize="1" StartAddress="#x1000"
+/// ControlByte="#x22">Inputs</Sm>`, mode 2: one buffer, the master reads). In that mode the
+/// master reads the buffer only once the PDI has written it (ESC datasheets, section I, sync
+/// manager one-buffer mode). The simulated digital I/O PDI put the pins into the RAM without
+/// the sync manager seeing a write, so the buffer stayed empty, the read was refused and SOEM
+/// counted working counter 0 in every cycle. The pins now go in through the PDI.
+#[test]
+fn digital_inputs_fill_a_one_buffer_sync_manager() {
+    let esi = COUPLER
+        .replace(
+            r#"ControlByte="0" Enable="0""#,
+            r##"DefaultSize="1" ControlByte="#x22" Enable="1""##,
+        )
+        .replace("<BitLen>16</BitLen>", "<BitLen>8</BitLen>")
+        .replace("<DataType>UINT</DataType>", "<DataType>USINT</DataType>");
+    let mut c = device(&esi);
+    c.devices_mut()[0].dictionary_mut().raw_mut(0x6000, 1).unwrap().copy_from_slice(&[0x5A]);
+    datagram(&mut c, APWR, 0, 0x0010, &ADDR.to_le_bytes());
+    assert_eq!(request(&mut c, 2), (0x02, 0));
+    datagram(&mut c, FPWR, ADDR, 0x0800, &sm(0x1000, 1, 0x22));
+    let fmmu = [0u8, 0, 0, 0, 1, 0, 0, 7, 0x00, 0x10, 0, 1, 1, 0, 0, 0];
+    datagram(&mut c, FPWR, ADDR, 0x0600, &fmmu);
+    assert_eq!(request(&mut c, 4), (0x04, 0));
+    assert_eq!(request(&mut c, 8), (0x08, 0));
+    // LRD of logical 0: the inputs and working counter 1, cycle after cycle (each read
+    // empties the buffer, the next sample fills it).
+    for _ in 0..3 {
+        assert_eq!(datagram(&mut c, 10, 0, 0, &[0]), (vec![0x5A], 1));
+    }
+}
+
+/// A mapping object without a default, as Weidmüller's UR20-FBC-EC declares 0x16FF (corpus
+/// `weidmueller__Weidmueller_UR20_FBC.xml`: `<Object>` with `Type` and `BitSize` and no
+/// `Info`), while its `<RxPdo>` of that index lists the entries: the simulated firmware mapped
+/// nothing (sub 0 = 0), SOEM sized SM 2 from the SII and the device refused SAFE-OP with 0x001D
+/// (invalid output configuration). It now starts with the mapping its ESI's PDO gives; a
+/// mapping object with a default keeps it.
+#[test]
+fn a_mapping_object_without_a_default_starts_with_its_pdo() {
+    use odc::slave::ObjectDictionary;
+    let esi = r##"<?xml version="1.0"?>
+<EtherCATInfo>
+  <Vendor><Id>#x00000230</Id><Name>V</Name></Vendor>
+  <Descriptions>
+    <Groups><Group><Type>Coupler</Type><Name>Coupler</Name></Group></Groups>
+    <Devices>
+      <Device Physics="YY">
+        <Type ProductCode="#x4F911C30" RevisionNo="#x1">UR20-FBC-EC</Type>
+        <Name LcId="1033">Coupler</Name>
+        <GroupType>Coupler</GroupType>
+        <Profile><Dictionary>
+          <DataTypes>
+            <DataType><Name>USINT</Name><BitSize>8</BitSize></DataType>
+            <DataType><Name>UINT</Name><BitSize>16</BitSize></DataType>
+            <DataType><Name>UDINT</Name><BitSize>32</BitSize></DataType>
+            <DataType><Name>DT16FF</Name><BitSize>80</BitSize>
+              <SubItem><SubIdx>0</SubIdx><Name>SubIndex 000</Name><Type>USINT</Type><BitSize>8</BitSize><BitOffs>0</BitOffs><Flags><Access>ro</Access></Flags></SubItem>
+              <SubItem><SubIdx>1</SubIdx><Name>SubIndex 001</Name><Type>UDINT</Type><BitSize>32</BitSize><BitOffs>16</BitOffs><Flags><Access>ro</Access></Flags></SubItem>
+              <SubItem><SubIdx>2</SubIdx><Name>SubIndex 002</Name><Type>UDINT</Type><BitSize>32</BitSize><BitOffs>48</BitOffs><Flags><Access>ro</Access></Flags></SubItem>
+            </DataType>
+          </DataTypes>
+          <Objects>
+            <Object><Index>#x16FF</Index><Name>Device Control PDO</Name><Type>DT16FF</Type><BitSize>80</BitSize></Object>
+            <Object><Index>#x16FE</Index><Name>Other PDO</Name><Type>DT16FF</Type><BitSize>80</BitSize>
+              <Info><SubItem><Name>SubIndex 000</Name><Info><DefaultData>00</DefaultData></Info></SubItem></Info></Object>
+            <Object><Index>#xF200</Index><Name>Control</Name><Type>UINT</Type><BitSize>16</BitSize><Flags><Access>rw</Access><PdoMapping>R</PdoMapping></Flags></Object>
+          </Objects>
+        </Dictionary></Profile>
+        <Fmmu>Outputs</Fmmu>
+        <Sm StartAddress="#x1000" DefaultSize="#x100" MinSize="#x40" MaxSize="#x100" ControlByte="#x26" Enable="1">MBoxOut</Sm>
+        <Sm StartAddress="#x1400" DefaultSize="#x100" MinSize="#x40" MaxSize="#x100" ControlByte="#x22" Enable="1">MBoxIn</Sm>
+        <Sm StartAddress="#x1800" ControlByte="#x64" Enable="1">Outputs</Sm>
+        <RxPdo Fixed="1" Mandatory="1" Sm="2"><Index>#x16FF</Index><Name>Device Control</Name>
+          <Entry><Index>#xF200</Index><SubIndex>0</SubIndex><BitLen>16</BitLen><Name>Control</Name><DataType>UINT</DataType></Entry>
+        </RxPdo>
+        <RxPdo><Index>#x16FE</Index><Name>Other</Name>
+          <Entry><Index>#xF200</Index><SubIndex>0</SubIndex><BitLen>16</BitLen><Name>Control</Name><DataType>UINT</DataType></Entry>
+        </RxPdo>
+        <Mailbox><CoE SdoInfo="1" PdoAssign="1"/></Mailbox>
+        <Eeprom><ByteSize>2048</ByteSize><ConfigData>080C0000</ConfigData></Eeprom>
+      </Device>
+    </Devices>
+  </Descriptions>
+</EtherCATInfo>"##;
+    let p = odc_esi::parse(&mut Sources::new(), "t.xml", esi.as_bytes());
+    assert!(!p.diagnostics.iter().any(|d| d.is_error()), "{:?}", p.diagnostics);
+    let sim = SubDevice::new(&p.devices[0]).unwrap();
+    let od = sim.dictionary();
+    let read = |index: u16, sub: u8| {
+        let mut b = [0u8; 4];
+        od.read(index, sub, &mut b).map(|n| b[..n].to_vec())
+    };
+    // 0x16FF: one entry, 0xF200:00 of 16 bits (index << 16 | sub << 8 | bits).
+    assert_eq!(read(0x16FF, 0), Ok(vec![1]));
+    assert_eq!(read(0x16FF, 1), Ok(0xF200_0010u32.to_le_bytes().to_vec()));
+    // 0x16FE's default (no entries) stands.
+    assert_eq!(read(0x16FE, 0), Ok(vec![0]));
+}
