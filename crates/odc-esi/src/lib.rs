@@ -219,6 +219,8 @@ pub mod codes {
     pub const STRUCTURED_SUB_ITEM: &str = "F222";
     /// See [`super::RULES`]: `esi-duplicate-module`.
     pub const DUPLICATE_MODULE: &str = "F223";
+    /// See [`super::RULES`]: `esi-object-data-layout`.
+    pub const OBJECT_DATA_LAYOUT: &str = "F224";
     /// See [`super::RULES`]: `esi-unknown-transition`.
     pub const UNKNOWN_TRANSITION: &str = "F230";
 }
@@ -442,6 +444,19 @@ pub static RULES: &[RuleInfo] = &[
         "Slots name the modules they accept by ModuleIdent, so each Module's ident must be unique \
          in the file. Both modules are kept; a configuration tool cannot tell them apart. Fix \
          the ident of one of them."
+    ),
+    rule!(
+        codes::OBJECT_DATA_LAYOUT,
+        "esi-object-data-layout",
+        Warning,
+        "an object's own DefaultData does not match its data type's sub-items",
+        "An object's Info holds either SubItems or one DefaultData for the whole object \
+         (ETG.2000 ObjectInfoType), laid out as complete access reads it: each sub-item at its \
+         data type's BitOffs. odc splits the bytes into the sub-objects' defaults (a SubItem's \
+         own default wins). Reported when bytes are left over, when a sub-item lies beyond the \
+         bytes or its value does not fit its type (it then gets no default), or when the \
+         data type gives no BitOffs (array types: the bytes are then not applied). Write the \
+         bytes for every sub-item, or SubItem defaults instead."
     ),
     rule!(
         codes::UNKNOWN_TRANSITION,

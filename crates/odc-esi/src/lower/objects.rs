@@ -262,12 +262,20 @@ pub(super) fn lower_objects<'t>(
                     }
                 }
                 if let Some(i) = info {
+                    if let Some(data) = i.child("DefaultData") {
+                        // An array type's own layout (is sub 0 in the bytes?) is not defined
+                        // by ETG.2000; say so rather than guess.
+                        not_applied(data, "an array type's elements have no bit offsets", ctx);
+                    }
                     apply_sub_infos(i, &mut object, ctx);
                 }
             }
             Some(Resolved::Struct(dt, _)) => {
-                lower_struct(dt, types, &mut object, flags, ctx, flags_out);
+                let layout = lower_struct(dt, types, &mut object, flags, ctx, flags_out);
                 if let Some(i) = info {
+                    if let Some(data) = i.child("DefaultData") {
+                        apply_object_data(data, &layout, &mut object, ctx);
+                    }
                     apply_sub_infos(i, &mut object, ctx);
                 }
             }
@@ -301,7 +309,17 @@ pub(super) fn lower_objects<'t>(
     objects
 }
 
-/// Builds the sub-objects of `object` from a structured data type's `SubItem`s.
+/// Where a sub-object's bits lie in its object's bytes, from the data type's `BitOffs`: how a
+/// `DefaultData` of the whole object (complete-access layout) is split.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Slot {
+    sub: u8,
+    offset: u32,
+    bits: u32,
+}
+
+/// Builds the sub-objects of `object` from a structured data type's `SubItem`s; returns
+/// where each lies (those whose `BitOffs` and size are known).
 pub(super) fn lower_struct<'t>(
     dt: Element<'t>,
     types: &Types<'t>,
@@ -309,7 +327,8 @@ pub(super) fn lower_struct<'t>(
     obj_flags: Option<Element<'t>>,
     ctx: &mut Ctx<'_>,
     flags_out: &mut FlagsOut,
-) {
+) -> Vec<Slot> {
+    let mut layout = Vec::new();
     let index = object.index;
     let object_span = object.span;
     let mut next: i64 = 0;
@@ -318,8 +337,9 @@ pub(super) fn lower_struct<'t>(
     // One sub-object per SubItem, unless one is an array.
     object.subs.reserve_exact(dt.children_named("SubItem").count());
     for si in dt.children_named("SubItem") {
-        let [name, type_el, bits, sub_idx, flags] =
-            si.pick(["Name", "Type", "BitSize", "SubIdx", "Flags"]);
+        let [name, type_el, bits, sub_idx, flags, offset] =
+            si.pick(["Name", "Type", "BitSize", "SubIdx", "Flags", "BitOffs"]);
+        let offset = offset.and_then(|o| u32::try_from(num::parse_int(o.text())?).ok());
         let name = name.map(|n| Name::from(n.text())).unwrap_or_default();
         let type_name = type_el.map(|t| t.text()).unwrap_or("");
         let bits = bits.and_then(|b| num::parse_int(b.text()));
@@ -345,6 +365,9 @@ pub(super) fn lower_struct<'t>(
                     let Ok(n) = u8::try_from(first + i64::from(k)) else { break };
                     make(n, sub_index_name(n), elem, elem_bits, ctx);
                     next = i64::from(n) + 1;
+                    if let (Some(o), Some(b)) = (offset, elem_bits) {
+                        layout.push(Slot { sub: n, offset: o + k * b, bits: b });
+                    }
                 }
             }
             other => {
@@ -374,12 +397,101 @@ pub(super) fn lower_struct<'t>(
                 if n != 0 {
                     saw_other = true;
                 }
-                make(n, name, ty, bits.or(tbits), ctx);
+                let size = bits.or(tbits);
+                make(n, name, ty, size, ctx);
                 next = i64::from(n) + 1;
+                if let (Some(offset), Some(bits)) = (offset, size) {
+                    layout.push(Slot { sub: n, offset, bits });
+                }
             }
         }
     }
     object.kind = if saw_array && !saw_other { ObjectKind::Array } else { ObjectKind::Record };
+    layout
+}
+
+/// Splits an object's own `Info/DefaultData` (ETG.2000: `ObjectInfoType` holds either the
+/// whole object's data or `SubItem`s) into its sub-objects' defaults at their `BitOffs`;
+/// `SubItem` defaults, applied after, take precedence. Bytes no sub-object covers, and
+/// sub-objects the bytes do not reach, are said (F224).
+fn apply_object_data(data: Element<'_>, layout: &[Slot], object: &mut Object, ctx: &mut Ctx<'_>) {
+    let Some((bytes, _)) = num::parse_hex_bytes_lenient(data.text()) else {
+        ctx.push(
+            Diagnostic::error(
+                codes::INVALID_DATA,
+                format!("`{}` is not little-endian hex bytes", data.text()),
+            )
+            .with_label(data.text_span(), "in the object's `DefaultData`"),
+        );
+        return;
+    };
+    if layout.is_empty() {
+        return not_applied(data, "its data type gives no `BitOffs`", ctx);
+    }
+    let have = bytes.len() as u64 * 8;
+    let mut short = Vec::new();
+    for slot in layout {
+        let Some(sub) = object.subs.get_mut(&slot.sub) else { continue };
+        let end = u64::from(slot.offset) + u64::from(slot.bits);
+        if end > have || slot.bits > 64 && slot.offset % 8 != 0 {
+            short.push(slot.sub);
+            continue;
+        }
+        let value = if slot.offset % 8 == 0 && slot.bits % 8 == 0 {
+            let at = slot.offset as usize / 8;
+            num::decode_data(&bytes[at..at + slot.bits as usize / 8], sub.data_type)
+        } else {
+            // A bit field (BOOL, BIT2, …): its bits, as the bytes of an integer.
+            let v = (0..slot.bits).fold(0u64, |v, i| {
+                let bit = slot.offset + i;
+                let set = bytes[bit as usize / 8] >> (bit % 8) & 1;
+                v | u64::from(set) << i
+            });
+            num::decode_data(&v.to_le_bytes()[..slot.bits.div_ceil(8) as usize], sub.data_type)
+        };
+        match value.and_then(|v| num::fit(v, sub.data_type)) {
+            Some(v) => sub.default = Some(Spanned::new(v, data.text_span())),
+            None => short.push(slot.sub),
+        }
+    }
+    let used = layout.iter().map(|s| u64::from(s.offset) + u64::from(s.bits)).max().unwrap_or(0);
+    let mut said = Vec::new();
+    if !short.is_empty() {
+        let subs: Vec<String> = short.iter().map(u8::to_string).collect();
+        said.push(format!("no default for sub-index {}", subs.join(", ")));
+    }
+    if used.div_ceil(8) < bytes.len() as u64 {
+        said.push(format!(
+            "{} byte(s) beyond the last sub-item",
+            bytes.len() as u64 - used.div_ceil(8)
+        ));
+    }
+    if !said.is_empty() {
+        ctx.push(
+            Diagnostic::warning(
+                codes::OBJECT_DATA_LAYOUT,
+                format!(
+                    "object 0x{:04X}'s `DefaultData` ({} bytes) does not match its data type's \
+                     sub-items ({} bits)",
+                    object.index,
+                    bytes.len(),
+                    used
+                ),
+            )
+            .with_label(data.text_span(), said.join("; ")),
+        );
+    }
+}
+
+/// An object's own `Info/DefaultData` that odc cannot split into its sub-objects (F224).
+fn not_applied(data: Element<'_>, why: &str, ctx: &mut Ctx<'_>) {
+    ctx.push(
+        Diagnostic::warning(
+            codes::OBJECT_DATA_LAYOUT,
+            "the object's own `DefaultData` is not applied to its sub-objects",
+        )
+        .with_label(data.text_span(), why),
+    );
 }
 
 /// Matches `Info/SubItem`s to the object's sub-objects by name and applies their `Info`.

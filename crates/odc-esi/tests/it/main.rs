@@ -4,3 +4,4 @@
 
 mod ethercat_extras;
 mod fixtures;
+mod object_data;
