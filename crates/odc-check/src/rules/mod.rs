@@ -120,4 +120,6 @@ pub(crate) const ALL: &[Rule] = &[
     ethercat::T623,
     ethercat::T624,
     ethercat::T625,
+    ethercat::T626,
+    ethercat::T627,
 ];

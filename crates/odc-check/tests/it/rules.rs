@@ -783,7 +783,7 @@ fn esi_without_dictionary_is_not_checked_as_a_drive() {
     assert_eq!(run(d), "");
 }
 
-// T601–T625: EtherCAT.
+// T601–T627: EtherCAT.
 
 #[test]
 fn esi_device_passes_every_rule() {
@@ -1048,6 +1048,26 @@ trips!(
     "T625",
     // 0x1018:03 defaults to 0x00010000.
     esi_io().with(|d| d.device_info.revision_number = Some(Spanned::synthetic(0x0002_0000)))
+);
+
+trips!(
+    t626_esi_pdo_assign_zero,
+    "T626",
+    // Sub 0 counts two PDOs; the second is 0x0000 (rt-labs' xmc4 dynpdo slave has six such).
+    esi_io().remove(0x1C13).array(
+        0x1C13,
+        "TxPDO assign",
+        &[
+            (1, "SubIndex 001", Unsigned16, Rw, Some(u(0x1A00))),
+            (2, "SubIndex 002", Unsigned16, Rw, Some(u(0))),
+        ],
+    )
+);
+trips!(
+    t627_esi_sm_default_size,
+    "T627",
+    // SM 2's default PDO 0x1600 takes 2 bytes; SM 3's one (0x1A00) takes 2 too.
+    esi_io().edit_sm(2, |s| s.default_size = Some(8)).edit_sm(3, |s| s.default_size = Some(2))
 );
 
 #[test]

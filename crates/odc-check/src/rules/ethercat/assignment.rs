@@ -1,4 +1,4 @@
-//! PDO assignment and `Exclude` (T607–T611).
+//! PDO assignment and `Exclude` (T607–T611, T626).
 
 use super::*;
 
@@ -77,6 +77,57 @@ pub(super) fn pdo_assign_unknown(dev: &Device, ctx: &mut Ctx) {
                 format!("{} assigns PDO {}, {why}", idx(index), idx(pdo)),
             );
         }
+    }
+}
+
+rule!(
+    T626,
+    "T626",
+    "esi-pdo-assign-zero",
+    "etg",
+    Warning,
+    Warn,
+    pdo_assign_zero,
+    "a PDO assignment object's sub 0 counts entries whose default is 0x0000",
+    "Sub-index 0 of 0x1C10 + n is the number of PDOs assigned to sync manager n, and sub-indexes \
+     1 to that number hold their mapping objects' indexes (ETG.1000.6 §5.6.7.4.6); 0x0000 is \
+     no PDO. Masters disagree on such an entry (SOEM skips it; a device that checks the \
+     assignment refuses it, SDO abort or AL status 0x0025 invalid configuration), so the \
+     device's default assignment means different process images to different masters. Fix: \
+     count only the assigned PDOs in sub 0, or give every counted entry a PDO index."
+);
+
+pub(super) fn pdo_assign_zero(dev: &Device, ctx: &mut Ctx) {
+    let Some(ec) = ec(dev) else { return };
+    if !has_dictionary(dev) {
+        return;
+    }
+    for (_, _, index) in pd_sync_managers(ec) {
+        let Some(o) = dev.objects.get(&index) else { continue };
+        let Some(count) = initial_u64(dev, index, 0) else { continue };
+        let zeros: Vec<u8> = (1..=count.min(254) as u8)
+            .filter(|&sub| {
+                o.sub(sub)
+                    .and_then(|s| s.initial_value())
+                    .and_then(|v| crate::util::as_u64(&v.value))
+                    == Some(0)
+            })
+            .collect();
+        let Some(s0) = o.sub(0).filter(|_| !zeros.is_empty()) else { continue };
+        let subs: Vec<String> = zeros.iter().map(|s| format!(":{s:02}")).collect();
+        let span = first_span([s0.initial_value().map_or(s0.span, |v| v.span), s0.span, o.span]);
+        ctx.report(
+            index,
+            Some(0),
+            span,
+            format!(
+                "{} counts {count} PDO{}, but {} {} 0x0000",
+                idx(index),
+                if count == 1 { "" } else { "s" },
+                subs.join(", "),
+                if zeros.len() == 1 { "is" } else { "are" }
+            ),
+        );
     }
 }
 

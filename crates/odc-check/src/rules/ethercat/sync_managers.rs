@@ -1,5 +1,5 @@
 //! Sync managers: sizes against their PDOs, control bytes, addresses and the 0x1C00 type
-//! object (T605, T606, T614, T615, T618).
+//! object (T605, T606, T614, T615, T618, T627).
 
 use super::*;
 
@@ -40,6 +40,53 @@ pub(super) fn sm_pdo_size(dev: &Device, ctx: &mut Ctx) {
             _ => continue,
         };
         ctx.report_device(sm.span, problem);
+    }
+}
+
+rule!(
+    T627,
+    "T627",
+    "esi-sm-default-size",
+    "etg",
+    Warning,
+    Warn,
+    sm_default_size,
+    "a process-data sync manager's DefaultSize differs from the size of its default PDOs",
+    "A process-data sync manager is as long as the PDOs assigned to it (ETG.1000.6 §5.6.7.4: \
+     their bits packed, rounded up to bytes). <Sm DefaultSize> is written into the SII's sync \
+     manager category (ETG.2010), and a master that sizes the sync manager from it, rather than \
+     from the PDOs, configures a length the device's mapping does not have; the device then \
+     refuses SAFE-OP with AL status 0x001D/0x001E (invalid output/input configuration). A \
+     sync manager with a DefaultSize and no default PDO at all is the common case: a master \
+     maps nothing but enables a sized area. Modular devices are not checked (their PDOs come \
+     with the modules). Fix: make DefaultSize the default PDOs' size (0 when none)."
+);
+
+pub(super) fn sm_default_size(dev: &Device, ctx: &mut Ctx) {
+    let Some(ec) = ec(dev) else { return };
+    if is_modular(ec) {
+        return;
+    }
+    for sm in &ec.sync_managers {
+        let Some(default) = sm.default_size.filter(|_| direction_of(&sm.usage).is_some()) else {
+            continue;
+        };
+        let bytes = assigned_bytes(dev, sm.number);
+        if bytes == u64::from(default) || sm.virtual_sm {
+            continue;
+        }
+        let pdos = match assigned(dev, sm.number).count() {
+            0 => "it has no default PDO".to_string(),
+            n => format!("its {n} default PDO(s) take {bytes} bytes"),
+        };
+        ctx.report_device(
+            sm.span,
+            format!(
+                "SM {} ({}) has DefaultSize {default}; {pdos}",
+                sm.number,
+                usage_name(&sm.usage)
+            ),
+        );
     }
 }
 
