@@ -1,4 +1,4 @@
-//! T601–T627: EtherCAT devices (ETG.2000 ESI, ETG.1000 data link and application layer).
+//! T601–T628: EtherCAT devices (ETG.2000 ESI, ETG.1000 data link and application layer).
 //!
 //! The PDO rules mirror the CANopen ones (C301–C303) on the `<RxPdo>`/`<TxPdo>` elements; the
 //! others check what only an ESI has: sync managers (`<Sm>`), the default PDO assignment (the

@@ -122,4 +122,5 @@ pub(crate) const ALL: &[Rule] = &[
     ethercat::T625,
     ethercat::T626,
     ethercat::T627,
+    ethercat::T628,
 ];

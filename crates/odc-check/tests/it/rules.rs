@@ -783,7 +783,7 @@ fn esi_without_dictionary_is_not_checked_as_a_drive() {
     assert_eq!(run(d), "");
 }
 
-// T601–T627: EtherCAT.
+// T601–T628: EtherCAT.
 
 #[test]
 fn esi_device_passes_every_rule() {
@@ -1069,6 +1069,29 @@ trips!(
     // SM 2's default PDO 0x1600 takes 2 bytes; SM 3's one (0x1A00) takes 2 too.
     esi_io().edit_sm(2, |s| s.default_size = Some(8)).edit_sm(3, |s| s.default_size = Some(2))
 );
+trips!(
+    t628_esi_device_emulation_mailbox,
+    "T628",
+    // ConfigData 8003…: PDI 0x80 (on-chip bus), 0x0141 = 0x03 (bit 0: device emulation).
+    esi_io().ethercat(|e| {
+        e.eeprom = Some(odc_model::ethercat::Eeprom {
+            config_data: vec![0x80, 0x03, 0x00, 0x00],
+            ..Default::default()
+        });
+    })
+);
+
+#[test]
+fn device_emulation_without_a_mailbox_passes() {
+    let d = esi_io().ethercat(|e| {
+        e.mailbox = None;
+        e.eeprom = Some(odc_model::ethercat::Eeprom {
+            config_data: vec![0x05, 0x01, 0x00, 0x00],
+            ..Default::default()
+        });
+    });
+    assert!(!run(d).contains("[T628]"));
+}
 
 #[test]
 fn t625_names_a_byte_swapped_revision() {

@@ -1,4 +1,4 @@
-//! Mailbox and distributed clocks (T612, T613, T616, T617, T624).
+//! Mailbox and distributed clocks (T612, T613, T616, T617, T624, T628).
 
 use super::*;
 
@@ -119,6 +119,42 @@ pub(super) fn mailbox_sm_disabled(dev: &Device, ctx: &mut Ctx) {
             ),
         );
     }
+}
+
+rule!(
+    T628,
+    "T628",
+    "esi-device-emulation-mailbox",
+    "etg",
+    Warning,
+    Warn,
+    device_emulation_mailbox,
+    "a device with a mailbox sets ESC device emulation in its ConfigData",
+    "The second byte of Eeprom/ConfigData is the ESC configuration register 0x0141 (ETG.2010 SII \
+     word 0; ET1100 datasheet, register 0x0141); its bit 0, device emulation, makes the ESC copy \
+     every state the master writes to AL control into AL status by itself. That is for devices \
+     without a microcontroller (simple I/O terminals). A device with a mailbox has one, and \
+     with device emulation its refusals cannot reach the master: AL status reads the requested \
+     state while the firmware refused it (an invalid mailbox or process-data configuration), \
+     so the master runs in OP against a device that exchanges nothing. Fix: clear bit 0 of \
+     ConfigData's second byte."
+);
+
+pub(super) fn device_emulation_mailbox(dev: &Device, ctx: &mut Ctx) {
+    let Some(ec) = ec(dev) else { return };
+    let Some(eeprom) = ec.eeprom.as_ref() else { return };
+    let Some(&esc_config) = eeprom.config_data.get(1) else { return };
+    if esc_config & 0x01 == 0 || !speaks_mailbox(ec) {
+        return;
+    }
+    ctx.report_device(
+        eeprom.spans.config_data.unwrap_or(eeprom.span),
+        format!(
+            "ConfigData sets device emulation (0x0141 = 0x{:02X}, bit 0) on a device with a \
+             mailbox, whose firmware then cannot refuse a state",
+            esc_config
+        ),
+    );
 }
 
 /// AssignActivate bits (ESC registers 0x0980/0x0981): 0x0100 cyclic operation, 0x0200
