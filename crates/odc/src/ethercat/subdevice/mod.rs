@@ -285,6 +285,15 @@ fn is_process_data(s: &SmSpec) -> bool {
     matches!(s.kind, al::OUTPUTS | al::INPUTS)
 }
 
+/// Writes `value` into the PDI control register (bit 0: deactivated by the application) of
+/// every process data sync manager: 1 outside SAFE-OP and OP, 0 on entering SAFE-OP.
+fn pdi_control<E: Esc + ?Sized>(cfg: &Config<'_>, esc: &mut E, value: u8) -> Result<(), E::Error> {
+    for spec in cfg.sync_managers.iter().filter(|s| is_process_data(s)) {
+        esc.write(register::SM + 8 * u16::from(spec.number) + 7, &[value])?;
+    }
+    Ok(())
+}
+
 impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
     SubDevice<MBX, BUF, PD, IMG>
 {
@@ -491,9 +500,19 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
         if let Err(c) = al::allowed(self.state, to, cfg.boot) {
             return Ok(Err(c));
         }
-        let mut kib = [0u8; 1];
-        esc.read(register::RAM_SIZE, &mut kib)?;
-        let ram_end = u32::from(register::PROCESS_RAM) + u32::from(kib[0]) * 1024;
+        // BOOT, PRE-OP and SAFE-OP from PRE-OP check the mailbox first: one check, its code
+        // BOOT's own for BOOT.
+        let checks_mailbox = match to {
+            state::BOOT | state::PRE_OP => true,
+            state::SAFE_OP => self.state == state::PRE_OP,
+            _ => false,
+        };
+        if checks_mailbox && al::check_mailbox(esc, cfg.sync_managers)?.is_err() {
+            return Ok(Err(match to {
+                state::BOOT => code::INVALID_MAILBOX_CONFIG_BOOT,
+                _ => code::INVALID_MAILBOX_CONFIG,
+            }));
+        }
         match to {
             state::INIT => {
                 self.transfer = Transfer::None;
@@ -503,21 +522,10 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
                 self.counter = 0;
                 self.deactivate_process_data(cfg, esc)?;
             }
-            state::BOOT if al::check_mailbox(esc, cfg.sync_managers, ram_end)?.is_err() => {
-                return Ok(Err(code::INVALID_MAILBOX_CONFIG_BOOT));
-            }
-            state::PRE_OP => {
-                if let Err(c) = al::check_mailbox(esc, cfg.sync_managers, ram_end)? {
-                    return Ok(Err(c));
-                }
-                if self.state >= state::SAFE_OP {
-                    self.deactivate_process_data(cfg, esc)?;
-                }
+            state::PRE_OP if self.state >= state::SAFE_OP => {
+                self.deactivate_process_data(cfg, esc)?;
             }
             state::SAFE_OP if self.state == state::PRE_OP => {
-                if let Err(c) = al::check_mailbox(esc, cfg.sync_managers, ram_end)? {
-                    return Ok(Err(c));
-                }
                 let mut bits = [0u32; 16];
                 let mut sink = pdo::Sink { entries: &mut self.mapped, used: 0 };
                 for spec in cfg.sync_managers.iter().filter(|s| is_process_data(s)) {
@@ -560,9 +568,7 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
                     return Ok(Err(c));
                 }
                 self.used = used;
-                for spec in cfg.sync_managers.iter().filter(|s| is_process_data(s)) {
-                    esc.write(register::SM + 8 * u16::from(spec.number) + 7, &[0])?;
-                }
+                pdi_control(cfg, esc, 0)?;
             }
             _ => {}
         }
@@ -577,10 +583,7 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
         esc: &mut E,
     ) -> Result<(), E::Error> {
         self.used = 0;
-        for spec in cfg.sync_managers.iter().filter(|s| is_process_data(s)) {
-            esc.write(register::SM + 8 * u16::from(spec.number) + 7, &[1])?;
-        }
-        Ok(())
+        pdi_control(cfg, esc, 1)
     }
 
     /// The write mailbox is full: read it, answer in the read mailbox.
