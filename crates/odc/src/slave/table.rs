@@ -3,7 +3,7 @@
 
 use core::fmt;
 
-use super::{WriteHook, key, search};
+use super::{WriteHook, initial_value, key, search};
 use crate::cob::NodeId;
 use crate::{Access, DataType, DefaultValue, Entry, ObjValue, ObjectAddr, SdoAbort};
 
@@ -61,24 +61,11 @@ where
     }
 
     fn init(&self, stored: &mut [u8], node_id: Option<NodeId>) {
-        // The default ($NODEID applied), else the zero of the zeroed storage (0, false, 0.0,
-        // the empty string) moved into the limits, as `initial_value` does; the limit test is
-        // `check`'s, not a second comparison per type. The storage is the type's encoded
-        // size, so the encoding fits.
-        let value = match self.default {
-            Some(DefaultValue::Value(v)) => Some(v),
-            Some(d) => node_id.and_then(|id| d.resolve(id)),
-            None => None,
-        };
-        let value = value.or(match Slot::check(self, stored) {
-            // Limits that contradict each other (the checker's error): the low one, as
-            // `initial_value` gives for every unsigned type.
-            Err(SdoAbort::ValueTooLow | SdoAbort::MaxLessThanMin) => self.low,
-            Err(SdoAbort::ValueTooHigh) => self.high,
-            _ => None,
-        });
-        if let Some(v) = value {
-            let _ = v.encode(stored);
+        // Zeroed storage decodes as the type's zero (0, false, 0.0, the empty string); the
+        // storage is the type's encoded size, so the encoding fits.
+        if let Ok(zero) = T::decode(stored) {
+            let value = initial_value(self.default, self.low, self.high, node_id, zero);
+            let _ = value.encode(stored);
         }
     }
 
