@@ -643,42 +643,43 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
         let Some(data) = request.get(HEADER..HEADER + len) else {
             return self.error(mailbox_error::INVALID_SIZE, room);
         };
-        if kind == TYPE_FOE && cfg.foe {
-            // Packets from the master carry its mailbox less the mailbox and FoE headers.
-            let max_in = request.len().saturating_sub(HEADER + 6);
-            let area = self.reply.get_mut(HEADER..room).unwrap_or(&mut []);
-            let mut out = Out { buf: area, len: 0 };
-            foe::handle(&mut self.foe, data, max_in, app, &mut out);
-            let n = out.len;
-            return if n == 0 { 0 } else { self.frame(TYPE_FOE, n) };
-        }
+        let foe = kind == TYPE_FOE && cfg.foe;
         // In BOOT only FoE is served (ETG.1000.6 §6.4.1).
-        if kind != TYPE_COE || !cfg.coe || self.state == state::BOOT {
+        if !foe && (kind != TYPE_COE || !cfg.coe || self.state == state::BOOT) {
             return self.error(mailbox_error::UNSUPPORTED_PROTOCOL, room);
         }
-        let Some((&[_, service], sdo)) = data.split_first_chunk::<2>() else {
-            return self.error(mailbox_error::SIZE_TOO_SHORT, room);
+        // CoE: the service (bits 12–15 of its header) and what follows.
+        let (service, sdo) = match data.split_first_chunk::<2>() {
+            Some((&[_, service], sdo)) => (service >> 4, sdo),
+            None if foe => (0, data),
+            None => return self.error(mailbox_error::SIZE_TOO_SHORT, room),
         };
+        let info = service == 8 && cfg.describe.is_some();
+        // Emergency, TxPDO, RxPDO and remote requests are not served.
+        if !foe && !info && service != 2 {
+            return self.error(mailbox_error::UNSUPPORTED_PROTOCOL, room);
+        }
+        // One reply area and one framing for FoE and CoE.
         let area = self.reply.get_mut(HEADER..room).unwrap_or(&mut []);
         let mut out = Out { buf: area, len: 0 };
-        match (service >> 4, cfg.describe) {
-            (8, Some(describe)) => self.info = info::start(sdo, describe, &mut out),
-            (2, _) => {
-                let mut server = coe::Server {
-                    transfer: &mut self.transfer,
-                    buf: &mut self.buf,
-                    complete_access: cfg.complete_access,
-                    pdo_writable: self.state == state::PRE_OP,
-                };
-                server.handle(sdo, od, &mut out);
-            }
-            // Emergency, TxPDO, RxPDO and remote requests are not served.
-            _ => return self.error(mailbox_error::UNSUPPORTED_PROTOCOL, room),
+        if foe {
+            // Packets from the master carry its mailbox less the mailbox and FoE headers.
+            let max_in = request.len().saturating_sub(HEADER + 6);
+            foe::handle(&mut self.foe, data, max_in, app, &mut out);
+        } else if let (true, Some(describe)) = (info, cfg.describe) {
+            self.info = info::start(sdo, describe, &mut out);
+        } else {
+            let mut server = coe::Server {
+                transfer: &mut self.transfer,
+                buf: &mut self.buf,
+                complete_access: cfg.complete_access,
+                pdo_writable: self.state == state::PRE_OP,
+            };
+            server.handle(sdo, od, &mut out);
         }
-        let n = out.len;
-        match n {
+        match out.len {
             0 => 0,
-            n => self.frame(TYPE_COE, n),
+            n => self.frame(if foe { TYPE_FOE } else { TYPE_COE }, n),
         }
     }
 
