@@ -199,32 +199,34 @@ impl Server<'_> {
         let at = (index, sub);
         let ca = self.check_ca(command, index, sub)?;
         let payload = sdo.get(4..).unwrap_or(&[]);
-        if command & 0x02 != 0 {
+        // The whole value when the request holds it: one write for both kinds.
+        let data = if command & 0x02 != 0 {
             // Expedited: the size indicator says how many of the 4 bytes are data.
             let n = if command & 0x01 != 0 { 4 - usize::from(command >> 2 & 0x03) } else { 4 };
-            let data = payload.get(..n).ok_or((at, SdoAbort::TooShort))?;
-            self.write(od, index, sub, ca, data).map_err(|e| (at, e))?;
-            download_response(out, index, sub);
-            return Ok(());
-        }
-        let size = match payload.get(..4) {
-            Some(&[a, b, c, d]) => u32::from_le_bytes([a, b, c, d]) as usize,
-            _ => return Err((at, SdoAbort::TooShort)),
-        };
-        if size > self.buf.len() {
-            return Err((at, SdoAbort::OutOfMemory));
-        }
-        let data = payload.get(4..).unwrap_or(&[]);
-        if data.len() >= size {
-            self.write(od, index, sub, ca, data.get(..size).unwrap_or(&[])).map_err(|e| (at, e))?;
-            *self.transfer = Transfer::None;
+            payload.get(..n).ok_or((at, SdoAbort::TooShort))?
         } else {
-            let got = data.len();
-            if let Some(dst) = self.buf.get_mut(..got) {
-                dst.copy_from_slice(data);
+            let size = match payload.get(..4) {
+                Some(&[a, b, c, d]) => u32::from_le_bytes([a, b, c, d]) as usize,
+                _ => return Err((at, SdoAbort::TooShort)),
+            };
+            if size > self.buf.len() {
+                return Err((at, SdoAbort::OutOfMemory));
             }
-            *self.transfer = Transfer::Download { index, sub, ca, size, got, toggle: false };
-        }
+            let data = payload.get(4..).unwrap_or(&[]);
+            if data.len() < size {
+                // Segments follow.
+                let got = data.len();
+                if let Some(dst) = self.buf.get_mut(..got) {
+                    dst.copy_from_slice(data);
+                }
+                *self.transfer = Transfer::Download { index, sub, ca, size, got, toggle: false };
+                download_response(out, index, sub);
+                return Ok(());
+            }
+            *self.transfer = Transfer::None;
+            data.get(..size).unwrap_or(&[])
+        };
+        self.write(od, index, sub, ca, data).map_err(|e| (at, e))?;
         download_response(out, index, sub);
         Ok(())
     }
