@@ -86,6 +86,34 @@ cp "$bin/firmware" "$out/odc-drive.elf"
 ODC_FIRMWARE_ESI=$PWD/$demo/slave.xml build --example firmware --features firmware
 cp "$bin/firmware" "$out/odc-demo.elf"
 
+# The same two images linked with newlib-nano's mem functions, as SOES's are: the members of
+# arm-none-eabi's libc_nano.a (the multilib of SOES's flags) that define memcpy, memcmp and the
+# __aeabi_memcpy/memclr/memset entries, passed to the linker as objects, so their strong
+# symbols take the place of compiler_builtins' weak ones (an archive would not be searched for
+# a symbol already defined). Only the example's link step sees the objects (`cargo rustc`).
+nano=$out/nano
+mkdir -p "$nano"
+nano_members=(lib_a-memcpy.o lib_a-memcmp.o lib_a-aeabi_memcpy.o lib_a-aeabi_memclr.o
+  lib_a-aeabi_memset-soft.o)
+(cd "$nano" && ar x "$(arm-none-eabi-gcc "${cflags[@]}" -print-file-name=libc_nano.a)" "${nano_members[@]}")
+nano_args=()
+for o in "${nano_members[@]}"; do nano_args+=(-C "link-arg=$PWD/$nano/$o"); done
+build_nano() {
+  CARGO_PROFILE_RELEASE_OPT_LEVEL=$opt CARGO_PROFILE_RELEASE_CODEGEN_UNITS=1 \
+  CARGO_PROFILE_RELEASE_LTO=true CARGO_PROFILE_RELEASE_PANIC=abort CARGO_TARGET_DIR="$rust" \
+    cargo rustc --quiet --locked -p odc-tests-ethercat-firmware --release --target thumbv7em-none-eabihf \
+    --example firmware --features firmware -- "${nano_args[@]}"
+}
+build_nano
+cp "$bin/firmware" "$out/odc-copy-nano.elf"
+ODC_FIRMWARE_ESI=$PWD/$demo/slave.xml build_nano
+cp "$bin/firmware" "$out/odc-demo-nano.elf"
+for img in "$out"/odc-{copy,demo}-nano.elf; do
+  if nm -C "$img" | grep -q 'compiler_builtins::mem'; then
+    echo "$img: compiler_builtins' mem functions still linked" >&2; exit 1
+  fi
+done
+
 # Bytes of .text, .rodata, .data, .bss (size -A: SysV format).
 sections() {
   size -A "$1" | awk '
@@ -106,9 +134,11 @@ echo "|---|---:|---:|---:|---:|---:|---:|"
 rev=$(git -C "$soes" rev-parse --short HEAD)
 row "ServoOne: odc, CiA 402 drive (\`drive\`)" "$out/odc-drive.elf" "$out/odc-empty.elf"
 row "ServoOne: odc, process data copied (\`firmware\`)" "$out/odc-copy.elf" "$out/odc-empty.elf"
+row "ServoOne: odc, process data copied, newlib-nano's mem functions" "$out/odc-copy-nano.elf" "$out/odc-empty.elf"
 row "ServoOne: SOES $rev, process data copied" "$out/soes.elf" "$out/empty.elf"
 row "ServoOne: SOES $rev, process data copied, names empty" "$out/soes-no-names.elf" "$out/empty.elf"
 row "demo: odc, from the demo's slave.xml" "$out/odc-demo.elf" "$out/odc-empty.elf"
+row "demo: odc, newlib-nano's mem functions" "$out/odc-demo-nano.elf" "$out/odc-empty.elf"
 row "demo: SOES $rev, its own object list" "$out/soes-demo.elf" "$out/empty.elf"
 row "demo: SOES $rev, names empty" "$out/soes-demo-no-names.elf" "$out/empty.elf"
 echo "empty images: odc $(sections "$out/odc-empty.elf"), C $(sections "$out/empty.elf") (.text .rodata .data .bss)"

@@ -110,10 +110,10 @@ impl<'a> Description<'a> {
 #[cfg(feature = "subdevice")]
 mod serve {
     use super::{Description, ObjectRow};
-    use crate::Access;
     use crate::ethercat::subdevice::{Describe, EntryDescription, ObjectDescription};
+    use crate::slave::search;
     use crate::slave::table::RowLike;
-    use crate::slave::{Row, search};
+    use crate::{Access, DataType};
 
     /// ETG.1000.6 Table 48: read in PRE-OP, SAFE-OP, OP (bits 0–2), write in them (3–5),
     /// RxPDO and TxPDO mappable (6, 7), backup (8), setting (9).
@@ -123,11 +123,14 @@ mod serve {
         read | write | u16::from(flags & 0x0F) << 6
     }
 
-    /// The bit length of a row's value: its type's, else its storage's (strings).
-    fn bits(row: &Row) -> u16 {
-        let dt = row.data_type();
-        let bits = dt.bits().unwrap_or(row.slot().len() as u32 * 8);
-        u16::try_from(bits).unwrap_or(u16::MAX)
+    /// The bit length of a value of type `dt` stored in `len` bytes: 1 for a BOOLEAN, else
+    /// its storage's (every other type's `DataType::bits` is its storage's, a test below
+    /// says so; a string's is its capacity), without `bits`' table of every type.
+    pub(super) fn bits(dt: DataType, len: usize) -> u16 {
+        match dt {
+            DataType::Boolean => 1,
+            _ => u16::try_from(len * 8).unwrap_or(u16::MAX),
+        }
     }
 
     impl Description<'_> {
@@ -176,9 +179,10 @@ mod serve {
             let pos = search(self.rows, RowLike::search_key, index, sub).ok()?;
             let row = self.rows.get(pos)?;
             let flags = self.entry_flags(pos);
+            let data_type = row.data_type();
             Some(EntryDescription {
-                data_type: row.data_type() as u16,
-                bits: bits(row),
+                data_type: data_type as u16,
+                bits: bits(data_type, row.slot().len()),
                 access: access_word(row.access(), flags),
                 name: self.entry_name(pos),
             })
@@ -247,6 +251,50 @@ mod tests {
         assert_eq!(d.entry(0x7000, 0).map(|e| (e.access, e.name)), Some((0x017F, "Value")));
         assert_eq!(d.entry(0x1600, 2), None);
         assert_eq!(d.entry(0x1601, 0), None);
+    }
+
+    #[test]
+    fn bit_lengths_are_the_types() {
+        use crate::{
+            Domain, I24, I40, I48, I56, ObjValue, OctetString, TimeDifference, TimeOfDay, U24, U40,
+            U48, U56,
+        };
+        fn bits_of<T: ObjValue>() -> (Option<u32>, u16) {
+            (T::DATA_TYPE.bits(), super::serve::bits(T::DATA_TYPE, T::MAX_LEN))
+        }
+        // Every type with a bit length in CiA 301: the same from its storage.
+        let fixed = [
+            bits_of::<bool>(),
+            bits_of::<i8>(),
+            bits_of::<i16>(),
+            bits_of::<i32>(),
+            bits_of::<i64>(),
+            bits_of::<u8>(),
+            bits_of::<u16>(),
+            bits_of::<u32>(),
+            bits_of::<u64>(),
+            bits_of::<f32>(),
+            bits_of::<f64>(),
+            bits_of::<I24>(),
+            bits_of::<I40>(),
+            bits_of::<I48>(),
+            bits_of::<I56>(),
+            bits_of::<U24>(),
+            bits_of::<U40>(),
+            bits_of::<U48>(),
+            bits_of::<U56>(),
+            bits_of::<TimeOfDay>(),
+            bits_of::<TimeDifference>(),
+        ];
+        let want =
+            [1, 8, 16, 32, 64, 8, 16, 32, 64, 32, 64, 24, 40, 48, 56, 24, 40, 48, 56, 48, 48];
+        for ((table, stored), want) in fixed.into_iter().zip(want) {
+            assert_eq!((table, stored), (Some(want), want as u16));
+        }
+        // Strings and domains: their capacity.
+        assert_eq!(bits_of::<VisibleString<6>>(), (None, 48));
+        assert_eq!(bits_of::<OctetString<3>>(), (None, 24));
+        assert_eq!(bits_of::<Domain>(), (None, 0));
     }
 
     #[test]

@@ -146,8 +146,8 @@ impl SmRegs {
 
 /// The mailbox sync managers as the master set them, checked against the ESI's (ETG.2000
 /// §4.3, as the slave stack code checks them on INIT → PRE-OP): enabled, mailbox mode, the
-/// ESI's direction, a length within MinSize..=MaxSize, inside the process RAM (which ends at
-/// `ram_end`), not overlapping each other. Any failure: 0x0016.
+/// ESI's direction, a length within MinSize..=MaxSize, inside the process RAM (its size read
+/// from the ESC, register 0x0006), not overlapping each other. Any failure: 0x0016.
 ///
 /// # Errors
 ///
@@ -155,8 +155,10 @@ impl SmRegs {
 pub fn check_mailbox<E: Esc + ?Sized>(
     esc: &mut E,
     sms: &[SmSpec],
-    ram_end: u32,
 ) -> Result<Result<(), u16>, E::Error> {
+    let mut kib = [0u8; 1];
+    esc.read(register::RAM_SIZE, &mut kib)?;
+    let ram_end = u32::from(register::PROCESS_RAM) + u32::from(kib[0]) * 1024;
     let mut set: [Option<SmRegs>; 2] = [None, None];
     for spec in sms.iter().filter(|s| matches!(s.kind, MBOX_OUT | MBOX_IN)) {
         let sm = SmRegs::read(esc, spec.number)?;

@@ -67,8 +67,6 @@ impl Out<'_> {
     }
 }
 
-type Abort = ((u16, u8), SdoAbort);
-
 /// The SDO server's state and value buffer.
 pub(super) struct Server<'a> {
     pub(super) transfer: &'a mut Transfer,
@@ -93,6 +91,14 @@ impl Server<'_> {
             Some(&[lo, hi, sub]) => Some((u16::from_le_bytes([lo, hi]), sub)),
             _ => None,
         };
+        // The address an abort names: the request's, a segment's transfer's, else 0:0. The
+        // steps answer only the abort code.
+        let at = match (command >> 5, *self.transfer) {
+            (0, Transfer::Download { index, sub, .. })
+            | (3, Transfer::Upload { index, sub, .. }) => Some((index, sub)),
+            (0 | 3, _) => None,
+            _ => addr,
+        };
         let reply = match (command >> 5, addr) {
             (1, Some((index, sub))) => self.download(command, index, sub, sdo, od, out),
             (0, _) => self.download_segment(command, sdo, od, out),
@@ -103,9 +109,10 @@ impl Server<'_> {
                 *self.transfer = Transfer::None;
                 return;
             }
-            (_, a) => Err((a.unwrap_or((0, 0)), SdoAbort::InvalidCommand)),
+            _ => Err(SdoAbort::InvalidCommand),
         };
-        if let Err(((index, sub), abort)) = reply {
+        if let Err(abort) = reply {
+            let (index, sub) = at.unwrap_or((0, 0));
             *self.transfer = Transfer::None;
             out.len = 0;
             let [i0, i1] = index.to_le_bytes();
@@ -115,10 +122,10 @@ impl Server<'_> {
         }
     }
 
-    fn check_ca(&self, command: u8, index: u16, sub: u8) -> Result<bool, Abort> {
+    fn check_ca(&self, command: u8, sub: u8) -> Result<bool, SdoAbort> {
         let ca = command & 0x10 != 0;
         if ca && (!self.complete_access || sub > 1) {
-            return Err(((index, sub), SdoAbort::UnsupportedAccess));
+            return Err(SdoAbort::UnsupportedAccess);
         }
         Ok(ca)
     }
@@ -130,12 +137,11 @@ impl Server<'_> {
         sub: u8,
         od: &D,
         out: &mut Out<'_>,
-    ) -> Result<(), Abort> {
-        let at = (index, sub);
-        let ca = self.check_ca(command, index, sub)?;
+    ) -> Result<(), SdoAbort> {
+        let ca = self.check_ca(command, sub)?;
         let len = match ca {
-            true => read_complete(od, index, sub, self.buf).map_err(|e| (at, e))?,
-            false => od.read(index, sub, self.buf).map_err(|e| (at, e))?,
+            true => read_complete(od, index, sub, self.buf)?,
+            false => od.read(index, sub, self.buf)?,
         };
         let data = self.buf.get(..len).unwrap_or(&[]);
         let ca_bit = if ca { 0x10 } else { 0 };
@@ -162,13 +168,13 @@ impl Server<'_> {
         Ok(())
     }
 
-    fn upload_segment(&mut self, command: u8, out: &mut Out<'_>) -> Result<(), Abort> {
-        let Transfer::Upload { index, sub, len, at, toggle } = &mut *self.transfer else {
-            return Err(((0, 0), SdoAbort::InvalidCommand));
+    fn upload_segment(&mut self, command: u8, out: &mut Out<'_>) -> Result<(), SdoAbort> {
+        let Transfer::Upload { len, at, toggle, .. } = &mut *self.transfer else {
+            return Err(SdoAbort::InvalidCommand);
         };
         let t = command & 0x10 != 0;
         if t != *toggle {
-            return Err(((*index, *sub), SdoAbort::ToggleBit));
+            return Err(SdoAbort::ToggleBit);
         }
         let rest = self.buf.get(*at..*len).unwrap_or(&[]);
         let n = rest.len().min(out.room().saturating_sub(3));
@@ -195,36 +201,37 @@ impl Server<'_> {
         sdo: &[u8],
         od: &mut D,
         out: &mut Out<'_>,
-    ) -> Result<(), Abort> {
-        let at = (index, sub);
-        let ca = self.check_ca(command, index, sub)?;
+    ) -> Result<(), SdoAbort> {
+        let ca = self.check_ca(command, sub)?;
         let payload = sdo.get(4..).unwrap_or(&[]);
-        if command & 0x02 != 0 {
+        // The whole value when the request holds it: one write for both kinds.
+        let data = if command & 0x02 != 0 {
             // Expedited: the size indicator says how many of the 4 bytes are data.
             let n = if command & 0x01 != 0 { 4 - usize::from(command >> 2 & 0x03) } else { 4 };
-            let data = payload.get(..n).ok_or((at, SdoAbort::TooShort))?;
-            self.write(od, index, sub, ca, data).map_err(|e| (at, e))?;
-            download_response(out, index, sub);
-            return Ok(());
-        }
-        let size = match payload.get(..4) {
-            Some(&[a, b, c, d]) => u32::from_le_bytes([a, b, c, d]) as usize,
-            _ => return Err((at, SdoAbort::TooShort)),
-        };
-        if size > self.buf.len() {
-            return Err((at, SdoAbort::OutOfMemory));
-        }
-        let data = payload.get(4..).unwrap_or(&[]);
-        if data.len() >= size {
-            self.write(od, index, sub, ca, data.get(..size).unwrap_or(&[])).map_err(|e| (at, e))?;
-            *self.transfer = Transfer::None;
+            payload.get(..n).ok_or(SdoAbort::TooShort)?
         } else {
-            let got = data.len();
-            if let Some(dst) = self.buf.get_mut(..got) {
-                dst.copy_from_slice(data);
+            let size = match payload.get(..4) {
+                Some(&[a, b, c, d]) => u32::from_le_bytes([a, b, c, d]) as usize,
+                _ => return Err(SdoAbort::TooShort),
+            };
+            if size > self.buf.len() {
+                return Err(SdoAbort::OutOfMemory);
             }
-            *self.transfer = Transfer::Download { index, sub, ca, size, got, toggle: false };
-        }
+            let data = payload.get(4..).unwrap_or(&[]);
+            if data.len() < size {
+                // Segments follow.
+                let got = data.len();
+                if let Some(dst) = self.buf.get_mut(..got) {
+                    dst.copy_from_slice(data);
+                }
+                *self.transfer = Transfer::Download { index, sub, ca, size, got, toggle: false };
+                download_response(out, index, sub);
+                return Ok(());
+            }
+            *self.transfer = Transfer::None;
+            data.get(..size).unwrap_or(&[])
+        };
+        self.write(od, index, sub, ca, data)?;
         download_response(out, index, sub);
         Ok(())
     }
@@ -235,14 +242,13 @@ impl Server<'_> {
         sdo: &[u8],
         od: &mut D,
         out: &mut Out<'_>,
-    ) -> Result<(), Abort> {
+    ) -> Result<(), SdoAbort> {
         let Transfer::Download { index, sub, ca, size, got, toggle } = *self.transfer else {
-            return Err(((0, 0), SdoAbort::InvalidCommand));
+            return Err(SdoAbort::InvalidCommand);
         };
-        let at = (index, sub);
         let t = command & 0x10 != 0;
         if t != toggle {
-            return Err((at, SdoAbort::ToggleBit));
+            return Err(SdoAbort::ToggleBit);
         }
         let mut seg = sdo.get(1..).unwrap_or(&[]);
         if seg.len() == 7 {
@@ -251,7 +257,7 @@ impl Server<'_> {
         }
         let now = got + seg.len();
         if now > size {
-            return Err((at, SdoAbort::TooLong));
+            return Err(SdoAbort::TooLong);
         }
         if let Some(dst) = self.buf.get_mut(got..now) {
             dst.copy_from_slice(seg);
@@ -260,9 +266,9 @@ impl Server<'_> {
         if command & 0x01 != 0 {
             *self.transfer = Transfer::None;
             if now != size {
-                return Err((at, SdoAbort::TooShort));
+                return Err(SdoAbort::TooShort);
             }
-            self.write_buffered(od, index, sub, ca, size).map_err(|e| (at, e))?;
+            self.write_buffered(od, index, sub, ca, size)?;
         }
         let [r0, r1] = SDO_RESPONSE;
         out.push(&[r0, r1, 0x20 | u8::from(t) << 4]);

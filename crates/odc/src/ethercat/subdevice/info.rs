@@ -109,24 +109,26 @@ fn payload(p: &Pending, d: &dyn Describe, w: &mut Window<'_, '_>) -> Result<u8, 
         GET_OD_LIST => {
             let list_type = p.index;
             w.push(&list_type.to_le_bytes());
-            let on = |o: &ObjectDescription<'_>, t: u16| t == 1 || o.lists >> t & 1 != 0;
-            if list_type == 0 {
-                // The number of objects in each list, types 1 to 5, in one pass.
-                let mut counts = [0u16; 5];
-                for o in (0..).map_while(|i| d.object_at(i)) {
-                    for (t, n) in (1..).zip(counts.iter_mut()) {
-                        *n = n.saturating_add(u16::from(on(&o, t)));
+            if list_type > 5 {
+                return Err(SdoAbort::InvalidValue);
+            }
+            // One pass over the objects: type 0 counts the objects of each list, types 1 to 5,
+            // the others list the indices of theirs.
+            let mut counts = [0u16; 5];
+            for o in (0..).map_while(|i| d.object_at(i)) {
+                for (t, n) in (1..).zip(counts.iter_mut()) {
+                    if t == 1 || o.lists >> t & 1 != 0 {
+                        *n = n.saturating_add(1);
+                        if t == list_type {
+                            w.push(&o.index.to_le_bytes());
+                        }
                     }
                 }
+            }
+            if list_type == 0 {
                 for n in counts {
                     w.push(&n.to_le_bytes());
                 }
-            } else if list_type <= 5 {
-                for o in (0..).map_while(|i| d.object_at(i)).filter(|o| on(o, list_type)) {
-                    w.push(&o.index.to_le_bytes());
-                }
-            } else {
-                return Err(SdoAbort::InvalidValue);
             }
             Ok(GET_OD_LIST_RESPONSE)
         }

@@ -285,6 +285,15 @@ fn is_process_data(s: &SmSpec) -> bool {
     matches!(s.kind, al::OUTPUTS | al::INPUTS)
 }
 
+/// Writes `value` into the PDI control register (bit 0: deactivated by the application) of
+/// every process data sync manager: 1 outside SAFE-OP and OP, 0 on entering SAFE-OP.
+fn pdi_control<E: Esc + ?Sized>(cfg: &Config<'_>, esc: &mut E, value: u8) -> Result<(), E::Error> {
+    for spec in cfg.sync_managers.iter().filter(|s| is_process_data(s)) {
+        esc.write(register::SM + 8 * u16::from(spec.number) + 7, &[value])?;
+    }
+    Ok(())
+}
+
 impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
     SubDevice<MBX, BUF, PD, IMG>
 {
@@ -491,9 +500,19 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
         if let Err(c) = al::allowed(self.state, to, cfg.boot) {
             return Ok(Err(c));
         }
-        let mut kib = [0u8; 1];
-        esc.read(register::RAM_SIZE, &mut kib)?;
-        let ram_end = u32::from(register::PROCESS_RAM) + u32::from(kib[0]) * 1024;
+        // BOOT, PRE-OP and SAFE-OP from PRE-OP check the mailbox first: one check, its code
+        // BOOT's own for BOOT.
+        let checks_mailbox = match to {
+            state::BOOT | state::PRE_OP => true,
+            state::SAFE_OP => self.state == state::PRE_OP,
+            _ => false,
+        };
+        if checks_mailbox && al::check_mailbox(esc, cfg.sync_managers)?.is_err() {
+            return Ok(Err(match to {
+                state::BOOT => code::INVALID_MAILBOX_CONFIG_BOOT,
+                _ => code::INVALID_MAILBOX_CONFIG,
+            }));
+        }
         match to {
             state::INIT => {
                 self.transfer = Transfer::None;
@@ -503,21 +522,10 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
                 self.counter = 0;
                 self.deactivate_process_data(cfg, esc)?;
             }
-            state::BOOT if al::check_mailbox(esc, cfg.sync_managers, ram_end)?.is_err() => {
-                return Ok(Err(code::INVALID_MAILBOX_CONFIG_BOOT));
-            }
-            state::PRE_OP => {
-                if let Err(c) = al::check_mailbox(esc, cfg.sync_managers, ram_end)? {
-                    return Ok(Err(c));
-                }
-                if self.state >= state::SAFE_OP {
-                    self.deactivate_process_data(cfg, esc)?;
-                }
+            state::PRE_OP if self.state >= state::SAFE_OP => {
+                self.deactivate_process_data(cfg, esc)?;
             }
             state::SAFE_OP if self.state == state::PRE_OP => {
-                if let Err(c) = al::check_mailbox(esc, cfg.sync_managers, ram_end)? {
-                    return Ok(Err(c));
-                }
                 let mut bits = [0u32; 16];
                 let mut sink = pdo::Sink { entries: &mut self.mapped, used: 0 };
                 for spec in cfg.sync_managers.iter().filter(|s| is_process_data(s)) {
@@ -560,9 +568,7 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
                     return Ok(Err(c));
                 }
                 self.used = used;
-                for spec in cfg.sync_managers.iter().filter(|s| is_process_data(s)) {
-                    esc.write(register::SM + 8 * u16::from(spec.number) + 7, &[0])?;
-                }
+                pdi_control(cfg, esc, 0)?;
             }
             _ => {}
         }
@@ -577,10 +583,7 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
         esc: &mut E,
     ) -> Result<(), E::Error> {
         self.used = 0;
-        for spec in cfg.sync_managers.iter().filter(|s| is_process_data(s)) {
-            esc.write(register::SM + 8 * u16::from(spec.number) + 7, &[1])?;
-        }
-        Ok(())
+        pdi_control(cfg, esc, 1)
     }
 
     /// The write mailbox is full: read it, answer in the read mailbox.
@@ -640,42 +643,43 @@ impl<const MBX: usize, const BUF: usize, const PD: usize, const IMG: usize>
         let Some(data) = request.get(HEADER..HEADER + len) else {
             return self.error(mailbox_error::INVALID_SIZE, room);
         };
-        if kind == TYPE_FOE && cfg.foe {
-            // Packets from the master carry its mailbox less the mailbox and FoE headers.
-            let max_in = request.len().saturating_sub(HEADER + 6);
-            let area = self.reply.get_mut(HEADER..room).unwrap_or(&mut []);
-            let mut out = Out { buf: area, len: 0 };
-            foe::handle(&mut self.foe, data, max_in, app, &mut out);
-            let n = out.len;
-            return if n == 0 { 0 } else { self.frame(TYPE_FOE, n) };
-        }
+        let foe = kind == TYPE_FOE && cfg.foe;
         // In BOOT only FoE is served (ETG.1000.6 §6.4.1).
-        if kind != TYPE_COE || !cfg.coe || self.state == state::BOOT {
+        if !foe && (kind != TYPE_COE || !cfg.coe || self.state == state::BOOT) {
             return self.error(mailbox_error::UNSUPPORTED_PROTOCOL, room);
         }
-        let Some((&[_, service], sdo)) = data.split_first_chunk::<2>() else {
-            return self.error(mailbox_error::SIZE_TOO_SHORT, room);
+        // CoE: the service (bits 12–15 of its header) and what follows.
+        let (service, sdo) = match data.split_first_chunk::<2>() {
+            Some((&[_, service], sdo)) => (service >> 4, sdo),
+            None if foe => (0, data),
+            None => return self.error(mailbox_error::SIZE_TOO_SHORT, room),
         };
+        let info = service == 8 && cfg.describe.is_some();
+        // Emergency, TxPDO, RxPDO and remote requests are not served.
+        if !foe && !info && service != 2 {
+            return self.error(mailbox_error::UNSUPPORTED_PROTOCOL, room);
+        }
+        // One reply area and one framing for FoE and CoE.
         let area = self.reply.get_mut(HEADER..room).unwrap_or(&mut []);
         let mut out = Out { buf: area, len: 0 };
-        match (service >> 4, cfg.describe) {
-            (8, Some(describe)) => self.info = info::start(sdo, describe, &mut out),
-            (2, _) => {
-                let mut server = coe::Server {
-                    transfer: &mut self.transfer,
-                    buf: &mut self.buf,
-                    complete_access: cfg.complete_access,
-                    pdo_writable: self.state == state::PRE_OP,
-                };
-                server.handle(sdo, od, &mut out);
-            }
-            // Emergency, TxPDO, RxPDO and remote requests are not served.
-            _ => return self.error(mailbox_error::UNSUPPORTED_PROTOCOL, room),
+        if foe {
+            // Packets from the master carry its mailbox less the mailbox and FoE headers.
+            let max_in = request.len().saturating_sub(HEADER + 6);
+            foe::handle(&mut self.foe, data, max_in, app, &mut out);
+        } else if let (true, Some(describe)) = (info, cfg.describe) {
+            self.info = info::start(sdo, describe, &mut out);
+        } else {
+            let mut server = coe::Server {
+                transfer: &mut self.transfer,
+                buf: &mut self.buf,
+                complete_access: cfg.complete_access,
+                pdo_writable: self.state == state::PRE_OP,
+            };
+            server.handle(sdo, od, &mut out);
         }
-        let n = out.len;
-        match n {
+        match out.len {
             0 => 0,
-            n => self.frame(TYPE_COE, n),
+            n => self.frame(if foe { TYPE_FOE } else { TYPE_COE }, n),
         }
     }
 

@@ -142,42 +142,46 @@ pub fn check_write<D: Storage + ?Sized>(
         if read_u8(od, index, 0).is_some_and(|n| n != 0) {
             return Err(SdoAbort::Other(0x0601_0003));
         }
-        return match index {
-            0x1C10..=0x1C2F => {
-                let pdo = le(data) as u16;
-                let rx = matches!(pdo, 0x1600..=0x17FF);
-                let tx = matches!(pdo, 0x1A00..=0x1BFF);
-                // 0x1C12 takes receive PDOs, 0x1C13 transmit PDOs; other SMs either.
-                let ok = match index {
-                    0x1C12 => rx,
-                    0x1C13 => tx,
-                    _ => rx || tx,
-                };
-                match ok && read_u8(od, pdo, 0).is_some() {
-                    true => Ok(()),
-                    false => Err(SdoAbort::InvalidValue),
-                }
-            }
-            _ => match mappable(od, le(data)) {
-                true => Ok(()),
-                false => Err(SdoAbort::NotMappable),
-            },
-        };
+        return check_value(od, index, le(data), true);
     }
     // Sub-index 0: every entry it enables must hold.
     let n = data.first().copied().unwrap_or(0);
     for s in 1..=n {
         let value = od.raw(index, s).ok_or(SdoAbort::InvalidValue)?;
-        match index {
-            0x1C10..=0x1C2F if read_u8(od, le(value) as u16, 0).is_none() => {
-                return Err(SdoAbort::InvalidValue);
-            }
-            0x1C10..=0x1C2F => {}
-            _ if !mappable(od, le(value)) => return Err(SdoAbort::NotMappable),
-            _ => {}
-        }
+        check_value(od, index, le(value), false)?;
     }
     Ok(())
+}
+
+/// One value of mapping or assignment object `index`: a mapping value the dictionary can
+/// serve (0x06040041), an assigned PDO the dictionary has (0x06090030), and with `direction`
+/// (a download of the entry itself) a mapping object of the sync manager's direction.
+fn check_value<D: Storage + ?Sized>(
+    od: &D,
+    index: u16,
+    v: u32,
+    direction: bool,
+) -> Result<(), SdoAbort> {
+    if !matches!(index, 0x1C10..=0x1C2F) {
+        return match mappable(od, v) {
+            true => Ok(()),
+            false => Err(SdoAbort::NotMappable),
+        };
+    }
+    let pdo = v as u16;
+    let rx = matches!(pdo, 0x1600..=0x17FF);
+    let tx = matches!(pdo, 0x1A00..=0x1BFF);
+    // 0x1C12 takes receive PDOs, 0x1C13 transmit PDOs; other SMs either.
+    let ok = !direction
+        || match index {
+            0x1C12 => rx,
+            0x1C13 => tx,
+            _ => rx || tx,
+        };
+    match ok && read_u8(od, pdo, 0).is_some() {
+        true => Ok(()),
+        false => Err(SdoAbort::InvalidValue),
+    }
 }
 
 /// A mapping value (index << 16 | sub-index << 8 | bits) the dictionary can serve: a gap
