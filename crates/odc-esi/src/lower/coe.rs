@@ -9,7 +9,8 @@ use super::*;
 /// Adds what `device` lacks of: 0x1C00, the sync managers' communication types (one sub-index
 /// per `Sm` element); 0x1C10 + n, the PDO assignment of each outputs or inputs sync manager n
 /// that is not virtual, holding [`odc_model::ethercat::default_assignment`]; and the mapping
-/// object of each PDO (an assignment object, or a master, may name any of them). All
+/// object of each PDO at a CoE mapping index (0x1600–0x17FF, 0x1A00–0x1BFF; an assignment
+/// object, or a master, may name any of them). All
 /// read-only, marked [`Origin::CoeImplied`]. Nothing for a device without CoE or without sync
 /// managers; objects the dictionary has are kept as the file gives them.
 pub(super) fn complete_coe(device: &mut Device) {
@@ -37,7 +38,9 @@ pub(super) fn complete_coe(device: &mut Device) {
             array(index, &name, DataType::Unsigned16, pdos)
         });
     }
-    for pdo in &device.pdos {
+    // CoE's mapping objects only: a PDO index elsewhere is no CoE object (a SoE drive's IDN).
+    let coe_mapping = |i: u16| matches!(i, 0x1600..=0x17FF | 0x1A00..=0x1BFF);
+    for pdo in device.pdos.iter().filter(|p| coe_mapping(p.mapping_index)) {
         objects.entry(pdo.mapping_index).or_insert_with(|| mapping_object(pdo, Origin::CoeImplied));
     }
 }

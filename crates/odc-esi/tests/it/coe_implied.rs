@@ -96,3 +96,13 @@ fn virtual_sync_managers_get_no_assignment_object() {
     assert_eq!(values(&dev, 0x1C00).0, vec![1, 2, 3, 4]);
     assert_eq!(values(&dev, 0x1C12).0, vec![0x1600]);
 }
+
+#[test]
+fn no_mapping_object_outside_the_coe_ranges() {
+    // A PDO index that is no CoE mapping index (a SoE drive's IDN, S-0-0016 = 0x0010).
+    let xml = FIXTURE.replacen("<Index>#x1A01</Index>", "<Index>#x0010</Index>", 1);
+    let dev = lower(&xml);
+    assert!(dev.pdos.iter().any(|p| p.mapping_index == 0x0010));
+    assert!(!dev.objects.contains_key(&0x0010));
+    assert_eq!(values(&dev, 0x1A00).1, Origin::CoeImplied);
+}
