@@ -14,6 +14,9 @@ fn main() -> Result<(), odc_build::Error> {
     config.device(root.join("crates/odc-codegen/tests/fixtures/mini-drive.eds"));
     config.device(root.join("esi/servoone.xml"));
     config.device(root.join("crates/odc-codegen/tests/fixtures/pdi-terminal.xml"));
+    // A CoE device whose ESI dictionary leaves out 0x1C00, 0x1C12/0x1C13 and the mapping
+    // objects: the generated dictionary has them (odc-esi synthesises them).
+    config.device(root.join("crates/odc-esi/tests/fixtures/coe_implied.xml"));
     config.compile()?;
 
     // Values that do not fit their types, allowed: generation leaves them out and goes on.

@@ -9,7 +9,7 @@
 use std::collections::BTreeMap;
 
 use odc_layout::{BitRange, Cursor};
-use odc_model::{Device, Direction, Pdo, ethercat::SmUsage};
+use odc_model::{Device, Direction, Pdo};
 
 /// Which PDOs each sync manager carries: sync manager → PDO mapping indexes, in order.
 pub type Assignment = BTreeMap<u8, Vec<u16>>;
@@ -77,40 +77,12 @@ pub enum ImageError {
     TooLong,
 }
 
-/// The default assignment: each PDO with an `Sm` attribute on that sync manager, and each
-/// `Mandatory` PDO without one on the first sync manager of its direction's usage (`Outputs`
-/// for RxPDOs, `Inputs` for TxPDOs); in file order. A PDO's `Fixed` says only that its
-/// mapping cannot change, not that it is assigned. A PDO that excludes, or is excluded by, a
-/// PDO assigned before it (`Exclude`) is left out, as TwinCAT does. Sync managers marked `Virtual` are left
-/// out: they are no sync manager of the ESC but ESC registers (0x0981 DC activation, 0x0990
-/// SYNC0 start time, ...) that TwinCAT maps with an FMMU of their own; a master that
-/// configures sync managers from the SII (ethercrab, SOEM) has no such segment.
+/// The default assignment of `device`: [`odc_model::ethercat::default_assignment`] (the rule
+/// lives in the model so that the ESI front-end's synthesised assignment objects follow it
+/// too).
 pub fn default_assignment(device: &Device) -> Assignment {
     let sms = device.ethercat.as_ref().map(|e| e.sync_managers.as_slice()).unwrap_or_default();
-    let first =
-        |usage: SmUsage| sms.iter().find(|s| s.usage == usage && !s.virtual_sm).map(|s| s.number);
-    let is_virtual = |n: u8| sms.iter().any(|s| s.number == n && s.virtual_sm);
-    let mut out = Assignment::new();
-    for pdo in &device.pdos {
-        let sm = pdo.sync_manager.or_else(|| {
-            pdo.mandatory.then_some(()).and_then(|()| match pdo.direction {
-                Direction::Rx => first(SmUsage::Outputs),
-                Direction::Tx => first(SmUsage::Inputs),
-            })
-        });
-        let Some(sm) = sm.filter(|&n| !is_virtual(n)) else { continue };
-        let clash = out.values().flatten().any(|&other| {
-            pdo.excludes.contains(&other)
-                || device
-                    .pdos
-                    .iter()
-                    .any(|p| p.mapping_index == other && p.excludes.contains(&pdo.mapping_index))
-        });
-        if !clash {
-            out.entry(sm).or_default().push(pdo.mapping_index);
-        }
-    }
-    out
+    odc_model::ethercat::default_assignment(sms, &device.pdos)
 }
 
 /// The image of `direction` for `assignment`. A PDO is looked up by index among the PDOs of

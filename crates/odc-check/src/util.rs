@@ -3,7 +3,7 @@
 use std::borrow::Cow;
 
 use odc_model::{
-    DataType, Device, Format, Object, Origin, Pdo, Span, Spanned, SubObject, Value, ValueClass,
+    DataType, Device, Format, Object, Pdo, Span, Spanned, SubObject, Value, ValueClass,
     pdo::resolve_canopen_pdos,
 };
 
@@ -112,15 +112,21 @@ pub(crate) fn sized_like_type(s: &SubObject) -> bool {
     s.bit_size.is_none_or(|b| Some(b) == s.data_type.bit_size())
 }
 
-/// The objects the file describes: all but those odc synthesised from the PDO entries of an
-/// ESI without a dictionary, whose structure and values are odc's, not the file's.
+/// The objects the file describes: all but those the ESI front-end synthesised (from the PDO
+/// entries of an ESI without a dictionary, or the CoE objects its dictionary leaves out, see
+/// [`odc_model::Origin::is_esi_synthesised`]), whose structure and values are odc's, not the file's.
 pub(crate) fn objects(dev: &Device) -> impl Iterator<Item = &Object> {
-    dev.objects.values().filter(|o| o.origin != Origin::PdoEntry)
+    dev.objects.values().filter(|o| !o.origin.is_esi_synthesised())
 }
 
 /// The object at `index` if the file describes it (see [`objects`]).
 pub(crate) fn object(dev: &Device, index: u16) -> Option<&Object> {
-    dev.objects.get(&index).filter(|o| o.origin != Origin::PdoEntry)
+    dev.objects.get(&index).filter(|o| !o.origin.is_esi_synthesised())
+}
+
+/// The sub-object `index:sub` if the file describes its object (see [`objects`]).
+pub(crate) fn file_sub(dev: &Device, index: u16, sub: u8) -> Option<&SubObject> {
+    object(dev, index)?.sub(sub)
 }
 
 /// Iterates over every sub-object of every object the file describes (see [`objects`]).

@@ -19,6 +19,10 @@
 //!   [`odc_model::ethercat::EtherCat::object_flags`];
 //! - a device without a dictionary gets objects synthesised from its PDO entries, the mapping
 //!   objects 0x16xx/0x1Axx and 0x1C12/0x1C13, all marked [`odc_model::Origin::PdoEntry`];
+//! - a device with CoE and sync managers gets what ETG.1000.6 gives every such device and its
+//!   dictionary leaves out: 0x1C00 (sync manager types), 0x1C10 + n (the PDO assignment of each
+//!   process data sync manager, [`odc_model::ethercat::default_assignment`]) and each PDO's
+//!   mapping object, read-only, marked [`odc_model::Origin::CoeImplied`];
 //! - elements the front-end does not interpret are kept as raw XML with their spans;
 //! - every problem is a [`Diagnostic`] with a stable code (see [`RULES`]); reading never stops
 //!   at the first one, except at XML that is not well-formed, where what was read before the

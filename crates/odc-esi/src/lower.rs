@@ -9,6 +9,7 @@ use odc_model::ethercat::{
     AlternativeSmMapping, ArrayInfo, CoE, Dc, DcOpMode, Eeprom, EnumItem, EsiDataType, EsiModule,
     EsiSubItem, EtherCat, Fmmu, Group, InitCmd, LocalizedText, Mailbox, ObjectFlags, PdoAttributes,
     Profile, RawXml, Slot, Slots, SmAssignment, SmUsage, SoE, SyncManager, XmlAttribute,
+    default_assignment,
 };
 use odc_model::{
     Access, DataType, Device, DeviceInfo, Diagnostic, Direction, FileId, Format, Module, Name,
@@ -19,11 +20,13 @@ use crate::num;
 use crate::xml::{Attr, Element};
 use odc_model::trim::trim;
 
+mod coe;
 mod eeprom;
 mod ethercat;
 mod objects;
 mod types;
 
+use coe::*;
 use eeprom::*;
 use ethercat::*;
 use objects::*;
@@ -568,7 +571,7 @@ fn lower_device(d: Element<'_>, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Devic
     }
 
     if objects.is_empty() && !pdos.is_empty() {
-        synthesise(&mut objects, &pdos);
+        synthesise(&mut objects, &pdos, &ec.sync_managers);
         ec.dictionary_synthesised = true;
     }
 
@@ -592,7 +595,7 @@ fn lower_device(d: Element<'_>, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Devic
         nr_of_entries: None,
     };
 
-    Device {
+    let mut device = Device {
         format: Some(Format::Esi),
         device_info: info,
         objects,
@@ -600,5 +603,7 @@ fn lower_device(d: Element<'_>, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Devic
         pdos,
         ethercat: Some(Box::new(ec)),
         ..Device::default()
-    }
+    };
+    complete_coe(&mut device);
+    device
 }

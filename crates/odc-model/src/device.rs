@@ -199,6 +199,19 @@ pub enum Origin {
     CompactPdo,
     /// ESI device without a dictionary: synthesised from its PDO entries.
     PdoEntry,
+    /// ESI device with CoE whose dictionary leaves out an object ETG.1000.6 gives every such
+    /// device (0x1C00 the sync manager types, 0x1C10 + n the PDO assignment of a process data
+    /// sync manager, a PDO's mapping object 0x16xx/0x1Axx), which masters read over CoE:
+    /// synthesised from its `Sm` elements and PDOs (ETG.2000 lets the ESI leave them out).
+    CoeImplied,
+}
+
+impl Origin {
+    /// Whether the ESI front-end made the object rather than read it from the file
+    /// ([`Origin::PdoEntry`], [`Origin::CoeImplied`]): its values are odc's, not the file's.
+    pub fn is_esi_synthesised(self) -> bool {
+        matches!(self, Origin::PdoEntry | Origin::CoeImplied)
+    }
 }
 
 /// An object of the dictionary.

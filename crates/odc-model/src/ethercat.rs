@@ -273,6 +273,57 @@ impl SmUsage {
             other => SmUsage::Other(other.to_string()),
         }
     }
+
+    /// The sync manager communication type of 0x1C00 (ETG.1000.6 §5.6.7.4.5): 1 mailbox out,
+    /// 2 mailbox in, 3 outputs, 4 inputs, 0 unused (any other usage).
+    pub fn communication_type(&self) -> u8 {
+        match self {
+            SmUsage::MBoxOut => 1,
+            SmUsage::MBoxIn => 2,
+            SmUsage::Outputs => 3,
+            SmUsage::Inputs => 4,
+            SmUsage::MBoxState | SmUsage::Other(_) => 0,
+        }
+    }
+}
+
+/// The default PDO assignment of an ESI device, sync manager → PDO mapping indexes in order:
+/// each PDO with an `Sm` attribute on that sync manager, and each `Mandatory` PDO without one
+/// on the first sync manager of its direction's usage (`Outputs` for RxPDOs, `Inputs` for
+/// TxPDOs); in file order. A PDO's `Fixed` says only that its mapping cannot change, not that
+/// it is assigned. A PDO that excludes, or is excluded by, a PDO assigned before it
+/// (`Exclude`) is left out, as TwinCAT does. Sync managers marked `Virtual` are left out: they
+/// are no sync manager of the ESC but ESC registers (0x0981 DC activation, 0x0990 SYNC0 start
+/// time, ...) that TwinCAT maps with an FMMU of their own; a master that configures sync
+/// managers from the SII (ethercrab, SOEM) has no such segment.
+///
+/// The one rule for it: the ESI front-end's assignment objects (0x1C1n it synthesises) and
+/// the analysis layer's process image both come from here.
+pub fn default_assignment(sms: &[SyncManager], pdos: &[Pdo]) -> BTreeMap<u8, Vec<u16>> {
+    use crate::types::Direction;
+    let first =
+        |usage: SmUsage| sms.iter().find(|s| s.usage == usage && !s.virtual_sm).map(|s| s.number);
+    let is_virtual = |n: u8| sms.iter().any(|s| s.number == n && s.virtual_sm);
+    let mut out: BTreeMap<u8, Vec<u16>> = BTreeMap::new();
+    for pdo in pdos {
+        let sm = pdo.sync_manager.or_else(|| {
+            pdo.mandatory.then_some(()).and_then(|()| match pdo.direction {
+                Direction::Rx => first(SmUsage::Outputs),
+                Direction::Tx => first(SmUsage::Inputs),
+            })
+        });
+        let Some(sm) = sm.filter(|&n| !is_virtual(n)) else { continue };
+        let clash = out.values().flatten().any(|&other| {
+            pdo.excludes.contains(&other)
+                || pdos
+                    .iter()
+                    .any(|p| p.mapping_index == other && p.excludes.contains(&pdo.mapping_index))
+        });
+        if !clash {
+            out.entry(sm).or_default().push(pdo.mapping_index);
+        }
+    }
+    out
 }
 
 /// An `Fmmu` element.

@@ -28,6 +28,12 @@ pub mod pdi_terminal {
     odc::include_od!("pdi_terminal");
 }
 
+/// A CoE terminal whose ESI dictionary leaves out the sync manager and PDO objects
+/// (`crates/odc-esi/tests/fixtures/coe_implied.xml`).
+pub mod coe_implied {
+    odc::include_od!("coe_implied");
+}
+
 /// LTi ServoOne, EtherCAT (`esi/servoone.xml`).
 pub mod servoone {
     include!(concat!(env!("OUT_DIR"), "/servoone.rs"));

@@ -43,7 +43,7 @@ fn ec(dev: &Device) -> Option<&EtherCat> {
 
 /// Whether the ESI has a dictionary of its own (not one synthesised from the PDO entries).
 fn has_dictionary(dev: &Device) -> bool {
-    is_esi(dev) && dev.objects.values().any(|o| o.origin != Origin::PdoEntry)
+    is_esi(dev) && dev.objects.values().any(|o| o.origin == Origin::File)
 }
 
 fn pdo_kind(p: &Pdo) -> &'static str {

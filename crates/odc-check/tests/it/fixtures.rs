@@ -70,3 +70,24 @@ fn empty_limits_of_strings_are_no_limits() {
         assert!(!diags.iter().any(|d| d.code == "C208"), "{dt}: {diags:?}");
     }
 }
+
+/// A PDO entry that maps a PDO's own mapping object, which the ESI's dictionary lacks (as the
+/// Somanet files of the corpus do): T601 names it; the mapping object odc synthesised for the
+/// CoE device (`Origin::CoeImplied`) neither hides it nor trips T602 with its own 32 bits.
+#[test]
+fn synthesised_mapping_objects_are_not_the_files_dictionary() {
+    let pass = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/pass/coe_implied.xml");
+    let xml = std::fs::read_to_string(pass).unwrap().replacen(
+        "<Entry><Index>0</Index><BitLen>8</BitLen></Entry>",
+        "<Entry><Index>#x1A00</Index><SubIndex>1</SubIndex><BitLen>8</BitLen></Entry>",
+        1,
+    );
+    let parsed = odc_esi::parse(&mut Sources::new(), "t.xml", xml.as_bytes());
+    let device = &parsed.devices[0];
+    let origin = device.objects[&0x1A00].origin;
+    assert_eq!(origin, odc_model::Origin::CoeImplied);
+    let diags = check(device, &Config::in_registry(odc_check::rules()));
+    let codes: Vec<&str> = diags.iter().map(|d| d.code).collect();
+    assert_eq!(codes, ["T601"], "{diags:?}");
+    assert!(diags[0].message.contains("0x1A00:01"), "{}", diags[0].message);
+}

@@ -565,7 +565,7 @@ pub(super) fn sub_index_name(n: u8) -> Name {
 
 /// A device without a dictionary: objects for its PDO entries, mapping objects and the
 /// sync-manager assignment objects, all marked [`Origin::PdoEntry`].
-pub(super) fn synthesise(objects: &mut BTreeMap<u16, Object>, pdos: &[Pdo]) {
+pub(super) fn synthesise(objects: &mut BTreeMap<u16, Object>, pdos: &[Pdo], sms: &[SyncManager]) {
     // Names borrowed until an object or sub-object is made: most entries add a sub-object to
     // an object made already, and sub-object names are inline `Name`s.
     let new_object = |index: u16, name: &str, kind: ObjectKind, span: Span| Object {
@@ -618,33 +618,22 @@ pub(super) fn synthesise(objects: &mut BTreeMap<u16, Object>, pdos: &[Pdo]) {
         }
     }
     for pdo in pdos {
-        if objects.contains_key(&pdo.mapping_index) {
-            continue;
-        }
-        let mut o = new_object(pdo.mapping_index, &pdo.name, ObjectKind::Record, pdo.span);
-        let mut s0 = SubObject::new(0, "SubIndex 000", DataType::Unsigned8, Access::Ro);
-        s0.default = Some(Spanned::synthetic(Value::Unsigned(pdo.entries.len() as u64)));
-        s0.span = pdo.span;
-        o.subs.insert(0, s0);
-        for (i, e) in pdo.entries.iter().enumerate().take(254) {
-            let n = (i + 1) as u8;
-            let mut s = SubObject::new(n, sub_index_name(n), DataType::Unsigned32, Access::Ro);
-            s.default = Some(Spanned::synthetic(Value::Unsigned(u64::from(e.mapping_value()))));
-            s.span = e.span;
-            o.subs.insert(n, s);
-        }
-        objects.insert(pdo.mapping_index, o);
+        objects.entry(pdo.mapping_index).or_insert_with(|| mapping_object(pdo, Origin::PdoEntry));
     }
+    // The default assignment's PDOs of each direction, in sync manager order: the rule of
+    // [`odc_model::ethercat::default_assignment`], so these and the process image agree.
+    let assignment = default_assignment(sms, pdos);
     for (index, dir, name) in
         [(0x1C12u16, Direction::Rx, "RxPDO assign"), (0x1C13, Direction::Tx, "TxPDO assign")]
     {
         if objects.contains_key(&index) || !pdos.iter().any(|p| p.direction == dir) {
             continue;
         }
-        let assigned: Vec<u16> = pdos
-            .iter()
-            .filter(|p| p.direction == dir && (p.sync_manager.is_some() || p.mandatory))
-            .map(|p| p.mapping_index)
+        let assigned: Vec<u16> = assignment
+            .values()
+            .flatten()
+            .copied()
+            .filter(|&i| pdos.iter().any(|p| p.mapping_index == i && p.direction == dir))
             .collect();
         let mut o = new_object(index, name, ObjectKind::Array, Span::DUMMY);
         let mut s0 = SubObject::new(0, "SubIndex 000", DataType::Unsigned8, Access::Ro);
@@ -658,4 +647,26 @@ pub(super) fn synthesise(objects: &mut BTreeMap<u16, Object>, pdos: &[Pdo]) {
         }
         objects.insert(index, o);
     }
+}
+
+/// The mapping object of `pdo` (0x16xx, 0x1Axx): a read-only RECORD named as the PDO, its
+/// entries' mapping values (`index << 16 | sub << 8 | bits`, gaps index 0) in sub 1.., their
+/// count in sub 0.
+pub(super) fn mapping_object(pdo: &Pdo, origin: Origin) -> Object {
+    let mut o = Object {
+        origin,
+        ..Object::new(pdo.mapping_index, pdo.name.as_str(), ObjectKind::Record, pdo.span)
+    };
+    let mut s0 = SubObject::new(0, "SubIndex 000", DataType::Unsigned8, Access::Ro);
+    s0.default = Some(Spanned::synthetic(Value::Unsigned(pdo.entries.len().min(254) as u64)));
+    s0.span = pdo.span;
+    o.subs.insert(0, s0);
+    for (i, e) in pdo.entries.iter().enumerate().take(254) {
+        let n = (i + 1) as u8;
+        let mut s = SubObject::new(n, sub_index_name(n), DataType::Unsigned32, Access::Ro);
+        s.default = Some(Spanned::synthetic(Value::Unsigned(u64::from(e.mapping_value()))));
+        s.span = e.span;
+        o.subs.insert(n, s);
+    }
+    o
 }

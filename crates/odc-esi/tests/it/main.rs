@@ -2,6 +2,7 @@
 //! module was a test file of its own. One module's tests:
 //! `cargo test -p odc-esi --test it MODULE::`.
 
+mod coe_implied;
 mod ethercat_extras;
 mod fixtures;
 mod object_data;

@@ -227,83 +227,6 @@ fn kind(usage: &SmUsage) -> u8 {
     }
 }
 
-/// The device with the objects a CoE device's firmware has and its ESI's dictionary may leave
-/// out, built from the ESI's `Sm` elements and PDOs; `None` when there is nothing to add.
-/// Masters read them: SOEM's `config_map` asks for 0x1C00 and then for each process data sync
-/// manager's assignment object before it reads the PDOs' mapping.
-/// - 0x1C00, the sync managers' communication types (ETG.1000.6: 1 mailbox out, 2 mailbox
-///   in, 3 outputs, 4 inputs, 0 unused);
-/// - 0x1C10 + n for each outputs or inputs sync manager n, the PDO assignment (ETG.1000.6),
-///   holding the PDOs the ESI assigns to it (their `Sm` attributes, as the SII's PDO
-///   categories tell a master that has no CoE), read-only;
-/// - the mapping object (0x1600.., 0x1A00..) of each of the ESI's PDOs, with its entries
-///   (`index << 16 | sub << 8 | bits`, gaps index 0), read-only: an assignment object of the
-///   dictionary may name a PDO its ESI does not assign by default.
-fn firmware_objects(device: &Device, sms: &[odc_model::ethercat::SyncManager]) -> Option<Device> {
-    use odc_model::{Access, DataType, Object, ObjectKind, Span, Spanned, SubObject, Value};
-    let coe = device
-        .ethercat
-        .as_deref()
-        .is_some_and(|e| e.mailbox.as_ref().is_some_and(|m| m.coe.is_some()));
-    if !coe || sms.is_empty() {
-        return None;
-    }
-    let array = |index: u16, name: &str, data_type: DataType, values: &[u64]| {
-        let mut object = Object::new(index, name, ObjectKind::Array, Span::DUMMY);
-        let count = u8::try_from(values.len()).unwrap_or(u8::MAX);
-        let mut s0 = SubObject::new(0, "SubIndex 000", DataType::Unsigned8, Access::Ro);
-        s0.default = Some(Spanned::synthetic(Value::Unsigned(u64::from(count))));
-        object.subs.insert(0, s0);
-        for (n, &v) in (1..=count).zip(values) {
-            let mut s = SubObject::new(n, format!("SubIndex {n:03}"), data_type, Access::Ro);
-            s.default = Some(Spanned::synthetic(Value::Unsigned(v)));
-            object.subs.insert(n, s);
-        }
-        object
-    };
-    let mut added = Vec::new();
-    if !device.objects.contains_key(&0x1C00) {
-        let types: Vec<u64> = sms.iter().map(|sm| u64::from(kind(&sm.usage))).collect();
-        added.push(array(0x1C00, "Sync manager type", DataType::Unsigned8, &types));
-    }
-    let assignment = odc_analysis::image::default_assignment(device);
-    for sm in sms.iter().filter(|s| matches!(s.usage, SmUsage::Outputs | SmUsage::Inputs)) {
-        let index = 0x1C10 + u16::from(sm.number);
-        if sm.virtual_sm || device.objects.contains_key(&index) {
-            continue;
-        }
-        let pdos: Vec<u64> =
-            assignment.get(&sm.number).into_iter().flatten().map(|&p| u64::from(p)).collect();
-        let name = format!("Sync manager {} PDO assignment", sm.number);
-        added.push(array(index, &name, DataType::Unsigned16, &pdos));
-    }
-    // Every PDO's mapping object: the assignment objects above, or the master, may name any.
-    for pdo in &device.pdos {
-        if device.objects.contains_key(&pdo.mapping_index)
-            || added.iter().any(|o| o.index == pdo.mapping_index)
-        {
-            continue;
-        }
-        let values: Vec<u64> = pdo
-            .entries
-            .iter()
-            .map(|e| {
-                let index = if e.is_gap() { 0 } else { u64::from(e.index) };
-                index << 16 | u64::from(e.sub) << 8 | u64::from(e.bits)
-            })
-            .collect();
-        added.push(array(pdo.mapping_index, "PDO mapping", DataType::Unsigned32, &values));
-    }
-    if added.is_empty() {
-        return None;
-    }
-    let mut device = device.clone();
-    for object in added {
-        device.objects.insert(object.index, object);
-    }
-    Some(device)
-}
-
 /// The byte of SII word 0x001C, the mailbox protocols (ETG.2010 Table 2), with SoE's bit.
 const SII_MAILBOX_PROTOCOLS: usize = 0x1C * 2;
 const SII_SOE: u8 = 0x10;
@@ -363,8 +286,9 @@ impl SubDevice {
                 control: sm.control_byte.as_ref().map_or(0, |c| c.value),
             })
             .collect();
-        let with_types = firmware_objects(device, &ecat.sync_managers);
-        let mut od = ModelDictionary::new(with_types.as_ref().unwrap_or(device), None);
+        // The objects a CoE device has and its ESI may leave out (0x1C00, 0x1C1n, mapping
+        // objects) are in the model already: odc-esi synthesises them (`Origin::CoeImplied`).
+        let mut od = ModelDictionary::new(device, None);
         esi_assignment(device, &mut od);
         esi_mapping(device, &mut od);
         let fixed =

@@ -254,11 +254,11 @@ fn empty_assignment_objects_start_with_the_esi_assignment() {
 }
 
 /// A CoE device whose ESI's dictionary lists only the mapped objects: its firmware still has
-/// what a master
-/// reads before it maps the process data (SOEM's config_map: 0x1C00, then 0x1C12/0x1C13, then
-/// each assigned PDO's mapping object), from the ESI's `Sm` elements and PDOs, and the mapping
-/// object of every PDO of the ESI. Values from
-/// this ESI text.
+/// what a master reads before it maps the process data (SOEM's config_map: 0x1C00, then
+/// 0x1C12/0x1C13, then each assigned PDO's mapping object), from the ESI's `Sm` elements and
+/// PDOs, and the mapping object of every PDO of the ESI: the ESI front-end synthesises them
+/// into the model (`Origin::CoeImplied`), the simulator adds nothing. Values from this ESI
+/// text.
 #[test]
 fn a_coe_device_has_the_assignment_and_mapping_its_esi_gives() {
     use odc::slave::ObjectDictionary;
@@ -303,7 +303,8 @@ fn a_coe_device_has_the_assignment_and_mapping_its_esi_gives() {
   </Descriptions>
 </EtherCATInfo>"##;
     let p = odc_esi::parse(&mut odc_model::Sources::new(), "t.xml", ESI.as_bytes());
-    assert!(!p.devices[0].objects.contains_key(&0x1C12), "the ESI's dictionary lacks it");
+    let origin = p.devices[0].objects.get(&0x1C12).map(|o| o.origin);
+    assert_eq!(origin, Some(odc_model::Origin::CoeImplied), "the ESI's dictionary lacks it");
     let sim = SubDevice::new(&p.devices[0]).unwrap();
     let read = |index: u16, sub: u8| {
         let mut b = [0u8; 4];

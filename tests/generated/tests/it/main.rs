@@ -4,6 +4,7 @@
 
 mod allowed_values;
 mod cia402_typed;
+mod coe_implied;
 mod drive_sim;
 mod master;
 mod mini_drive;

@@ -3,9 +3,10 @@
 use super::*;
 
 /// The PDO indexes a 0x1C1n object assigns by default (subs 1..=sub 0), with the spans of
-/// their values; `None` when sub 0 has no default.
+/// their values; `None` when sub 0 has no default, or the object is not the file's (one odc
+/// synthesised holds the PDOs' `Sm` attributes: nothing to compare).
 pub(super) fn assignment(dev: &Device, index: u16) -> Option<Vec<(u16, Span)>> {
-    let o = dev.objects.get(&index)?;
+    let o = crate::util::object(dev, index)?;
     let count = initial_u64(dev, index, 0)?;
     let mut out = Vec::new();
     for sub in 1..=count.min(254) as u8 {

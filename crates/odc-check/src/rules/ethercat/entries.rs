@@ -26,7 +26,9 @@ pub(super) fn pdo_entry_not_in_dictionary(dev: &Device, ctx: &mut Ctx) {
     }
     for p in &dev.pdos {
         for e in p.entries.iter().filter(|e| !e.is_gap()) {
-            if dev.sub(e.index, e.sub).is_none() {
+            // The objects odc synthesised for a CoE device (a PDO's mapping object) are not
+            // the file's dictionary.
+            if crate::util::file_sub(dev, e.index, e.sub).is_none() {
                 ctx.report(
                     p.mapping_index,
                     None,
@@ -64,7 +66,18 @@ pub(super) fn pdo_entry_bit_length(dev: &Device, ctx: &mut Ctx) {
     }
     for p in &dev.pdos {
         for e in p.entries.iter().filter(|e| !e.is_gap()) {
-            let Some(bits) = dev.sub(e.index, e.sub).and_then(SubObject::bits) else { continue };
+            // Not an object odc synthesised for a CoE device (mapping objects, 0x1C1n: their
+            // sizes are odc's); those synthesised from the entries of an ESI without a
+            // dictionary are checked, two entries of one object may disagree.
+            let Some(bits) = dev
+                .objects
+                .get(&e.index)
+                .filter(|o| o.origin != Origin::CoeImplied)
+                .and_then(|o| o.sub(e.sub))
+                .and_then(SubObject::bits)
+            else {
+                continue;
+            };
             if u32::from(e.bits) != bits {
                 ctx.report(
                     p.mapping_index,
@@ -107,7 +120,7 @@ pub(super) fn pdo_entry_direction(dev: &Device, ctx: &mut Ctx) {
     }
     for p in dev.pdos.iter().filter(|p| !p.fixed) {
         for e in p.entries.iter().filter(|e| !e.is_gap()) {
-            let Some(s) = dev.sub(e.index, e.sub) else { continue };
+            let Some(s) = crate::util::file_sub(dev, e.index, e.sub) else { continue };
             if s.pdo_mapping.allows(s.access, p.direction) {
                 continue;
             }

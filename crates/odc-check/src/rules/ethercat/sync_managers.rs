@@ -272,7 +272,8 @@ pub(super) fn sm_type_object(dev: &Device, ctx: &mut Ctx) {
     if !has_dictionary(dev) || ec.sync_managers.is_empty() {
         return;
     }
-    let Some(o) = dev.objects.get(&0x1C00) else { return };
+    // One odc synthesised holds the `Sm` elements' types: nothing to compare.
+    let Some(o) = crate::util::object(dev, 0x1C00) else { return };
     let Some(count) = initial_u64(dev, 0x1C00, 0) else { return };
     for sub in 1..=count.min(32) as u8 {
         let Some(s) = o.sub(sub) else { continue };
