@@ -433,11 +433,13 @@ fn apply_object_data(data: Element<'_>, layout: &[Slot], object: &mut Object, ct
     for slot in layout {
         let Some(sub) = object.subs.get_mut(&slot.sub) else { continue };
         let end = u64::from(slot.offset) + u64::from(slot.bits);
-        if end > have || slot.bits > 64 && slot.offset % 8 != 0 {
+        let whole_bytes = slot.offset % 8 == 0 && slot.bits % 8 == 0;
+        // A bit field is read into a u64: wider ones that are not whole bytes get no default.
+        if end > have || !whole_bytes && slot.bits > 64 {
             short.push(slot.sub);
             continue;
         }
-        let value = if slot.offset % 8 == 0 && slot.bits % 8 == 0 {
+        let value = if whole_bytes {
             let at = slot.offset as usize / 8;
             num::decode_data(&bytes[at..at + slot.bits as usize / 8], sub.data_type)
         } else {

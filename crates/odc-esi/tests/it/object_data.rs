@@ -27,6 +27,9 @@ const ESI: &str = r##"<?xml version="1.0"?>
           <SubItem><SubIdx>2</SubIdx><Name>Mode</Name><Type>BIT3</Type><BitSize>3</BitSize><BitOffs>17</BitOffs></SubItem>
           <SubItem><SubIdx>3</SubIdx><Name>Offset</Name><Type>INT</Type><BitSize>16</BitSize><BitOffs>32</BitOffs></SubItem>
         </DataType>
+        <DataType><Name>DT8003</Name><BitSize>72</BitSize>
+          <SubItem><SubIdx>1</SubIdx><Name>Wide</Name><Type>ULINT</Type><BitSize>65</BitSize><BitOffs>0</BitOffs></SubItem>
+        </DataType>
       </DataTypes>
       <Objects>
         <Object><Index>#x1c13</Index><Name>TxPDO assign</Name><Type>DT1C13</Type><BitSize>48</BitSize>
@@ -37,6 +40,8 @@ const ESI: &str = r##"<?xml version="1.0"?>
           <Info><DefaultData>0200</DefaultData></Info></Object>
         <Object><Index>#x8002</Index><Name>Array</Name><Type>DT1C13ARR</Type><BitSize>32</BitSize>
           <Info><DefaultData>01000200</DefaultData></Info></Object>
+        <Object><Index>#x8003</Index><Name>Wide</Name><Type>DT8003</Type><BitSize>72</BitSize>
+          <Info><DefaultData>FFFFFFFFFFFFFFFF01</DefaultData></Info></Object>
       </Objects>
     </Dictionary></Profile>
   </Device></Devices></Descriptions>
@@ -75,10 +80,13 @@ fn data_that_ends_early_and_array_types_are_said_not_dropped() {
     assert_eq!(default(0x8001, 0), Some(Value::Unsigned(2)));
     assert_eq!(default(0x8001, 1), None);
     let f224: Vec<_> = parsed.diagnostics.iter().filter(|d| d.code == "F224").collect();
-    assert_eq!(f224.len(), 2, "{f224:#?}");
+    assert_eq!(f224.len(), 3, "{f224:#?}");
     assert!(f224.iter().all(|d| d.severity == Severity::Warning));
     assert!(f224[0].labels[0].message.contains("no default for sub-index 1, 2"), "{f224:#?}");
     assert!(f224[1].labels[0].message.contains("array type"), "{f224:#?}");
+    // A 65-bit field that is not whole bytes does not fit the u64 a bit field is read into.
+    assert_eq!(default(0x8003, 1), None);
+    assert!(f224[2].labels[0].message.contains("no default for sub-index 1"), "{f224:#?}");
     // No other object's data gave a diagnostic.
     assert!(
         parsed.diagnostics.iter().all(|d| d.severity != Severity::Error),
