@@ -2,10 +2,18 @@
 
 use super::*;
 
-/// The PDO indexes a 0x1C1n object assigns by default (subs 1..=sub 0), with the spans of
-/// their values; `None` when sub 0 has no default, or the object is not the file's (one odc
-/// synthesised holds the PDOs' `Sm` attributes: nothing to compare).
-pub(super) fn assignment(dev: &Device, index: u16) -> Option<Vec<(u16, Span)>> {
+/// One entry of an assignment object: its sub-index, the PDO index it holds, its value's span.
+struct Counted {
+    sub: u8,
+    pdo: u16,
+    span: Span,
+}
+
+/// The entries a 0x1C1n object counts by default (subs 1..=sub 0): sub-index, PDO index (0x0000
+/// included) and the span of the value; with sub 0's count. `None` when sub 0 has no default,
+/// or the object is not the file's (one odc synthesised holds the PDOs' `Sm` attributes:
+/// nothing to compare).
+fn counted_entries(dev: &Device, index: u16) -> Option<(u64, Vec<Counted>)> {
     let o = crate::util::object(dev, index)?;
     let count = initial_u64(dev, index, 0)?;
     let mut out = Vec::new();
@@ -15,11 +23,16 @@ pub(super) fn assignment(dev: &Device, index: u16) -> Option<Vec<(u16, Span)>> {
         let Some(pdo) = crate::util::as_u64(&v.value).and_then(|v| u16::try_from(v).ok()) else {
             continue;
         };
-        if pdo != 0 {
-            out.push((pdo, first_span([v.span, s.span, o.span])));
-        }
+        out.push(Counted { sub, pdo, span: first_span([v.span, s.span, o.span]) });
     }
-    Some(out)
+    Some((count, out))
+}
+
+/// The PDO indexes a 0x1C1n object assigns by default, with the spans of their values (0x0000
+/// entries left out); `None` as for [`counted_entries`].
+pub(super) fn assignment(dev: &Device, index: u16) -> Option<Vec<(u16, Span)>> {
+    let (_, entries) = counted_entries(dev, index)?;
+    Some(entries.into_iter().filter(|e| e.pdo != 0).map(|e| (e.pdo, e.span)).collect())
 }
 
 /// The process-data sync managers with their assignment object index 0x1C10 + n.
@@ -104,17 +117,12 @@ pub(super) fn pdo_assign_zero(dev: &Device, ctx: &mut Ctx) {
         return;
     }
     for (_, _, index) in pd_sync_managers(ec) {
-        let Some(o) = dev.objects.get(&index) else { continue };
-        let Some(count) = initial_u64(dev, index, 0) else { continue };
-        let zeros: Vec<u8> = (1..=count.min(254) as u8)
-            .filter(|&sub| {
-                o.sub(sub)
-                    .and_then(|s| s.initial_value())
-                    .and_then(|v| crate::util::as_u64(&v.value))
-                    == Some(0)
-            })
-            .collect();
-        let Some(s0) = o.sub(0).filter(|_| !zeros.is_empty()) else { continue };
+        let Some((count, entries)) = counted_entries(dev, index) else { continue };
+        let zeros: Vec<u8> = entries.iter().filter(|e| e.pdo == 0).map(|e| e.sub).collect();
+        let Some(o) = crate::util::object(dev, index).filter(|_| !zeros.is_empty()) else {
+            continue;
+        };
+        let Some(s0) = o.sub(0) else { continue };
         let subs: Vec<String> = zeros.iter().map(|s| format!(":{s:02}")).collect();
         let span = first_span([s0.initial_value().map_or(s0.span, |v| v.span), s0.span, o.span]);
         ctx.report(
