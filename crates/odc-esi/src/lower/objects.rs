@@ -415,7 +415,7 @@ pub(super) fn lower_struct<'t>(
 /// `SubItem` defaults, applied after, take precedence. Bytes no sub-object covers, and
 /// sub-objects the bytes do not reach, are said (F224).
 fn apply_object_data(data: Element<'_>, layout: &[Slot], object: &mut Object, ctx: &mut Ctx<'_>) {
-    let Some((bytes, _)) = num::parse_hex_bytes_lenient(data.text()) else {
+    let Some((bytes, padded)) = num::parse_hex_bytes_lenient(data.text()) else {
         ctx.push(
             Diagnostic::error(
                 codes::INVALID_DATA,
@@ -425,6 +425,15 @@ fn apply_object_data(data: Element<'_>, layout: &[Slot], object: &mut Object, ct
         );
         return;
     };
+    if padded {
+        ctx.push(
+            Diagnostic::warning(
+                codes::NONSTANDARD_NUMBER,
+                format!("`{}` has an odd number of hex digits (DefaultData)", data.text()),
+            )
+            .with_label(data.text_span(), "read with a leading zero"),
+        );
+    }
     if layout.is_empty() {
         return not_applied(data, "its data type gives no `BitOffs`", ctx);
     }

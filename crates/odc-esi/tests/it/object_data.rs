@@ -94,3 +94,16 @@ fn data_that_ends_early_and_array_types_are_said_not_dropped() {
         parsed.diagnostics
     );
 }
+
+#[test]
+fn an_odd_number_of_hex_digits_is_read_with_a_leading_zero_and_said() {
+    // `100001A0000` is `0100001A0000` without its first digit.
+    let esi = ESI.replace("0100001A0000", "100001A0000");
+    let parsed = odc_esi::parse(&mut Sources::new(), "t.xml", esi.as_bytes());
+    let subs = &parsed.devices[0].objects[&0x1C13].subs;
+    assert_eq!(subs[&0].default.as_ref().map(|d| d.value.clone()), Some(Value::Unsigned(1)));
+    assert_eq!(subs[&1].default.as_ref().map(|d| d.value.clone()), Some(Value::Unsigned(0x1A00)));
+    let f219: Vec<_> = parsed.diagnostics.iter().filter(|d| d.code == "F219").collect();
+    assert_eq!(f219.len(), 1, "{:#?}", parsed.diagnostics);
+    assert!(f219[0].message.contains("odd number of hex digits"), "{f219:#?}");
+}
