@@ -177,7 +177,7 @@ impl TableBuilder {
         let mut at = 0;
         for row in &mut rows {
             row.at = at;
-            at += row.slot.kind().1;
+            at += row.slot.len();
         }
         RuntimeTable { rows, size: at }
     }
@@ -252,14 +252,17 @@ impl Slot for Bytes {
         }
     }
 
-    fn kind(&self) -> (DataType, usize) {
-        let data_type = match self.kind {
+    fn len(&self) -> usize {
+        self.len
+    }
+
+    fn data_type(&self) -> DataType {
+        match self.kind {
             Kind::Text => DataType::VisibleString,
             Kind::Octets => DataType::OctetString,
             Kind::Unicode => DataType::UnicodeString,
             Kind::Domain => DataType::Domain,
-        };
-        (data_type, self.len)
+        }
     }
 }
 

@@ -36,20 +36,10 @@ pub(super) trait Slot: Sync {
     fn check(&self, data: &[u8]) -> Result<(), SdoAbort>;
     /// Stores the initial value on node `node_id` into zeroed `stored`.
     fn init(&self, stored: &mut [u8], node_id: Option<NodeId>);
-    /// The CiA 301 data type and the encoded size of the type (the bytes the value takes in
-    /// the storage): one method, one vtable slot and one function per type for both.
-    fn kind(&self) -> (DataType, usize);
-}
-
-impl dyn Slot + '_ {
     /// The encoded size of the type: the bytes the value takes in the storage.
-    pub(super) fn len(&self) -> usize {
-        self.kind().1
-    }
+    fn len(&self) -> usize;
     /// The CiA 301 data type.
-    pub(super) fn data_type(&self) -> DataType {
-        self.kind().0
-    }
+    fn data_type(&self) -> DataType;
 }
 
 impl<T> Slot for Spec<T>
@@ -69,8 +59,12 @@ where
         }
     }
 
-    fn kind(&self) -> (DataType, usize) {
-        (T::DATA_TYPE, T::MAX_LEN)
+    fn len(&self) -> usize {
+        T::MAX_LEN
+    }
+
+    fn data_type(&self) -> DataType {
+        T::DATA_TYPE
     }
 }
 
