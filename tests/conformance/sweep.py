@@ -52,7 +52,7 @@ def one(odc, path, out, limit, tolerance):
         try:
             run = subprocess.run(
                 [odc, "conformance", str(path), "--node-id", "5", "--tcp", addr,
-                 "--report", str(report), "--heartbeat-tolerance", str(tolerance)],
+                 "--report", str(report), "--timing-tolerance", str(tolerance)],
                 capture_output=True, text=True, timeout=limit,
             )
         except subprocess.TimeoutExpired:
@@ -80,7 +80,7 @@ def main():
     ap.add_argument("--out", default=str(ROOT / "target/conformance-sweep"))
     # The simulator ticks every 10 ms; on a loaded shared machine its heartbeat is late by
     # more than the 20 ms odc conformance allows a real device by default.
-    ap.add_argument("--heartbeat-tolerance", type=int, default=40)
+    ap.add_argument("--timing-tolerance", type=int, default=40)
     args = ap.parse_args()
     files = sorted(p for p in Path(args.corpus).rglob("*") if p.suffix.lower() in EXTS)
     if args.sample and args.sample < len(files):
@@ -89,7 +89,7 @@ def main():
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     with ThreadPoolExecutor(args.jobs) as pool:
-        results = list(pool.map(lambda p: (p, *one(args.odc, p, out, args.limit, args.heartbeat_tolerance)), files))
+        results = list(pool.map(lambda p: (p, *one(args.odc, p, out, args.limit, args.timing_tolerance)), files))
 
     per_check = collections.defaultdict(collections.Counter)
     status = collections.Counter()

@@ -47,8 +47,11 @@ use session::Session;
 pub struct Options {
     /// How long to wait for an answer (SDO response, boot-up), in ms.
     pub timeout_ms: u64,
-    /// The heartbeat period measured may differ from the one set by this much, in ms.
-    pub heartbeat_tolerance_ms: u64,
+    /// How far the tester's receive time of a frame may be from its transmission, in ms: a
+    /// heartbeat gap may differ from the period set, and a PDO gap fall short of the inhibit
+    /// time, by this much. A tester on a shared host receives frames late, one at a time, so a
+    /// single gap can look that much too long or too short.
+    pub timing_tolerance_ms: u64,
     /// Run the 0x1011 "load" check: it restores the device's factory defaults, so the
     /// parameters it has stored are lost.
     pub restore_defaults: bool,
@@ -63,7 +66,7 @@ impl Default for Options {
     fn default() -> Self {
         Options {
             timeout_ms: 1000,
-            heartbeat_tolerance_ms: 20,
+            timing_tolerance_ms: 20,
             restore_defaults: false,
             sdo_timeout_ms: 2000,
             groups: Vec::new(),

@@ -168,7 +168,7 @@ where
                 .map(|(t, f)| (t, f.bytes().to_vec()))
                 .collect();
             let _ = s.write(0x1017, 0, &old);
-            let tol = s.opt.heartbeat_tolerance_ms;
+            let tol = s.opt.timing_tolerance_ms;
             let gaps: Vec<u64> = beats.windows(2).map(|w| w[1].0 - w[0].0).collect();
             let bad_gap = gaps.iter().find(|g| g.abs_diff(PERIOD_MS) > tol);
             let bad_state = beats.iter().find(|(_, b)| b.as_slice() != [0x7F]);

@@ -84,20 +84,41 @@ fn shipped_problems(f: &str, r: &Report) -> Vec<String> {
     problems
 }
 
+/// The checks that measure time on the receiving side: a loaded machine delays the tester's
+/// receive (and the simulator's 10 ms tick), so only these are worth another run.
+const TIMED: [&str; 5] = [
+    "nmt.heartbeat",
+    "nmt.guarding",
+    "nmt.life-guarding",
+    "pdo.transmission-type",
+    "pdo.inhibit-time",
+];
+
+/// Runs the checks on `file` up to three times while what stands in the way is a timed check
+/// only (printed, so a log shows each extra run); the last report and its problems.
+fn conformance_settled(file: &str, options: &Options) -> (Report, Vec<String>) {
+    let mut report = conformance(file, options);
+    let mut problems = shipped_problems(file, &report);
+    for attempt in 2..=3 {
+        let timed_only =
+            !problems.is_empty() && problems.iter().all(|p| TIMED.iter().any(|id| p.contains(id)));
+        if !timed_only {
+            break;
+        }
+        println!("{file}: {problems:?}: only timed checks; run {attempt} of 3");
+        report = conformance(file, options);
+        problems = shipped_problems(file, &report);
+    }
+    (report, problems)
+}
+
 #[test]
 fn shipped_devices_pass() {
-    // A loaded 2-core machine delays the simulator's 10 ms tick: 40 ms of heartbeat tolerance.
-    let opts = Options { restore_defaults: true, heartbeat_tolerance_ms: 40, ..Options::default() };
+    // A loaded 2-core machine delays the simulator's 10 ms tick: 40 ms of timing tolerance.
+    let opts = Options { restore_defaults: true, timing_tolerance_ms: 40, ..Options::default() };
     let mut unexpected = Vec::new();
     for f in SHIPPED {
-        // The timed checks (heartbeat, guarding, PDO rates) measure a simulator that shares
-        // the machine with the rest of `cargo test`: a device that misses gets one more run.
-        let mut problems = shipped_problems(f, &conformance(f, &opts));
-        if !problems.is_empty() {
-            println!("{f}: {problems:?}; once more");
-            problems = shipped_problems(f, &conformance(f, &opts));
-        }
-        unexpected.extend(problems);
+        unexpected.extend(conformance_settled(f, &opts).1);
     }
     assert!(unexpected.is_empty(), "{unexpected:?}");
 }
@@ -105,13 +126,9 @@ fn shipped_devices_pass() {
 /// lxm23a without `--restore-defaults`: nothing fails; odc's master guards odc's node.
 #[test]
 fn lxm23a_passes_without_restoring_defaults() {
-    // Default options but the heartbeat tolerance, as above: the machine is shared.
-    let opts = Options { heartbeat_tolerance_ms: 40, ..Options::default() };
-    let mut r = conformance("eds/lxm23a.eds", &opts);
-    // One more run when a timed check missed on the shared machine (see above).
-    if !shipped_problems("eds/lxm23a.eds", &r).is_empty() {
-        r = conformance("eds/lxm23a.eds", &opts);
-    }
+    // Default options but the timing tolerance, as above: the machine is shared.
+    let opts = Options { timing_tolerance_ms: 40, ..Options::default() };
+    let (r, _) = conformance_settled("eds/lxm23a.eds", &opts);
     assert_eq!(r.failed(), Vec::<&str>::new());
     // The guarding service of odc's master against odc's node: answers with the toggle bit,
     // and the node's life-guarding EMCY when it stops.
@@ -137,7 +154,7 @@ fn lxm23a_passes_without_restoring_defaults() {
 /// vendor-ID is 0x1234. That check fails, with the frames of the read.
 #[test]
 fn a_file_that_lies_fails_with_its_frames() {
-    let opts = Options { heartbeat_tolerance_ms: 40, ..Options::default() };
+    let opts = Options { timing_tolerance_ms: 40, ..Options::default() };
     let r = conformance_against("eds/lxm23a.eds", &opts, |d| {
         let v = d.device_info.vendor_number.as_mut().unwrap();
         assert_ne!(v.value, 0x1234);

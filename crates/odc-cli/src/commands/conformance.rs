@@ -41,9 +41,10 @@ pub struct Args {
     /// How long to wait for an answer, in ms.
     #[arg(long, value_name = "MS", default_value_t = 1000)]
     timeout: u64,
-    /// Tolerance of the heartbeat period, in ms.
-    #[arg(long, value_name = "MS", default_value_t = 20)]
-    heartbeat_tolerance: u64,
+    /// How late a frame may be received, in ms: a heartbeat gap may differ from the period,
+    /// a PDO gap fall short of the inhibit time, by this much.
+    #[arg(long, value_name = "MS", default_value_t = 20, alias = "heartbeat-tolerance")]
+    timing_tolerance: u64,
     #[command(flatten)]
     levels: input::Levels,
 }
@@ -78,7 +79,7 @@ pub fn run(args: Args) -> anyhow::Result<ExitCode> {
     let bus = args.bus.open()?;
     let options = Options {
         timeout_ms: args.timeout,
-        heartbeat_tolerance_ms: args.heartbeat_tolerance,
+        timing_tolerance_ms: args.timing_tolerance,
         restore_defaults: args.restore_defaults,
         groups,
         ..Options::default()

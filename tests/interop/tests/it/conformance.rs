@@ -96,7 +96,7 @@ fn conformance_of_python_canopen_local_node() {
         // python-can's periodic send thread keeps LocalNode's heartbeat; a loaded machine delays
         // it more than odc's node: 40 ms of tolerance instead of 20.
         let options =
-            Options { restore_defaults: true, heartbeat_tolerance_ms: 40, ..Options::default() };
+            Options { restore_defaults: true, timing_tolerance_ms: 40, ..Options::default() };
         let report = odc_conformance::run(device, node, &mut peer.bus, &options);
         peer.finish(Duration::from_secs(10));
         println!("{file}:\n{}", report.summary());
