@@ -390,7 +390,10 @@ fn run<C: Clock + Copy + Send + Sync>(clock: C, o: &Options) -> Result<Vec<Repor
                 polls::reserve();
                 runtime()?.block_on(async {
                     let (tx, rx) = connect.await?;
+                    // The cycle first when both are ready: a SYNC due goes to the queue before
+                    // the bus task routes what came in meanwhile.
                     tokio::select! {
+                        biased;
                         c = polls::metered(polls::Branch::Cycle, cycle(m, &axes, &finished, cycles)) => Ok::<_, Error>((c, rt)),
                         r = polls::metered(polls::Branch::Bus, m.run(tx, rx)) => Err(bus_ended(r)),
                     }
@@ -487,6 +490,8 @@ async fn cycle<C: Clock>(
             a.cycle(m)?;
         }
         m.sync()?;
+        // The bus task sends the RPDOs and the SYNC now; this cycle's records after them.
+        tokio::task::yield_now().await;
         let after = trace::schedstat();
         let delta = |f: fn((u64, u64)) -> u64| Some(f(after?).saturating_sub(f(before?)));
         let (ran_ns, queued_ns) = (delta(|s| s.0), delta(|s| s.1));
