@@ -35,7 +35,10 @@
 //! whose TPDOs did not all come back before the next SYNC, the timer's wake-up latency and how
 //! much of the late wakes the cycle thread spent waiting for a CPU, the five latest wakes (with
 //! their `CLOCK_MONOTONIC` time), the steal time `/proc/stat` counted on each CPU during the
-//! cycle, the cycle thread's page faults and context switches, and each thread's CPU time.
+//! cycle, the cycle thread's page faults and context switches, and each thread's CPU time;
+//! and, from every poll of the cycle thread's futures (`polls.rs`), where the late wakes'
+//! lateness went: into the bus task's polls, the cycle's, or outside every poll (asleep in
+//! the runtime or waiting for a CPU), with the poll running at each grid point, if one was.
 //!
 //! Telling the machine from the program: a late wake in which the thread neither ran nor
 //! waited for a CPU was asleep while its timer was due. Steal time says when the hypervisor
