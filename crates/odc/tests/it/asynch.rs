@@ -301,8 +301,10 @@ async fn a_socket_that_never_waits_still_lets_the_sync_out_within_one_frame() {
     for i in 0..200 {
         master.send(Priority::Low, sdo_request(1 + (i % 3) as u8)).unwrap();
     }
+    // Created before the bus task runs: its grid point is 10 frames from the start.
+    let mut cycle = master.cycle(FRAME.saturating_mul(10));
     let cycle = async {
-        let due = master.cycle(FRAME.saturating_mul(10)).tick().await;
+        let due = cycle.tick().await;
         master.sync().unwrap();
         // Until the SYNC is on the wire.
         poll_fn(|cx| {
