@@ -19,7 +19,7 @@ odc=target/debug/odc
 port=47390
 
 figures() {
-  grep -E '^(Error|layout|  node|SYNC|missed|  SYNC intervals|  cycles whose|timer wake|wakes over|late wakes|  the cycle thread|cycle thread.s polls|no real-time|memory not|latest wakes|  [0-9]+\.[0-9]{6}: |steal time|vmpause|  cpu[0-9]|  on every|  steal time|  the program|    [0-9])' || true
+  grep -E '^(Error|layout|  node|SYNC|missed|  SYNC intervals|  cycles whose|timer wake|wakes over|late wakes|cycle thread.s polls|no real-time|memory not|latest wakes|  [0-9]+\.[0-9]{6}: |steal time|vmpause|  cpu[0-9]|  on every|  steal time|  the program|    [0-9])' || true
 }
 # COMMAND under vmpause.py where the kernel trace is writable, else as it is; a run that fails
 # (its error is among the lines printed) does not end the others.

@@ -442,7 +442,7 @@ impl std::fmt::Display for Figures {
         let ((o50, o99, omax), (l50, l99, lmax)) = (self.gap_cpu_on_time, self.gap_cpu_late);
         write!(
             f,
-            "\n  the cycle thread's CPU clock in the stretch outside its polls the grid point fell in (from a poll before it slept to the next after it woke), per wake: on time p50 {o50} / p99 {o99} / max {omax} µs; late p50 {l50} / p99 {l99} / max {lmax} µs"
+            "; the thread's CPU clock in the stretch outside polls the grid point fell in, per wake: on time p50 {o50} / p99 {o99} / max {omax} µs, late p50 {l50} / p99 {l99} / max {lmax} µs"
         )?;
         if !self.worst.is_empty() {
             write!(
