@@ -35,7 +35,10 @@
 //! whose TPDOs did not all come back before the next SYNC, the timer's wake-up latency and how
 //! much of the late wakes the cycle thread spent waiting for a CPU, the five latest wakes (with
 //! their `CLOCK_MONOTONIC` time), the steal time `/proc/stat` counted on each CPU during the
-//! cycle, the cycle thread's page faults and context switches, and each thread's CPU time.
+//! cycle, the cycle thread's page faults and context switches, and each thread's CPU time;
+//! and, from every poll of the cycle thread's futures (`polls.rs`), where the late wakes'
+//! lateness went: into the bus task's polls, the cycle's, or outside every poll (asleep in
+//! the runtime or waiting for a CPU), with the poll running at each grid point, if one was.
 //!
 //! Telling the machine from the program: a late wake in which the thread neither ran nor
 //! waited for a CPU was asleep while its timer was due. Steal time says when the hypervisor
@@ -45,6 +48,7 @@
 //! paused meanwhile. `bash examples/async_three_drives/measure.sh` runs the layouts side by
 //! side, each under it, with `cyclictest` for the machine alone (README).
 
+mod polls;
 mod trace;
 
 use std::path::Path;
@@ -369,12 +373,16 @@ fn run<C: Clock + Copy + Send + Sync>(clock: C, o: &Options) -> Result<Vec<Repor
                 (d, t)
             };
             let threads = async {
-                let (c, (d, t)) = tokio::join!(cycle(m, &axes, &finished, cycles), work);
+                let (c, (d, t)) = tokio::join!(
+                    polls::metered(polls::Branch::Cycle, cycle(m, &axes, &finished, cycles)),
+                    polls::metered(polls::Branch::Work, work)
+                );
                 ((c, d), t)
             };
+            polls::reserve();
             tokio::select! {
                 ((c, d), t) = threads => Ok::<_, Error>((c, d, None, t)),
-                r = m.run(tx, rx) => Err(bus_ended(r)),
+                r = polls::metered(polls::Branch::Bus, m.run(tx, rx)) => Err(bus_ended(r)),
             }
         })?
     } else {
@@ -382,11 +390,15 @@ fn run<C: Clock + Copy + Send + Sync>(clock: C, o: &Options) -> Result<Vec<Repor
             // The cycle thread: the SYNC cycle and the bus task.
             let cycler = thread::Builder::new().name("cycle".into()).spawn_scoped(s, || {
                 let rt = o.realtime.map(realtime);
+                polls::reserve();
                 runtime()?.block_on(async {
                     let (tx, rx) = connect.await?;
+                    // The cycle first when both are ready: a SYNC due goes to the queue before
+                    // the bus task routes what came in meanwhile.
                     tokio::select! {
-                        c = cycle(m, &axes, &finished, cycles) => Ok::<_, Error>((c, rt)),
-                        r = m.run(tx, rx) => Err(bus_ended(r)),
+                        biased;
+                        c = polls::metered(polls::Branch::Cycle, cycle(m, &axes, &finished, cycles)) => Ok::<_, Error>((c, rt)),
+                        r = polls::metered(polls::Branch::Bus, m.run(tx, rx)) => Err(bus_ended(r)),
                     }
                 })
             })?;
@@ -422,7 +434,7 @@ fn run<C: Clock + Copy + Send + Sync>(clock: C, o: &Options) -> Result<Vec<Repor
     if let Some(Err(e)) = &rt {
         println!("no real-time priority for the cycle thread ({e}): it ran at normal priority");
     }
-    let (ticks, skipped, counters) = cycled?;
+    let (ticks, skipped, counters, totals) = cycled?;
 
     println!(
         "three drives on one bus ({}), {elapsed} of a {PERIOD} SYNC cycle; load average {} at the end:",
@@ -445,6 +457,7 @@ fn run<C: Clock + Copy + Send + Sync>(clock: C, o: &Options) -> Result<Vec<Repor
         .ok_or("no SYNC went out")?;
     println!("{f}");
     println!("{counters}");
+    println!("{}", trace::PollTotals(&totals));
     println!("threads (CPU ms run / ms waiting for a CPU):");
     for (name, run, wait) in threads {
         println!("  {name}: {run} / {wait}");
@@ -459,7 +472,7 @@ async fn cycle<C: Clock>(
     axes: &Axes,
     finished: &AtomicBool,
     cycles: usize,
-) -> Result<(Vec<trace::Tick>, u64, trace::Counters), Error> {
+) -> Result<(Vec<trace::Tick>, u64, trace::Counters, polls::Totals), Error> {
     let mut ticks = Vec::with_capacity(cycles);
     let mut cycle = m.cycle(PERIOD);
     let counters = trace::Counters::read();
@@ -468,6 +481,8 @@ async fn cycle<C: Clock>(
         let due = cycle.tick().await;
         let woke = m.now();
         let mono_us = trace::monotonic_us();
+        // Before the cycle's own work: what the thread ran since the grid point.
+        let account = polls::account(polls::now_ns(), woke.saturating_duration_since(due));
         if let Some(a) = axes.a1.get() {
             a.cycle(m)?;
         }
@@ -478,12 +493,15 @@ async fn cycle<C: Clock>(
             a.cycle(m)?;
         }
         m.sync()?;
+        // The bus task sends the RPDOs and the SYNC now; this cycle's records after them.
+        tokio::task::yield_now().await;
         let after = trace::schedstat();
         let delta = |f: fn((u64, u64)) -> u64| Some(f(after?).saturating_sub(f(before?)));
         let (ran_ns, queued_ns) = (delta(|s| s.0), delta(|s| s.1));
-        ticks.push(trace::Tick { due, woke, queued_ns, ran_ns, mono_us });
+        ticks.push(trace::Tick { due, woke, queued_ns, ran_ns, mono_us, account });
     }
-    Ok((ticks, cycle.missed(), trace::Counters::read().since(&counters)))
+    let counters = trace::Counters::read().since(&counters);
+    Ok((ticks, cycle.missed(), counters, polls::totals()))
 }
 
 /// The three drives' lives, at once.

@@ -4,7 +4,9 @@
 # comparison. Run as root (real-time priorities) from the repository root:
 #   bash examples/async_three_drives/measure.sh [RUNS [SECONDS]]
 # Prints, per run, the load average and the figure lines the example prints (with the steal
-# time /proc/stat counted and the cycle thread's page faults). As root, each program runs under
+# time /proc/stat counted and the cycle thread's page faults, and the account of its late
+# wakes from its own polls: how much of their lateness it spent in the bus task, in the
+# cycle, or outside every poll, and its CPU clock meanwhile). As root, each program runs under
 # vmpause.py (a kernel trace): it adds the stretches in which a busy virtual CPU ran nothing
 # (the hypervisor's pauses) and which late wakes fell in one. ODC_NO_VMPAUSE=1: without it.
 set -euo pipefail
@@ -17,7 +19,7 @@ odc=target/debug/odc
 port=47390
 
 figures() {
-  grep -E '^(Error|layout|  node|SYNC|missed|  SYNC intervals|  cycles whose|timer wake|wakes over|no real-time|memory not|latest wakes|  [0-9]+\.[0-9]{6}: |steal time|vmpause|  cpu[0-9]|  on every|  steal time|  the program|    [0-9])' || true
+  grep -E '^(Error|layout|  node|SYNC|missed|  SYNC intervals|  cycles whose|timer wake|wakes over|late wakes|cycle thread.s polls|no real-time|memory not|latest wakes|  [0-9]+\.[0-9]{6}: |steal time|vmpause|  cpu[0-9]|  on every|  steal time|  the program|    [0-9])' || true
 }
 # COMMAND under vmpause.py where the kernel trace is writable, else as it is; a run that fails
 # (its error is among the lines printed) does not end the others.

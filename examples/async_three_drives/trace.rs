@@ -8,6 +8,8 @@ use odc::asynch::{CanRx, CanTx, Clock};
 use odc::can::CanFrame;
 use odc::time::{Duration, Instant};
 
+use super::polls::{self, Account, Branch};
+
 /// One cycle as its thread saw it.
 #[derive(Clone, Copy, Debug)]
 pub struct Tick {
@@ -24,6 +26,8 @@ pub struct Tick {
     /// `woke` on `CLOCK_MONOTONIC`, µs: the clock of a kernel trace taken with ftrace's
     /// `mono` clock (`vmpause.py`), so that a late wake can be found in it.
     pub mono_us: u64,
+    /// Where the time from the grid point to the wake went: the thread's polls meanwhile.
+    pub account: Account,
 }
 
 /// `CLOCK_MONOTONIC` now, µs.
@@ -179,6 +183,7 @@ impl<T: CanTx, C: Clock> CanTx for Tx<T, C> {
 
     async fn send(&mut self, frame: &CanFrame) -> Result<(), T::Error> {
         self.inner.send(frame).await?;
+        polls::sent();
         if frame.id() == 0x080 && !frame.is_extended() {
             lock(&self.wire).syncs.push(self.clock.now());
         }
@@ -206,6 +211,7 @@ impl<R: CanRx, C: Clock> CanRx for Rx<R, C> {
             w.dispatch_slow += u64::from(us > 200);
         }
         let f = self.inner.recv().await?;
+        polls::received();
         self.returned = Some(self.clock.now());
         // TPDO1..4 of nodes 1..=127 (CiA 301's pre-defined connection set).
         if !f.is_extended() && matches!(f.id() & 0x780, 0x180 | 0x280 | 0x380 | 0x480) {
@@ -262,6 +268,16 @@ pub struct Figures {
     pub late_us: u64,
     pub late_queued_us: u64,
     pub late_ran_us: u64,
+    /// The late wakes' accounts summed: in the bus task's polls (wall, CPU, frames received
+    /// and sent, polls), in other polls, outside every poll; and how many of those wakes found
+    /// a bus poll running at the grid point.
+    pub late_account: Account,
+    pub late_bus_at_due: usize,
+    /// Per wake, µs the thread's CPU clock ran in the stretch outside its polls that the grid
+    /// point fell in (its runtime's way to sleep and back, or time it was charged with): p50,
+    /// p99 and max, over the wakes on time and over the late ones.
+    pub gap_cpu_on_time: (u64, u64, u64),
+    pub gap_cpu_late: (u64, u64, u64),
     /// The latest wakes over half a period late, latest first (five at most).
     pub worst: Vec<Tick>,
 }
@@ -333,6 +349,33 @@ pub fn figures(
         late_us: late.iter().map(|t| (t.woke - t.due).as_micros()).sum(),
         late_queued_us: late.iter().filter_map(|t| t.queued_ns).sum::<u64>() / 1000,
         late_ran_us: late.iter().filter_map(|t| t.ran_ns).sum::<u64>() / 1000,
+        late_account: late.iter().fold(Account::default(), |s, t| {
+            let a = t.account;
+            Account {
+                at_due: None,
+                bus_us: s.bus_us + a.bus_us,
+                bus_cpu_us: s.bus_cpu_us + a.bus_cpu_us,
+                bus_in: s.bus_in + a.bus_in,
+                bus_out: s.bus_out + a.bus_out,
+                bus_polls: s.bus_polls + a.bus_polls,
+                other_us: s.other_us + a.other_us,
+                outside_us: s.outside_us + a.outside_us,
+                gap_us: s.gap_us + a.gap_us,
+                gap_cpu_us: s.gap_cpu_us + a.gap_cpu_us,
+            }
+        }),
+        gap_cpu_on_time: percentiles(
+            ticks
+                .iter()
+                .filter(|t| (t.woke - t.due).as_micros() * 2 <= p)
+                .map(|t| t.account.gap_cpu_us)
+                .collect(),
+        ),
+        gap_cpu_late: percentiles(late.iter().map(|t| t.account.gap_cpu_us).collect()),
+        late_bus_at_due: late
+            .iter()
+            .filter(|t| matches!(t.account.at_due, Some((Branch::Bus, ..))))
+            .count(),
         worst: {
             let mut w: Vec<Tick> = late.iter().map(|t| **t).collect();
             w.sort_by_key(|t| std::cmp::Reverse(t.woke - t.due));
@@ -383,24 +426,81 @@ impl std::fmt::Display for Figures {
             "wakes over half a period late: {}, {} µs late in all; meanwhile the cycle thread waited {} µs for a CPU and ran {} µs",
             self.late_wakes, self.late_us, self.late_queued_us, self.late_ran_us
         )?;
+        let a = &self.late_account;
+        write!(
+            f,
+            "\nlate wakes from the grid point to the wake (the cycle thread's polls): {} µs in the bus task ({} polls, {} µs CPU, {} frames received, {} sent; {} wakes found it polled at the grid point), {} µs in the cycle's and other polls, {} µs outside every poll (in the runtime: asleep past the timer, or waiting for a CPU)",
+            a.bus_us,
+            a.bus_polls,
+            a.bus_cpu_us,
+            a.bus_in,
+            a.bus_out,
+            self.late_bus_at_due,
+            a.other_us,
+            a.outside_us,
+        )?;
+        let ((o50, o99, omax), (l50, l99, lmax)) = (self.gap_cpu_on_time, self.gap_cpu_late);
+        write!(
+            f,
+            "; the thread's CPU clock in the stretch outside polls the grid point fell in, per wake: on time p50 {o50} / p99 {o99} / max {omax} µs, late p50 {l50} / p99 {l99} / max {lmax} µs"
+        )?;
         if !self.worst.is_empty() {
             write!(
                 f,
-                "\nlatest wakes (CLOCK_MONOTONIC s: µs late = waited for a CPU + ran + neither, that is asleep while its timer was due):"
+                "\nlatest wakes (CLOCK_MONOTONIC s: µs late = waited for a CPU + ran + neither, that is asleep while its timer was due; of the lateness, in bus polls / in other polls / outside polls µs, the CPU clock in the stretch outside polls the grid point fell in; the poll running at the grid point):"
             )?;
         }
         for t in &self.worst {
             let late = (t.woke - t.due).as_micros();
             let (q, r) = (t.queued_ns.unwrap_or(0) / 1000, t.ran_ns.unwrap_or(0) / 1000);
+            let a = &t.account;
             write!(
                 f,
-                "\n  {}.{:06}: {late} = {q} + {r} + {}",
+                "\n  {}.{:06}: {late} = {q} + {r} + {}; {} / {} / {}, CPU {} of {} µs",
                 t.mono_us / 1_000_000,
                 t.mono_us % 1_000_000,
-                late.saturating_sub(q + r)
+                late.saturating_sub(q + r),
+                a.bus_us,
+                a.other_us,
+                a.outside_us,
+                a.gap_cpu_us,
+                a.gap_us,
             )?;
+            if let Some((b, wall, cpu, fin, fout)) = a.at_due {
+                write!(f, "; {b:?} poll of {wall} µs ({cpu} µs CPU, {fin} frames in, {fout} out)")?;
+            }
         }
         Ok(())
+    }
+}
+
+/// The cycle thread's polls over the run, as one line.
+pub struct PollTotals<'a>(pub &'a polls::Totals);
+
+impl std::fmt::Display for PollTotals<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let t = self.0;
+        write!(
+            f,
+            "cycle thread's polls: {}; bus task polls over 200 µs: {}; longest bus poll: ",
+            t.polls, t.bus_slow
+        )?;
+        match t.longest_bus {
+            Some(p) => write!(
+                f,
+                "{} µs ({} µs CPU, {} frames in, {} out)",
+                (p.end - p.start) / 1000,
+                p.cpu() / 1000,
+                p.frames_in,
+                p.frames_out
+            )?,
+            None => f.write_str("none")?,
+        }
+        write!(
+            f,
+            "; off the CPU inside polls (blocked on a lock, or preempted): {} µs in all, {} µs at most in one",
+            t.off_cpu_us, t.off_cpu_max_us
+        )
     }
 }
 

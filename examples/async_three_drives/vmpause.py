@@ -87,9 +87,13 @@ def silences(lines, limit_us):
 
 def timer_wakes(lines):
     """The followed thread's timerfd wakes: (due, irq, cpu, running at the irq, on CPU, held
-    the CPU meanwhile), CLOCK_MONOTONIC s: when the timer was due, when its interrupt came,
-    which task the interrupt found, and when the thread ran after it and who ran before."""
+    the CPU meanwhile, asleep since), CLOCK_MONOTONIC s: when the timer was due, when its
+    interrupt came, which task the interrupt found, when the thread ran after it and who ran
+    before, and since when the thread had been asleep at the interrupt (its last switch away,
+    in state S) or None when the trace had it on a CPU or runnable."""
     armed, pending, out = {}, {}, []
+    # The followed thread's last switch away (time, state) and last switch to it.
+    last_out, last_in = None, None
     # Task names by pid, from the switches (the trace writes "<...>" for a name it did not keep).
     names = {}
     for line in lines:
@@ -108,17 +112,46 @@ def timer_wakes(lines):
             due = armed.pop(f.get("hrtimer"), None)
             if due is not None:
                 task = f"{names.get(m.group(2), m.group(1))}, pid {m.group(2)}"
-                pending[cpu] = [due, t, cpu, task]
-        elif name == "sched_switch" and cpu in pending:
+                asleep = (last_out[0] if last_out and last_out[1] == "S"
+                          and (last_in is None or last_in < last_out[0]) else None)
+                pending[cpu] = [due, t, cpu, task, asleep]
+        if name == "sched_switch":
+            prev = re.search(r"prev_comm=(.*?) prev_pid=\d+ prev_prio=\d+ prev_state=(\S+)", rest)
+            nxt = re.search(r"next_comm=(.*?) next_pid", rest)
+            if prev and prev.group(1) == THREAD:
+                last_out = (t, prev.group(2))
+            if nxt and nxt.group(1) == THREAD:
+                last_in = t
+        if name == "sched_switch" and cpu in pending:
             nxt = re.search(r"next_comm=(.*?) next_pid", rest)
             if nxt and nxt.group(1) == THREAD:
                 prev = re.search(r"prev_comm=(.*?) prev_pid", rest)
-                out.append((*pending.pop(cpu), t, prev.group(1) if prev else "?"))
+                p = pending.pop(cpu)
+                out.append((*p[:4], t, prev.group(1) if prev else "?", p[4]))
             elif re.search(r"prev_comm=(.*?) prev_pid", rest).group(1) == THREAD:
                 # The thread leaves the CPU and no switch to it was recorded (the trace keeps
                 # none for some tasks): it ran by then at the latest.
-                out.append((*pending.pop(cpu), t, "at the latest; the switch to it not traced"))
+                p = pending.pop(cpu)
+                out.append((*p[:4], t, "at the latest; the switch to it not traced", p[4]))
     return out
+
+
+def first_run(lines, cpu, irq):
+    """After the interrupt at `irq` on `cpu`: the first event the followed thread itself
+    recorded (it runs by then: its next timer armed, a switch away) and how many events its
+    CPU recorded in between, other than the interrupt's own."""
+    between = 0
+    for line in lines:
+        m = LINE.match(line)
+        if not m or float(m.group(4)) <= irq:
+            continue
+        t = float(m.group(4))
+        if m.group(1).strip() == THREAD:
+            return t, between
+        if int(m.group(3)) == cpu and m.group(5) not in ("local_timer_entry",
+                                                         "hrtimer_expire_entry"):
+            between += 1
+    return None, between
 
 
 def main():
@@ -198,9 +231,15 @@ def main():
                           for c, s, e in hit) or "no CPU silent"
         timer = min(timers, key=lambda w: abs(w[0] - due), default=None)
         if timer and abs(timer[0] - due) < 100e-6:
-            d, irq, cpu, found_task, ran, held = timer
-            where += (f"; interrupt +{(irq - d) * 1e6:.0f} µs on cpu{cpu} ({found_task}), "
-                      f"on CPU +{(ran - irq) * 1e6:.0f} µs ({held})")
+            d, irq, cpu, found_task, ran, held, asleep = timer
+            slept = ("asleep since " + f"{(d - asleep) * 1e6:.0f} µs before due"
+                     if asleep is not None else "not asleep")
+            where += (f"; {slept}; interrupt +{(irq - d) * 1e6:.0f} µs on cpu{cpu} "
+                      f"({found_task}), on CPU +{(ran - irq) * 1e6:.0f} µs ({held})")
+            own, between = first_run(lines, cpu, irq)
+            if own is not None:
+                where += (f"; its first own event +{(own - irq) * 1e6:.0f} µs after the "
+                          f"interrupt, {between} events on cpu{cpu} in between")
         print(f"    {due:.6f} .. {woke:.6f}: {where}")
     sys.exit(rc)
 

@@ -7,7 +7,7 @@ use std::boxed::Box;
 use std::collections::{BTreeMap, VecDeque};
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
-use super::wait::{Either, Waiters, both, first};
+use super::wait::{Either, Waiters, both, first, yield_now};
 use super::{CanRx, CanTx, Clock, Error, Stopped};
 use crate::Pdo;
 use crate::can::CanFrame;
@@ -21,6 +21,11 @@ use crate::time::{Duration, Instant};
 /// Events kept for [`Master::next_event`] before the oldest are dropped (a program that
 /// never reads them must not grow without bound).
 pub const EVENT_QUEUE: usize = 1024;
+
+/// Received frames [`Master::run`] dispatches in one poll before it lets the other futures of
+/// its task run: an interface that hands over a backlog at once (a socket's buffer after a late
+/// wake) must not keep the cycle from its SYNC until the last frame is routed.
+pub const RECEIVED_PER_POLL: usize = 8;
 
 /// The order in which queued frames go out: every `High` frame before any `Low` one, each
 /// class first in, first out.
@@ -285,6 +290,11 @@ impl<C: Clock> Master<C> {
     /// frames to whoever waits for them. Runs until the bus fails; poll it alongside every
     /// other use of the master.
     ///
+    /// It gives way to the futures polled with it (`join!`, `select!`, the same task) after
+    /// each [`Priority::Low`] frame it sends and every [`RECEIVED_PER_POLL`] frames it
+    /// receives, even where the interface takes and gives frames at once (a socket): a cycle
+    /// whose SYNC falls due during an SDO burst queues it after at most one SDO frame.
+    ///
     /// # Errors
     ///
     /// The bus error; from then on (or once this future is dropped) every operation fails
@@ -300,10 +310,13 @@ impl<C: Clock> Master<C> {
 
     async fn transmit<T: CanTx>(&self, mut tx: T) -> Result<(), T::Error> {
         loop {
-            let frame = poll_fn(|cx| {
+            let (frame, priority) = poll_fn(|cx| {
                 let mut g = self.lock();
-                match g.high.pop_front().or_else(|| g.low.pop_front()) {
-                    Some(f) => Poll::Ready(f),
+                if let Some(f) = g.high.pop_front() {
+                    return Poll::Ready((f, Priority::High));
+                }
+                match g.low.pop_front() {
+                    Some(f) => Poll::Ready((f, Priority::Low)),
                     None => {
                         g.tx.register(cx.waker());
                         Poll::Pending
@@ -312,14 +325,22 @@ impl<C: Clock> Master<C> {
             })
             .await;
             tx.send(&frame).await?;
+            // A send that completes at once (a socket) would otherwise drain a whole SDO burst
+            // in this one poll while a SYNC falls due; the cycle's own frames go back to back.
+            if priority == Priority::Low {
+                yield_now().await;
+            }
         }
     }
 
     async fn receive<R: CanRx>(&self, mut rx: R) -> Result<(), R::Error> {
         loop {
-            let frame = rx.recv().await?;
-            let now = self.clock.now();
-            self.lock().dispatch(&frame, now);
+            for _ in 0..RECEIVED_PER_POLL {
+                let frame = rx.recv().await?;
+                let now = self.clock.now();
+                self.lock().dispatch(&frame, now);
+            }
+            yield_now().await;
         }
     }
 

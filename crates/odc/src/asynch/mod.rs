@@ -67,7 +67,7 @@ use core::future::Future;
 use crate::can::CanFrame;
 use crate::time::Instant;
 
-pub use master::{Cycle, EVENT_QUEUE, Master, Priority};
+pub use master::{Cycle, EVENT_QUEUE, Master, Priority, RECEIVED_PER_POLL};
 
 /// The error of an operation whose frames can no longer go out or come in: [`Master::run`]
 /// ended (the bus failed, or it was dropped).

@@ -1,5 +1,6 @@
-//! The two waiting primitives the master needs and `core` lacks: the first of two futures,
-//! and a list of tasks to wake when something they wait for changed.
+//! The waiting primitives the master needs and `core` lacks: the first of two futures, a
+//! yield to the task's other futures, and a list of tasks to wake when something they wait
+//! for changed.
 
 use core::future::{Future, poll_fn};
 use core::pin::pin;
@@ -50,6 +51,21 @@ where
             true => Poll::Ready(Ok(())),
             false => Poll::Pending,
         }
+    })
+    .await
+}
+
+/// Returns `Pending` once, its task woken first: the other futures of the task (those joined
+/// or selected with this one) and the executor's other tasks run before this one goes on.
+pub(super) async fn yield_now() {
+    let mut yielded = false;
+    poll_fn(|cx| {
+        if yielded {
+            return Poll::Ready(());
+        }
+        yielded = true;
+        cx.waker().wake_by_ref();
+        Poll::Pending
     })
     .await
 }

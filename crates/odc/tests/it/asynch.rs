@@ -9,11 +9,14 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic, missing_docs)]
 
+use std::future::{Future, poll_fn};
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
+use std::task::Poll;
 
 use odc::SdoAbort;
 use odc::asynch::tokio::TokioClock;
-use odc::asynch::{CanRx, CanTx, Clock, Master};
+use odc::asynch::{CanRx, CanTx, Clock, Master, Priority, RECEIVED_PER_POLL};
 use odc::can::CanFrame;
 use odc::cob::NodeId;
 use odc::sdo::Server;
@@ -222,4 +225,136 @@ async fn sdo_traffic_never_delays_a_sync_by_more_than_one_frame() {
     let between =
         log.iter().filter(|(t, f)| f.id() != 0x080 && *t > first_sync && *t < last_sync).count();
     assert!(between > 200, "only {between} SDO frames between the first and the last SYNC");
+}
+
+/// Time that passes only as frames go out: each frame the master sends takes [`FRAME`] on the
+/// wire, while its transmit half takes the frame at once, as a socket does. A timer that is
+/// not yet due wakes its task again at once (so the test needs no runtime timer).
+#[derive(Clone, Default)]
+struct FrameClock(Arc<AtomicU64>);
+
+impl Clock for FrameClock {
+    fn now(&self) -> Instant {
+        Instant::from_micros(self.0.load(Ordering::Relaxed))
+    }
+
+    fn sleep_until(&self, deadline: Instant) -> impl Future<Output = ()> {
+        let clock = self.clone();
+        poll_fn(move |cx| {
+            if clock.now() >= deadline {
+                return Poll::Ready(());
+            }
+            cx.waker().wake_by_ref();
+            Poll::Pending
+        })
+    }
+}
+
+/// A socket on [`FrameClock`]: `send` never waits; each frame is logged with the time it went
+/// out and moves the clock on by one frame.
+struct Socket {
+    clock: FrameClock,
+    log: Arc<Mutex<Vec<(Instant, CanFrame)>>>,
+}
+
+impl CanTx for Socket {
+    type Error = Closed;
+
+    async fn send(&mut self, frame: &CanFrame) -> Result<(), Closed> {
+        self.log.lock().map_err(|_| Closed)?.push((self.clock.now(), *frame));
+        self.clock.0.fetch_add(FRAME.as_micros(), Ordering::Relaxed);
+        Ok(())
+    }
+}
+
+/// A receive half with `frames` waiting at once (a socket's buffer after a late wake), then
+/// nothing.
+struct Backlog(std::vec::IntoIter<CanFrame>);
+
+impl CanRx for Backlog {
+    type Error = Closed;
+
+    async fn recv(&mut self) -> Result<CanFrame, Closed> {
+        match self.0.next() {
+            Some(f) => Ok(f),
+            None => std::future::pending().await,
+        }
+    }
+}
+
+fn sdo_request(n: u8) -> CanFrame {
+    CanFrame::standard(
+        odc::can::StdId::masked(0x600 + u32::from(n)),
+        [0x40, 0, 0x20, 0, 0, 0, 0, 0],
+    )
+}
+
+/// A SYNC falls due while 200 SDO frames are queued and the interface takes each at once: the
+/// bus task gives way after each, so the SYNC goes out after at most one of them (in one poll
+/// it would send all 200 first, the SYNC 190 frames late).
+#[tokio::test]
+async fn a_socket_that_never_waits_still_lets_the_sync_out_within_one_frame() {
+    let clock = FrameClock::default();
+    let log = Arc::new(Mutex::new(Vec::new()));
+    let tx = Socket { clock: clock.clone(), log: log.clone() };
+    let master = Master::new(clock);
+    for i in 0..200 {
+        master.send(Priority::Low, sdo_request(1 + (i % 3) as u8)).unwrap();
+    }
+    // Created before the bus task runs: its grid point is 10 frames from the start.
+    let mut cycle = master.cycle(FRAME.saturating_mul(10));
+    let cycle = async {
+        let due = cycle.tick().await;
+        master.sync().unwrap();
+        // Until the SYNC is on the wire.
+        poll_fn(|cx| {
+            if log.lock().unwrap().iter().any(|(_, f)| f.id() == 0x080) {
+                return Poll::Ready(());
+            }
+            cx.waker().wake_by_ref();
+            Poll::Pending
+        })
+        .await;
+        due
+    };
+    let due = tokio::select! {
+        r = master.run(tx, Backlog(Vec::new().into_iter())) => panic!("the bus task ended: {r:?}"),
+        due = cycle => due,
+    };
+    let log = log.lock().unwrap();
+    let (i, (sent, _)) = log.iter().enumerate().find(|(_, (_, f))| f.id() == 0x080).unwrap();
+    assert_eq!(due, Instant::from_micros(10 * FRAME.as_micros()));
+    assert!(*sent - due <= FRAME, "SYNC due at {due:?}, out at {sent:?}");
+    assert!((10..=11).contains(&i), "the SYNC went out as frame {i}");
+}
+
+/// 100 frames wait in the receive half at once: the bus task routes at most
+/// [`RECEIVED_PER_POLL`] of them before the futures beside it run again.
+#[tokio::test]
+async fn a_receive_backlog_is_routed_a_few_frames_per_poll() {
+    let clock = FrameClock::default();
+    let tx = Socket { clock: clock.clone(), log: Arc::new(Mutex::new(Vec::new())) };
+    let tpdo = odc::cob::CobId::new(0x183);
+    let frames: Vec<CanFrame> =
+        (0..100u8).map(|i| CanFrame::standard(odc::can::StdId::masked(0x183), [i; 8])).collect();
+    let master = Master::new(clock);
+    // At each of its polls, how many frames the bus task had routed.
+    let mut seen = Vec::new();
+    let watch = poll_fn(|cx| {
+        let n = master.latest_frame(tpdo).1;
+        seen.push(n);
+        if n == 100 {
+            return Poll::Ready(());
+        }
+        cx.waker().wake_by_ref();
+        Poll::Pending
+    });
+    tokio::select! {
+        biased;
+        () = watch => {}
+        r = master.run(tx, Backlog(frames.into_iter())) => panic!("the bus task ended: {r:?}"),
+    };
+    let most = seen.windows(2).map(|w| w[1] - w[0]).max().unwrap();
+    assert_eq!(most, RECEIVED_PER_POLL as u64, "frames routed between polls: {seen:?}");
+    assert_eq!(seen.first(), Some(&0));
 }
