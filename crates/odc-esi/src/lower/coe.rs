@@ -115,14 +115,14 @@ fn writable(device: &mut Device) {
                 continue;
             }
             let index = 0x1C10 + u16::from(sm.number);
-            let Some(o) = objects.get_mut(&index).filter(|o| o.origin.is_esi_synthesised())
-            else {
+            let Some(o) = objects.get_mut(&index).filter(|o| o.origin.is_esi_synthesised()) else {
                 continue;
             };
             let room = assignable(sm, &device.pdos).min(254) as u8;
             for n in 1..=room {
                 o.subs.entry(n).or_insert_with(|| {
-                    let mut s = SubObject::new(n, sub_index_name(n), DataType::Unsigned16, Access::Rw);
+                    let mut s =
+                        SubObject::new(n, sub_index_name(n), DataType::Unsigned16, Access::Rw);
                     s.default = Some(Spanned::synthetic(Value::Unsigned(0)));
                     s
                 });

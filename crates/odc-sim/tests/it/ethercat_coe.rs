@@ -229,15 +229,27 @@ fn sdo_information_list_in_fragments() {
 
 /// A device whose assignment objects default empty starts with the assignment its ESI gives
 /// (#31: SOEM's default bring-up read the empty 0x1C12 and met 0x001D at SAFE-OP). The
-/// ServoOne's ESI, with `Sm` attributes added to its second RxPDO and first TxPDO here.
+/// ServoOne's ESI, with `Sm` attributes added to its second RxPDO and first TxPDO here; the
+/// ESI front-end fills the objects (note F231), the simulator serves the model.
 #[test]
 fn empty_assignment_objects_start_with_the_esi_assignment() {
     use odc::slave::ObjectDictionary;
-    let mut device = servoone();
-    let rx = device.pdos.iter().position(|p| p.mapping_index == 0x1601).unwrap();
-    let tx = device.pdos.iter().position(|p| p.mapping_index == 0x1A00).unwrap();
-    device.pdos[rx].sync_manager = Some(2);
-    device.pdos[tx].sync_manager = Some(3);
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../esi/servoone.xml");
+    let xml = std::fs::read_to_string(path).unwrap();
+    let xml = xml
+        .replacen(
+            "<RxPdo>\n\t\t\t\t\t<Index>#x1601</Index>",
+            "<RxPdo Sm=\"2\">\n\t\t\t\t\t<Index>#x1601</Index>",
+            1,
+        )
+        .replacen(
+            "<TxPdo>\n\t\t\t\t\t<Index>#x1A00</Index>",
+            "<TxPdo Sm=\"3\">\n\t\t\t\t\t<Index>#x1A00</Index>",
+            1,
+        );
+    let parsed = odc_esi::parse(&mut odc_model::Sources::new(), "servoone.xml", xml.as_bytes());
+    let device = parsed.devices.into_iter().next().unwrap();
+    assert_eq!(device.pdos.iter().filter(|p| p.sync_manager.is_some()).count(), 2);
     let sim = SubDevice::new(&device).unwrap();
     let read = |index: u16, sub: u8| {
         let mut b = [0u8; 4];
