@@ -393,3 +393,69 @@ fn both_answer(chains: &mut [&mut Chain; 2], request: &[u8]) -> Vec<u8> {
     assert_eq!(a, b, "request {request:02X?}");
     a
 }
+
+/// The master side odc generates for a CoE device whose ESI lets a master assign and map
+/// (`CoE@PdoAssign`, `@PdoConfig`) and whose dictionary leaves out the assignment and mapping
+/// objects: its `startup::PLAN` clears 0x1C12/0x1C13, maps 0x1600 and 0x1A00 and assigns them.
+mod pdo_config {
+    odc_macros::include_device!("tests/fixtures/pdo_config.xml", role = "master");
+}
+
+const PDO_CONFIG: &str = include_str!("../fixtures/pdo_config.xml");
+
+/// Every write of `plan` as an expedited SDO download (CiA 301 command 0x23/0x2B/0x2F: 4, 2,
+/// 1 bytes); the SDO part of each reply.
+fn run_plan(c: &mut Chain, plan: &[odc::plan::SdoWrite]) -> Vec<Vec<u8>> {
+    plan.iter()
+        .map(|w| {
+            let cmd = match w.size {
+                1 => 0x2F,
+                2 => 0x2B,
+                _ => 0x23,
+            };
+            let [i0, i1] = w.index.to_le_bytes();
+            let [d0, d1, d2, d3] = w.value.to_le_bytes();
+            exchange(c, 128, &[0x00, 0x20, cmd, i0, i1, w.sub, d0, d1, d2, d3])[8..].to_vec()
+        })
+        .collect()
+}
+
+/// The synthesised assignment and mapping objects are writable in PRE-OP where the ESI says
+/// so: the device accepts every write of the generated plan (response 0x60, CiA 301 initiate
+/// download response) and holds the plan's mapping and assignment after it. Without
+/// `PdoAssign`/`PdoConfig` the same writes meet read-only objects: abort 0x06010002 (CiA 301
+/// Table 22, "attempt to write a read only object").
+#[test]
+fn the_generated_plan_configures_a_device_whose_esi_allows_it() {
+    use odc::slave::ObjectDictionary;
+    let plan = pdo_config::startup::PLAN.pdo_writes;
+    let touched = |i: u16| plan.iter().any(|w| w.index == i);
+    assert!(touched(0x1C12) && touched(0x1C13) && touched(0x1600) && touched(0x1A00), "{plan:?}");
+    let load = |xml: &str| {
+        let p = odc_esi::parse(&mut odc_model::Sources::new(), "pdo_config.xml", xml.as_bytes());
+        p.devices.into_iter().next().unwrap()
+    };
+    let mut c = pre_op(&load(PDO_CONFIG), 128);
+    for (w, reply) in plan.iter().zip(run_plan(&mut c, plan)) {
+        let [i0, i1] = w.index.to_le_bytes();
+        assert_eq!(reply[..4], [0x60, i0, i1, w.sub], "{w:?}: {reply:02X?}");
+    }
+    let dev = &c.devices()[0];
+    let read = |index: u16, sub: u8| {
+        let mut b = [0u8; 4];
+        let n = dev.dictionary().read(index, sub, &mut b).unwrap();
+        b[..n].to_vec()
+    };
+    // As the ESI: 0x1C12 = [0x1600], 0x1C13 = [0x1A00]; 0x1A00 = 0x6000:01/16, gap/8.
+    assert_eq!((read(0x1C12, 0), read(0x1C12, 1)), (vec![1], vec![0x00, 0x16]));
+    assert_eq!((read(0x1C13, 0), read(0x1C13, 1)), (vec![1], vec![0x00, 0x1A]));
+    assert_eq!(read(0x1A00, 0), [2]);
+    assert_eq!((read(0x1A00, 1), read(0x1A00, 2)), (vec![0x10, 1, 0, 0x60], vec![8, 0, 0, 0]));
+
+    let without = PDO_CONFIG.replacen(r#" PdoAssign="1" PdoConfig="1""#, "", 1);
+    let mut c = pre_op(&load(&without), 128);
+    for (w, reply) in plan.iter().zip(run_plan(&mut c, plan)) {
+        let [i0, i1] = w.index.to_le_bytes();
+        assert_eq!(reply, [0x80, i0, i1, w.sub, 0x02, 0x00, 0x01, 0x06], "{w:?}");
+    }
+}
