@@ -24,7 +24,24 @@ pub fn diff(a: &Device, b: &Device, opts: &Options) -> Vec<Change> {
     }
     // Stable: within a place, the fields keep the order they are compared in.
     d.out.sort_by_key(|c| order(&c.place));
+    for c in &mut d.out {
+        if let Place::Object { index } | Place::Sub { index, .. } = c.place {
+            c.odc = match (odc_made(a, index), odc_made(b, index)) {
+                (true, true) => Some("a, b"),
+                (true, false) => Some("a"),
+                (false, true) => Some("b"),
+                (false, false) => None,
+            };
+        }
+    }
     d.out
+}
+
+/// Whether object `index` of `dev` is odc's rather than the file's: synthesised by the ESI
+/// front-end, or the file's with defaults odc filled in (`EtherCat::esi_defaults`).
+fn odc_made(dev: &Device, index: u16) -> bool {
+    dev.objects.get(&index).is_some_and(|o| o.origin.is_esi_synthesised())
+        || dev.ethercat.as_deref().is_some_and(|e| e.esi_default(index).is_some())
 }
 
 /// Where a place comes in the output: an object's own changes, then its sub-objects'.
@@ -65,7 +82,7 @@ fn plain(v: Option<&Value>) -> String {
 
 impl Diff {
     fn push(&mut self, place: Place, what: What) {
-        self.out.push(Change { place, what });
+        self.out.push(Change { place, what, odc: None });
     }
 
     /// A change of `field` when the two texts differ.

@@ -71,6 +71,12 @@ pub struct Change {
     /// What.
     #[serde(flatten)]
     pub what: What,
+    /// On which side the object is odc's rather than the file's (`"a"`, `"b"`, `"a, b"`): an
+    /// ESI's object odc synthesised from its sync managers and PDOs, or the file's object
+    /// whose defaults odc took from its PDO elements. Such a change is no edit of the file's
+    /// dictionary, but what odc derives from its other elements. `None` for the file's own.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub odc: Option<&'static str>,
 }
 
 /// What kind of difference.

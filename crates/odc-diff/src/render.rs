@@ -34,7 +34,11 @@ pub fn human(changes: &[Change], a: &Device, b: &Device, color: bool) -> String 
     let mut s = String::new();
     let mut last: Option<String> = None;
     for c in changes {
-        let head = heading(&c.place, a, b);
+        let mut head = heading(&c.place, a, b);
+        if let Some(side) = c.odc {
+            // Not the file's own object on that side: say so, so nobody reads it as an edit.
+            let _ = write!(head, " (odc's in {}, not the file's)", side.to_uppercase());
+        }
         if last.as_deref() != Some(head.as_str()) {
             let _ = writeln!(s, "{}{head}{}", paint(BOLD), paint(RESET));
             last = Some(head);

@@ -16,7 +16,11 @@ fn eds_text(text: &str) -> Device {
 }
 
 fn changed(place: Place, field: &str, a: &str, b: &str) -> Change {
-    Change { place, what: What::Changed { field: field.into(), a: a.into(), b: b.into() } }
+    Change {
+        place,
+        what: What::Changed { field: field.into(), a: a.into(), b: b.into() },
+        odc: None,
+    }
 }
 
 #[test]
@@ -95,4 +99,59 @@ fn a_default_written_another_way_is_the_same_value() {
         .replacen("ParameterName=Controlword\nObjectType=0x7\nDataType=0x0006\nAccessType=rww\nDefaultValue=0", "ParameterName=Controlword\nObjectType=0x7\nDataType=0x0006\nAccessType=rww\nDefaultValue=0x00", 1);
     assert_ne!(original, edited);
     assert_eq!(diff(&eds_text(&original), &eds_text(&edited), &Options::default()), []);
+}
+
+fn esi_text(text: &str) -> Device {
+    let parsed = odc_esi::parse(&mut Sources::new(), "x.xml", text.as_bytes());
+    parsed.devices.into_iter().next().unwrap()
+}
+
+/// Objects odc synthesised for a CoE device (odc-esi's fixture: 0x1C00, 0x1C12/0x1C13, the
+/// mapping objects) are labelled in a change: an edit of a PDO changes its synthesised
+/// mapping object on both sides (`odc: "a, b"`), and the file's own 0x1C13 where odc had
+/// synthesised one is odc's on side A only. The file's own objects carry no label.
+#[test]
+fn objects_odc_made_are_labelled() {
+    let path = root().join("crates/odc-esi/tests/fixtures/coe_implied.xml");
+    let original = std::fs::read_to_string(path).unwrap();
+    // TxPDO 0x1A00's gap: 8 -> 16 bits; 0x1000's default 0x1389 -> 0x1388.
+    let edited = original
+        .replacen(
+            "<Entry><Index>0</Index><BitLen>8</BitLen></Entry>",
+            "<Entry><Index>0</Index><BitLen>16</BitLen></Entry>",
+            1,
+        )
+        .replacen("<DefaultData>89130000</DefaultData>", "<DefaultData>88130000</DefaultData>", 1);
+    assert_ne!(original, edited);
+    let (a, b) = (esi_text(&original), esi_text(&edited));
+    let changes = diff(&a, &b, &Options::default());
+    let labels: Vec<(&Place, Option<&str>)> = changes.iter().map(|c| (&c.place, c.odc)).collect();
+    assert_eq!(
+        labels,
+        [
+            (&Place::Object { index: 0x1000 }, None),
+            (&Place::Sub { index: 0x1A00, sub: 2 }, Some("a, b")),
+            (&Place::Pdo { mapping_index: 0x1A00 }, None),
+            // SM 3's input image: 4 bytes -> 5.
+            (&Place::Image { direction: "inputs" }, None),
+        ],
+        "{changes:#?}"
+    );
+    let text = odc_diff::human(&changes, &a, &b, false);
+    assert!(text.contains("object 0x1A00 Inputs (odc's in A, B, not the file's)\n"), "{text}");
+    assert!(text.contains("object 0x1000 Device type\n"), "{text}");
+    assert!(odc_diff::json(&changes).contains("\"odc\": \"a, b\""));
+
+    // B with its own 0x1C13 (a VAR with no room for the assignment: kept as written).
+    let own = r#"<Object><Index>#x1C13</Index><Name>TxPDO assign</Name><Type>USINT</Type>
+      <BitSize>8</BitSize><Info><DefaultData>00</DefaultData></Info></Object></Objects>"#;
+    let b = esi_text(&original.replacen("</Objects>", own, 1));
+    let changes = diff(&a, &b, &Options::default());
+    assert!(!changes.is_empty());
+    assert!(
+        changes.iter().all(|c| c.place == Place::Object { index: 0x1C13 }
+            || matches!(c.place, Place::Sub { index: 0x1C13, .. })),
+        "{changes:#?}"
+    );
+    assert!(changes.iter().all(|c| c.odc == Some("a")), "{changes:#?}");
 }

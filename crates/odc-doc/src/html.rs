@@ -192,9 +192,10 @@ fn objects(s: &mut String, sheet: &Sheet) {
         let sub = r.sub.map_or(String::new(), |s| format!("{s:02X}"));
         let _ = write!(
             s,
-            "<tr id=\"{}\"{class}><td class=\"num\">{:04X}</td><td class=\"num\">{sub}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"num\">{}</td>",
+            "<tr id=\"{}\"{class}><td class=\"num\">{:04X}{}</td><td class=\"num\">{sub}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"num\">{}</td>",
             r.anchor,
             r.index,
+            r.made.marker(),
             escape(&r.name),
             escape(&r.kind),
             escape(&r.data_type),
@@ -217,4 +218,7 @@ fn objects(s: &mut String, sheet: &Sheet) {
         s.push_str("</tr>\n");
     }
     s.push_str("</tbody></table>\n");
+    for (mark, what) in crate::sheet::legend(&sheet.objects) {
+        let _ = writeln!(s, "<p class=\"legend\">{mark} {}</p>", escape(what));
+    }
 }

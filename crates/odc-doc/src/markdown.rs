@@ -100,9 +100,10 @@ pub fn markdown(sheet: &Sheet) -> String {
         let sub = r.sub.map_or(String::new(), |s| format!("{s:02X}"));
         let _ = writeln!(
             s,
-            "| <a id=\"{}\"></a>{:04X} | {sub} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| <a id=\"{}\"></a>{:04X}{} | {sub} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             r.anchor,
             r.index,
+            r.made.marker(),
             cell(&r.name),
             r.kind,
             r.data_type,
@@ -114,6 +115,13 @@ pub fn markdown(sheet: &Sheet) -> String {
             cell(&r.high),
             cell(&r.denotation)
         );
+    }
+    let legend = crate::sheet::legend(&sheet.objects);
+    if !legend.is_empty() {
+        s.push('\n');
+        for (mark, what) in legend {
+            let _ = writeln!(s, "{mark} {what}  ");
+        }
     }
     s
 }

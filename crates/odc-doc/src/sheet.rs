@@ -73,6 +73,59 @@ pub struct ObjectRow {
     pub high: String,
     /// Denotation (DCF/XDC).
     pub denotation: String,
+    /// Whether the row is the file's, or odc's.
+    pub made: Made,
+}
+
+/// Where a row of the object table comes from: a sheet must not present odc's objects or
+/// values as the file's.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Made {
+    /// The file.
+    File,
+    /// odc made the object ([`odc_model::Origin::is_esi_synthesised`]): an ESI's objects
+    /// ETG.1000.6 gives a CoE device (0x1C00, 0x1C1n, mapping objects), or a dictionary made
+    /// from the PDO entries of an ESI without one.
+    Synthesised,
+    /// The file's object, with the defaults odc took from the ESI's PDO elements because the
+    /// file gives none ([`odc_model::ethercat::EtherCat::esi_defaults`]).
+    DefaultFromEsi,
+}
+
+impl Made {
+    /// The mark beside the index (empty for the file's rows).
+    pub fn marker(self) -> &'static str {
+        match self {
+            Made::File => "",
+            Made::Synthesised => "†",
+            Made::DefaultFromEsi => "‡",
+        }
+    }
+
+    /// What the mark means, for the legend under the table.
+    pub fn legend(self) -> &'static str {
+        match self {
+            Made::File => "",
+            Made::Synthesised => {
+                "not in the file: odc synthesised it from the ESI's sync managers and PDOs \
+                 (an object ETG.1000.6 gives a CoE device, or one made from the PDO entries of \
+                 an ESI without a dictionary)"
+            }
+            Made::DefaultFromEsi => {
+                "the file gives no default: the device starts with what the ESI's PDO elements \
+                 say (Sm attributes, entries)"
+            }
+        }
+    }
+}
+
+/// The marks the rows of `rows` use, each once, in order, with their meaning.
+pub fn legend(rows: &[ObjectRow]) -> Vec<(&'static str, &'static str)> {
+    [Made::Synthesised, Made::DefaultFromEsi]
+        .into_iter()
+        .filter(|m| rows.iter().any(|r| r.made == *m))
+        .map(|m| (m.marker(), m.legend()))
+        .collect()
 }
 
 /// A bit diagram: a PDO or one direction of a process image.
@@ -296,7 +349,16 @@ fn cell(v: Option<&odc_model::Spanned<Value>>) -> String {
 
 fn objects(dev: &Device) -> Vec<ObjectRow> {
     let mut rows = Vec::new();
+    let filled = |i: u16| dev.ethercat.as_deref().is_some_and(|e| e.esi_default(i).is_some());
     for object in dev.objects.values() {
+        let made = if object.origin.is_esi_synthesised() {
+            Made::Synthesised
+        } else if filled(object.index) {
+            Made::DefaultFromEsi
+        } else {
+            Made::File
+        };
+        let start = rows.len();
         if object.kind.has_subs() {
             rows.push(ObjectRow {
                 anchor: object_anchor(object.index),
@@ -312,6 +374,7 @@ fn objects(dev: &Device) -> Vec<ObjectRow> {
                 low: String::new(),
                 high: String::new(),
                 denotation: object.denotation.as_ref().map_or(String::new(), |d| d.value.clone()),
+                made: Made::File,
             });
             for sub in object.subs.values() {
                 rows.push(sub_row(object, sub, String::new()));
@@ -321,6 +384,7 @@ fn objects(dev: &Device) -> Vec<ObjectRow> {
             row.name = object.name.clone();
             rows.push(row);
         }
+        rows[start..].iter_mut().for_each(|r| r.made = made);
     }
     rows
 }
@@ -341,6 +405,7 @@ fn sub_row(object: &Object, sub: &SubObject, kind: String) -> ObjectRow {
         low: cell(sub.low_limit.as_deref()),
         high: cell(sub.high_limit.as_deref()),
         denotation: sub.rare().denotation.as_ref().map_or(String::new(), |d| d.value.clone()),
+        made: Made::File,
     }
 }
 

@@ -22,7 +22,12 @@
 //! - a device with CoE and sync managers gets what ETG.1000.6 gives every such device and its
 //!   dictionary leaves out: 0x1C00 (sync manager types), 0x1C10 + n (the PDO assignment of each
 //!   process data sync manager, [`odc_model::ethercat::default_assignment`]) and each PDO's
-//!   mapping object, read-only, marked [`odc_model::Origin::CoeImplied`];
+//!   mapping object, marked [`odc_model::Origin::CoeImplied`]: read-only, but the assignment
+//!   objects writable (with room for every PDO a master may assign to the sync manager) where
+//!   `CoE@PdoAssign`, a non-`Fixed` PDO's mapping object where `CoE@PdoConfig`;
+//! - the file's own assignment and mapping objects without a default start with what the PDO
+//!   elements say (note `F231`; the file's sub 0 kept in
+//!   [`odc_model::ethercat::EtherCat::esi_defaults`], the values without a span);
 //! - elements the front-end does not interpret are kept as raw XML with their spans;
 //! - every problem is a [`Diagnostic`] with a stable code (see [`RULES`]); reading never stops
 //!   at the first one, except at XML that is not well-formed, where what was read before the
@@ -227,6 +232,8 @@ pub mod codes {
     pub const OBJECT_DATA_LAYOUT: &str = "F224";
     /// See [`super::RULES`]: `esi-unknown-transition`.
     pub const UNKNOWN_TRANSITION: &str = "F230";
+    /// See [`super::RULES`]: `esi-default-from-pdos`.
+    pub const ESI_DEFAULT: &str = "F231";
 }
 
 macro_rules! rule {
@@ -471,6 +478,20 @@ pub static RULES: &[RuleInfo] = &[
          Transition elements: IP, PS, SO, SP, OS, OP, PI, SI, OI, PO, IB, BI, II, PP or SS \
          (ETG.2000 TransitionType). Another text is kept as written, but a master runs the \
          command at no transition; an InitCmd without Transition is reported as missing it."
+    ),
+    rule!(
+        codes::ESI_DEFAULT,
+        "esi-default-from-pdos",
+        Note,
+        "an assignment or mapping object without a default starts with the ESI's PDOs",
+        "A PDO assignment object 0x1C10 + n whose sub 0 has no default (or 0), or a mapping \
+         object (0x1600-0x17FF, 0x1A00-0x1BFF) whose sub 0 has none, while the ESI's PDO \
+         elements assign PDOs to that sync manager (Sm attributes) or list that PDO's entries: \
+         the device starts with what the PDO elements say, as its SII's PDO categories tell a \
+         master. A device that started empty maps nothing, and SOEM's default bring-up meets \
+         AL status 0x001D at SAFE-OP. The values are odc's, not the file's: checks compare the \
+         file's own (the model keeps sub 0 as written in EtherCat::esi_defaults). Fix: give the \
+         object the DefaultData the PDO elements imply."
     ),
 ];
 

@@ -604,6 +604,6 @@ fn lower_device(d: Element<'_>, file: &FileData<'_>, ctx: &mut Ctx<'_>) -> Devic
         ethercat: Some(Box::new(ec)),
         ..Device::default()
     };
-    complete_coe(&mut device);
+    complete_coe(&mut device, ctx);
     device
 }

@@ -69,6 +69,13 @@ pub struct EtherCat {
     pub modules: Vec<EsiModule>,
     /// Whether the dictionary was synthesised from the PDOs (the file has none).
     pub dictionary_synthesised: bool,
+    /// The file's own assignment (0x1C10 + n) and mapping objects whose defaults the ESI
+    /// front-end filled from the ESI's `Sm` attributes and PDO entries, because the file gives
+    /// them none (or an empty assignment): a device starts with those (#31). The filled values
+    /// carry no span ([`Spanned::synthetic`]); each entry keeps what the file's sub 0 said, so
+    /// checks compare the file's own words, not odc's.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub esi_defaults: Vec<EsiDefault>,
     /// Elements of the device (and of the file's `Vendor`/`Descriptions`) that the front-end does
     /// not interpret, kept as raw XML.
     pub raw: Vec<RawXml>,
@@ -100,6 +107,24 @@ pub struct XmlAttribute {
     pub value: String,
     /// Span of the value.
     pub span: Span,
+}
+
+/// An object of the file whose default the ESI front-end filled (see
+/// [`EtherCat::esi_defaults`]).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct EsiDefault {
+    /// The object's index.
+    #[serde(serialize_with = "crate::hex::index")]
+    pub index: u16,
+    /// Sub 0's default as the file wrote it (`None`: the file gives none).
+    pub file_count: Option<Spanned<crate::value::Value>>,
+}
+
+impl EtherCat {
+    /// The entry of [`EtherCat::esi_defaults`] for object `index`, when its defaults are odc's.
+    pub fn esi_default(&self, index: u16) -> Option<&EsiDefault> {
+        self.esi_defaults.iter().find(|d| d.index == index)
+    }
 }
 
 /// An XML element the front-end does not interpret, kept as its source text.

@@ -91,3 +91,41 @@ fn synthesised_mapping_objects_are_not_the_files_dictionary() {
     assert_eq!(codes, ["T601"], "{diags:?}");
     assert!(diags[0].message.contains("0x1A00:01"), "{}", diags[0].message);
 }
+
+/// The file's own 0x1C13 with room for two PDOs and no assignment of its own: odc-esi starts
+/// it with the PDOs the `Sm` attributes assign (note F231), but T608 still compares the
+/// file's own words. Sub 0 written as 0: "assigns none", as before the filling; sub 0 without
+/// a default: nothing to compare, no T608.
+#[test]
+fn filled_assignment_objects_are_checked_as_the_file_wrote_them() {
+    let pass = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/pass/coe_implied.xml");
+    let base = std::fs::read_to_string(pass).unwrap();
+    let types = r#"<DataType><Name>DT1C13</Name><BitSize>48</BitSize>
+        <SubItem><SubIdx>0</SubIdx><Name>SubIndex 000</Name><Type>USINT</Type><BitSize>8</BitSize><BitOffs>0</BitOffs><Flags><Access>rw</Access></Flags></SubItem>
+        <SubItem><SubIdx>1</SubIdx><Name>SubIndex 001</Name><Type>UINT</Type><BitSize>16</BitSize><BitOffs>16</BitOffs><Flags><Access>rw</Access></Flags></SubItem>
+        <SubItem><SubIdx>2</SubIdx><Name>SubIndex 002</Name><Type>UINT</Type><BitSize>16</BitSize><BitOffs>32</BitOffs><Flags><Access>rw</Access></Flags></SubItem>
+      </DataType></DataTypes>"#;
+    let codes = |info: &str| {
+        let own = format!(
+            "<Object><Index>#x1C13</Index><Name>TxPDO assign</Name><Type>DT1C13</Type>\
+             <BitSize>48</BitSize>{info}</Object></Objects>"
+        );
+        let xml = base.replacen("</DataTypes>", types, 1).replacen("</Objects>", &own, 1);
+        let parsed = odc_esi::parse(&mut Sources::new(), "t.xml", xml.as_bytes());
+        let device = &parsed.devices[0];
+        // The device starts with 0x1A00 and the mandatory 0x1A02.
+        let s2 = device.objects[&0x1C13].sub(2).unwrap().default.as_ref().unwrap();
+        assert_eq!(s2.value, odc_model::Value::Unsigned(0x1A02));
+        let diags = check(device, &Config::in_registry(odc_check::rules()));
+        let mut codes: Vec<&str> = parsed.diagnostics.iter().map(|d| d.code).collect();
+        codes.extend(diags.iter().map(|d| d.code));
+        (codes, diags)
+    };
+    let zero = "<Info><SubItem><Name>SubIndex 000</Name><Info><DefaultData>00</DefaultData>\
+                </Info></SubItem></Info>";
+    let (found, diags) = codes(zero);
+    assert_eq!(found, ["F231", "T608"], "{diags:?}");
+    assert!(diags[0].message.contains("0x1C13 assigns none to SM 3"), "{}", diags[0].message);
+    let (found, diags) = codes("");
+    assert_eq!(found, ["F231"], "{diags:?}");
+}

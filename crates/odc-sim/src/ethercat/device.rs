@@ -138,71 +138,6 @@ fn fixed_mapping(device: &Device, sm: u8) -> impl Iterator<Item = (u8, u32)> + '
     })
 }
 
-/// A device whose dictionary has an assignment object (0x1C10 + n) with an empty default
-/// starts with the assignment its ESI gives (the `Sm` attributes of its PDOs, and its SII's
-/// PDO categories say the same to a master): SOEM's default bring-up reads the assignment
-/// over CoE and would otherwise map nothing and meet 0x001D at SAFE-OP (#31). Written as the
-/// firmware sets its own values (no access check); an object without room for the PDOs keeps
-/// its default.
-fn esi_assignment(device: &Device, od: &mut ModelDictionary) {
-    for (sm, pdos) in odc_analysis::image::default_assignment(device) {
-        let object = 0x1C10 + u16::from(sm);
-        let empty = od.raw(object, 0).is_some_and(|c| c.first() == Some(&0));
-        let Ok(count) = u8::try_from(pdos.len()) else { continue };
-        let room = (1..=count).all(|k| od.raw(object, k).is_some_and(|b| b.len() >= 2));
-        if !empty || count == 0 || !room {
-            continue;
-        }
-        for (k, pdo) in (1..=count).zip(&pdos) {
-            if let Some(b) = od.raw_mut(object, k) {
-                b.fill(0);
-                if let Some(lo) = b.get_mut(..2) {
-                    lo.copy_from_slice(&pdo.to_le_bytes());
-                }
-            }
-        }
-        if let Some(c) = od.raw_mut(object, 0).and_then(|b| b.first_mut()) {
-            *c = count;
-        }
-    }
-}
-
-/// A mapping object of the dictionary whose sub-index 0 has no default (Weidmüller's UR20-FBC-EC
-/// declares 0x16FF with no `Info`) starts with the entries its ESI's PDO of that index lists,
-/// as an assignment object does with [`esi_assignment`]: the PDO element is the ESI's word on
-/// that mapping, and its SII's PDO categories tell a master the same. Without it the device
-/// mapped nothing, SOEM sized the sync manager from the SII and met 0x001D at SAFE-OP. Written
-/// as the firmware sets its own values; an object without room for the entries keeps its
-/// (empty) default.
-fn esi_mapping(device: &Device, od: &mut ModelDictionary) {
-    for pdo in &device.pdos {
-        let index = pdo.mapping_index;
-        let unset = device
-            .objects
-            .get(&index)
-            .and_then(|o| o.subs.get(&0))
-            .is_some_and(|s| s.initial_value().is_none());
-        let Ok(count) = u8::try_from(pdo.entries.len()) else { continue };
-        let room = (1..=count).all(|k| od.raw(index, k).is_some_and(|b| b.len() >= 4));
-        if !unset || count == 0 || !room {
-            continue;
-        }
-        for (k, e) in (1..=count).zip(&pdo.entries) {
-            let object = if e.is_gap() { 0 } else { u32::from(e.index) };
-            let value = object << 16 | u32::from(e.sub) << 8 | u32::from(e.bits);
-            if let Some(b) = od.raw_mut(index, k) {
-                b.fill(0);
-                if let Some(lo) = b.get_mut(..4) {
-                    lo.copy_from_slice(&value.to_le_bytes());
-                }
-            }
-        }
-        if let Some(c) = od.raw_mut(index, 0).and_then(|b| b.first_mut()) {
-            *c = count;
-        }
-    }
-}
-
 /// The fixed PDOs of the process data sync managers, laid out as the firmware stack lays them
 /// out (for an ESC without a microcontroller, whose I/O they describe).
 fn pins(sms: &[SmSpec], fixed: &[(u8, u32)]) -> Vec<Mapped> {
@@ -287,10 +222,9 @@ impl SubDevice {
             })
             .collect();
         // The objects a CoE device has and its ESI may leave out (0x1C00, 0x1C1n, mapping
-        // objects) are in the model already: odc-esi synthesises them (`Origin::CoeImplied`).
-        let mut od = ModelDictionary::new(device, None);
-        esi_assignment(device, &mut od);
-        esi_mapping(device, &mut od);
+        // objects) are in the model already: odc-esi synthesises them (`Origin::CoeImplied`),
+        // and starts the file's empty ones with the ESI's PDOs (`EtherCat::esi_defaults`).
+        let od = ModelDictionary::new(device, None);
         let fixed =
             ecat.sync_managers.iter().flat_map(|sm| fixed_mapping(device, sm.number)).collect();
         let coe = ecat.mailbox.as_ref().and_then(|m| m.coe.clone());

@@ -229,15 +229,27 @@ fn sdo_information_list_in_fragments() {
 
 /// A device whose assignment objects default empty starts with the assignment its ESI gives
 /// (#31: SOEM's default bring-up read the empty 0x1C12 and met 0x001D at SAFE-OP). The
-/// ServoOne's ESI, with `Sm` attributes added to its second RxPDO and first TxPDO here.
+/// ServoOne's ESI, with `Sm` attributes added to its second RxPDO and first TxPDO here; the
+/// ESI front-end fills the objects (note F231), the simulator serves the model.
 #[test]
 fn empty_assignment_objects_start_with_the_esi_assignment() {
     use odc::slave::ObjectDictionary;
-    let mut device = servoone();
-    let rx = device.pdos.iter().position(|p| p.mapping_index == 0x1601).unwrap();
-    let tx = device.pdos.iter().position(|p| p.mapping_index == 0x1A00).unwrap();
-    device.pdos[rx].sync_manager = Some(2);
-    device.pdos[tx].sync_manager = Some(3);
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../esi/servoone.xml");
+    let xml = std::fs::read_to_string(path).unwrap();
+    let xml = xml
+        .replacen(
+            "<RxPdo>\n\t\t\t\t\t<Index>#x1601</Index>",
+            "<RxPdo Sm=\"2\">\n\t\t\t\t\t<Index>#x1601</Index>",
+            1,
+        )
+        .replacen(
+            "<TxPdo>\n\t\t\t\t\t<Index>#x1A00</Index>",
+            "<TxPdo Sm=\"3\">\n\t\t\t\t\t<Index>#x1A00</Index>",
+            1,
+        );
+    let parsed = odc_esi::parse(&mut odc_model::Sources::new(), "servoone.xml", xml.as_bytes());
+    let device = parsed.devices.into_iter().next().unwrap();
+    assert_eq!(device.pdos.iter().filter(|p| p.sync_manager.is_some()).count(), 2);
     let sim = SubDevice::new(&device).unwrap();
     let read = |index: u16, sub: u8| {
         let mut b = [0u8; 4];
@@ -380,4 +392,70 @@ fn both_answer(chains: &mut [&mut Chain; 2], request: &[u8]) -> Vec<u8> {
     let b = exchange(firmware, 128, request);
     assert_eq!(a, b, "request {request:02X?}");
     a
+}
+
+/// The master side odc generates for a CoE device whose ESI lets a master assign and map
+/// (`CoE@PdoAssign`, `@PdoConfig`) and whose dictionary leaves out the assignment and mapping
+/// objects: its `startup::PLAN` clears 0x1C12/0x1C13, maps 0x1600 and 0x1A00 and assigns them.
+mod pdo_config {
+    odc_macros::include_device!("tests/fixtures/pdo_config.xml", role = "master");
+}
+
+const PDO_CONFIG: &str = include_str!("../fixtures/pdo_config.xml");
+
+/// Every write of `plan` as an expedited SDO download (CiA 301 command 0x23/0x2B/0x2F: 4, 2,
+/// 1 bytes); the SDO part of each reply.
+fn run_plan(c: &mut Chain, plan: &[odc::plan::SdoWrite]) -> Vec<Vec<u8>> {
+    plan.iter()
+        .map(|w| {
+            let cmd = match w.size {
+                1 => 0x2F,
+                2 => 0x2B,
+                _ => 0x23,
+            };
+            let [i0, i1] = w.index.to_le_bytes();
+            let [d0, d1, d2, d3] = w.value.to_le_bytes();
+            exchange(c, 128, &[0x00, 0x20, cmd, i0, i1, w.sub, d0, d1, d2, d3])[8..].to_vec()
+        })
+        .collect()
+}
+
+/// The synthesised assignment and mapping objects are writable in PRE-OP where the ESI says
+/// so: the device accepts every write of the generated plan (response 0x60, CiA 301 initiate
+/// download response) and holds the plan's mapping and assignment after it. Without
+/// `PdoAssign`/`PdoConfig` the same writes meet read-only objects: abort 0x06010002 (CiA 301
+/// Table 22, "attempt to write a read only object").
+#[test]
+fn the_generated_plan_configures_a_device_whose_esi_allows_it() {
+    use odc::slave::ObjectDictionary;
+    let plan = pdo_config::startup::PLAN.pdo_writes;
+    let touched = |i: u16| plan.iter().any(|w| w.index == i);
+    assert!(touched(0x1C12) && touched(0x1C13) && touched(0x1600) && touched(0x1A00), "{plan:?}");
+    let load = |xml: &str| {
+        let p = odc_esi::parse(&mut odc_model::Sources::new(), "pdo_config.xml", xml.as_bytes());
+        p.devices.into_iter().next().unwrap()
+    };
+    let mut c = pre_op(&load(PDO_CONFIG), 128);
+    for (w, reply) in plan.iter().zip(run_plan(&mut c, plan)) {
+        let [i0, i1] = w.index.to_le_bytes();
+        assert_eq!(reply[..4], [0x60, i0, i1, w.sub], "{w:?}: {reply:02X?}");
+    }
+    let dev = &c.devices()[0];
+    let read = |index: u16, sub: u8| {
+        let mut b = [0u8; 4];
+        let n = dev.dictionary().read(index, sub, &mut b).unwrap();
+        b[..n].to_vec()
+    };
+    // As the ESI: 0x1C12 = [0x1600], 0x1C13 = [0x1A00]; 0x1A00 = 0x6000:01/16, gap/8.
+    assert_eq!((read(0x1C12, 0), read(0x1C12, 1)), (vec![1], vec![0x00, 0x16]));
+    assert_eq!((read(0x1C13, 0), read(0x1C13, 1)), (vec![1], vec![0x00, 0x1A]));
+    assert_eq!(read(0x1A00, 0), [2]);
+    assert_eq!((read(0x1A00, 1), read(0x1A00, 2)), (vec![0x10, 1, 0, 0x60], vec![8, 0, 0, 0]));
+
+    let without = PDO_CONFIG.replacen(r#" PdoAssign="1" PdoConfig="1""#, "", 1);
+    let mut c = pre_op(&load(&without), 128);
+    for (w, reply) in plan.iter().zip(run_plan(&mut c, plan)) {
+        let [i0, i1] = w.index.to_le_bytes();
+        assert_eq!(reply, [0x80, i0, i1, w.sub, 0x02, 0x00, 0x01, 0x06], "{w:?}");
+    }
 }

@@ -98,6 +98,7 @@ fn revisions_of_one_terminal() {
                 a: "0x00150000".into(),
                 b: "0x00160000".into()
             },
+            odc: None,
         }]
     );
     // Revision 0x00100000 against 0x00160000: the changes a user would read (reviewed).

@@ -12,9 +12,14 @@ struct Counted {
 /// The entries a 0x1C1n object counts by default (subs 1..=sub 0): sub-index, PDO index (0x0000
 /// included) and the span of the value; with sub 0's count. `None` when sub 0 has no default,
 /// or the object is not the file's (one odc synthesised holds the PDOs' `Sm` attributes:
-/// nothing to compare).
+/// nothing to compare). An object whose defaults odc filled from the `Sm` attributes
+/// (`EtherCat::esi_defaults`) counts what the file's sub 0 said: none, or 0.
 fn counted_entries(dev: &Device, index: u16) -> Option<(u64, Vec<Counted>)> {
     let o = crate::util::object(dev, index)?;
+    if let Some(filled) = ec(dev).and_then(|e| e.esi_default(index)) {
+        let count = filled.file_count.as_ref().and_then(|v| crate::util::as_u64(&v.value))?;
+        return Some((count, Vec::new()));
+    }
     let count = initial_u64(dev, index, 0)?;
     let mut out = Vec::new();
     for sub in 1..=count.min(254) as u8 {

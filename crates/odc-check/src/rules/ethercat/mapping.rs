@@ -44,12 +44,16 @@ fn show_word(w: u32) -> String {
     if index == 0 { format!("gap/{bits}") } else { format!("0x{index:04X}:{sub:02X}/{bits}") }
 }
 
-/// The device's PDOs with the mapping object of its dictionary, when the file describes both.
+/// The device's PDOs with the mapping object of its dictionary, when the file describes both:
+/// not an object whose defaults odc filled from the entries (`EtherCat::esi_defaults`, the
+/// file gives it none: nothing to compare).
 fn mapped_pdos(dev: &Device) -> impl Iterator<Item = (&Pdo, &odc_model::Object)> {
-    let check = ec(dev).is_some_and(|e| !is_modular(e)) && has_dictionary(dev);
+    let ec = ec(dev);
+    let check = ec.is_some_and(|e| !is_modular(e)) && has_dictionary(dev);
+    let filled = move |i: u16| ec.is_some_and(|e| e.esi_default(i).is_some());
     dev.pdos
         .iter()
-        .filter(move |_| check)
+        .filter(move |p| check && !filled(p.mapping_index))
         .filter_map(|p| Some((p, crate::util::object(dev, p.mapping_index)?)))
 }
 

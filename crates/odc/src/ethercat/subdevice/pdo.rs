@@ -121,6 +121,8 @@ fn le(d: &[u8]) -> u32 {
 /// The checks a device makes on a download to a PDO mapping or assignment object before it
 /// stores it (ETG.1000.6 §5.6.7.4 and Table 41, CiA 301 §7.5.2.35–36):
 ///
+/// - a read-only sub-index (a device whose ESI lets no master assign or map): 0x06010002,
+///   before the rules below, as the CANopen node checks access before its COB-ID rules;
 /// - a sub-index other than 0 while sub-index 0 is not 0: 0x06010003;
 /// - an assignment of an object that is no mapping object of the direction: 0x06090030;
 /// - a mapping of an entry the dictionary does not have, or longer than it: 0x06040041;
@@ -137,6 +139,9 @@ pub fn check_write<D: Storage + ?Sized>(
 ) -> Result<(), SdoAbort> {
     if !is_pdo_config(index) {
         return Ok(());
+    }
+    if od.access(index, sub).is_some_and(|a| !a.writable()) {
+        return Err(SdoAbort::WriteOfReadOnly);
     }
     if sub != 0 {
         if read_u8(od, index, 0).is_some_and(|n| n != 0) {
