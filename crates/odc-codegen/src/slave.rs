@@ -199,9 +199,60 @@ fn description(ctx: &Ctx<'_>, n: &Literal) -> TokenStream {
     }
 }
 
+/// `Dictionary::new` and `reset`, and the `INITIAL` image they copy when there is one.
+fn initial(rt: &TokenStream, image: Option<&[u8]>) -> (TokenStream, TokenStream) {
+    let Some(image) = image else {
+        let fns = quote! {
+            /// The dictionary of node `node_id`, every entry at its default (`$NODEID`
+            /// applied); entries without default start at zero, or at the limit nearest
+            /// to it. `None`: a node without node-ID (LSS), whose `$NODEID` defaults are
+            /// taken as absent.
+            pub fn new(node_id: impl Into<Option<#rt::cob::NodeId>>) -> Self {
+                let mut dictionary = Dictionary { values: [0; LAYOUT.size()] };
+                TABLE.init(&mut dictionary.values, node_id.into());
+                dictionary
+            }
+
+            /// Every entry back to its default for node `node_id`, as
+            /// [`Dictionary::new`] makes it (a reset node or communication), in place:
+            /// `*dictionary = Dictionary::new(id)` puts the values on the stack first.
+            pub fn reset(&mut self, node_id: impl Into<Option<#rt::cob::NodeId>>) {
+                self.values = [0; LAYOUT.size()];
+                TABLE.init(&mut self.values, node_id.into());
+            }
+        };
+        return (TokenStream::new(), fns);
+    };
+    let bytes = image.iter().map(|&b| Literal::u8_unsuffixed(b));
+    let image = quote! {
+        /// Every entry's initial value at its place in `TABLE`: its default, else zero, or
+        /// the limit nearest to it. No default of the device depends on the node-ID, so
+        /// the generator wrote them here and a new or reset dictionary is a copy.
+        const INITIAL: [u8; LAYOUT.size()] = [#(#bytes),*];
+    };
+    let fns = quote! {
+        /// The dictionary, every entry at its initial value (`INITIAL`); `node_id`
+        /// changes nothing (no default of the device depends on it).
+        pub fn new(_node_id: impl Into<Option<#rt::cob::NodeId>>) -> Self {
+            Dictionary { values: INITIAL }
+        }
+
+        /// Every entry back to its initial value, as [`Dictionary::new`] makes it, in
+        /// place.
+        pub fn reset(&mut self, _node_id: impl Into<Option<#rt::cob::NodeId>>) {
+            self.values = INITIAL;
+        }
+    };
+    (image, fns)
+}
+
 /// The `slave` module.
 pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
     let rt = &ctx.rt;
+    // With an image of the initial values, the rows keep the limits only (no typed initial
+    // value linked) and a new or reset dictionary is a copy of the image.
+    let image = crate::storage_image::initial_image(ctx);
+    let row = if image.is_some() { quote!(row_limits) } else { quote!(row) };
     let rows: Vec<_> = ctx
         .names
         .entries
@@ -209,8 +260,8 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
         .map(|name| {
             let k = &name.konst;
             match &name.module {
-                Some(m) => quote!(row!(od::#m::#k)),
-                None => quote!(row!(od::#k)),
+                Some(m) => quote!(#row!(od::#m::#k)),
+                None => quote!(#row!(od::#k)),
             }
         })
         .collect();
@@ -221,9 +272,10 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
     } else {
         quote! {
             use super::od;
-            use #rt::slave::row;
+            use #rt::slave::#row;
         }
     };
+    let (initial_const, initial_fns) = initial(rt, image.as_deref());
     let docs = doc(&format!(
         "The object dictionary of {}, for the device's own firmware: `no_std`, no heap.\n\n\
          `TABLE` has one row per typed entry of `od`, in address order; `Dictionary` holds \
@@ -259,24 +311,10 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
                 values: [u8; LAYOUT.size()],
             }
 
-            impl Dictionary {
-                /// The dictionary of node `node_id`, every entry at its default (`$NODEID`
-                /// applied); entries without default start at zero, or at the limit nearest
-                /// to it. `None`: a node without node-ID (LSS), whose `$NODEID` defaults are
-                /// taken as absent.
-                pub fn new(node_id: impl Into<Option<#rt::cob::NodeId>>) -> Self {
-                    let mut dictionary = Dictionary { values: [0; LAYOUT.size()] };
-                    TABLE.init(&mut dictionary.values, node_id.into());
-                    dictionary
-                }
+            #initial_const
 
-                /// Every entry back to its default for node `node_id`, as
-                /// [`Dictionary::new`] makes it (a reset node or communication), in place:
-                /// `*dictionary = Dictionary::new(id)` puts the values on the stack first.
-                pub fn reset(&mut self, node_id: impl Into<Option<#rt::cob::NodeId>>) {
-                    self.values = [0; LAYOUT.size()];
-                    TABLE.init(&mut self.values, node_id.into());
-                }
+            impl Dictionary {
+                #initial_fns
 
                 /// The value of `entry`, one of `od`'s descriptors.
                 ///

@@ -71,7 +71,7 @@ mod table;
 pub use describe::{Description, ObjectRow, entry_flag};
 #[cfg(feature = "alloc")]
 pub use runtime::{RuntimeDictionary, RuntimeTable, TableBuilder};
-pub use table::{Row, Spec, SpecRef, Table};
+pub use table::{Limits, Row, Spec, SpecRef, Table};
 
 use crate::cob::NodeId;
 use crate::{Access, DefaultValue, Entry, ObjValue, ObjectAddr, SdoAbort};
@@ -272,6 +272,21 @@ macro_rules! __slave_row {
 
 #[doc(inline)]
 pub use crate::__slave_row as row;
+
+/// The [`Row`] of a descriptor whose initial value the generated dictionary keeps in its
+/// `INITIAL` image: `row_limits!(od::X)` is `Row::new(&od::X, &SpecRef::limits(&od::X.limits()))`,
+/// the [`Limits`] shared as [`row!`]'s `Spec`s are. Such a row links the limit check of its
+/// type and no initial value ([`Table::init`] leaves it zero).
+#[macro_export]
+#[doc(hidden)]
+macro_rules! __slave_row_limits {
+    ($entry:expr) => {
+        $crate::slave::Row::new(&$entry, &$crate::slave::SpecRef::limits(&$entry.limits()))
+    };
+}
+
+#[doc(inline)]
+pub use crate::__slave_row_limits as row_limits;
 
 #[cfg(test)]
 mod tests;

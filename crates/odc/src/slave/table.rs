@@ -25,6 +25,23 @@ impl<T: ObjValue> Entry<T> {
     }
 }
 
+/// The limits of an entry's value without its default: the [`Spec`] of a row whose initial
+/// value the generated dictionary keeps as bytes (its `INITIAL` image, made by the generator
+/// when no default depends on the node-ID), so that a firmware links no per-type initial
+/// value ([`row_limits!`](crate::slave::row_limits) makes the row).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits<T> {
+    low: Option<T>,
+    high: Option<T>,
+}
+
+impl<T: ObjValue> Entry<T> {
+    /// The limits of the entry, for a [`Row`] whose initial value is kept elsewhere.
+    pub const fn limits(&self) -> Limits<T> {
+        Limits { low: self.low, high: self.high }
+    }
+}
+
 /// What the shared paths need of one entry's value type, implemented once per type (for
 /// [`Spec<T>`]): the typed work of an SDO download and of the initial value.
 ///
@@ -68,6 +85,26 @@ where
     }
 }
 
+impl<T> Slot for Limits<T>
+where
+    T: ObjValue + PartialOrd + Sync + 'static,
+{
+    fn check(&self, data: &[u8]) -> Result<(), SdoAbort> {
+        crate::check_range(&T::decode(data)?, self.low.as_ref(), self.high.as_ref())
+    }
+
+    /// Nothing: the dictionary's image holds the initial value (see [`Table::init`]).
+    fn init(&self, _: &mut [u8], _: Option<NodeId>) {}
+
+    fn len(&self) -> usize {
+        T::MAX_LEN
+    }
+
+    fn data_type(&self) -> DataType {
+        T::DATA_TYPE
+    }
+}
+
 /// Copies checked download `data` into the `stored` bytes of its entry: the encoding the type
 /// decoded it from, a string without the zeros that may pad it (padded with zeros to the
 /// capacity instead), a time without the 4 reserved bits CiA 301 says to ignore.
@@ -96,6 +133,14 @@ impl SpecRef {
         T: ObjValue + PartialOrd + Sync + 'static,
     {
         SpecRef(spec)
+    }
+
+    /// The reference to `limits`, for [`row_limits!`](crate::slave::row_limits).
+    pub const fn limits<T>(limits: &'static Limits<T>) -> SpecRef
+    where
+        T: ObjValue + PartialOrd + Sync + 'static,
+    {
+        SpecRef(limits)
     }
 }
 
@@ -306,7 +351,9 @@ impl<const N: usize> Table<N> {
     /// Fills `values` (zeroed, [`Table::size`] bytes) with every entry's initial value on
     /// node `node_id`: its default (`$NODEID` applied), else zero moved into its limits (see
     /// [`initial`](super::initial)). A node without node-ID (`None`, LSS) takes no `$NODEID`
-    /// default.
+    /// default. A row of [`row_limits!`](crate::slave::row_limits) keeps its zeros: its
+    /// initial value is in the generated dictionary's `INITIAL` image, which generated code
+    /// copies instead of calling this.
     pub fn init(&self, values: &mut [u8], node_id: Option<NodeId>) {
         Rows(&self.rows).init(values, node_id);
     }
