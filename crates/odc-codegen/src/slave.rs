@@ -199,6 +199,27 @@ fn description(ctx: &Ctx<'_>, n: &Literal) -> TokenStream {
     }
 }
 
+/// The value types of the entries whose descriptors have limits (`with_limits`: a limit
+/// that is a value of the type).
+fn limited_types(ctx: &Ctx<'_>) -> Vec<RustTy> {
+    let rt = &ctx.rt;
+    ctx.names
+        .entries
+        .iter()
+        .filter(|&(&(index, sub), name)| {
+            let Some(sub) = ctx.device.objects.get(&index).and_then(|o| o.subs.get(&sub)) else {
+                // Not in the model: take it as limited (the check with limits is right for
+                // any entry).
+                return true;
+            };
+            [&sub.low_limit, &sub.high_limit]
+                .into_iter()
+                .any(|l| l.as_ref().is_some_and(|v| name.ty.option_expr(&v.value, rt).is_some()))
+        })
+        .map(|(_, name)| name.ty)
+        .collect()
+}
+
 /// `Dictionary::new` and `reset`, and the `INITIAL` image they copy when there is one.
 fn initial(rt: &TokenStream, image: Option<&[u8]>) -> (TokenStream, TokenStream) {
     let Some(image) = image else {
@@ -252,12 +273,20 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
     // With an image of the initial values, the rows keep the limits only (no typed initial
     // value linked) and a new or reset dictionary is a copy of the image.
     let image = crate::storage_image::initial_image(ctx);
-    let row = if image.is_some() { quote!(row_limits) } else { quote!(row) };
+    // A value type that no entry limits is checked by its decoding alone (`row_unlimited!`).
+    let limited = limited_types(ctx);
+    let mut macros = std::collections::BTreeSet::new();
     let rows: Vec<_> = ctx
         .names
         .entries
         .values()
         .map(|name| {
+            let row = match (&image, limited.contains(&name.ty)) {
+                (None, _) => quote!(row),
+                (Some(_), true) => quote!(row_limits),
+                (Some(_), false) => quote!(row_unlimited),
+            };
+            macros.insert(row.to_string());
             let k = &name.konst;
             match &name.module {
                 Some(m) => quote!(#row!(od::#m::#k)),
@@ -266,13 +295,14 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
         })
         .collect();
     let n = Literal::usize_unsuffixed(rows.len());
+    let macros = macros.iter().map(|m| proc_macro2::Ident::new(m, proc_macro2::Span::call_site()));
     // Without rows, the imports would be unused.
     let imports = if rows.is_empty() {
         TokenStream::new()
     } else {
         quote! {
             use super::od;
-            use #rt::slave::#row;
+            use #rt::slave::{#(#macros),*};
         }
     };
     let (initial_const, initial_fns) = initial(rt, image.as_deref());

@@ -71,7 +71,7 @@ mod table;
 pub use describe::{Description, ObjectRow, entry_flag};
 #[cfg(feature = "alloc")]
 pub use runtime::{RuntimeDictionary, RuntimeTable, TableBuilder};
-pub use table::{Limits, Row, Spec, SpecRef, Table};
+pub use table::{Limits, Row, Spec, SpecRef, Table, Unlimited};
 
 use crate::cob::NodeId;
 use crate::{Access, DefaultValue, Entry, ObjValue, ObjectAddr, SdoAbort};
@@ -287,6 +287,21 @@ macro_rules! __slave_row_limits {
 
 #[doc(inline)]
 pub use crate::__slave_row_limits as row_limits;
+
+/// The [`Row`] of a descriptor as [`row_limits!`] makes it, for a value type that no entry of
+/// the device limits: `row_unlimited!(od::X)` is
+/// `Row::new(&od::X, &SpecRef::unlimited(&od::X.unlimited()))`. A download is checked by
+/// decoding it alone.
+#[macro_export]
+#[doc(hidden)]
+macro_rules! __slave_row_unlimited {
+    ($entry:expr) => {
+        $crate::slave::Row::new(&$entry, &$crate::slave::SpecRef::unlimited(&$entry.unlimited()))
+    };
+}
+
+#[doc(inline)]
+pub use crate::__slave_row_unlimited as row_unlimited;
 
 #[cfg(test)]
 mod tests;

@@ -42,6 +42,41 @@ impl<T: ObjValue> Entry<T> {
     }
 }
 
+/// The type of an entry's value without limits or default: the [`Spec`] of a row whose
+/// initial value the generated dictionary keeps as bytes (as [`Limits`]) and whose type no
+/// entry of the device limits, so that a download's check is the decoding alone
+/// ([`row_unlimited!`](crate::slave::row_unlimited) makes the row).
+/// (The marker is of `fn() -> T`: `Sync` whatever `T`, as a `static` must be.)
+pub struct Unlimited<T>(core::marker::PhantomData<fn() -> T>);
+
+impl<T: ObjValue> Entry<T> {
+    /// The type of the entry, for a [`Row`] without limits whose initial value is kept
+    /// elsewhere.
+    pub const fn unlimited(&self) -> Unlimited<T> {
+        Unlimited(core::marker::PhantomData)
+    }
+}
+
+impl<T> Slot for Unlimited<T>
+where
+    T: ObjValue + 'static,
+{
+    fn check(&self, data: &[u8]) -> Result<(), SdoAbort> {
+        T::decode(data).map(|_| ()).map_err(SdoAbort::from)
+    }
+
+    /// Nothing: the dictionary's image holds the initial value (see [`Table::init`]).
+    fn init(&self, _: &mut [u8], _: Option<NodeId>) {}
+
+    fn len(&self) -> usize {
+        T::MAX_LEN
+    }
+
+    fn data_type(&self) -> DataType {
+        T::DATA_TYPE
+    }
+}
+
 /// What the shared paths need of one entry's value type, implemented once per type (for
 /// [`Spec<T>`]): the typed work of an SDO download and of the initial value.
 ///
@@ -133,6 +168,14 @@ impl SpecRef {
         T: ObjValue + PartialOrd + Sync + 'static,
     {
         SpecRef(spec)
+    }
+
+    /// The reference to `unlimited`, for [`row_unlimited!`](crate::slave::row_unlimited).
+    pub const fn unlimited<T>(unlimited: &'static Unlimited<T>) -> SpecRef
+    where
+        T: ObjValue + 'static,
+    {
+        SpecRef(unlimited)
     }
 
     /// The reference to `limits`, for [`row_limits!`](crate::slave::row_limits).

@@ -273,3 +273,34 @@ fn pdo_mappable_follows_the_flag_and_the_direction() {
     // The flag bit does not change the access.
     assert_eq!(TABLE.access(0x6040, 0), Some(Access::Rww));
 }
+
+/// Rows of an imaged dictionary (`row_limits!`, `row_unlimited!`): the same checks on a
+/// download as [`row!`]'s, and no initial value written by [`Table::init`] (the generated
+/// `INITIAL` image holds it).
+#[test]
+fn limits_and_unlimited_rows() {
+    const IMAGED: Table<3> =
+        Table::new([row_unlimited!(od::NAME), row_limits!(od::SPEED), row_unlimited!(od::LABEL)]);
+    let mut values = [0u8; IMAGED.size()];
+    IMAGED.init(&mut values, None);
+    // NAME's default "odc" is not written: the image, not the rows, holds it.
+    assert_eq!(values, [0u8; 8 + 2 + 4]);
+    let hook = &mut ();
+    // The limits of SPEED (1..=9) are checked, its length too.
+    assert_eq!(IMAGED.write(&mut values, 0x2000, 2, &[10, 0], hook), Err(SdoAbort::ValueTooHigh));
+    assert_eq!(IMAGED.write(&mut values, 0x2000, 2, &[0, 0], hook), Err(SdoAbort::ValueTooLow));
+    assert_eq!(IMAGED.write(&mut values, 0x2000, 2, &[5], hook), Err(SdoAbort::TooShort));
+    assert_eq!(IMAGED.write(&mut values, 0x2000, 2, &[5, 0], hook), Ok(()));
+    // LABEL (VisibleString<4>, no limits): decoding alone decides.
+    assert_eq!(IMAGED.write(&mut values, 0x2001, 0, b"abcde", hook), Err(SdoAbort::TooLong));
+    assert_eq!(IMAGED.write(&mut values, 0x2001, 0, b"a\tb", hook), Err(SdoAbort::InvalidValue));
+    assert_eq!(IMAGED.write(&mut values, 0x2001, 0, b"ab", hook), Ok(()));
+    let mut buf = [0u8; 8];
+    assert_eq!(IMAGED.read(&values, 0x2001, 0, &mut buf), Ok(2));
+    assert_eq!(&buf[..2], b"ab");
+    assert_eq!(IMAGED.read(&values, 0x2000, 2, &mut buf), Ok(2));
+    assert_eq!(&buf[..2], &[5, 0]);
+    // Types and lengths as `row!` gives them.
+    let types: Vec<_> = IMAGED.rows().iter().map(Row::data_type).collect();
+    assert_eq!(types, [DataType::VisibleString, DataType::Unsigned16, DataType::VisibleString]);
+}
