@@ -6,6 +6,11 @@
 //! transfer to the table's one read and one write path in the runtime, so an entry costs a
 //! row in flash and its encoded size in RAM, and no code: the per-type work is linked once
 //! per value type (see `odc::slave`).
+//!
+//! Where no default depends on the node-ID (every EtherCAT device), the generator also writes
+//! the initial values as one `INITIAL` image (`storage_image`) that `new` and `reset` copy;
+//! the rows then keep only the limits (`row_limits!`), or nothing but the type where no entry
+//! of that type has limits (`row_unlimited!`), and no typed initial value is linked.
 
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
