@@ -7,14 +7,17 @@
 //! row in flash and its encoded size in RAM, and no code: the per-type work is linked once
 //! per value type (see `odc::slave`).
 //!
-//! Where no default depends on the node-ID (every EtherCAT device), the generator also writes
-//! the initial values as one `INITIAL` image (`storage_image`) that `new` and `reset` copy;
-//! the rows then keep only the limits (`row_limits!`), or nothing but the type where no entry
-//! of that type has limits (`row_unlimited!`), and no typed initial value is linked.
+//! The generator also writes the initial values as one `INITIAL` image (`storage_image`) that
+//! `new` and `reset` copy, with the `$NODEID` defaults written over it for the node
+//! (`NODE_ID_DEFAULTS`); the rows then keep only the limits (`row_limits!`), or nothing but the
+//! type where no entry of that type has limits (`row_unlimited!`), and no typed initial value
+//! is linked. A file whose initial values `storage_image` cannot work out keeps `row!` and the
+//! run-time initialisation (`Table::init`).
 
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
+use crate::storage_image::Image;
 use crate::types::{RustTy, RustTyTokens};
 use crate::{Ctx, doc};
 
@@ -226,7 +229,7 @@ fn limited_types(ctx: &Ctx<'_>) -> Vec<RustTy> {
 }
 
 /// `Dictionary::new` and `reset`, and the `INITIAL` image they copy when there is one.
-fn initial(rt: &TokenStream, image: Option<&[u8]>) -> (TokenStream, TokenStream) {
+fn initial(rt: &TokenStream, image: Option<&Image>) -> (TokenStream, TokenStream) {
     let Some(image) = image else {
         let fns = quote! {
             /// The dictionary of node `node_id`, every entry at its default (`$NODEID`
@@ -249,27 +252,60 @@ fn initial(rt: &TokenStream, image: Option<&[u8]>) -> (TokenStream, TokenStream)
         };
         return (TokenStream::new(), fns);
     };
-    let bytes = image.iter().map(|&b| Literal::u8_unsuffixed(b));
-    let image = quote! {
+    let bytes = image.bytes.iter().map(|&b| Literal::u8_unsuffixed(b));
+    let mut items = quote! {
         /// Every entry's initial value at its place in `TABLE`: its default, else zero, or
-        /// the limit nearest to it. No default of the device depends on the node-ID, so
-        /// the generator wrote them here and a new or reset dictionary is a copy.
+        /// the limit nearest to it; for a `$NODEID` default, its value without node-ID
+        /// (`NODE_ID_DEFAULTS` has the sums). The generator wrote them here, and a new or
+        /// reset dictionary is a copy.
         const INITIAL: [u8; LAYOUT.size()] = [#(#bytes),*];
     };
+    if image.node_id.is_empty() {
+        let fns = quote! {
+            /// The dictionary, every entry at its initial value (`INITIAL`); `node_id`
+            /// changes nothing (no default of the device depends on it).
+            pub fn new(_node_id: impl Into<Option<#rt::cob::NodeId>>) -> Self {
+                Dictionary { values: INITIAL }
+            }
+
+            /// Every entry back to its initial value, as [`Dictionary::new`] makes it, in
+            /// place.
+            pub fn reset(&mut self, _node_id: impl Into<Option<#rt::cob::NodeId>>) {
+                self.values = INITIAL;
+            }
+        };
+        return (items, fns);
+    }
+    let defaults = image.node_id.iter().map(|&(at, len, signed, offset)| {
+        let (at, len) = (Literal::usize_unsuffixed(at), Literal::usize_unsuffixed(len));
+        let offset = crate::types::int_literal(u64::from(offset));
+        quote!(#rt::slave::NodeIdDefault::new(#at, #len, #signed, #offset))
+    });
+    let n = Literal::usize_unsuffixed(image.node_id.len());
+    items.extend(quote! {
+        /// The entries whose default is `$NODEID + offset`, written over `INITIAL` for the
+        /// node.
+        const NODE_ID_DEFAULTS: [#rt::slave::NodeIdDefault; #n] = [#(#defaults),*];
+    });
     let fns = quote! {
-        /// The dictionary, every entry at its initial value (`INITIAL`); `node_id`
-        /// changes nothing (no default of the device depends on it).
-        pub fn new(_node_id: impl Into<Option<#rt::cob::NodeId>>) -> Self {
-            Dictionary { values: INITIAL }
+        /// The dictionary of node `node_id`, every entry at its default (`$NODEID`
+        /// applied); entries without default start at zero, or at the limit nearest
+        /// to it. `None`: a node without node-ID (LSS), whose `$NODEID` defaults are
+        /// taken as absent.
+        pub fn new(node_id: impl Into<Option<#rt::cob::NodeId>>) -> Self {
+            let mut dictionary = Dictionary { values: INITIAL };
+            #rt::slave::NodeIdDefault::apply(&NODE_ID_DEFAULTS, &mut dictionary.values, node_id.into());
+            dictionary
         }
 
-        /// Every entry back to its initial value, as [`Dictionary::new`] makes it, in
-        /// place.
-        pub fn reset(&mut self, _node_id: impl Into<Option<#rt::cob::NodeId>>) {
+        /// Every entry back to its default for node `node_id`, as
+        /// [`Dictionary::new`] makes it (a reset node or communication), in place.
+        pub fn reset(&mut self, node_id: impl Into<Option<#rt::cob::NodeId>>) {
             self.values = INITIAL;
+            #rt::slave::NodeIdDefault::apply(&NODE_ID_DEFAULTS, &mut self.values, node_id.into());
         }
     };
-    (image, fns)
+    (items, fns)
 }
 
 /// The `slave` module.
@@ -310,7 +346,7 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
             use #rt::slave::{#(#macros),*};
         }
     };
-    let (initial_const, initial_fns) = initial(rt, image.as_deref());
+    let (initial_const, initial_fns) = initial(rt, image.as_ref());
     let docs = doc(&format!(
         "The object dictionary of {}, for the device's own firmware: `no_std`, no heap.\n\n\
          `TABLE` has one row per typed entry of `od`, in address order; `Dictionary` holds \

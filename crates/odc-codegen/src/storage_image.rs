@@ -3,9 +3,10 @@
 //! type's encoded size). What `Table::init` would compute at run time, worked out here, so
 //! that a firmware copies bytes instead of linking a typed initial value per value type.
 //!
-//! Made only when the values do not depend on the node-ID (no `$NODEID` default: every
-//! EtherCAT device) and every entry's initial value is one this module can order and encode;
-//! otherwise the dictionary initialises itself at run time as before.
+//! An integer entry with a `$NODEID` default holds its value without node-ID in the image (the
+//! default taken as absent) and is listed in [`Image::node_id`], for `odc::slave::NodeIdDefault`
+//! to write the sum over it. Made only when every entry's initial value is one this module can
+//! order and encode; otherwise the dictionary initialises itself at run time as before.
 
 use std::cmp::Ordering;
 
@@ -14,15 +15,39 @@ use odc_model::{SubObject, Value};
 use crate::Ctx;
 use crate::types::RustTy;
 
-/// The image of the slave dictionary's values, in `ctx.names.entries` (row) order, or `None`
-/// when the run-time initialisation must stay (see the module).
-pub fn initial_image(ctx: &Ctx<'_>) -> Option<Vec<u8>> {
-    let mut image = Vec::new();
+/// The initial values of a slave dictionary.
+pub struct Image {
+    /// The values, in `ctx.names.entries` (row) order, each its type's encoded size.
+    pub bytes: Vec<u8>,
+    /// The `$NODEID` defaults: where each value is in `bytes`, its length, whether it is
+    /// signed, the offset added to the node-ID.
+    pub node_id: Vec<(usize, usize, bool, u32)>,
+}
+
+/// The image of the slave dictionary's values, or `None` when the run-time initialisation
+/// must stay (see the module).
+pub fn initial_image(ctx: &Ctx<'_>) -> Option<Image> {
+    let mut image = Image { bytes: Vec::new(), node_id: Vec::new() };
     for (&(index, sub), name) in &ctx.names.entries {
         let sub = ctx.device.objects.get(&index)?.subs.get(&sub)?;
-        image.extend(initial(name.ty, sub)?);
+        if let Some(offset) = node_id_offset(name.ty, sub) {
+            let signed = matches!(name.ty, RustTy::Signed(_));
+            image.node_id.push((image.bytes.len(), storage_len(name.ty), signed, offset));
+        }
+        image.bytes.extend(initial(name.ty, sub)?);
     }
     Some(image)
+}
+
+/// The offset of an integer entry's `$NODEID + offset` default, as the generated descriptor
+/// keeps it (`DefaultValue::NodeIdPlus`); `None` for any other default.
+fn node_id_offset(ty: RustTy, sub: &SubObject) -> Option<u32> {
+    match (ty, &sub.initial_value()?.value) {
+        (RustTy::Unsigned(_) | RustTy::Signed(_), Value::NodeIdPlus(off)) => {
+            u32::try_from(*off).ok()
+        }
+        _ => None,
+    }
 }
 
 /// The bytes a value of `ty` takes in the storage (`ObjValue::MAX_LEN` of the Rust type the
@@ -50,9 +75,9 @@ fn storage_len(ty: RustTy) -> usize {
     }
 }
 
-/// The stored initial value of an entry of type `ty`: its default, else zero moved into its
-/// limits (`odc::slave::initial`); `None` for a `$NODEID` default or limits of a type this
-/// module does not order.
+/// The stored initial value of an entry of type `ty` on a node without node-ID: its default
+/// (a `$NODEID` one taken as absent), else zero moved into its limits
+/// (`odc::slave::initial`); `None` for limits of a type this module does not order.
 fn initial(ty: RustTy, sub: &SubObject) -> Option<Vec<u8>> {
     let len = storage_len(ty);
     let padded = |mut b: Vec<u8>| {
@@ -60,11 +85,8 @@ fn initial(ty: RustTy, sub: &SubObject) -> Option<Vec<u8>> {
         b
     };
     if let Some(d) = sub.initial_value() {
-        if matches!(d.value, Value::NodeIdPlus(_)) {
-            return None;
-        }
         // A default that is no value of the type is not used (as the generated descriptor
-        // leaves it out).
+        // leaves it out); nor is `$NODEID + offset` without a node-ID (`encode` takes none).
         if let Some(b) = encode(ty, &d.value) {
             return Some(padded(b));
         }
@@ -220,10 +242,22 @@ mod tests {
     }
 
     #[test]
-    fn what_the_run_time_initialisation_keeps() {
-        // A `$NODEID` default depends on the node: no image.
+    fn node_id_defaults_are_listed_over_their_value_without_node_id() {
+        // Without node-ID, the default is absent: zero, or the limit nearest to it.
         let s = sub(DataType::Unsigned32, Some(Value::NodeIdPlus(0x180)), None, None);
-        assert_eq!(initial(RustTy::Unsigned(32), &s), None);
+        assert_eq!(initial(RustTy::Unsigned(32), &s), Some(vec![0; 4]));
+        assert_eq!(node_id_offset(RustTy::Unsigned(32), &s), Some(0x180));
+        let lo = Some(Value::Unsigned(0x81));
+        let s = sub(DataType::Unsigned16, Some(Value::NodeIdPlus(0x80)), lo, None);
+        assert_eq!(initial(RustTy::Unsigned(16), &s), Some(vec![0x81, 0]));
+        // Not an integer: the descriptor has no default, so no `$NODEID` to apply.
+        let s = sub(DataType::Real32, Some(Value::NodeIdPlus(1)), None, None);
+        assert_eq!(node_id_offset(RustTy::F32, &s), None);
+        assert_eq!(initial(RustTy::F32, &s), Some(vec![0; 4]));
+    }
+
+    #[test]
+    fn what_the_run_time_initialisation_keeps() {
         // A string with limits: not ordered here.
         let lo = Some(Value::Text("b".into()));
         let s = sub(DataType::VisibleString, None, lo, None);

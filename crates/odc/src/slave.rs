@@ -64,14 +64,16 @@
 //! ```
 
 mod describe;
+mod imaged;
 #[cfg(feature = "alloc")]
 mod runtime;
 mod table;
 
 pub use describe::{Description, ObjectRow, entry_flag};
+pub use imaged::{Limits, NodeIdDefault, Unlimited};
 #[cfg(feature = "alloc")]
 pub use runtime::{RuntimeDictionary, RuntimeTable, TableBuilder};
-pub use table::{Limits, Row, Spec, SpecRef, Table, Unlimited};
+pub use table::{Row, Spec, SpecRef, Table};
 
 use crate::cob::NodeId;
 use crate::{Access, DefaultValue, Entry, ObjValue, ObjectAddr, SdoAbort};

@@ -25,58 +25,6 @@ impl<T: ObjValue> Entry<T> {
     }
 }
 
-/// The limits of an entry's value without its default: the [`Spec`] of a row whose initial
-/// value the generated dictionary keeps as bytes (its `INITIAL` image, made by the generator
-/// when no default depends on the node-ID), so that a firmware links no per-type initial
-/// value ([`row_limits!`](crate::slave::row_limits) makes the row).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Limits<T> {
-    low: Option<T>,
-    high: Option<T>,
-}
-
-impl<T: ObjValue> Entry<T> {
-    /// The limits of the entry, for a [`Row`] whose initial value is kept elsewhere.
-    pub const fn limits(&self) -> Limits<T> {
-        Limits { low: self.low, high: self.high }
-    }
-}
-
-/// The type of an entry's value without limits or default: the [`Spec`] of a row whose
-/// initial value the generated dictionary keeps as bytes (as [`Limits`]) and whose type no
-/// entry of the device limits, so that a download's check is the decoding alone
-/// ([`row_unlimited!`](crate::slave::row_unlimited) makes the row).
-/// (The marker is of `fn() -> T`: `Sync` whatever `T`, as a `static` must be.)
-pub struct Unlimited<T>(core::marker::PhantomData<fn() -> T>);
-
-impl<T: ObjValue> Entry<T> {
-    /// The type of the entry, for a [`Row`] without limits whose initial value is kept
-    /// elsewhere.
-    pub const fn unlimited(&self) -> Unlimited<T> {
-        Unlimited(core::marker::PhantomData)
-    }
-}
-
-impl<T> Slot for Unlimited<T>
-where
-    T: ObjValue + 'static,
-{
-    fn check(&self, data: &[u8]) -> Result<(), SdoAbort> {
-        T::decode(data).map(|_| ()).map_err(SdoAbort::from)
-    }
-
-    /// Nothing: the dictionary's image holds the initial value (see [`Table::init`]).
-    fn init(&self, _: &mut [u8], _: Option<NodeId>) {}
-
-    fn len(&self) -> usize {
-        T::MAX_LEN
-    }
-
-    fn data_type(&self) -> DataType {
-        T::DATA_TYPE
-    }
-}
-
 /// What the shared paths need of one entry's value type, implemented once per type (for
 /// [`Spec<T>`]): the typed work of an SDO download and of the initial value.
 ///
@@ -120,26 +68,6 @@ where
     }
 }
 
-impl<T> Slot for Limits<T>
-where
-    T: ObjValue + PartialOrd + Sync + 'static,
-{
-    fn check(&self, data: &[u8]) -> Result<(), SdoAbort> {
-        crate::check_range(&T::decode(data)?, self.low.as_ref(), self.high.as_ref())
-    }
-
-    /// Nothing: the dictionary's image holds the initial value (see [`Table::init`]).
-    fn init(&self, _: &mut [u8], _: Option<NodeId>) {}
-
-    fn len(&self) -> usize {
-        T::MAX_LEN
-    }
-
-    fn data_type(&self) -> DataType {
-        T::DATA_TYPE
-    }
-}
-
 /// Copies checked download `data` into the `stored` bytes of its entry: the encoding the type
 /// decoded it from, a string without the zeros that may pad it (padded with zeros to the
 /// capacity instead), a time without the 4 reserved bits CiA 301 says to ignore.
@@ -159,7 +87,7 @@ fn store(data_type: DataType, data: &[u8], stored: &mut [u8]) {
 /// same spec share, so that a [`Row`] points at it with a thin pointer (4 bytes on a 32-bit
 /// target, where the trait object's own pointer would take 8 in every row).
 #[derive(Clone, Copy)]
-pub struct SpecRef(&'static dyn Slot);
+pub struct SpecRef(pub(super) &'static dyn Slot);
 
 impl SpecRef {
     /// The reference to `spec`, for [`row!`](crate::slave::row).
@@ -168,22 +96,6 @@ impl SpecRef {
         T: ObjValue + PartialOrd + Sync + 'static,
     {
         SpecRef(spec)
-    }
-
-    /// The reference to `unlimited`, for [`row_unlimited!`](crate::slave::row_unlimited).
-    pub const fn unlimited<T>(unlimited: &'static Unlimited<T>) -> SpecRef
-    where
-        T: ObjValue + 'static,
-    {
-        SpecRef(unlimited)
-    }
-
-    /// The reference to `limits`, for [`row_limits!`](crate::slave::row_limits).
-    pub const fn limits<T>(limits: &'static Limits<T>) -> SpecRef
-    where
-        T: ObjValue + PartialOrd + Sync + 'static,
-    {
-        SpecRef(limits)
     }
 }
 

@@ -304,3 +304,29 @@ fn limits_and_unlimited_rows() {
     let types: Vec<_> = IMAGED.rows().iter().map(Row::data_type).collect();
     assert_eq!(types, [DataType::VisibleString, DataType::Unsigned16, DataType::VisibleString]);
 }
+
+/// `$NODEID` defaults written over an image: the sum where it fits the type (as
+/// `DefaultValue::resolve` decides), the image's value where it does not or without node-ID.
+#[test]
+fn node_id_defaults_over_an_image() {
+    const DEFAULTS: [NodeIdDefault; 4] = [
+        // UNSIGNED32 at 0: 0x180 + id.
+        NodeIdDefault::new(0, 4, false, 0x180),
+        // UNSIGNED8 at 4: 0xF0 + id fits for id <= 15 only.
+        NodeIdDefault::new(4, 1, false, 0xF0),
+        // INTEGER8 at 5: 0x70 + id fits for id <= 15 only (0x7F is the largest).
+        NodeIdDefault::new(5, 1, true, 0x70),
+        // UNSIGNED24 at 6: 0xFF_FFF0 + id, fits for id <= 15.
+        NodeIdDefault::new(6, 3, false, 0xFF_FFF0),
+    ];
+    let image = [0xAA; 9];
+    let mut values = image;
+    NodeIdDefault::apply(&DEFAULTS, &mut values, None);
+    assert_eq!(values, image);
+    NodeIdDefault::apply(&DEFAULTS, &mut values, crate::cob::NodeId::new(5));
+    assert_eq!(values, [0x85, 0x01, 0, 0, 0xF5, 0x75, 0xF5, 0xFF, 0xFF]);
+    let mut values = image;
+    NodeIdDefault::apply(&DEFAULTS, &mut values, crate::cob::NodeId::new(16));
+    // 0x190; 0x100, 0x80 and 0x100_0000 do not fit: the image's bytes stay.
+    assert_eq!(values, [0x90, 0x01, 0, 0, 0xAA, 0xAA, 0xAA, 0xAA, 0xAA]);
+}
