@@ -24,9 +24,19 @@ pub struct Image {
     pub node_id: Vec<(usize, usize, bool, u32)>,
 }
 
+/// The largest image written: a dictionary with more values than this is no firmware's (and
+/// its literal would be megabytes of source); it initialises itself at run time.
+const MAX_IMAGE: usize = 64 * 1024;
+
 /// The image of the slave dictionary's values, or `None` when the run-time initialisation
 /// must stay (see the module).
 pub fn initial_image(ctx: &Ctx<'_>) -> Option<Image> {
+    // A device file can declare a string of any size (a malformed one, gigabytes): measure
+    // before anything is allocated.
+    let size = ctx.names.entries.values().try_fold(0usize, |n, e| n.checked_add(storage_len(e.ty)));
+    if size.is_none_or(|n| n > MAX_IMAGE) {
+        return None;
+    }
     let mut image = Image { bytes: Vec::new(), node_id: Vec::new() };
     for (&(index, sub), name) in &ctx.names.entries {
         let sub = ctx.device.objects.get(&index)?.subs.get(&sub)?;
