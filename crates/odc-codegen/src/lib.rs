@@ -50,6 +50,7 @@ mod scheme;
 mod slave;
 mod standard;
 mod startup;
+mod storage_image;
 mod types;
 
 pub use odc_analysis::image;

@@ -6,10 +6,18 @@
 //! transfer to the table's one read and one write path in the runtime, so an entry costs a
 //! row in flash and its encoded size in RAM, and no code: the per-type work is linked once
 //! per value type (see `odc::slave`).
+//!
+//! The generator also writes the initial values as one `INITIAL` image (`storage_image`) that
+//! `new` and `reset` copy, with the `$NODEID` defaults written over it for the node
+//! (`NODE_ID_DEFAULTS`); the rows then keep only the limits (`row_limits!`), or nothing but the
+//! type where no entry of that type has limits (`row_unlimited!`), and no typed initial value
+//! is linked. A file whose initial values `storage_image` cannot work out keeps `row!` and the
+//! run-time initialisation (`Table::init`).
 
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
+use crate::storage_image::Image;
 use crate::types::{RustTy, RustTyTokens};
 use crate::{Ctx, doc};
 
@@ -199,31 +207,146 @@ fn description(ctx: &Ctx<'_>, n: &Literal) -> TokenStream {
     }
 }
 
+/// The value types of the entries whose descriptors have limits (`with_limits`: a limit
+/// that is a value of the type).
+fn limited_types(ctx: &Ctx<'_>) -> Vec<RustTy> {
+    let rt = &ctx.rt;
+    ctx.names
+        .entries
+        .iter()
+        .filter(|&(&(index, sub), name)| {
+            let Some(sub) = ctx.device.objects.get(&index).and_then(|o| o.subs.get(&sub)) else {
+                // Not in the model: take it as limited (the check with limits is right for
+                // any entry).
+                return true;
+            };
+            [&sub.low_limit, &sub.high_limit]
+                .into_iter()
+                .any(|l| l.as_ref().is_some_and(|v| name.ty.option_expr(&v.value, rt).is_some()))
+        })
+        .map(|(_, name)| name.ty)
+        .collect()
+}
+
+/// `Dictionary::new` and `reset`, and the `INITIAL` image they copy when there is one.
+fn initial(rt: &TokenStream, image: Option<&Image>) -> (TokenStream, TokenStream) {
+    let Some(image) = image else {
+        let fns = quote! {
+            /// The dictionary of node `node_id`, every entry at its default (`$NODEID`
+            /// applied); entries without default start at zero, or at the limit nearest
+            /// to it. `None`: a node without node-ID (LSS), whose `$NODEID` defaults are
+            /// taken as absent.
+            pub fn new(node_id: impl Into<Option<#rt::cob::NodeId>>) -> Self {
+                let mut dictionary = Dictionary { values: [0; LAYOUT.size()] };
+                TABLE.init(&mut dictionary.values, node_id.into());
+                dictionary
+            }
+
+            /// Every entry back to its default for node `node_id`, as
+            /// [`Dictionary::new`] makes it (a reset node or communication), in place:
+            /// `*dictionary = Dictionary::new(id)` puts the values on the stack first.
+            pub fn reset(&mut self, node_id: impl Into<Option<#rt::cob::NodeId>>) {
+                self.values = [0; LAYOUT.size()];
+                TABLE.init(&mut self.values, node_id.into());
+            }
+        };
+        return (TokenStream::new(), fns);
+    };
+    let bytes = image.bytes.iter().map(|&b| Literal::u8_unsuffixed(b));
+    let mut items = quote! {
+        /// Every entry's initial value at its place in `TABLE`: its default, else zero, or
+        /// the limit nearest to it; for a `$NODEID` default, its value without node-ID
+        /// (`NODE_ID_DEFAULTS` has the sums). The generator wrote them here, and a new or
+        /// reset dictionary is a copy.
+        const INITIAL: [u8; LAYOUT.size()] = [#(#bytes),*];
+    };
+    if image.node_id.is_empty() {
+        let fns = quote! {
+            /// The dictionary, every entry at its initial value (`INITIAL`); `node_id`
+            /// changes nothing (no default of the device depends on it).
+            pub fn new(_node_id: impl Into<Option<#rt::cob::NodeId>>) -> Self {
+                Dictionary { values: INITIAL }
+            }
+
+            /// Every entry back to its initial value, as [`Dictionary::new`] makes it, in
+            /// place.
+            pub fn reset(&mut self, _node_id: impl Into<Option<#rt::cob::NodeId>>) {
+                self.values = INITIAL;
+            }
+        };
+        return (items, fns);
+    }
+    let defaults = image.node_id.iter().map(|&(at, len, signed, offset)| {
+        let (at, len) = (Literal::usize_unsuffixed(at), Literal::usize_unsuffixed(len));
+        let offset = crate::types::int_literal(u64::from(offset));
+        quote!(#rt::slave::NodeIdDefault::new(#at, #len, #signed, #offset))
+    });
+    let n = Literal::usize_unsuffixed(image.node_id.len());
+    items.extend(quote! {
+        /// The entries whose default is `$NODEID + offset`, written over `INITIAL` for the
+        /// node.
+        const NODE_ID_DEFAULTS: [#rt::slave::NodeIdDefault; #n] = [#(#defaults),*];
+    });
+    let fns = quote! {
+        /// The dictionary of node `node_id`, every entry at its default (`$NODEID`
+        /// applied); entries without default start at zero, or at the limit nearest
+        /// to it. `None`: a node without node-ID (LSS), whose `$NODEID` defaults are
+        /// taken as absent.
+        pub fn new(node_id: impl Into<Option<#rt::cob::NodeId>>) -> Self {
+            let mut dictionary = Dictionary { values: INITIAL };
+            #rt::slave::NodeIdDefault::apply(&NODE_ID_DEFAULTS, &mut dictionary.values, node_id.into());
+            dictionary
+        }
+
+        /// Every entry back to its default for node `node_id`, as
+        /// [`Dictionary::new`] makes it (a reset node or communication), in place.
+        pub fn reset(&mut self, node_id: impl Into<Option<#rt::cob::NodeId>>) {
+            self.values = INITIAL;
+            #rt::slave::NodeIdDefault::apply(&NODE_ID_DEFAULTS, &mut self.values, node_id.into());
+        }
+    };
+    (items, fns)
+}
+
 /// The `slave` module.
 pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
     let rt = &ctx.rt;
+    // With an image of the initial values, the rows keep the limits only (no typed initial
+    // value linked) and a new or reset dictionary is a copy of the image.
+    let image = crate::storage_image::initial_image(ctx);
+    // A value type that no entry limits is checked by its decoding alone (`row_unlimited!`).
+    let limited = limited_types(ctx);
+    let mut macros = std::collections::BTreeSet::new();
     let rows: Vec<_> = ctx
         .names
         .entries
         .values()
         .map(|name| {
+            let row = match (&image, limited.contains(&name.ty)) {
+                (None, _) => quote!(row),
+                (Some(_), true) => quote!(row_limits),
+                (Some(_), false) => quote!(row_unlimited),
+            };
+            macros.insert(row.to_string());
             let k = &name.konst;
             match &name.module {
-                Some(m) => quote!(row!(od::#m::#k)),
-                None => quote!(row!(od::#k)),
+                Some(m) => quote!(#row!(od::#m::#k)),
+                None => quote!(#row!(od::#k)),
             }
         })
         .collect();
     let n = Literal::usize_unsuffixed(rows.len());
+    let macros = macros.iter().map(|m| proc_macro2::Ident::new(m, proc_macro2::Span::call_site()));
     // Without rows, the imports would be unused.
     let imports = if rows.is_empty() {
         TokenStream::new()
     } else {
         quote! {
             use super::od;
-            use #rt::slave::row;
+            use #rt::slave::{#(#macros),*};
         }
     };
+    let (initial_const, initial_fns) = initial(rt, image.as_ref());
     let docs = doc(&format!(
         "The object dictionary of {}, for the device's own firmware: `no_std`, no heap.\n\n\
          `TABLE` has one row per typed entry of `od`, in address order; `Dictionary` holds \
@@ -259,24 +382,10 @@ pub fn generate(ctx: &Ctx<'_>) -> TokenStream {
                 values: [u8; LAYOUT.size()],
             }
 
-            impl Dictionary {
-                /// The dictionary of node `node_id`, every entry at its default (`$NODEID`
-                /// applied); entries without default start at zero, or at the limit nearest
-                /// to it. `None`: a node without node-ID (LSS), whose `$NODEID` defaults are
-                /// taken as absent.
-                pub fn new(node_id: impl Into<Option<#rt::cob::NodeId>>) -> Self {
-                    let mut dictionary = Dictionary { values: [0; LAYOUT.size()] };
-                    TABLE.init(&mut dictionary.values, node_id.into());
-                    dictionary
-                }
+            #initial_const
 
-                /// Every entry back to its default for node `node_id`, as
-                /// [`Dictionary::new`] makes it (a reset node or communication), in place:
-                /// `*dictionary = Dictionary::new(id)` puts the values on the stack first.
-                pub fn reset(&mut self, node_id: impl Into<Option<#rt::cob::NodeId>>) {
-                    self.values = [0; LAYOUT.size()];
-                    TABLE.init(&mut self.values, node_id.into());
-                }
+            impl Dictionary {
+                #initial_fns
 
                 /// The value of `entry`, one of `od`'s descriptors.
                 ///

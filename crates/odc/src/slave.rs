@@ -64,11 +64,13 @@
 //! ```
 
 mod describe;
+mod imaged;
 #[cfg(feature = "alloc")]
 mod runtime;
 mod table;
 
 pub use describe::{Description, ObjectRow, entry_flag};
+pub use imaged::{Limits, NodeIdDefault, Unlimited};
 #[cfg(feature = "alloc")]
 pub use runtime::{RuntimeDictionary, RuntimeTable, TableBuilder};
 pub use table::{Row, Spec, SpecRef, Table};
@@ -272,6 +274,36 @@ macro_rules! __slave_row {
 
 #[doc(inline)]
 pub use crate::__slave_row as row;
+
+/// The [`Row`] of a descriptor whose initial value the generated dictionary keeps in its
+/// `INITIAL` image: `row_limits!(od::X)` is `Row::new(&od::X, &SpecRef::limits(&od::X.limits()))`,
+/// the [`Limits`] shared as [`row!`]'s `Spec`s are. Such a row links the limit check of its
+/// type and no initial value ([`Table::init`] leaves it zero).
+#[macro_export]
+#[doc(hidden)]
+macro_rules! __slave_row_limits {
+    ($entry:expr) => {
+        $crate::slave::Row::new(&$entry, &$crate::slave::SpecRef::limits(&$entry.limits()))
+    };
+}
+
+#[doc(inline)]
+pub use crate::__slave_row_limits as row_limits;
+
+/// The [`Row`] of a descriptor as [`row_limits!`] makes it, for a value type that no entry of
+/// the device limits: `row_unlimited!(od::X)` is
+/// `Row::new(&od::X, &SpecRef::unlimited(&od::X.unlimited()))`. A download is checked by
+/// decoding it alone.
+#[macro_export]
+#[doc(hidden)]
+macro_rules! __slave_row_unlimited {
+    ($entry:expr) => {
+        $crate::slave::Row::new(&$entry, &$crate::slave::SpecRef::unlimited(&$entry.unlimited()))
+    };
+}
+
+#[doc(inline)]
+pub use crate::__slave_row_unlimited as row_unlimited;
 
 #[cfg(test)]
 mod tests;

@@ -87,7 +87,7 @@ fn store(data_type: DataType, data: &[u8], stored: &mut [u8]) {
 /// same spec share, so that a [`Row`] points at it with a thin pointer (4 bytes on a 32-bit
 /// target, where the trait object's own pointer would take 8 in every row).
 #[derive(Clone, Copy)]
-pub struct SpecRef(&'static dyn Slot);
+pub struct SpecRef(pub(super) &'static dyn Slot);
 
 impl SpecRef {
     /// The reference to `spec`, for [`row!`](crate::slave::row).
@@ -306,7 +306,9 @@ impl<const N: usize> Table<N> {
     /// Fills `values` (zeroed, [`Table::size`] bytes) with every entry's initial value on
     /// node `node_id`: its default (`$NODEID` applied), else zero moved into its limits (see
     /// [`initial`](super::initial)). A node without node-ID (`None`, LSS) takes no `$NODEID`
-    /// default.
+    /// default. A row of [`row_limits!`](crate::slave::row_limits) keeps its zeros: its
+    /// initial value is in the generated dictionary's `INITIAL` image, which generated code
+    /// copies instead of calling this.
     pub fn init(&self, values: &mut [u8], node_id: Option<NodeId>) {
         Rows(&self.rows).init(values, node_id);
     }

@@ -273,3 +273,60 @@ fn pdo_mappable_follows_the_flag_and_the_direction() {
     // The flag bit does not change the access.
     assert_eq!(TABLE.access(0x6040, 0), Some(Access::Rww));
 }
+
+/// Rows of an imaged dictionary (`row_limits!`, `row_unlimited!`): the same checks on a
+/// download as [`row!`]'s, and no initial value written by [`Table::init`] (the generated
+/// `INITIAL` image holds it).
+#[test]
+fn limits_and_unlimited_rows() {
+    const IMAGED: Table<3> =
+        Table::new([row_unlimited!(od::NAME), row_limits!(od::SPEED), row_unlimited!(od::LABEL)]);
+    let mut values = [0u8; IMAGED.size()];
+    IMAGED.init(&mut values, None);
+    // NAME's default "odc" is not written: the image, not the rows, holds it.
+    assert_eq!(values, [0u8; 8 + 2 + 4]);
+    let hook = &mut ();
+    // The limits of SPEED (1..=9) are checked, its length too.
+    assert_eq!(IMAGED.write(&mut values, 0x2000, 2, &[10, 0], hook), Err(SdoAbort::ValueTooHigh));
+    assert_eq!(IMAGED.write(&mut values, 0x2000, 2, &[0, 0], hook), Err(SdoAbort::ValueTooLow));
+    assert_eq!(IMAGED.write(&mut values, 0x2000, 2, &[5], hook), Err(SdoAbort::TooShort));
+    assert_eq!(IMAGED.write(&mut values, 0x2000, 2, &[5, 0], hook), Ok(()));
+    // LABEL (VisibleString<4>, no limits): decoding alone decides.
+    assert_eq!(IMAGED.write(&mut values, 0x2001, 0, b"abcde", hook), Err(SdoAbort::TooLong));
+    assert_eq!(IMAGED.write(&mut values, 0x2001, 0, b"a\tb", hook), Err(SdoAbort::InvalidValue));
+    assert_eq!(IMAGED.write(&mut values, 0x2001, 0, b"ab", hook), Ok(()));
+    let mut buf = [0u8; 8];
+    assert_eq!(IMAGED.read(&values, 0x2001, 0, &mut buf), Ok(2));
+    assert_eq!(&buf[..2], b"ab");
+    assert_eq!(IMAGED.read(&values, 0x2000, 2, &mut buf), Ok(2));
+    assert_eq!(&buf[..2], &[5, 0]);
+    // Types and lengths as `row!` gives them.
+    let types: Vec<_> = IMAGED.rows().iter().map(Row::data_type).collect();
+    assert_eq!(types, [DataType::VisibleString, DataType::Unsigned16, DataType::VisibleString]);
+}
+
+/// `$NODEID` defaults written over an image: the sum where it fits the type (as
+/// `DefaultValue::resolve` decides), the image's value where it does not or without node-ID.
+#[test]
+fn node_id_defaults_over_an_image() {
+    const DEFAULTS: [NodeIdDefault; 4] = [
+        // UNSIGNED32 at 0: 0x180 + id.
+        NodeIdDefault::new(0, 4, false, 0x180),
+        // UNSIGNED8 at 4: 0xF0 + id fits for id <= 15 only.
+        NodeIdDefault::new(4, 1, false, 0xF0),
+        // INTEGER8 at 5: 0x70 + id fits for id <= 15 only (0x7F is the largest).
+        NodeIdDefault::new(5, 1, true, 0x70),
+        // UNSIGNED24 at 6: 0xFF_FFF0 + id, fits for id <= 15.
+        NodeIdDefault::new(6, 3, false, 0xFF_FFF0),
+    ];
+    let image = [0xAA; 9];
+    let mut values = image;
+    NodeIdDefault::apply(&DEFAULTS, &mut values, None);
+    assert_eq!(values, image);
+    NodeIdDefault::apply(&DEFAULTS, &mut values, crate::cob::NodeId::new(5));
+    assert_eq!(values, [0x85, 0x01, 0, 0, 0xF5, 0x75, 0xF5, 0xFF, 0xFF]);
+    let mut values = image;
+    NodeIdDefault::apply(&DEFAULTS, &mut values, crate::cob::NodeId::new(16));
+    // 0x190; 0x100, 0x80 and 0x100_0000 do not fit: the image's bytes stay.
+    assert_eq!(values, [0x90, 0x01, 0, 0, 0xAA, 0xAA, 0xAA, 0xAA, 0xAA]);
+}

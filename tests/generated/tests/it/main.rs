@@ -6,6 +6,7 @@ mod allowed_values;
 mod cia402_typed;
 mod coe_implied;
 mod drive_sim;
+mod initial_image;
 mod master;
 mod mini_drive;
 mod pdi;
