@@ -352,6 +352,33 @@ mod tests {
         assert!(a.child("e").is_some());
     }
 
+    /// A U+FEFF left at the start of the decoded text (a file with two byte-order marks; the
+    /// decoder drops the first) is reported, and the spans still point into the text: quick-xml
+    /// skips the mark without counting it (found by fuzzing: a label ending before it started).
+    #[test]
+    fn a_second_byte_order_mark_is_reported_and_spans_stay_in_place() {
+        let src = "\u{FEFF}<?xml version=\"1.0\"?>\n<a x=\"1\"><b>hi</b></a>";
+        let doc = read(src, FileId(0));
+        let msgs: Vec<_> = doc.diagnostics.iter().map(|d| d.message.as_str()).collect();
+        assert_eq!(msgs, ["a second byte-order mark (U+FEFF)"]);
+        assert_eq!(doc.diagnostics[0].labels[0].span.range(), 0..3);
+        let a = doc.roots().next().unwrap();
+        assert_eq!(&src[a.span().range()], "<a x=\"1\"><b>hi</b></a>");
+        assert_eq!(&src[a.attr("x").unwrap().span.range()], "1");
+        assert_eq!(&src[a.child("b").unwrap().text_span().range()], "hi");
+        // The fuzzer's input: text before the root, then a broken document.
+        let src = "\u{FEFF}D?<Modules>on=\"1.0\"?>\n<EthrCeATInfo>\n  <Vendor>< <Devices>";
+        let doc = read(src, FileId(0));
+        assert!(doc.diagnostics.len() >= 2, "{:?}", doc.diagnostics);
+        for d in doc.diagnostics.iter() {
+            for l in &d.labels {
+                assert!(l.span.start <= l.span.end && l.span.end as usize <= src.len(), "{d:?}");
+            }
+        }
+        let outside = doc.diagnostics.iter().find(|d| d.message == "text outside the root element");
+        assert_eq!(&src[outside.unwrap().labels[0].span.range()], "D?");
+    }
+
     /// The attributes read from a tag's bytes ([`reader::Builder::plain_attributes`]) are those
     /// quick-xml's iterator gives, whichever of the two reads a tag: names (local part), values
     /// (normalised) and value spans; and a duplicate is still reported.

@@ -471,6 +471,15 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
         stack: Vec::new(),
         first_root: None,
     };
+    // The decoder drops a file's byte-order mark, so a U+FEFF left at the start is a second one:
+    // a character before the XML declaration, which XML 1.0 §2.8 does not allow. quick-xml
+    // drops it too, but counts its positions from after it: `shift` puts them back in `src`.
+    let shift = bom_shift(src);
+    if shift > 0 {
+        let d = Diagnostic::error(codes::MALFORMED_XML, "a second byte-order mark (U+FEFF)")
+            .with_label(b.span(0, shift), "XML allows one, at the start of the file");
+        b.doc.diagnostics.push(d);
+    }
     let mut skip = 0usize;
     let mut depth_reported = false;
     loop {
@@ -482,9 +491,9 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
         if reader.config().trim_text_start != skip_blanks {
             reader.config_mut().trim_text_start = skip_blanks;
         }
-        let read_from = reader.buffer_position() as u32;
+        let read_from = reader.buffer_position() as u32 + shift;
         let ev = reader.read_event();
-        let after = reader.buffer_position() as u32;
+        let after = reader.buffer_position() as u32 + shift;
         // Where the event starts: skipped blanks may precede it.
         let before = event_start(src, &ev).unwrap_or(read_from);
         if skip > 0 {
@@ -594,9 +603,9 @@ pub fn read(src: &str, file: FileId) -> Document<'_> {
                 b.doc.diagnostics.push(d);
             }
             Ok(Event::Decl(_)) => {
-                // Only a byte-order mark may come before the XML declaration (XML 1.0 §2.8).
-                let bom = if src.starts_with('\u{FEFF}') { 3 } else { 0 };
-                if before as usize != bom {
+                // Only a byte-order mark may come before the XML declaration (XML 1.0 §2.8); a
+                // second one is reported above.
+                if before != shift {
                     let d = Diagnostic::error(
                         codes::MALFORMED_XML,
                         "the XML declaration is not at the start of the file",
@@ -658,8 +667,14 @@ pub(super) fn event_start(src: &str, ev: &Result<Event<'_>, Error>) -> Option<u3
     }
 }
 
+/// How many bytes of `src` quick-xml skips without counting them in its positions: a UTF-8
+/// byte-order mark at the start (3), else none.
+fn bom_shift(src: &str) -> u32 {
+    if src.starts_with('\u{FEFF}') { 3 } else { 0 }
+}
+
 pub(super) fn report(b: &mut Builder<'_>, reader: &Reader<&[u8]>, e: Error) {
-    let pos = (reader.error_position() as u32).min(b.doc.src.len() as u32);
+    let pos = (reader.error_position() as u32 + bom_shift(b.doc.src)).min(b.doc.src.len() as u32);
     let end = (pos + 1).min(b.doc.src.len() as u32).max(pos);
     let d =
         Diagnostic::error(codes::MALFORMED_XML, format!("the file is not well-formed XML: {e}"))
