@@ -123,13 +123,7 @@ pub(super) fn value_of(el: Element<'_>, ty: DataType, ctx: &mut Ctx<'_>) -> Span
     let v = if is_data {
         num::with_hex_bytes_lenient(text, |b| num::decode_data(b, ty)).and_then(|(v, padded)| {
             if padded {
-                ctx.push(
-                    Diagnostic::warning(
-                        codes::NONSTANDARD_NUMBER,
-                        format!("`{text}` has an odd number of hex digits ({})", el.name()),
-                    )
-                    .with_label(el.text_span(), "read with a leading zero"),
-                );
+                odd_hex_digits(el, ctx);
             }
             v
         })
@@ -410,6 +404,17 @@ pub(super) fn lower_struct<'t>(
     layout
 }
 
+/// F219 for a `*Data` element whose hex digits are odd in number: read with a leading zero.
+fn odd_hex_digits(el: Element<'_>, ctx: &mut Ctx<'_>) {
+    ctx.push(
+        Diagnostic::warning(
+            codes::NONSTANDARD_NUMBER,
+            format!("`{}` has an odd number of hex digits ({})", el.text(), el.name()),
+        )
+        .with_label(el.text_span(), "read with a leading zero"),
+    );
+}
+
 /// Splits an object's own `Info/DefaultData` (ETG.2000: `ObjectInfoType` holds either the
 /// whole object's data or `SubItem`s) into its sub-objects' defaults at their `BitOffs`;
 /// `SubItem` defaults, applied after, take precedence. Bytes no sub-object covers, and
@@ -426,13 +431,7 @@ fn apply_object_data(data: Element<'_>, layout: &[Slot], object: &mut Object, ct
         return;
     };
     if padded {
-        ctx.push(
-            Diagnostic::warning(
-                codes::NONSTANDARD_NUMBER,
-                format!("`{}` has an odd number of hex digits (DefaultData)", data.text()),
-            )
-            .with_label(data.text_span(), "read with a leading zero"),
-        );
+        odd_hex_digits(data, ctx);
     }
     if layout.is_empty() {
         return not_applied(data, "its data type gives no `BitOffs`", ctx);
