@@ -85,6 +85,14 @@ impl W {
             self.kv(k, &value_text(&v.value));
         }
     }
+    /// A limit: an empty one reads back as absent, so a limit of zero bytes (read from `0x`)
+    /// is written `0x`.
+    fn opt_limit(&mut self, k: &str, v: Option<&Spanned<Value>>) {
+        match v.map(|v| &v.value) {
+            Some(Value::Bytes(b)) if b.is_empty() => self.kv(k, "0x"),
+            _ => self.opt_value(k, v),
+        }
+    }
     fn extra(&mut self, extra: &[RawEntry]) {
         for e in extra {
             self.kv(&e.key, &e.value);
@@ -116,8 +124,8 @@ impl W {
         self.kv("DataType", &format!("0x{:04X}", s.data_type.code()));
         self.kv("AccessType", eds_access(s).as_str());
         self.opt_value("DefaultValue", s.default.as_ref());
-        self.opt_value("LowLimit", s.low_limit.as_deref());
-        self.opt_value("HighLimit", s.high_limit.as_deref());
+        self.opt_limit("LowLimit", s.low_limit.as_deref());
+        self.opt_limit("HighLimit", s.high_limit.as_deref());
         if self.dcf {
             self.opt_value("ParameterValue", s.parameter_value.as_ref());
             self.opt_text_ref("Denotation", s.rare().denotation.as_ref());

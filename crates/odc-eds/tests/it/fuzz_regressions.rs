@@ -120,3 +120,11 @@ fn unreadable_object_type_with_compact_sub_objects() {
 fn name_companion_of_an_unclosed_object_header() {
     round_trip(b"[1003\n[1003Name\n0=0");
 }
+
+/// `HighLimit=0x` on a DOMAIN reads as a limit of zero bytes; written as an empty value, it
+/// read back as no limit (the CI fuzzing run of stop 38).
+#[test]
+fn limit_of_zero_bytes() {
+    let text = round_trip(b"[2001]\nParameterName=d\nObjectType=0x7\nDataType=0x000F\nAccessType=rw\nHighLimit=0x\nLowLimit=0X \n");
+    assert!(text.contains("HighLimit=0x\n") && text.contains("LowLimit=0x\n"), "{text}");
+}
