@@ -197,6 +197,9 @@ impl W {
                 t.parameter_value = None;
                 let r = t.rare_mut();
                 r.denotation = None;
+                // `ObjFlags` in the object's section is the object's: a sub 1 with its own is
+                // an explicit section.
+                r.obj_flags = None;
                 r.extra.retain(|e| is_compact_template_key(&e.key));
                 t
             })
@@ -205,7 +208,7 @@ impl W {
         };
         let template = template.as_ref();
         if let Some(t) = template {
-            self.sub_keys(t, t.rare().obj_flags.as_ref());
+            self.sub_keys(t, None);
             // Keys kept as written (a DataType that did not read) belong to every implied
             // sub-object, so they go back into the object's section.
             self.extra(&t.rare().extra);

@@ -27,8 +27,9 @@ pub(super) enum K {
 /// How many keys `K` names: the last one's number plus one.
 pub(super) const N_KEYS: usize = K::ObjExtend as usize + 1;
 
-/// The keys of a CompactSubObj object's section that every implied sub-object takes.
-pub(super) const COMPACT_TEMPLATE: [K; 10] = [
+/// The keys of a CompactSubObj object's section that every implied sub-object takes. Not
+/// `ObjFlags`: in an object's section it is the object's own (read before these).
+pub(super) const COMPACT_TEMPLATE: [K; 9] = [
     K::DataType,
     K::AccessType,
     K::PdoMapping,
@@ -36,7 +37,6 @@ pub(super) const COMPACT_TEMPLATE: [K; 10] = [
     K::LowLimit,
     K::HighLimit,
     K::ParameterValue,
-    K::ObjFlags,
     K::UploadFile,
     K::DownloadFile,
 ];

@@ -128,3 +128,18 @@ fn limit_of_zero_bytes() {
     let text = round_trip(b"[2001]\nParameterName=d\nObjectType=0x7\nDataType=0x000F\nAccessType=rw\nHighLimit=0x\nLowLimit=0X \n");
     assert!(text.contains("HighLimit=0x\n") && text.contains("LowLimit=0x\n"), "{text}");
 }
+
+/// The explicit `[IIIIsub1]` of a CompactSubObj object with its own `ObjFlags` (read, or kept
+/// as written because it does not read): the writer took it for the template of the implied
+/// sub-objects and wrote it into the object's section, where it reads back as the object's.
+#[test]
+fn obj_flags_of_an_explicit_sub_1_of_a_compact_object() {
+    let object = "[1016]\nParameterName=c\nObjectType=0x8\nDataType=0x0007\nAccessType=rw\nCompactSubObj=2\n";
+    for flags in ["0x1", "0x10 x"] {
+        let input = format!(
+            "{object}[1016sub1]\nParameterName=s\nDataType=0x0007\nAccessType=rw\nObjFlags={flags}\n"
+        );
+        let text = round_trip(input.as_bytes());
+        assert!(text.contains("[1016sub1]"), "{text}");
+    }
+}
