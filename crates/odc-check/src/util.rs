@@ -54,20 +54,10 @@ pub(crate) fn sub_of(o: &Object, sub: u8) -> Option<u8> {
     o.kind.has_subs().then_some(sub)
 }
 
-/// A value as an unsigned integer, if it is one.
-pub(crate) fn as_u64(v: &Value) -> Option<u64> {
-    match *v {
-        Value::Unsigned(u) => Some(u),
-        Value::Signed(i) => u64::try_from(i).ok(),
-        Value::Bool(b) => Some(u64::from(b)),
-        _ => None,
-    }
-}
-
 /// The initial (ParameterValue over DefaultValue) value of `index`:`sub` as an integer,
 /// `$NODEID` excluded.
 pub(crate) fn initial_u64(dev: &Device, index: u16, sub: u8) -> Option<u64> {
-    as_u64(&dev.sub(index, sub)?.initial_value()?.value)
+    dev.sub(index, sub)?.initial_value()?.value.as_u64()
 }
 
 /// The integer range of a type, for integer and boolean types.

@@ -41,7 +41,7 @@ pub fn diff(a: &Device, b: &Device, opts: &Options) -> Vec<Change> {
 /// front-end, or the file's with defaults odc filled in (`EtherCat::esi_defaults`).
 fn odc_made(dev: &Device, index: u16) -> bool {
     dev.objects.get(&index).is_some_and(|o| o.origin.is_esi_synthesised())
-        || dev.ethercat.as_deref().is_some_and(|e| e.esi_default(index).is_some())
+        || dev.esi_default(index).is_some()
 }
 
 /// Where a place comes in the output: an object's own changes, then its sub-objects'.

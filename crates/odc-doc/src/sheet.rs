@@ -349,11 +349,10 @@ fn cell(v: Option<&odc_model::Spanned<Value>>) -> String {
 
 fn objects(dev: &Device) -> Vec<ObjectRow> {
     let mut rows = Vec::new();
-    let filled = |i: u16| dev.ethercat.as_deref().is_some_and(|e| e.esi_default(i).is_some());
     for object in dev.objects.values() {
         let made = if object.origin.is_esi_synthesised() {
             Made::Synthesised
-        } else if filled(object.index) {
+        } else if dev.esi_default(object.index).is_some() {
             Made::DefaultFromEsi
         } else {
             Made::File

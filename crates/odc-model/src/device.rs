@@ -100,6 +100,12 @@ pub struct XmlExtra {
 }
 
 impl Device {
+    /// The entry of [`crate::ethercat::EtherCat::esi_defaults`] for object `index`, when its
+    /// defaults are odc's, taken from the ESI's PDO elements.
+    pub fn esi_default(&self, index: u16) -> Option<&crate::ethercat::EsiDefault> {
+        self.ethercat.as_deref()?.esi_defaults.iter().find(|d| d.index == index)
+    }
+
     /// The sub-object at `index`:`sub`.
     pub fn sub(&self, index: u16, sub: u8) -> Option<&SubObject> {
         self.objects.get(&index)?.sub(sub)

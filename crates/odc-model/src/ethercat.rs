@@ -120,13 +120,6 @@ pub struct EsiDefault {
     pub file_count: Option<Spanned<crate::value::Value>>,
 }
 
-impl EtherCat {
-    /// The entry of [`EtherCat::esi_defaults`] for object `index`, when its defaults are odc's.
-    pub fn esi_default(&self, index: u16) -> Option<&EsiDefault> {
-        self.esi_defaults.iter().find(|d| d.index == index)
-    }
-}
-
 /// An XML element the front-end does not interpret, kept as its source text.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct RawXml {

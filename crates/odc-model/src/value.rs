@@ -57,6 +57,16 @@ impl Value {
         }
     }
 
+    /// The value as an unsigned integer, if it is one (`$NODEID` excluded).
+    pub fn as_u64(&self) -> Option<u64> {
+        match *self {
+            Value::Unsigned(u) => Some(u),
+            Value::Signed(i) => u64::try_from(i).ok(),
+            Value::Bool(b) => Some(u64::from(b)),
+            _ => None,
+        }
+    }
+
     /// The value as a float, for REAL types.
     pub fn as_f64(&self) -> Option<f64> {
         match *self {

@@ -11,7 +11,7 @@ use odc_model::{DataType, Device, Direction, Object, Span, SubObject};
 
 use super::rule;
 use crate::Ctx;
-use crate::util::{as_u64, first_span, idx, initial_u64};
+use crate::util::{first_span, idx, initial_u64};
 
 /// The index offsets of the axes to check: the device's CiA 402 axes
 /// ([`odc_analysis::cia402::axes`]: the one rule the generator and the data sheet use too;
@@ -29,7 +29,7 @@ fn axes(dev: &Device) -> Vec<u16> {
 fn why_402(dev: &Device) -> (Span, String) {
     let device_type = dev.sub(0x1000, 0).and_then(|s| {
         let v = s.initial_value()?;
-        let n = as_u64(&v.value)?;
+        let n = v.value.as_u64()?;
         Some((first_span([v.span, s.span]), n))
     });
     if let Some((span, n)) = device_type

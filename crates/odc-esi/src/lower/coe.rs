@@ -142,15 +142,6 @@ fn writable(device: &mut Device) {
     }
 }
 
-/// The value of `s` as a number, `None` without one.
-fn unsigned(s: &SubObject) -> Option<u64> {
-    match s.initial_value().map(|v| &v.value) {
-        Some(Value::Unsigned(v)) => Some(*v),
-        Some(Value::Signed(v)) => u64::try_from(*v).ok(),
-        _ => None,
-    }
-}
-
 /// Whether sub-indexes 1..=`count` of `o` exist, each at least `bits` long.
 fn has_room(o: &Object, count: u8, bits: u32) -> bool {
     (1..=count).all(|k| o.sub(k).and_then(SubObject::bits).is_some_and(|b| b >= bits))
@@ -191,7 +182,10 @@ fn esi_defaults(device: &mut Device, ctx: &mut Ctx<'_>) {
         let Some(s0) = o.sub(0) else { continue };
         let file_count = s0.initial_value().cloned();
         let Ok(count) = u8::try_from(pdos.len()) else { continue };
-        if unsigned(s0).is_some_and(|n| n != 0) || count == 0 || !has_room(o, count, 16) {
+        if s0.initial_value().and_then(|v| v.value.as_u64()).is_some_and(|n| n != 0)
+            || count == 0
+            || !has_room(o, count, 16)
+        {
             continue;
         }
         let what = match &file_count {
@@ -223,7 +217,7 @@ fn esi_defaults(device: &mut Device, ctx: &mut Ctx<'_>) {
             continue;
         }
         let Ok(count) = u8::try_from(pdo.entries.len()) else { continue };
-        if count == 0 || !has_room(o, count, 32) || filled.iter().any(|f| f.index == index) {
+        if count == 0 || !has_room(o, count, 32) {
             continue;
         }
         ctx.push(

@@ -5,6 +5,7 @@
 //! responses 0x60, 0x4x, 0x0x/0x2x, abort 0x80), through datagrams on a chain.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::panic)]
 
+use odc::slave::ObjectDictionary;
 use odc_sim::ethercat::{Chain, SubDevice};
 
 use super::frames::{ADDR, APWR, FPRD, FPWR, datagram, sm};
@@ -51,6 +52,13 @@ fn exchange(c: &mut Chain, mbx: u16, coe: &[u8]) -> Vec<u8> {
 
 /// The SDO part of a reply (after mailbox and CoE headers); checks the CoE header says SDO
 /// response (service 3).
+/// The value of `index`:`sub` in the device's dictionary (at most 4 bytes).
+fn stored(device: &SubDevice, index: u16, sub: u8) -> Vec<u8> {
+    let mut b = [0u8; 4];
+    let n = device.dictionary().read(index, sub, &mut b).unwrap();
+    b[..n].to_vec()
+}
+
 fn sdo(reply: &[u8]) -> &[u8] {
     assert_eq!(reply[7] >> 4, 3, "SDO response");
     &reply[8..]
@@ -233,7 +241,6 @@ fn sdo_information_list_in_fragments() {
 /// ESI front-end fills the objects (note F231), the simulator serves the model.
 #[test]
 fn empty_assignment_objects_start_with_the_esi_assignment() {
-    use odc::slave::ObjectDictionary;
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../esi/servoone.xml");
     let xml = std::fs::read_to_string(path).unwrap();
     let xml = xml
@@ -251,11 +258,7 @@ fn empty_assignment_objects_start_with_the_esi_assignment() {
     let device = parsed.devices.into_iter().next().unwrap();
     assert_eq!(device.pdos.iter().filter(|p| p.sync_manager.is_some()).count(), 2);
     let sim = SubDevice::new(&device).unwrap();
-    let read = |index: u16, sub: u8| {
-        let mut b = [0u8; 4];
-        let n = sim.dictionary().read(index, sub, &mut b).unwrap();
-        b[..n].to_vec()
-    };
+    let read = |index, sub| stored(&sim, index, sub);
     assert_eq!((read(0x1C12, 0), read(0x1C12, 1)), (vec![1], vec![0x01, 0x16]));
     assert_eq!((read(0x1C13, 0), read(0x1C13, 1)), (vec![1], vec![0x00, 0x1A]));
     // The ESI as it is (no `Sm` on its PDOs): the empty defaults stay.
@@ -273,7 +276,6 @@ fn empty_assignment_objects_start_with_the_esi_assignment() {
 /// text.
 #[test]
 fn a_coe_device_has_the_assignment_and_mapping_its_esi_gives() {
-    use odc::slave::ObjectDictionary;
     const ESI: &str = r##"<?xml version="1.0"?>
 <EtherCATInfo>
   <Vendor><Id>#x00000099</Id><Name>V</Name></Vendor>
@@ -318,11 +320,7 @@ fn a_coe_device_has_the_assignment_and_mapping_its_esi_gives() {
     let origin = p.devices[0].objects.get(&0x1C12).map(|o| o.origin);
     assert_eq!(origin, Some(odc_model::Origin::CoeImplied), "the ESI's dictionary lacks it");
     let sim = SubDevice::new(&p.devices[0]).unwrap();
-    let read = |index: u16, sub: u8| {
-        let mut b = [0u8; 4];
-        let n = sim.dictionary().read(index, sub, &mut b).unwrap();
-        b[..n].to_vec()
-    };
+    let read = |index, sub| stored(&sim, index, sub);
     // 0x1C00: 4 sync managers: mailbox out, mailbox in, outputs, inputs.
     assert_eq!([read(0x1C00, 0), read(0x1C00, 3), read(0x1C00, 4)], [[4], [3], [4]]);
     // SM2 assigns 0x1600, SM3 0x1A00 (their `Sm` attributes).
@@ -427,7 +425,6 @@ fn run_plan(c: &mut Chain, plan: &[odc::plan::SdoWrite]) -> Vec<Vec<u8>> {
 /// Table 22, "attempt to write a read only object").
 #[test]
 fn the_generated_plan_configures_a_device_whose_esi_allows_it() {
-    use odc::slave::ObjectDictionary;
     let plan = pdo_config::startup::PLAN.pdo_writes;
     let touched = |i: u16| plan.iter().any(|w| w.index == i);
     assert!(touched(0x1C12) && touched(0x1C13) && touched(0x1600) && touched(0x1A00), "{plan:?}");
@@ -441,11 +438,7 @@ fn the_generated_plan_configures_a_device_whose_esi_allows_it() {
         assert_eq!(reply[..4], [0x60, i0, i1, w.sub], "{w:?}: {reply:02X?}");
     }
     let dev = &c.devices()[0];
-    let read = |index: u16, sub: u8| {
-        let mut b = [0u8; 4];
-        let n = dev.dictionary().read(index, sub, &mut b).unwrap();
-        b[..n].to_vec()
-    };
+    let read = |index, sub| stored(dev, index, sub);
     // As the ESI: 0x1C12 = [0x1600], 0x1C13 = [0x1A00]; 0x1A00 = 0x6000:01/16, gap/8.
     assert_eq!((read(0x1C12, 0), read(0x1C12, 1)), (vec![1], vec![0x00, 0x16]));
     assert_eq!((read(0x1C13, 0), read(0x1C13, 1)), (vec![1], vec![0x00, 0x1A]));

@@ -16,8 +16,8 @@ struct Counted {
 /// (`EtherCat::esi_defaults`) counts what the file's sub 0 said: none, or 0.
 fn counted_entries(dev: &Device, index: u16) -> Option<(u64, Vec<Counted>)> {
     let o = crate::util::object(dev, index)?;
-    if let Some(filled) = ec(dev).and_then(|e| e.esi_default(index)) {
-        let count = filled.file_count.as_ref().and_then(|v| crate::util::as_u64(&v.value))?;
+    if let Some(filled) = dev.esi_default(index) {
+        let count = filled.file_count.as_ref().and_then(|v| v.value.as_u64())?;
         return Some((count, Vec::new()));
     }
     let count = initial_u64(dev, index, 0)?;
@@ -25,7 +25,7 @@ fn counted_entries(dev: &Device, index: u16) -> Option<(u64, Vec<Counted>)> {
     for sub in 1..=count.min(254) as u8 {
         let Some(s) = o.sub(sub) else { continue };
         let Some(v) = s.initial_value() else { continue };
-        let Some(pdo) = crate::util::as_u64(&v.value).and_then(|v| u16::try_from(v).ok()) else {
+        let Some(pdo) = v.value.as_u64().and_then(|v| u16::try_from(v).ok()) else {
             continue;
         };
         out.push(Counted { sub, pdo, span: first_span([v.span, s.span, o.span]) });

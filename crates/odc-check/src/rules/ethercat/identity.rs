@@ -29,7 +29,7 @@ pub(super) fn identity_revision(dev: &Device, ctx: &mut Ctx) {
     let Some(o) = crate::util::object(dev, 0x1018) else { return };
     let Some(s) = o.sub(3) else { return };
     let Some(v) = s.default.as_ref() else { return };
-    let Some(value) = crate::util::as_u64(&v.value) else { return };
+    let Some(value) = v.value.as_u64() else { return };
     if value == u64::from(declared.value) {
         return;
     }

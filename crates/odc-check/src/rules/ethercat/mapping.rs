@@ -14,7 +14,7 @@ fn listed(o: &odc_model::Object) -> Vec<(u8, u32, Span)> {
         .range(1..)
         .filter_map(|(&sub, s)| {
             let v = s.initial_value()?;
-            let word = crate::util::as_u64(&v.value).and_then(|w| u32::try_from(w).ok())?;
+            let word = v.value.as_u64().and_then(|w| u32::try_from(w).ok())?;
             (word != 0).then(|| (sub, word, first_span([v.span, s.span, o.span])))
         })
         .collect()
@@ -48,12 +48,10 @@ fn show_word(w: u32) -> String {
 /// not an object whose defaults odc filled from the entries (`EtherCat::esi_defaults`, the
 /// file gives it none: nothing to compare).
 fn mapped_pdos(dev: &Device) -> impl Iterator<Item = (&Pdo, &odc_model::Object)> {
-    let ec = ec(dev);
-    let check = ec.is_some_and(|e| !is_modular(e)) && has_dictionary(dev);
-    let filled = move |i: u16| ec.is_some_and(|e| e.esi_default(i).is_some());
+    let check = ec(dev).is_some_and(|e| !is_modular(e)) && has_dictionary(dev);
     dev.pdos
         .iter()
-        .filter(move |p| check && !filled(p.mapping_index))
+        .filter(move |p| check && dev.esi_default(p.mapping_index).is_none())
         .filter_map(|p| Some((p, crate::util::object(dev, p.mapping_index)?)))
 }
 

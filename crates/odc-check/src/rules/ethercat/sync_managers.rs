@@ -278,7 +278,7 @@ pub(super) fn sm_type_object(dev: &Device, ctx: &mut Ctx) {
     for sub in 1..=count.min(32) as u8 {
         let Some(s) = o.sub(sub) else { continue };
         let Some(v) = s.initial_value() else { continue };
-        let Some(code) = crate::util::as_u64(&v.value) else { continue };
+        let Some(code) = v.value.as_u64() else { continue };
         let n = usize::from(sub - 1);
         let want = match ec.sync_managers.get(n).map(|sm| &sm.usage) {
             Some(SmUsage::MBoxOut) => 1,
